@@ -1,0 +1,57 @@
+"""Vectorised evaluation of CasADi functions over batches (leading axis), without copies.
+
+A numpy array of shape (N, k) in C order has the memory layout of a k x N CasADi matrix (column
+major), so a ``Function.map(N)`` can read and write numpy buffers directly.
+"""
+
+from __future__ import annotations
+
+import os
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+THREADS = max(1, min(os.cpu_count() or 1, 8))
+CHUNK = 1 << 16
+
+
+@lru_cache(maxsize=256)
+def _mapped(f: ca.Function, n: int) -> ca.Function:
+    if n < 2048 or THREADS == 1:
+        return f.map(n, "serial")
+    return f.map(n, "thread", THREADS)
+
+
+def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Evaluate ``f`` over a batch.
+
+    Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
+    Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
+    """
+    arrays = [np.asarray(a, dtype=float) for a in args]
+    sizes = {a.shape[0] for a in arrays if a.ndim == 2}
+    if len(sizes) > 1:
+        raise ValueError(f"{f.name()}: batch sizes differ: {sorted(sizes)}")
+    n = sizes.pop() if sizes else 1
+    inputs = []
+    for i, a in enumerate(arrays):
+        width = f.numel_in(i)
+        if a.shape[-1] != width:
+            raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {width}")
+        inputs.append(np.ascontiguousarray(np.broadcast_to(a, (n, width))))
+    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
+    for start in range(0, n, CHUNK):
+        stop = min(n, start + CHUNK)
+        mapped = _mapped(f, stop - start)
+        buf, run = mapped.buffer()
+        for i, a in enumerate(inputs):
+            buf.set_arg(i, memoryview(a[start:stop]))
+        for j, o in enumerate(outputs):
+            buf.set_res(j, memoryview(o[start:stop]))
+        run()
+    shaped = []
+    for j, o in enumerate(outputs):
+        rows, cols = f.size_out(j)
+        shaped.append(o.reshape(n, cols, rows).transpose(0, 2, 1))
+    return tuple(shaped)

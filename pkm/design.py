@@ -1,0 +1,110 @@
+"""Named design parameters with units, bounds and meanings, and their validation."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pkm.errors import DesignError
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One design parameter. Values must lie in (lower, upper), or [lower, upper) if ``closed_lower``."""
+
+    name: str
+    default: float
+    lower: float
+    upper: float
+    unit: str
+    doc: str
+    closed_lower: bool = False
+
+    def check(self, value: float) -> None:
+        if not math.isfinite(value):
+            raise DesignError(f"design parameter {self.name} = {value} is not finite")
+        low_ok = value >= self.lower if self.closed_lower else value > self.lower
+        if not low_ok or not value < self.upper:
+            left = "[" if self.closed_lower else "("
+            raise DesignError(
+                f"design parameter {self.name} = {value:g} {self.unit} violates "
+                f"{self.name} in {left}{self.lower:g}, {self.upper:g})"
+            )
+
+
+@dataclass(frozen=True)
+class Condition:
+    """A validity condition of a design: ``holds(values) > 0`` where it is satisfied."""
+
+    text: str
+    margin: Callable[[Mapping[str, float]], float]
+
+
+class Design(Mapping[str, float]):
+    """A complete, validated set of named design parameter values."""
+
+    def __init__(self, parameters: Sequence[Parameter], values: Mapping[str, float]) -> None:
+        self._names = tuple(p.name for p in parameters)
+        self._values = {name: float(values[name]) for name in self._names}
+
+    def __getitem__(self, name: str) -> float:
+        return self._values[name]
+
+    def __iter__(self):
+        return iter(self._names)
+
+    def __len__(self) -> int:
+        return len(self._names)
+
+    def __repr__(self) -> str:
+        return "Design(" + ", ".join(f"{k}={v:.6g}" for k, v in self._values.items()) + ")"
+
+    def vector(self) -> np.ndarray:
+        """Values in the mechanism's parameter order."""
+        return np.array([self._values[n] for n in self._names])
+
+
+def parse_design(text: str) -> dict[str, float]:
+    """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise :class:`DesignError` on malformed items."""
+    out: dict[str, float] = {}
+    for item in filter(None, (s.strip() for s in text.split(","))):
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise DesignError(f"design item {item!r} is not of the form name=value")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise DesignError(f"design parameter {name.strip()} = {value!r} is not a number") from None
+    return out
+
+
+def make_design(
+    parameters: Sequence[Parameter],
+    conditions: Sequence[Condition],
+    values: Mapping[str, float] | None,
+    *,
+    partial: bool = False,
+) -> Design:
+    """Validate ``values`` (a mapping, or None for the defaults) into a :class:`Design`.
+
+    With ``partial`` missing parameters take their defaults; otherwise all must be given.
+    """
+    names = [p.name for p in parameters]
+    given = {} if values is None else dict(values)
+    extra = sorted(set(given) - set(names))
+    if extra:
+        raise DesignError(f"unknown design parameter(s) {', '.join(extra)}; expected {', '.join(names)}")
+    missing = [n for n in names if n not in given]
+    if missing and values is not None and not partial:
+        raise DesignError(f"missing design parameter(s) {', '.join(missing)}")
+    full = {p.name: float(given.get(p.name, p.default)) for p in parameters}
+    for p in parameters:
+        p.check(full[p.name])
+    for c in conditions:
+        if not c.margin(full) > 0:
+            shown = ", ".join(f"{k}={v:g}" for k, v in full.items())
+            raise DesignError(f"design ({shown}) cannot be assembled: violates {c.text}")
+    return Design(parameters, full)

@@ -1,0 +1,30 @@
+"""pkm's exceptions. Bad input raises a subclass of :class:`PkmError` (itself a ``ValueError``)."""
+
+from __future__ import annotations
+
+
+class PkmError(ValueError):
+    """Bad input to pkm: the message names the parameter and the violated condition."""
+
+
+class UnknownNameError(PkmError):
+    """An unknown mechanism, index, region, mode, design space or problem."""
+
+    def __init__(self, kind: str, name: str, known: list[str] | tuple[str, ...]) -> None:
+        super().__init__(f"unknown {kind} {name!r}; known: {', '.join(known)}")
+
+
+class DesignError(PkmError):
+    """A design that is incomplete, non-finite, out of bounds or cannot be assembled."""
+
+
+class PoseError(PkmError):
+    """A pose out of reach (raised in strict mode; batches otherwise get NaN and a mask)."""
+
+
+class SingularityError(PkmError):
+    """A configuration at which the requested quantity does not exist (raised in strict mode)."""
+
+
+class ComputationError(RuntimeError):
+    """A computation that failed on valid input (for instance IPOPT did not converge)."""

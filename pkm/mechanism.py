@@ -1,0 +1,279 @@
+"""The mechanism interface shared by every model in pkm.
+
+A mechanism loads its generated CasADi functions, which follow one convention:
+
+* ``inverse_kinematics(x, mode, design) -> (q, reach)``: all joints, actuated first; reach >= 0;
+* ``forward_kinematics(q_a, assembly, design) -> (x, q, reach)``;
+* ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` with q_a_dot = J x_dot;
+* ``constraint(q, x, design) -> (h, H_q, H_x)``.
+
+Everything here is evaluated over batches through :func:`pkm.batch.evaluate`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm import indices, regions
+from pkm.batch import evaluate
+from pkm.design import Condition, Design, Parameter, make_design
+from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError
+
+DesignLike = Mapping[str, float] | Design | None
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A working mode (IK branch) or assembly mode (FK branch): name, signs, the papers' names."""
+
+    name: str
+    signs: tuple[float, ...]
+    doc: str
+    aliases: tuple[str, ...] = ()
+
+
+class Mechanism:
+    """Base class of pkm's mechanisms; subclasses set the class attributes and regions."""
+
+    name: str = ""
+    doc: str = ""
+    parameters: tuple[Parameter, ...] = ()
+    conditions: tuple[Condition, ...] = ()
+    working_modes: tuple[Branch, ...] = ()
+    assembly_modes: tuple[Branch, ...] = ()
+    pose_names: tuple[str, ...] = ()
+    pose_units: tuple[str, ...] = ()
+    actuator_names: tuple[str, ...] = ()
+
+    @cached_property
+    def functions(self) -> dict[str, ca.Function]:
+        """The generated CasADi functions of this mechanism, by name."""
+        return importlib.import_module(f"generated.{self.name}").build()
+
+    @property
+    def modes(self) -> tuple[str, ...]:
+        """Names of the working modes (inverse-kinematic branches)."""
+        return tuple(b.name for b in self.working_modes)
+
+    @property
+    def assemblies(self) -> tuple[str, ...]:
+        """Names of the assembly modes (forward-kinematic branches)."""
+        return tuple(b.name for b in self.assembly_modes)
+
+    @property
+    def n_act(self) -> int:
+        return len(self.actuator_names)
+
+    @property
+    def n_out(self) -> int:
+        return len(self.pose_names)
+
+    def region_names(self) -> tuple[str, ...]:
+        return ("reachable", *self.parametrised_regions())
+
+    def parametrised_regions(self) -> dict[str, regions.ParametrisedRegion]:
+        """Design-dependent regions with a fixed quadrature (differentiable in the design)."""
+        return {}
+
+    def design(self, values: DesignLike = None, *, partial: bool = False) -> Design:
+        """Validate a design (a mapping of parameter values; None for the defaults)."""
+        return make_design(self.parameters, self.conditions, values, partial=partial)
+
+    def _design_vector(self, design: DesignLike) -> np.ndarray:
+        if isinstance(design, Design):
+            return design.vector()
+        return self.design(design).vector()
+
+    def _branch(self, name: str | None, branches: tuple[Branch, ...], kind: str) -> Branch:
+        if name is None:
+            return branches[0]
+        for b in branches:
+            if name == b.name or name in b.aliases:
+                return b
+        raise UnknownNameError(kind, name, [b.name for b in branches])
+
+    def working_mode(self, mode: str | None) -> Branch:
+        """The working mode by name or paper alias; the first one by default."""
+        return self._branch(mode, self.working_modes, f"{self.name} working mode")
+
+    def assembly_mode(self, assembly: str | None) -> Branch:
+        return self._branch(assembly, self.assembly_modes, f"{self.name} assembly mode")
+
+    @staticmethod
+    def _batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
+        arr = np.asarray(values, dtype=float)
+        single = arr.ndim == 1
+        arr = np.atleast_2d(arr)
+        if arr.ndim != 2 or arr.shape[1] != width:
+            raise PoseError(f"{what} must have shape ({width},) or (N, {width}); got {np.shape(values)}")
+        if not np.all(np.isfinite(arr)):
+            raise PoseError(f"{what} contains non-finite values")
+        return arr, single
+
+    @staticmethod
+    def _unbatch(arr: np.ndarray, single: bool) -> np.ndarray:
+        return arr[0] if single else arr
+
+    def _joints(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
+        x, single = self._batch(pose, self.n_out, "pose")
+        d = self._design_vector(design)
+        signs = np.array(self.working_mode(mode).signs)
+        q, reach = evaluate(self.functions["inverse_kinematics"], x, signs, d)
+        q = q[:, :, 0]
+        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
+        if strict and not ok.all():
+            bad = int(np.flatnonzero(~ok)[0])
+            raise PoseError(
+                f"pose {x[bad].tolist()} is out of reach of the {self.name} design {self.design_dict(d)}"
+            )
+        q[~ok] = np.nan
+        return x, d, q, ok, single
+
+    def design_dict(self, vector: np.ndarray) -> dict[str, float]:
+        return {p.name: float(v) for p, v in zip(self.parameters, vector, strict=True)}
+
+    def reachable(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
+        """Boolean mask (N,) of the poses the working mode reaches."""
+        _, _, _, ok, single = self._joints(pose, design, mode, strict=False)
+        return self._unbatch(ok, single)
+
+    def inverse_kinematics(
+        self,
+        pose: Any,
+        design: DesignLike = None,
+        *,
+        mode: str | None = None,
+        passive: bool = False,
+        strict: bool = False,
+    ) -> np.ndarray:
+        """Actuated joints (N, n_act) of the poses (N, n_out) in a working mode; NaN where out of reach.
+
+        With ``passive`` all joints (actuated first) are returned; with ``strict`` an unreachable pose
+        raises :class:`PoseError`.
+        """
+        _, _, q, _, single = self._joints(pose, design, mode, strict)
+        return self._unbatch(q if passive else q[:, : self.n_act], single)
+
+    def forward_kinematics(
+        self, q: Any, design: DesignLike = None, *, assembly: str | None = None, strict: bool = False
+    ) -> np.ndarray:
+        """Poses (N, n_out) from actuated joints (N, n_act) in an assembly mode; NaN where not closable."""
+        qa, single = self._batch(q, self.n_act, "actuated joints")
+        d = self._design_vector(design)
+        signs = np.array(self.assembly_mode(assembly).signs)
+        x, _, reach = evaluate(self.functions["forward_kinematics"], qa, signs, d)
+        x = x[:, :, 0]
+        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(x), axis=1)
+        if strict and not ok.all():
+            bad = int(np.flatnonzero(~ok)[0])
+            raise PoseError(f"actuated joints {qa[bad].tolist()} cannot be assembled")
+        x[~ok] = np.nan
+        return self._unbatch(x, single)
+
+    def _first_order(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
+        x, d, q, ok, single = self._joints(pose, design, mode, strict)
+        J, J_f, psi, det1, det2 = evaluate(self.functions["first_order"], q, x, d)
+        return {
+            "J": J,
+            "J_f": J_f,
+            "psi": psi,
+            "det_type1": det1[:, 0, 0],
+            "det_type2": det2[:, 0, 0],
+            "reachable": ok,
+            "q": q,
+        }, single
+
+    def jacobian(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
+    ) -> np.ndarray:
+        """J (N, n_act, n_out) with q_a_dot = J x_dot; inf entries at serial singularities.
+
+        With ``strict`` a singular or unreachable pose raises.
+        """
+        fo, single = self._first_order(pose, design, mode, strict)
+        if strict and not np.all(np.isfinite(fo["J"])):
+            raise SingularityError("J is unbounded at a serial (type I) singularity")
+        return self._unbatch(fo["J"], single)
+
+    def forward_jacobian(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
+    ) -> np.ndarray:
+        """J_f (N, n_out, n_act) with x_dot = J_f q_a_dot, the inverse of :meth:`jacobian`."""
+        fo, single = self._first_order(pose, design, mode, strict)
+        if strict and not np.all(np.isfinite(fo["J_f"])):
+            raise SingularityError("J_f is unbounded at a parallel (type II) singularity")
+        return self._unbatch(fo["J_f"], single)
+
+    def psi(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
+        """Psi (N, n_joints, n_act): all joint rates from the actuated rates."""
+        fo, single = self._first_order(pose, design, mode, False)
+        return self._unbatch(fo["psi"], single)
+
+    def singularity(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None
+    ) -> dict[str, np.ndarray]:
+        """Type I and type II determinants (zero at serial and parallel singularities)."""
+        fo, single = self._first_order(pose, design, mode, False)
+        return {k: self._unbatch(fo[k], single) for k in ("det_type1", "det_type2")}
+
+    def local_index(
+        self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None
+    ) -> np.ndarray:
+        """A local index (see :data:`pkm.indices.LOCAL`) at each pose; NaN where out of reach."""
+        spec = indices.local_spec(name)
+        fo, single = self._first_order(pose, design, mode, False)
+        values = indices.evaluate_local(spec, fo["J"], fo["J_f"])
+        values[~fo["reachable"]] = np.nan
+        return self._unbatch(values, single)
+
+    def workspace_box(self, design: np.ndarray) -> np.ndarray:
+        """Bounding box ((lo, hi) per output coordinate) of the reachable workspace, shape (n_out, 2)."""
+        raise NotImplementedError
+
+    def global_index(
+        self,
+        name: str,
+        design: DesignLike = None,
+        *,
+        region: str = "reachable",
+        mode: str | None = None,
+        resolution: int | None = None,
+        gradient: bool = False,
+        **region_options: float,
+    ) -> float | tuple[float, dict[str, float]] | regions.GlobalValue:
+        """A global index: the mean of its local index over a region (DESIGN.md section 5).
+
+        ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
+        a parametrised region (e.g. ``"miw"``) uses a fixed quadrature mapped into the design's region
+        and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too.
+        """
+        spec = indices.global_spec(name)
+        d = self._design_vector(design)
+        branch = self.working_mode(mode)
+        if region == "reachable":
+            if gradient:
+                raise PkmError(
+                    "gradient=True needs a parametrised region "
+                    f"({', '.join(self.parametrised_regions())}); the reachable region is sampled"
+                )
+            return regions.sampled_global(self, spec, d[None, :], branch, resolution, **region_options)[0]
+        param = self.parametrised_regions()
+        if region not in param:
+            raise UnknownNameError(f"{self.name} region", region, self.region_names())
+        if region_options:
+            raise PkmError(f"region {region!r} takes no options; got {', '.join(region_options)}")
+        resolution = resolution or regions.DISC_RESOLUTION
+        fn = regions.parametrised_global_function(self, spec, param[region], branch, resolution)
+        value, grad = fn(d)
+        nodes = len(regions.disc_quadrature(resolution)[1])
+        value = regions.GlobalValue(float(value), points=nodes, region=region, resolution=resolution)
+        if not gradient:
+            return value
+        return value, self.design_dict(np.asarray(grad).ravel())

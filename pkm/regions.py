@@ -1,0 +1,179 @@
+"""Regions over which global indices are averaged (DESIGN.md section 5).
+
+* The sampled region ``reachable``: a grid of cell centres over the bounding box of a working mode's
+  workspace with a mask (reachable and at least ``singularity_margin`` away from singularity in
+  1/kappa_f). For atlases and for checking; not differentiable.
+* Parametrised regions (a disc whose centre and radius are functions of the design, such as the
+  maximum inscribed workspace): a fixed product quadrature on the unit disc (Gauss-Legendre in the
+  radius with weight rho, the periodic trapezoidal rule in the angle) mapped into the design's disc.
+  The global index is then a smooth CasADi expression of the design with an exact gradient.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import casadi as ca
+import numpy as np
+
+from pkm import indices
+from pkm.batch import evaluate
+from pkm.errors import PkmError
+
+if TYPE_CHECKING:
+    from pkm.mechanism import Branch, Mechanism
+
+SAMPLED_RESOLUTION = 64
+DISC_RESOLUTION = 8
+SINGULARITY_MARGIN = 0.01
+DESIGNS_PER_BATCH = 32
+
+
+class GlobalValue(float):
+    """A global index value that also reports the region and how many points it used."""
+
+    points: int
+    region: str
+    resolution: int
+
+    def __new__(cls, value: float, *, points: int, region: str, resolution: int) -> GlobalValue:
+        obj = super().__new__(cls, value)
+        obj.points, obj.region, obj.resolution = points, region, resolution
+        return obj
+
+
+@dataclass(frozen=True)
+class ParametrisedRegion:
+    """A disc region: ``function`` is the generated CasADi function design -> (centre, radius)."""
+
+    name: str
+    function: str
+    doc: str
+
+
+def _check_resolution(resolution: int, minimum: int) -> int:
+    if int(resolution) != resolution or resolution < minimum:
+        raise PkmError(f"resolution = {resolution} violates: an integer >= {minimum}")
+    return int(resolution)
+
+
+@lru_cache(maxsize=32)
+def disc_quadrature(resolution: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (n, 2) and weights (n,) on the unit disc; n = 4 resolution^2; exact area pi.
+
+    Gauss-Legendre in rho on [0, 1] with the Jacobian rho, ``4 * resolution`` equally spaced angles.
+    """
+    resolution = _check_resolution(resolution, 1)
+    t, w = np.polynomial.legendre.leggauss(resolution)
+    rho, w_rho = (t + 1) / 2, w / 2 * (t + 1) / 2
+    m = 4 * resolution
+    angle = 2 * np.pi * (np.arange(m) + 0.5) / m
+    nodes = np.stack(
+        [np.outer(rho, np.cos(angle)).ravel(), np.outer(rho, np.sin(angle)).ravel()], axis=1
+    )
+    weights = np.outer(w_rho, np.full(m, 2 * np.pi / m)).ravel()
+    return nodes, weights
+
+
+def grid(box: np.ndarray, resolution: int) -> tuple[np.ndarray, float]:
+    """Cell centres (resolution^2, 2) of a 2-D box and the cell area."""
+    resolution = _check_resolution(resolution, 2)
+    axes = [lo + (hi - lo) * (np.arange(resolution) + 0.5) / resolution for lo, hi in box]
+    X, Y = np.meshgrid(*axes, indexing="ij")
+    area = float(np.prod([(hi - lo) / resolution for lo, hi in box]))
+    return np.stack([X.ravel(), Y.ravel()], axis=1), area
+
+
+def sampled_global(
+    mech: Mechanism,
+    spec: indices.GlobalIndex,
+    designs: np.ndarray,
+    branch: Branch,
+    resolution: int | None = None,
+    *,
+    singularity_margin: float = SINGULARITY_MARGIN,
+    progress=None,
+) -> list[GlobalValue]:
+    """Global index over the sampled reachable workspace of each design (D, n_p), vectorised."""
+    resolution = _check_resolution(resolution or SAMPLED_RESOLUTION, 2)
+    if not 0 <= singularity_margin < 1:
+        raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
+    local = indices.local_spec(spec.local)
+    condition = indices.local_spec("inverse_condition_f")
+    signs = np.array(branch.signs)
+    out: list[GlobalValue] = []
+    for start in range(0, len(designs), DESIGNS_PER_BATCH):
+        chunk = designs[start : start + DESIGNS_PER_BATCH]
+        poses = [grid(mech.workspace_box(d), resolution)[0] for d in chunk]
+        n = len(poses[0])
+        x = np.concatenate(poses)
+        d = np.repeat(chunk, n, axis=0)
+        q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
+        q = q[:, :, 0]
+        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
+        q[~ok] = 0.0
+        J, J_f, *_ = evaluate(mech.functions["first_order"], q, x, d)
+        value = indices.evaluate_local(local, J, J_f)
+        kappa = value if local is condition else indices.evaluate_local(condition, J, J_f)
+        mask = (ok & (kappa >= singularity_margin)).reshape(len(chunk), n)
+        value = value.reshape(len(chunk), n)
+        for k in range(len(chunk)):
+            count = int(mask[k].sum())
+            mean = float(value[k][mask[k]].mean()) if count else float("nan")
+            out.append(GlobalValue(mean, points=count, region="reachable", resolution=resolution))
+        if progress is not None:
+            progress(len(chunk))
+    return out
+
+
+@lru_cache(maxsize=64)
+def parametrised_global_function(
+    mech: Mechanism,
+    spec: indices.GlobalIndex,
+    region: ParametrisedRegion,
+    branch: Branch,
+    resolution: int = DISC_RESOLUTION,
+) -> ca.Function:
+    """CasADi function ``design -> (value, gradient)`` of a global index over a parametrised disc.
+
+    The region's quadrature nodes are mapped into the design's disc and the inverse kinematics, the
+    Jacobians and the local index are evaluated on them by ``map``: one graph, exact derivatives.
+    """
+    resolution = _check_resolution(resolution, 1)
+    nodes, weights = disc_quadrature(resolution)
+    n = len(weights)
+    design = ca.MX.sym("design", len(mech.parameters))
+    centre, radius = mech.functions[region.function](design)
+    x = ca.repmat(centre, 1, n) + radius * ca.DM(nodes.T)
+    q, _ = mech.functions["inverse_kinematics"].map(n)(x, ca.DM(branch.signs), design)
+    J, J_f = mech.functions["first_order"].map(n)(q, x, design)[:2]
+    values = indices.local_function(spec.local, mech.n_act).map(n)(J, J_f)
+    value = ca.mtimes(values, ca.DM(weights)) / float(weights.sum())
+    return ca.Function(
+        f"{spec.name}_{region.name}_{branch.name}_{resolution}",
+        [design],
+        [value, ca.gradient(value, design)],
+        ["design"],
+        [spec.name, "gradient"],
+    )
+
+
+@lru_cache(maxsize=64)
+def _value_function(fn: ca.Function) -> ca.Function:
+    design = fn.mx_in(0)
+    return ca.Function(f"{fn.name()}_value", [design], [fn(design)[0]], ["design"], [fn.name_out(0)])
+
+
+def parametrised_global(
+    mech: Mechanism,
+    spec: indices.GlobalIndex,
+    region: ParametrisedRegion,
+    branch: Branch,
+    resolution: int,
+    designs: np.ndarray,
+) -> np.ndarray:
+    """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p)."""
+    fn = parametrised_global_function(mech, spec, region, branch, resolution)
+    return evaluate(_value_function(fn), designs)[0][:, 0, 0]

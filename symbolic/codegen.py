@@ -1,0 +1,268 @@
+"""sympy -> CasADi emitter.
+
+A mechanism's symbolic module describes named functions (named vector inputs of sympy symbols, named
+matrix outputs of sympy expressions). :func:`render_module` turns them into a readable, deterministic
+Python module that builds ``casadi.Function`` objects from ``casadi.SX`` graphs after ``sympy.cse``.
+:func:`compare_or_update` regenerates a whole folder into a temporary directory and either updates the
+committed folder or fails with a unified diff; it is behind ``make generate``, ``make check-generated``
+and a test.
+"""
+
+from __future__ import annotations
+
+import difflib
+import filecmp
+import hashlib
+import json
+import shutil
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+REFRESH_COMMAND = "make generate"
+
+
+@dataclass(frozen=True)
+class Port:
+    """A named vector input: an ordered tuple of sympy symbols and a one-line meaning."""
+
+    name: str
+    symbols: tuple[sp.Symbol, ...]
+    doc: str
+
+
+@dataclass(frozen=True)
+class Output:
+    """A named matrix output (column-major in CasADi) and a one-line meaning."""
+
+    name: str
+    expr: sp.Matrix
+    doc: str
+
+
+@dataclass(frozen=True)
+class FunctionSpec:
+    """One emitted ``casadi.Function``: its name, inputs, outputs and docstring."""
+
+    name: str
+    inputs: tuple[Port, ...]
+    outputs: tuple[Output, ...]
+    doc: str
+
+
+@dataclass
+class ModuleSpec:
+    """Everything emitted for one mechanism into ``generated/<name>.py``."""
+
+    name: str
+    source: str
+    doc: str
+    functions: list[FunctionSpec] = field(default_factory=list)
+
+    def add(
+        self,
+        name: str,
+        inputs: Sequence[Port],
+        outputs: Sequence[Output],
+        doc: str,
+    ) -> None:
+        """Register a function; output expressions may only use the symbols of the inputs."""
+        known = {s for port in inputs for s in port.symbols}
+        for out in outputs:
+            stray = sorted(out.expr.free_symbols - known, key=sp.default_sort_key)
+            if stray:
+                raise ValueError(f"{self.name}.{name}: output {out.name} uses undeclared symbols {stray}")
+        self.functions.append(FunctionSpec(name, tuple(inputs), tuple(outputs), doc))
+
+
+class CasadiPrinter(PythonCodePrinter):
+    """Prints sympy expressions as Python operating on ``casadi.SX`` (module imported as ``ca``)."""
+
+    _kf = {k: "ca." + v.split(".")[-1] for k, v in PythonCodePrinter._kf.items()}
+
+    def __init__(self, names: dict[sp.Symbol, str]) -> None:
+        super().__init__({"fully_qualified_modules": True})
+        self._names = names
+
+    def _print_Symbol(self, expr: sp.Symbol) -> str:
+        return self._names[expr]
+
+    def _print_Pow(self, expr: sp.Pow, rational: bool = False) -> str:
+        return self._hprint_Pow(expr, rational=rational, sqrt="ca.sqrt")
+
+    def _print_Abs(self, expr: sp.Abs) -> str:
+        return f"ca.fabs({self._print(expr.args[0])})"
+
+    def _print_sign(self, expr: sp.sign) -> str:
+        return f"ca.sign({self._print(expr.args[0])})"
+
+    def _print_Pi(self, expr: sp.Expr) -> str:
+        return "ca.pi"
+
+    def _print_Float(self, expr: sp.Float) -> str:
+        return repr(float(expr))
+
+    def _print_Piecewise(self, expr: sp.Piecewise) -> str:
+        *pieces, (last, cond) = expr.args
+        if cond is not sp.true:
+            raise ValueError("a Piecewise needs a final (expr, True) piece to be emitted")
+        text = self._print(last)
+        for value, test in reversed(pieces):
+            text = f"ca.if_else({self._print(test)}, {self._print(value)}, {text})"
+        return text
+
+    def _print_Relational(self, expr: sp.core.relational.Relational) -> str:
+        return f"({self._print(expr.lhs)} {expr.rel_op} {self._print(expr.rhs)})"
+
+
+def _render_function(spec: FunctionSpec) -> list[str]:
+    names: dict[sp.Symbol, str] = {}
+    lines = [f"def {spec.name}():", f'    """{spec.doc}', ""]
+    lines.append("    Inputs:")
+    for port in spec.inputs:
+        members = ", ".join(str(s) for s in port.symbols)
+        lines.append(f"        {port.name} ({len(port.symbols)}): [{members}] {port.doc}")
+    lines.append("    Outputs:")
+    for out in spec.outputs:
+        lines.append(f"        {out.name} ({out.expr.rows}x{out.expr.cols}, column-major): {out.doc}")
+    lines.append('    """')
+    for port in spec.inputs:
+        lines.append(f'    {port.name} = ca.SX.sym("{port.name}", {len(port.symbols)})')
+        for k, s in enumerate(port.symbols):
+            names[s] = f"{port.name}_{k}"
+            lines.append(f"    {port.name}_{k} = {port.name}[{k}]")
+
+    flat = [e for out in spec.outputs for e in out.expr.T]
+    symbols = (sp.Symbol(f"_t{k}") for k in range(10**9))
+    replacements, reduced = sp.cse(flat, symbols=symbols, order="canonical")
+    ops = sum(sp.count_ops(rhs) for _, rhs in replacements) + sum(sp.count_ops(e) for e in reduced)
+    lines.append(f"    # {len(replacements)} common subexpressions, {ops} operations")
+    for lhs, _ in replacements:
+        names[lhs] = str(lhs)
+    printer = CasadiPrinter(names)
+    for lhs, rhs in replacements:
+        lines.append(f"    {lhs} = {printer.doprint(rhs)}")
+    pos = 0
+    for out in spec.outputs:
+        n = out.expr.rows * out.expr.cols
+        items = ", ".join(printer.doprint(e) for e in reduced[pos : pos + n])
+        pos += n
+        lines.append(f"    {out.name} = ca.reshape(ca.vertcat({items}), {out.expr.rows}, {out.expr.cols})")
+    in_names = ", ".join(f'"{p.name}"' for p in spec.inputs)
+    out_names = ", ".join(f'"{o.name}"' for o in spec.outputs)
+    ins = ", ".join(p.name for p in spec.inputs)
+    outs = ", ".join(o.name for o in spec.outputs)
+    lines.append(
+        f'    return ca.Function("{spec.name}", [{ins}], [{outs}], [{in_names}], [{out_names}])'
+    )
+    return lines
+
+
+def render_module(spec: ModuleSpec, source_hash: str) -> str:
+    """Render a mechanism's functions as the text of a generated Python module."""
+    lines = [
+        f"# Generated from {spec.source} (source sha256 {source_hash}).",
+        f"# Do not edit: regenerate with `{REFRESH_COMMAND}`.",
+        "# ruff: noqa",
+        f'"""{spec.doc}"""',
+        "",
+        "import casadi as ca",
+        "",
+        f'SOURCE_HASH = "{source_hash}"',
+        "FUNCTIONS = (" + "".join(f'"{f.name}", ' for f in spec.functions) + ")",
+        "",
+    ]
+    for fn in spec.functions:
+        lines.append("")
+        lines.extend(_render_function(fn))
+        lines.append("")
+    lines += [
+        "",
+        "def build():",
+        '    """All functions of this module by name."""',
+        "    return {name: globals()[name]() for name in FUNCTIONS}",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def source_hash(paths: Sequence[Path]) -> str:
+    """sha256 over the given source files, in the given order."""
+    digest = hashlib.sha256()
+    for path in paths:
+        digest.update(path.name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
+
+
+def write_tree(out: Path, modules: Sequence[tuple[ModuleSpec, str]], tools: dict[str, str]) -> None:
+    """Write ``<name>.py`` for each module, ``__init__.py`` and ``manifest.json`` into ``out``."""
+    out.mkdir(parents=True, exist_ok=True)
+    names = sorted(spec.name for spec, _ in modules)
+    init = [
+        "# Generated by `make generate`. Do not edit.",
+        "# ruff: noqa",
+        '"""CasADi functions generated from symbolic/ (one module per mechanism)."""',
+        "",
+        "MECHANISMS = (" + "".join(f'"{n}", ' for n in names) + ")",
+        "",
+    ]
+    (out / "__init__.py").write_text("\n".join(init))
+    files = {}
+    for spec, digest in modules:
+        text = render_module(spec, digest)
+        (out / f"{spec.name}.py").write_text(text)
+        files[f"{spec.name}.py"] = {"source": spec.source, "source_sha256": digest,
+                                    "functions": [f.name for f in spec.functions]}
+    manifest = {"files": files, "tools": tools}
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n")
+
+
+MANIFEST_VOLATILE = ("tools",)
+
+
+def _comparable(path: Path) -> str:
+    text = path.read_text()
+    if path.name == "manifest.json":
+        data = json.loads(text)
+        for key in MANIFEST_VOLATILE:
+            data.pop(key, None)
+        return json.dumps(data, indent=2, sort_keys=True)
+    return text
+
+
+def compare_or_update(target: Path, write: Callable[[Path], None], *, update: bool) -> list[str]:
+    """Regenerate into a temporary folder and compare with ``target``.
+
+    Returns the list of differences (file set and unified diffs); empty when ``target`` is current.
+    With ``update`` the temporary folder replaces ``target`` when they differ. Tool versions in the
+    manifest are not compared, so that the check does not depend on the installed sympy.
+    """
+    with tempfile.TemporaryDirectory() as tmp:
+        fresh = Path(tmp) / "generated"
+        write(fresh)
+        diffs: list[str] = []
+        old = {p.name for p in target.glob("*") if p.is_file()} if target.exists() else set()
+        new = {p.name for p in fresh.glob("*") if p.is_file()}
+        diffs += [f"missing from {target}: {n}" for n in sorted(new - old)]
+        diffs += [f"stale in {target}: {n}" for n in sorted(old - new)]
+        for name in sorted(old & new):
+            a, b = target / name, fresh / name
+            if filecmp.cmp(a, b, shallow=False):
+                continue
+            sa, sb = _comparable(a), _comparable(b)
+            if sa == sb:
+                continue
+            diff = difflib.unified_diff(
+                sa.splitlines(), sb.splitlines(), f"committed/{name}", f"regenerated/{name}", lineterm="", n=2
+            )
+            diffs.append("\n".join(list(diff)[:200]))
+        if diffs and update:
+            if target.exists():
+                shutil.rmtree(target)
+            shutil.copytree(fresh, target)
+        return diffs

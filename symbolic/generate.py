@@ -1,0 +1,49 @@
+"""``python -m symbolic.generate [--check] [--out DIR]``: write or check ``generated/``."""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import sys
+from pathlib import Path
+
+import sympy as sp
+
+from symbolic import codegen
+from symbolic.mechanisms import MECHANISMS
+
+ROOT = Path(__file__).resolve().parent.parent
+GENERATED = ROOT / "generated"
+
+
+def sources(name: str) -> list[Path]:
+    """The files whose bytes determine a mechanism's generated module."""
+    here = ROOT / "symbolic"
+    return [here / "codegen.py", here / "loops.py", here / "mechanisms" / f"{name}.py"]
+
+
+def write(out: Path) -> None:
+    """Derive every registered mechanism and write the generated tree into ``out``."""
+    modules = []
+    for name in sorted(MECHANISMS):
+        modules.append((MECHANISMS[name].module(), codegen.source_hash(sources(name))))
+    tools = {"python": platform.python_version(), "sympy": sp.__version__}
+    codegen.write_tree(out, modules, tools)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--check", action="store_true", help="fail if generated/ is not current")
+    parser.add_argument("--out", type=Path, default=GENERATED, help="target folder")
+    args = parser.parse_args(argv)
+    diffs = codegen.compare_or_update(args.out, write, update=not args.check)
+    if diffs and args.check:
+        print("\n".join(diffs), file=sys.stderr)
+        print(f"{args.out} is stale: run `{codegen.REFRESH_COMMAND}`.", file=sys.stderr)
+        return 1
+    print(f"{args.out}: {'updated' if diffs else 'current'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
