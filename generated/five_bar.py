@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 c8dd201c89e21e0f).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 311e1c4f3b5db85b).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "c8dd201c89e21e0f"
+SOURCE_HASH = "311e1c4f3b5db85b"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", )
 
 
@@ -210,16 +210,15 @@ def maximum_inscribed_circle():
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
-    # 7 common subexpressions, 37 operations
+    # 6 common subexpressions, 36 operations
     _t0 = design_2**2
     _t1 = ca.fabs(design_0 - design_1)
     _t2 = design_0 + design_1
     _t3 = (design_1 > design_0 + design_2)
-    _t4 = ca.sqrt(design_0**2 - (design_1 - design_2)**2)
-    _t5 = -_t0 + (_t2 + _t4)**2
-    _t6 = 1/(2*_t4 + 2*design_0 + 2*design_1)
-    centre = ca.reshape(ca.vertcat(0, ca.if_else(_t3, ca.sqrt(-_t0 + (1/4)*(_t1 + _t2)**2), _t5*_t6)), 2, 1)
-    radius = ca.reshape(ca.vertcat(ca.if_else(_t3, -1/2*_t1 + (1/2)*design_0 + (1/2)*design_1, -_t4 + _t5*_t6)), 1, 1)
+    _t4 = ca.if_else(_t3, 1, ca.sqrt(design_0**2 - (design_1 - design_2)**2))
+    _t5 = (-_t0 + (_t2 + _t4)**2)/(2*_t4 + 2*design_0 + 2*design_1)
+    centre = ca.reshape(ca.vertcat(0, ca.if_else(_t3, ca.sqrt(-_t0 + (1/4)*(_t1 + _t2)**2), _t5)), 2, 1)
+    radius = ca.reshape(ca.vertcat(ca.if_else(_t3, -1/2*_t1 + (1/2)*design_0 + (1/2)*design_1, -_t4 + _t5)), 1, 1)
     return ca.Function("maximum_inscribed_circle", [design], [centre, radius], ["design"], ["centre", "radius"])
 
 

@@ -8,7 +8,7 @@ velocities to actuator rates (q_a_dot = J x_dot); Gao 1998's [J] is pkm's forwar
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import casadi as ca
 import numpy as np
@@ -44,18 +44,27 @@ LOCAL: dict[str, LocalIndex] = {
         LocalIndex(
             "inverse_condition_f",
             "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
-            "-", 0.0, 1.0, 0.0,
+            "-",
+            0.0,
+            1.0,
+            0.0,
         ),
         LocalIndex("inverse_condition_2", "1/kappa_2 = sigma_min(J) / sigma_max(J)", "-", 0.0, 1.0, 0.0),
         LocalIndex(
             "velocity_max",
             "||V||max = sigma_max(J_f): largest output speed for unit actuator rates (Gao eq. 22)",
-            "m/rad", 0.0, np.inf, np.inf,
+            "m/rad",
+            0.0,
+            np.inf,
+            np.inf,
         ),
         LocalIndex(
             "velocity_min",
             "||V||min = sigma_min(J_f): smallest output speed for unit actuator rates (Gao eq. 22)",
-            "m/rad", 0.0, np.inf, 0.0,
+            "m/rad",
+            0.0,
+            np.inf,
+            0.0,
         ),
     )
 }
@@ -91,7 +100,7 @@ def _singular_values_2x2(A: ca.SX) -> tuple[ca.SX, ca.SX]:
     return smax, det / smax
 
 
-@lru_cache(maxsize=None)
+@cache
 def local_function(name: str, n: int) -> ca.Function:
     """CasADi function ``(J, J_f) -> value`` of a local index for n x n Jacobians."""
     if n != 2:

@@ -13,7 +13,7 @@ Everything here is evaluated over batches through :func:`pkm.batch.evaluate`.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -24,9 +24,9 @@ import numpy as np
 from pkm import indices, regions
 from pkm.batch import evaluate
 from pkm.design import Condition, Design, Parameter, make_design
-from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError
+from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 
-DesignLike = Mapping[str, float] | Design | None
+DesignLike = Mapping[str, float] | Design | Sequence[float] | np.ndarray | None
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,14 @@ class Mechanism:
         return {}
 
     def design(self, values: DesignLike = None, *, partial: bool = False) -> Design:
-        """Validate a design (a mapping of parameter values; None for the defaults)."""
+        """Validate a design: a mapping of parameter values, a sequence in parameter order, or None
+        for the defaults."""
+        if values is not None and not isinstance(values, Mapping):
+            flat = np.asarray(values, dtype=float).ravel()
+            if flat.size != len(self.parameters):
+                names = ", ".join(p.name for p in self.parameters)
+                raise DesignError(f"a design vector needs {len(self.parameters)} values ({names}); got {flat.size}")
+            values = self.design_dict(flat)
         return make_design(self.parameters, self.conditions, values, partial=partial)
 
     def _design_vector(self, design: DesignLike) -> np.ndarray:
@@ -130,9 +137,7 @@ class Mechanism:
         ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
         if strict and not ok.all():
             bad = int(np.flatnonzero(~ok)[0])
-            raise PoseError(
-                f"pose {x[bad].tolist()} is out of reach of the {self.name} design {self.design_dict(d)}"
-            )
+            raise PoseError(f"pose {x[bad].tolist()} is out of reach of the {self.name} design {self.design_dict(d)}")
         q[~ok] = np.nan
         return x, d, q, ok, single
 
@@ -216,16 +221,12 @@ class Mechanism:
         fo, single = self._first_order(pose, design, mode, False)
         return self._unbatch(fo["psi"], single)
 
-    def singularity(
-        self, pose: Any, design: DesignLike = None, *, mode: str | None = None
-    ) -> dict[str, np.ndarray]:
+    def singularity(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> dict[str, np.ndarray]:
         """Type I and type II determinants (zero at serial and parallel singularities)."""
         fo, single = self._first_order(pose, design, mode, False)
         return {k: self._unbatch(fo[k], single) for k in ("det_type1", "det_type2")}
 
-    def local_index(
-        self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None
-    ) -> np.ndarray:
+    def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """A local index (see :data:`pkm.indices.LOCAL`) at each pose; NaN where out of reach."""
         spec = indices.local_spec(name)
         fo, single = self._first_order(pose, design, mode, False)
@@ -263,7 +264,7 @@ class Mechanism:
                     "gradient=True needs a parametrised region "
                     f"({', '.join(self.parametrised_regions())}); the reachable region is sampled"
                 )
-            return regions.sampled_global(self, spec, d[None, :], branch, resolution, **region_options)[0]
+            return regions.sampled_global(self, spec, d[None, :], branch, resolution=resolution, **region_options)[0]
         param = self.parametrised_regions()
         if region not in param:
             raise UnknownNameError(f"{self.name} region", region, self.region_names())

@@ -70,9 +70,7 @@ def disc_quadrature(resolution: int) -> tuple[np.ndarray, np.ndarray]:
     rho, w_rho = (t + 1) / 2, w / 2 * (t + 1) / 2
     m = 4 * resolution
     angle = 2 * np.pi * (np.arange(m) + 0.5) / m
-    nodes = np.stack(
-        [np.outer(rho, np.cos(angle)).ravel(), np.outer(rho, np.sin(angle)).ravel()], axis=1
-    )
+    nodes = np.stack([np.outer(rho, np.cos(angle)).ravel(), np.outer(rho, np.sin(angle)).ravel()], axis=1)
     weights = np.outer(w_rho, np.full(m, 2 * np.pi / m)).ravel()
     return nodes, weights
 
@@ -91,8 +89,8 @@ def sampled_global(
     spec: indices.GlobalIndex,
     designs: np.ndarray,
     branch: Branch,
-    resolution: int | None = None,
     *,
+    resolution: int | None = None,
     singularity_margin: float = SINGULARITY_MARGIN,
     progress=None,
 ) -> list[GlobalValue]:
@@ -100,32 +98,72 @@ def sampled_global(
     resolution = _check_resolution(resolution or SAMPLED_RESOLUTION, 2)
     if not 0 <= singularity_margin < 1:
         raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
-    local = indices.local_spec(spec.local)
-    condition = indices.local_spec("inverse_condition_f")
     signs = np.array(branch.signs)
     out: list[GlobalValue] = []
     for start in range(0, len(designs), DESIGNS_PER_BATCH):
         chunk = designs[start : start + DESIGNS_PER_BATCH]
         poses = [grid(mech.workspace_box(d), resolution)[0] for d in chunk]
-        n = len(poses[0])
-        x = np.concatenate(poses)
-        d = np.repeat(chunk, n, axis=0)
-        q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
-        q = q[:, :, 0]
-        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
-        q[~ok] = 0.0
-        J, J_f, *_ = evaluate(mech.functions["first_order"], q, x, d)
-        value = indices.evaluate_local(local, J, J_f)
-        kappa = value if local is condition else indices.evaluate_local(condition, J, J_f)
-        mask = (ok & (kappa >= singularity_margin)).reshape(len(chunk), n)
-        value = value.reshape(len(chunk), n)
-        for k in range(len(chunk)):
-            count = int(mask[k].sum())
-            mean = float(value[k][mask[k]].mean()) if count else float("nan")
-            out.append(GlobalValue(mean, points=count, region="reachable", resolution=resolution))
+        value, mask = _sample(
+            mech,
+            spec,
+            np.concatenate(poses),
+            np.repeat(chunk, len(poses[0]), axis=0),
+            signs=signs,
+            margin=singularity_margin,
+        )
+        out += _means(value.reshape(len(chunk), -1), mask.reshape(len(chunk), -1), "reachable", resolution)
         if progress is not None:
             progress(len(chunk))
     return out
+
+
+def _sample(
+    mech: Mechanism, spec: indices.GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Local index of ``spec`` at poses x (N, 2) of designs d (N, n_p), and the mask of the poses kept."""
+    local = indices.local_spec(spec.local)
+    condition = indices.local_spec("inverse_condition_f")
+    q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
+    q = q[:, :, 0]
+    ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
+    q[~ok] = 0.0
+    J, J_f, *_ = evaluate(mech.functions["first_order"], q, x, d)
+    value = indices.evaluate_local(local, J, J_f)
+    kappa = value if local is condition else indices.evaluate_local(condition, J, J_f)
+    return value, ok & (kappa >= margin)
+
+
+def _means(value: np.ndarray, mask: np.ndarray, region: str, resolution: int) -> list[GlobalValue]:
+    out = []
+    for row, keep in zip(value, mask, strict=True):
+        count = int(keep.sum())
+        mean = float(row[keep].mean()) if count else float("nan")
+        out.append(GlobalValue(mean, points=count, region=region, resolution=resolution))
+    return out
+
+
+def sampled_disc_global(
+    mech: Mechanism,
+    spec: indices.GlobalIndex,
+    region: ParametrisedRegion,
+    design: np.ndarray,
+    *,
+    branch: Branch,
+    resolution: int,
+) -> GlobalValue:
+    """A parametrised (disc) region's global index by sampling: cell centres of a grid inside the disc.
+
+    An independent check of the quadrature of :func:`parametrised_global_function`; singular poses
+    are kept (margin 0), as in the quadrature.
+    """
+    resolution = _check_resolution(resolution, 2)
+    centre, radius = (np.asarray(a, dtype=float).ravel() for a in mech.functions[region.function](design))
+    box = np.stack([centre - radius, centre + radius], axis=1)
+    x, _ = grid(box, resolution)
+    x = x[np.sum((x - centre) ** 2, axis=1) < radius[0] ** 2]
+    d = np.broadcast_to(design, (len(x), len(design)))
+    value, mask = _sample(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
+    return _means(value[None], mask[None], region.name, resolution)[0]
 
 
 @lru_cache(maxsize=64)
@@ -170,9 +208,10 @@ def parametrised_global(
     mech: Mechanism,
     spec: indices.GlobalIndex,
     region: ParametrisedRegion,
+    designs: np.ndarray,
+    *,
     branch: Branch,
     resolution: int,
-    designs: np.ndarray,
 ) -> np.ndarray:
     """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p)."""
     fn = parametrised_global_function(mech, spec, region, branch, resolution)

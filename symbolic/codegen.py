@@ -19,6 +19,7 @@ import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import ClassVar
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
@@ -82,7 +83,7 @@ class ModuleSpec:
 class CasadiPrinter(PythonCodePrinter):
     """Prints sympy expressions as Python operating on ``casadi.SX`` (module imported as ``ca``)."""
 
-    _kf = {k: "ca." + v.split(".")[-1] for k, v in PythonCodePrinter._kf.items()}
+    _kf: ClassVar[dict[str, str]] = {k: "ca." + v.split(".")[-1] for k, v in PythonCodePrinter._kf.items()}
 
     def __init__(self, names: dict[sp.Symbol, str]) -> None:
         super().__init__({"fully_qualified_modules": True})
@@ -100,7 +101,7 @@ class CasadiPrinter(PythonCodePrinter):
     def _print_sign(self, expr: sp.sign) -> str:
         return f"ca.sign({self._print(expr.args[0])})"
 
-    def _print_Pi(self, expr: sp.Expr) -> str:
+    def _print_Pi(self, _expr: sp.Expr) -> str:
         return "ca.pi"
 
     def _print_Float(self, expr: sp.Float) -> str:
@@ -156,9 +157,7 @@ def _render_function(spec: FunctionSpec) -> list[str]:
     out_names = ", ".join(f'"{o.name}"' for o in spec.outputs)
     ins = ", ".join(p.name for p in spec.inputs)
     outs = ", ".join(o.name for o in spec.outputs)
-    lines.append(
-        f'    return ca.Function("{spec.name}", [{ins}], [{outs}], [{in_names}], [{out_names}])'
-    )
+    lines.append(f'    return ca.Function("{spec.name}", [{ins}], [{outs}], [{in_names}], [{out_names}])')
     return lines
 
 
@@ -216,8 +215,11 @@ def write_tree(out: Path, modules: Sequence[tuple[ModuleSpec, str]], tools: dict
     for spec, digest in modules:
         text = render_module(spec, digest)
         (out / f"{spec.name}.py").write_text(text)
-        files[f"{spec.name}.py"] = {"source": spec.source, "source_sha256": digest,
-                                    "functions": [f.name for f in spec.functions]}
+        files[f"{spec.name}.py"] = {
+            "source": spec.source,
+            "source_sha256": digest,
+            "functions": [f.name for f in spec.functions],
+        }
     manifest = {"files": files, "tools": tools}
     (out / "manifest.json").write_text(json.dumps(manifest, indent=2, sort_keys=True) + "\n")
 

@@ -9,6 +9,7 @@ OABC'D, OA'BCD and OA'BC'D, with A/A' the elbow of the chain at O and C/C' that 
 from __future__ import annotations
 
 import math
+from typing import ClassVar
 
 import numpy as np
 
@@ -65,8 +66,7 @@ class FiveBar(Mechanism):
     parameters = (
         Parameter("r1", 1.2, 0.0, math.inf, "m", "proximal (actuated) link length, base joint to elbow"),
         Parameter("r2", 1.0, 0.0, math.inf, "m", "distal link length, elbow to end effector"),
-        Parameter("r3", 0.8, 0.0, math.inf, "m", "half the distance between the two base joints",
-                  closed_lower=True),
+        Parameter("r3", 0.8, 0.0, math.inf, "m", "half the distance between the two base joints", closed_lower=True),
     )
     conditions = (
         Condition("r1 + r2 > r3 (the chains' reaches overlap: Gao eq. 5)", lambda d: d["r1"] + d["r2"] - d["r3"]),
@@ -77,6 +77,7 @@ class FiveBar(Mechanism):
         Branch("in_out", (-1.0, -1.0), "elbow of chain 1 inside, of chain 2 outside", ("OA'BCD",)),
         Branch("in_in", (-1.0, 1.0), "both elbows inside the triangle O1 P O2", ("OA'BC'D",)),
     )
+    distinct_modes = ("out_out", "out_in")
     assembly_modes = (
         Branch("up", (1.0,), "P to the left of the directed line A1 -> A2 (above it when A1 is left of A2)"),
         Branch("down", (-1.0,), "P to the right of the directed line A1 -> A2"),
@@ -84,7 +85,7 @@ class FiveBar(Mechanism):
     pose_names = ("x", "y")
     pose_units = ("m", "m")
     actuator_names = ("theta1", "theta2")
-    design_spaces = {"gao1998": GAO1998}
+    design_spaces: ClassVar[dict[str, DesignSpace]] = {"gao1998": GAO1998}
 
     def parametrised_regions(self) -> dict[str, ParametrisedRegion]:
         return {

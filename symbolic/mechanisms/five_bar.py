@@ -77,9 +77,7 @@ def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     height2 = r2**2 - dist2 / 4
     normal = sp.Matrix([-u[1], u[0]]) / sp.sqrt(dist2)
     p = (a1 + a2) / 2 + sigma * sp.sqrt(height2) * normal
-    q = sp.Matrix(
-        [theta1, theta2, sp.atan2(p[1] - a1[1], p[0] - a1[0]), sp.atan2(p[1] - a2[1], p[0] - a2[0])]
-    )
+    q = sp.Matrix([theta1, theta2, sp.atan2(p[1] - a1[1], p[0] - a1[0]), sp.atan2(p[1] - a2[1], p[0] - a2[0])])
     return p, q, sp.Matrix([height2])
 
 
@@ -142,13 +140,15 @@ def maximum_inscribed_circle() -> tuple[sp.Expr, sp.Expr]:
     bases. Otherwise (eq. 12): the MIC touches the outer circles and the parallel singularity at
     (0, y_col) where both distal links are horizontal.
     """
-    y_col = sp.sqrt(r1**2 - (r2 - r3) ** 2)
+    case_1 = r1 + r3 < r2
+    # Each square root sees its own case's argument and 1 otherwise: both pieces are evaluated (and
+    # differentiated) everywhere, and a NaN from the unused piece would poison the gradient.
+    y_col = sp.sqrt(sp.Piecewise((1, case_1), (r1**2 - (r2 - r3) ** 2, True)))
     s = r1 + r2 + y_col
     y_mic_2 = (s**2 - r3**2) / (2 * s)
     rad_2 = y_mic_2 - y_col
-    y_mic_1 = sp.sqrt((r1 + r2 + sp.Abs(r1 - r2)) ** 2 / 4 - r3**2)
+    y_mic_1 = sp.sqrt(sp.Piecewise(((r1 + r2 + sp.Abs(r1 - r2)) ** 2 / 4 - r3**2, case_1), (1, True)))
     rad_1 = (r1 + r2 - sp.Abs(r1 - r2)) / 2
-    case_1 = r1 + r3 < r2
     return sp.Piecewise((y_mic_1, case_1), (y_mic_2, True)), sp.Piecewise((rad_1, case_1), (rad_2, True))
 
 
