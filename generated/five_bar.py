@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 311e1c4f3b5db85b).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 e8fe5ea5c727bd20).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "311e1c4f3b5db85b"
+SOURCE_HASH = "e8fe5ea5c727bd20"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", )
 
 
@@ -17,7 +17,7 @@ def inverse_kinematics():
         mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
         design (3): [r1, r2, r3] proximal length, distal length, half base [m]
     Outputs:
-        q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]; NaN where out of reach
+        q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
         reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
     """
     x = ca.SX.sym("x", 2)
@@ -30,7 +30,7 @@ def inverse_kinematics():
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
-    # 15 common subexpressions, 59 operations
+    # 15 common subexpressions, 65 operations
     _t0 = design_2 + x_0
     _t1 = x_1**2
     _t2 = _t0**2 + _t1
@@ -38,12 +38,12 @@ def inverse_kinematics():
     _t4 = _t3 - design_1**2
     _t5 = _t2 + _t4
     _t6 = (1/2)/design_0
-    _t7 = mode_0*ca.acos(_t5*_t6/ca.sqrt(_t2)) + ca.atan2(x_1, _t0)
+    _t7 = mode_0*ca.acos(ca.fmax(-1, ca.fmin(1, _t5*_t6/ca.sqrt(_t2)))) + ca.atan2(x_1, _t0)
     _t8 = design_2 - x_0
     _t9 = -_t8
     _t10 = _t1 + _t9**2
     _t11 = _t10 + _t4
-    _t12 = mode_1*ca.acos(_t11*_t6/ca.sqrt(_t10)) + ca.atan2(x_1, _t9)
+    _t12 = mode_1*ca.acos(ca.fmax(-1, ca.fmin(1, _t11*_t6/ca.sqrt(_t10)))) + ca.atan2(x_1, _t9)
     _t13 = -x_1
     _t14 = (1/4)/_t3
     q = ca.reshape(ca.vertcat(_t7, _t12, ca.atan2(-_t13 - design_0*ca.sin(_t7), _t0 - design_0*ca.cos(_t7)), ca.atan2(-_t13 - design_0*ca.sin(_t12), -_t8 - design_0*ca.cos(_t12))), 4, 1)
@@ -59,7 +59,7 @@ def forward_kinematics():
         assembly (1): [sigma] side of the line A1 -> A2 on which P lies (+1 left, -1 right)
         design (3): [r1, r2, r3] proximal length, distal length, half base [m]
     Outputs:
-        x (2x1, column-major): end-effector position [m]; NaN where the chains cannot close
+        x (2x1, column-major): end-effector position [m]
         q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
         reach (1x1, column-major): r2^2 - |A1 A2|^2 / 4; >= 0 where the chains close
     """
@@ -72,7 +72,7 @@ def forward_kinematics():
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
-    # 18 common subexpressions, 47 operations
+    # 18 common subexpressions, 48 operations
     _t0 = design_0*ca.cos(q_a_0)
     _t1 = (1/2)*_t0
     _t2 = design_0*ca.cos(q_a_1)
@@ -84,7 +84,7 @@ def forward_kinematics():
     _t8 = -_t0 + _t2 + 2*design_2
     _t9 = _t8**2
     _t10 = -1/4*_t7 - 1/4*_t9 + design_1**2
-    _t11 = ca.sqrt(_t10)*assembly_0/ca.sqrt(_t7 + _t9)
+    _t11 = assembly_0*ca.sqrt(ca.fmax(0, _t10))/ca.sqrt(_t7 + _t9)
     _t12 = _t11*_t6
     _t13 = _t12 + _t3
     _t14 = (1/2)*_t4
@@ -210,15 +210,17 @@ def maximum_inscribed_circle():
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
-    # 6 common subexpressions, 36 operations
+    # 8 common subexpressions, 44 operations
     _t0 = design_2**2
     _t1 = ca.fabs(design_0 - design_1)
     _t2 = design_0 + design_1
     _t3 = (design_1 > design_0 + design_2)
     _t4 = ca.if_else(_t3, 1, ca.sqrt(design_0**2 - (design_1 - design_2)**2))
-    _t5 = (-_t0 + (_t2 + _t4)**2)/(2*_t4 + 2*design_0 + 2*design_1)
-    centre = ca.reshape(ca.vertcat(0, ca.if_else(_t3, ca.sqrt(-_t0 + (1/4)*(_t1 + _t2)**2), _t5)), 2, 1)
-    radius = ca.reshape(ca.vertcat(ca.if_else(_t3, -1/2*_t1 + (1/2)*design_0 + (1/2)*design_1, -_t4 + _t5)), 1, 1)
+    _t5 = -_t0 + (_t2 + _t4)**2
+    _t6 = 2*_t4 + 2*design_0 + 2*design_1
+    _t7 = _t5/_t6
+    centre = ca.reshape(ca.vertcat(0, ca.if_else(_t3, ca.sqrt(-_t0 + (1/4)*(_t1 + _t2)**2), _t7)), 2, 1)
+    radius = ca.reshape(ca.vertcat(ca.if_else(_t3, -1/2*_t1 + (1/2)*design_0 + (1/2)*design_1, ca.fmin(-_t4 + _t7, -_t1 + ca.sqrt(_t0 + _t5**2/_t6**2)))), 1, 1)
     return ca.Function("maximum_inscribed_circle", [design], [centre, radius], ["design"], ["centre", "radius"])
 
 

@@ -32,7 +32,7 @@ __version__ = "0.1.0"
 
 
 def _registry() -> dict[str, type[Mechanism]]:
-    from pkm.mechanisms.five_bar import FiveBar
+    from pkm.models.five_bar import FiveBar
 
     return {cls.name: cls for cls in (FiveBar,)}
 

@@ -12,6 +12,7 @@ from functools import lru_cache
 import casadi as ca
 import numpy as np
 
+REACH_TOLERANCE = 1e-12
 THREADS = max(1, min(os.cpu_count() or 1, 8))
 CHUNK = 1 << 16
 
@@ -55,3 +56,10 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
         rows, cols = f.size_out(j)
         shaped.append(o.reshape(n, cols, rows).transpose(0, 2, 1))
     return tuple(shaped)
+
+
+def reached(values: np.ndarray, reach: np.ndarray) -> np.ndarray:
+    """Mask (N,) of the solutions that exist: reach margins >= 0 up to round-off and values finite."""
+    margins = reach.reshape(len(reach), -1)
+    finite = np.all(np.isfinite(values.reshape(len(values), -1)), axis=1)
+    return np.all(margins >= -REACH_TOLERANCE, axis=1) & finite

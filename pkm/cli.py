@@ -83,7 +83,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
     d = _design(m, args.design)
     x = _poses(args.pose, m.n_out)
     mode = m.working_mode(args.mode).name
-    q = m.inverse_kinematics(x, d, mode=mode, strict=True)
+    q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=True)
     J = m.jacobian(x, d, mode=mode)
     local = {name: m.local_index(name, x, d, mode=mode) for name in indices.LOCAL}
     sing = m.singularity(x, d, mode=mode)
@@ -111,9 +111,9 @@ def cmd_index(args: argparse.Namespace) -> None:
     m = pkm.load(args.mechanism)
     d = _design(m, args.design)
     mode = m.working_mode(args.mode).name
-    options = {} if args.margin is None else {"singularity_margin": args.margin}
     out = m.global_index(
-        args.index, d, region=args.region, mode=mode, resolution=args.resolution, gradient=args.gradient, **options
+        args.index, d, region=args.region, mode=mode, resolution=args.resolution, gradient=args.gradient,
+        singularity_margin=args.margin,
     )
     value, grad = out if args.gradient else (out, None)
     data = {
@@ -134,12 +134,13 @@ def cmd_index(args: argparse.Namespace) -> None:
 
 
 def cmd_atlas(args: argparse.Namespace) -> None:
-    from pkm.atlas import compute_atlas
+    from pkm.atlas import compute_atlas, default_modes
 
     m = pkm.load(args.mechanism)
-    modes = tuple(args.modes.split(",")) if args.modes else None
-    n_modes = len(modes) if modes else len(getattr(m, "distinct_modes", m.modes))
-    bar = Progress(n_modes * args.resolution**2, f"atlas {args.index}")
+    modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
+    spaces = getattr(m, "design_spaces", {})
+    inside = int(spaces[args.space].chart_grid(args.resolution)[2].sum()) if args.space in spaces else 1
+    bar = Progress(len(modes) * inside, f"atlas {args.index}")
     atlas = compute_atlas(
         m,
         args.index,

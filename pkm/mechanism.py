@@ -22,7 +22,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import indices, regions
-from pkm.batch import evaluate
+from pkm.batch import evaluate, reached
 from pkm.design import Condition, Design, Parameter, make_design
 from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 
@@ -175,7 +175,7 @@ class Mechanism:
         signs = np.array(self.assembly_mode(assembly).signs)
         x, _, reach = evaluate(self.functions["forward_kinematics"], qa, signs, d)
         x = x[:, :, 0]
-        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(x), axis=1)
+        ok = reached(x, reach)
         if strict and not ok.all():
             bad = int(np.flatnonzero(~ok)[0])
             raise PoseError(f"actuated joints {qa[bad].tolist()} cannot be assembled")
@@ -247,13 +247,14 @@ class Mechanism:
         mode: str | None = None,
         resolution: int | None = None,
         gradient: bool = False,
-        **region_options: float,
+        singularity_margin: float | None = None,
     ) -> float | tuple[float, dict[str, float]] | regions.GlobalValue:
         """A global index: the mean of its local index over a region (DESIGN.md section 5).
 
         ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
         a parametrised region (e.g. ``"miw"``) uses a fixed quadrature mapped into the design's region
         and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too.
+        ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it.
         """
         spec = indices.global_spec(name)
         d = self._design_vector(design)
@@ -264,13 +265,16 @@ class Mechanism:
                     "gradient=True needs a parametrised region "
                     f"({', '.join(self.parametrised_regions())}); the reachable region is sampled"
                 )
-            return regions.sampled_global(self, spec, d[None, :], branch, resolution=resolution, **region_options)[0]
+            margin = regions.SINGULARITY_MARGIN if singularity_margin is None else singularity_margin
+            return regions.sampled_global(
+                self, spec, d[None, :], branch, resolution=resolution, singularity_margin=margin
+            )[0]
         param = self.parametrised_regions()
         if region not in param:
             raise UnknownNameError(f"{self.name} region", region, self.region_names())
-        if region_options:
-            raise PkmError(f"region {region!r} takes no options; got {', '.join(region_options)}")
-        resolution = resolution or regions.DISC_RESOLUTION
+        if singularity_margin is not None:
+            raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")
+        resolution = regions.DISC_RESOLUTION if resolution is None else resolution
         fn = regions.parametrised_global_function(self, spec, param[region], branch, resolution)
         value, grad = fn(d)
         nodes = len(regions.disc_quadrature(resolution)[1])

@@ -19,7 +19,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import indices
-from pkm.batch import evaluate
+from pkm.batch import evaluate, reached
 from pkm.errors import PkmError
 
 if TYPE_CHECKING:
@@ -95,7 +95,7 @@ def sampled_global(
     progress=None,
 ) -> list[GlobalValue]:
     """Global index over the sampled reachable workspace of each design (D, n_p), vectorised."""
-    resolution = _check_resolution(resolution or SAMPLED_RESOLUTION, 2)
+    resolution = _check_resolution(SAMPLED_RESOLUTION if resolution is None else resolution, 2)
     if not 0 <= singularity_margin < 1:
         raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
     signs = np.array(branch.signs)
@@ -125,7 +125,7 @@ def _sample(
     condition = indices.local_spec("inverse_condition_f")
     q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
     q = q[:, :, 0]
-    ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
+    ok = reached(q, reach)
     q[~ok] = 0.0
     J, J_f, *_ = evaluate(mech.functions["first_order"], q, x, d)
     value = indices.evaluate_local(local, J, J_f)

@@ -179,9 +179,9 @@ class _Model:
         )
         cand.sampled_objective, cand.sampled_points = float(sampled), sampled.points
 
-    def nlp(self) -> tuple[dict[str, ca.MX], dict[str, int]]:
+    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], dict[str, int]]:
         w = ca.MX.sym("w", 2)
-        fn = regions.parametrised_global_function(self.mech, self.spec, self.region, self.branch, self.prob.resolution)
+        fn = regions.parametrised_global_function(self.mech, self.spec, self.region, self.branch, resolution)
         design = ca.vertcat(*self.design(w[0], w[1]))
         normalised = ca.vertcat(*self.space.from_chart(w[0], w[1]))
         radius = self.mech.functions[self.region.function](design)[1]
@@ -210,9 +210,9 @@ def synthesize(
     verbose : print IPOPT's iterations.
     """
     prob = problem(name)
-    res = resolution or prob.resolution
-    base_res = baseline_resolution or prob.baseline_resolution
-    n_starts = starts or prob.starts
+    res = prob.resolution if resolution is None else resolution
+    base_res = prob.baseline_resolution if baseline_resolution is None else baseline_resolution
+    n_starts = prob.starts if starts is None else starts
     for label, value, minimum in (
         ("resolution", res, 1),
         ("baseline_resolution", base_res, 3),
@@ -231,7 +231,7 @@ def synthesize(
     screen = model.values(su, sv, res)
     order = np.argsort(-np.nan_to_num(screen, nan=-np.inf))[:n_starts]
 
-    nlp, dims = model.nlp()
+    nlp, dims = model.nlp(res)
     lower = [prob.min_length] * dims["n_g"] + [prob.min_radius]
     upper = [np.inf] * dims["n_g"] + [np.inf]
     upper[dims["n_g"] - 1] = 2.0 - prob.min_length

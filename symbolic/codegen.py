@@ -101,6 +101,18 @@ class CasadiPrinter(PythonCodePrinter):
     def _print_sign(self, expr: sp.sign) -> str:
         return f"ca.sign({self._print(expr.args[0])})"
 
+    def _print_Min(self, expr: sp.Min) -> str:
+        return self._fold("ca.fmin", expr.args)
+
+    def _print_Max(self, expr: sp.Max) -> str:
+        return self._fold("ca.fmax", expr.args)
+
+    def _fold(self, func: str, args: tuple[sp.Expr, ...]) -> str:
+        text = self._print(args[0])
+        for arg in args[1:]:
+            text = f"{func}({text}, {self._print(arg)})"
+        return text
+
     def _print_Pi(self, _expr: sp.Expr) -> str:
         return "ca.pi"
 

@@ -60,7 +60,9 @@ def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
         d = P - base
         rho = sp.sqrt(d[0] ** 2 + d[1] ** 2)
         c = (r1**2 + rho**2 - r2**2) / (2 * r1 * rho)
-        th = sp.atan2(d[1], d[0]) + s * sp.acos(c)
+        # Clamped so that a pose on the workspace boundary, where |c| exceeds 1 by round-off, keeps
+        # its (serial-singular) solution; the reach margin flags the poses truly out of reach.
+        th = sp.atan2(d[1], d[0]) + s * sp.acos(sp.Max(-1, sp.Min(1, c)))
         elbow = base + r1 * _e(th)
         actuated.append(th)
         passive.append(sp.atan2(y - elbow[1], x - elbow[0]))
@@ -76,7 +78,7 @@ def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     dist2 = u[0] ** 2 + u[1] ** 2
     height2 = r2**2 - dist2 / 4
     normal = sp.Matrix([-u[1], u[0]]) / sp.sqrt(dist2)
-    p = (a1 + a2) / 2 + sigma * sp.sqrt(height2) * normal
+    p = (a1 + a2) / 2 + sigma * sp.sqrt(sp.Max(0, height2)) * normal
     q = sp.Matrix([theta1, theta2, sp.atan2(p[1] - a1[1], p[0] - a1[0]), sp.atan2(p[1] - a2[1], p[0] - a2[0])])
     return p, q, sp.Matrix([height2])
 
@@ -89,7 +91,7 @@ def module() -> ModuleSpec:
         "inverse_kinematics",
         (POSE, MODE, DESIGN),
         (
-            Output("q", q, "theta1, theta2, phi1, phi2 [rad]; NaN where out of reach"),
+            Output("q", q, "theta1, theta2, phi1, phi2 [rad]"),
             Output("reach", margins, "1 - cos^2 of each elbow angle; >= 0 where reachable"),
         ),
         "Closed-form inverse kinematics of both chains for the elbow signs in mode.",
@@ -99,7 +101,7 @@ def module() -> ModuleSpec:
         "forward_kinematics",
         (ACTUATED, ASSEMBLY, DESIGN),
         (
-            Output("x", p, "end-effector position [m]; NaN where the chains cannot close"),
+            Output("x", p, "end-effector position [m]"),
             Output("q", q_fk, "theta1, theta2, phi1, phi2 [rad]"),
             Output("reach", height2, "r2^2 - |A1 A2|^2 / 4; >= 0 where the chains close"),
         ),
@@ -138,7 +140,7 @@ def maximum_inscribed_circle() -> tuple[sp.Expr, sp.Expr]:
     Case r1 + r3 < r2 (eq. 11): the annulus of each chain has width 2 r1 and the MIC, of radius
     min(r1, r2) = r1, touches its inner and outer circles with its centre at distance r2 from both
     bases. Otherwise (eq. 12): the MIC touches the outer circles and the parallel singularity at
-    (0, y_col) where both distal links are horizontal.
+    (0, y_col) where both distal links are horizontal; its radius is capped by the inner circles.
     """
     case_1 = r1 + r3 < r2
     # Each square root sees its own case's argument and 1 otherwise: both pieces are evaluated (and
@@ -146,7 +148,9 @@ def maximum_inscribed_circle() -> tuple[sp.Expr, sp.Expr]:
     y_col = sp.sqrt(sp.Piecewise((1, case_1), (r1**2 - (r2 - r3) ** 2, True)))
     s = r1 + r2 + y_col
     y_mic_2 = (s**2 - r3**2) / (2 * s)
-    rad_2 = y_mic_2 - y_col
+    # Eq. 12 ignores the inner circle of radius |r1 - r2| about each base, which its disc crosses when
+    # r2 > r1 and r1 + r3 - r2 is small: the radius is capped so that the disc stays in both annuli.
+    rad_2 = sp.Min(y_mic_2 - y_col, sp.sqrt(r3**2 + y_mic_2**2) - sp.Abs(r1 - r2))
     y_mic_1 = sp.sqrt(sp.Piecewise(((r1 + r2 + sp.Abs(r1 - r2)) ** 2 / 4 - r3**2, case_1), (1, True)))
     rad_1 = (r1 + r2 - sp.Abs(r1 - r2)) / 2
     return sp.Piecewise((y_mic_1, case_1), (y_mic_2, True)), sp.Piecewise((rad_1, case_1), (rad_2, True))

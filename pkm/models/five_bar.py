@@ -77,7 +77,10 @@ class FiveBar(Mechanism):
         Branch("in_out", (-1.0, -1.0), "elbow of chain 1 inside, of chain 2 outside", ("OA'BCD",)),
         Branch("in_in", (-1.0, 1.0), "both elbows inside the triangle O1 P O2", ("OA'BC'D",)),
     )
-    distinct_modes = ("out_out", "out_in")
+    distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {
+        "reachable": ("out_out", "out_in"),
+        "miw": ("out_out", "out_in", "in_in"),
+    }
     assembly_modes = (
         Branch("up", (1.0,), "P to the left of the directed line A1 -> A2 (above it when A1 is left of A2)"),
         Branch("down", (-1.0,), "P to the right of the directed line A1 -> A2"),

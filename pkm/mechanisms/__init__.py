@@ -1,1 +1,0 @@
-"""Runtime modules of pkm's mechanisms, registered by name."""

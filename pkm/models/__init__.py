@@ -1,0 +1,1 @@
+"""Runtime modules of pkm's mechanisms (registered in pkm.load)."""

@@ -1,0 +1,190 @@
+"""Atlases of global indices over Gao's normalised design space (Gao 1998 Figs. 4-9)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm.atlas import Atlas, compute_atlas, default_modes
+
+RES, POSE_RES = 7, 12
+
+
+@pytest.fixture(scope="module")
+def mech() -> pkm.Mechanism:
+    return pkm.load("five_bar")
+
+
+@pytest.fixture(scope="module")
+def gci(mech) -> Atlas:
+    return compute_atlas(mech, "gci", modes=("out_out", "out_in"), resolution=RES, pose_resolution=POSE_RES)
+
+
+@pytest.fixture(scope="module")
+def gci_miw(mech) -> Atlas:
+    modes = ("out_out", "in_in")
+    return compute_atlas(mech, "gci", region="miw", modes=modes, resolution=RES, pose_resolution=3)
+
+
+def _design(mech, atlas: Atlas, i: int, j: int) -> dict[str, float]:
+    space = mech.design_spaces[atlas.space]
+    return mech.design_dict(np.array(space.to_design(space.from_chart(atlas.u[i], atlas.v[j]), 1.0)))
+
+
+def test_shapes_and_masks(gci, mech):
+    u, v, inside = mech.design_spaces["gao1998"].chart_grid(RES)
+    assert gci.modes == ("out_out", "out_in")
+    np.testing.assert_array_equal(gci.u, u)
+    np.testing.assert_array_equal(gci.v, v)
+    np.testing.assert_array_equal(gci.inside, inside)
+    assert 0 < inside.sum() < inside.size
+    for mode in gci.modes:
+        assert gci.values[mode].shape == gci.points[mode].shape == (RES, RES)
+        assert np.isnan(gci.values[mode][~inside]).all()
+        assert (gci.points[mode][~inside] == 0).all()
+    assert gci.evaluations == inside.sum() * POSE_RES**2 * 2
+    assert gci.wall_time > 0
+
+
+def test_values_inside_are_finite_and_in_range(gci, mech):
+    for mode in gci.modes:
+        z = gci.values[mode][gci.inside]
+        assert np.isfinite(z).all()
+        assert ((z > 0) & (z <= 1)).all()
+        assert (gci.points[mode][gci.inside] > 0).all()
+    gamma = {
+        name: compute_atlas(mech, name, modes="out_out", resolution=5, pose_resolution=8).values["out_out"]
+        for name in ("gamma_max", "gamma_min")
+    }
+    inside = np.isfinite(gamma["gamma_max"])
+    assert (gamma["gamma_min"][inside] >= 0).all()
+    assert (gamma["gamma_min"][inside] <= gamma["gamma_max"][inside]).all()
+
+
+@pytest.mark.parametrize("mode", ["out_out", "out_in"])
+def test_node_equals_global_index(gci, mech, mode):
+    for i, j in np.argwhere(gci.inside)[::5]:
+        expected = mech.global_index("gci", _design(mech, gci, i, j), mode=mode, resolution=POSE_RES)
+        assert gci.values[mode][i, j] == pytest.approx(expected, rel=1e-12)
+        assert gci.points[mode][i, j] == expected.points
+
+
+def test_parametrised_node_equals_global_index(gci_miw, mech):
+    assert gci_miw.singularity_margin is None
+    nodes = [(i, j) for i, j in np.argwhere(gci_miw.inside) if np.isfinite(gci_miw.values["in_in"][i, j])]
+    assert nodes
+    for i, j in nodes[::3]:
+        design = _design(mech, gci_miw, i, j)
+        expected = mech.global_index("gci", design, region="miw", mode="in_in", resolution=3)
+        assert gci_miw.values["in_in"][i, j] == pytest.approx(expected, rel=1e-9)
+        assert gci_miw.points["in_in"][i, j] == expected.points == 36
+    # The MIW lies above the base line, so Gao's eq. 26 (out_out == in_in) does not hold over it.
+    both = np.isfinite(gci_miw.values["in_in"]) & np.isfinite(gci_miw.values["out_out"])
+    assert np.abs(gci_miw.values["in_in"][both] - gci_miw.values["out_out"][both]).max() > 0.05
+
+
+def test_gao_mode_symmetry_over_the_reachable_region(mech):
+    """Gao eqs. 26-27: eta(OABCD) = eta(OA'BC'D) and eta(OABC'D) = eta(OA'BCD)."""
+    atlas = compute_atlas(mech, "gci", modes=mech.modes, resolution=5, pose_resolution=10)
+    inside = atlas.inside
+    np.testing.assert_allclose(atlas.values["in_in"][inside], atlas.values["out_out"][inside], rtol=1e-9)
+    np.testing.assert_allclose(atlas.values["in_out"][inside], atlas.values["out_in"][inside], rtol=1e-9)
+
+
+def test_default_modes_are_the_distinct_ones(mech, monkeypatch):
+    monkeypatch.setattr(type(mech), "distinct_modes", ("out_out", "out_in"), raising=False)
+    calls = []
+    atlas = compute_atlas(mech, "gci", resolution=4, pose_resolution=4, progress=calls.append)
+    assert atlas.modes == ("out_out", "out_in")
+    assert sum(calls) == atlas.inside.sum() * 2
+    # Gao's equalities hold over the reachable workspace only; over the MIW every mode is kept.
+    assert default_modes(mech, "miw") == mech.modes
+    monkeypatch.setattr(type(mech), "distinct_modes", {"miw": ("out_out", "in_in")})
+    assert default_modes(mech, "miw") == ("out_out", "in_in")
+    assert default_modes(mech, "reachable") == mech.modes
+
+
+def test_best_is_the_largest_node(gci, mech):
+    for mode in gci.modes:
+        best = gci.best(mode)
+        z = gci.values[mode]
+        assert best.value == np.nanmax(z)
+        i, j = np.argwhere(z == best.value)[0]
+        assert (best.u, best.v) == (gci.u[i], gci.v[j])
+        np.testing.assert_allclose(mech.design_spaces["gao1998"].to_chart(best.coordinates), (best.u, best.v))
+        assert sum(best.coordinates[:2]) * 2 + best.coordinates[2] == pytest.approx(4)
+    assert gci.best("OABC'D") == gci.best("out_in")
+    assert gci.best() == gci.best("out_out")
+    many = int(np.median(gci.points["out_out"][gci.inside]))
+    best = gci.best("out_out", min_points=many)
+    i, j = np.flatnonzero(gci.u == best.u)[0], np.flatnonzero(gci.v == best.v)[0]
+    assert gci.points["out_out"][i, j] >= many
+    assert best.value == np.nanmax(np.where(gci.points["out_out"] >= many, gci.values["out_out"], np.nan))
+    with pytest.raises(pkm.ComputationError, match="no node"):
+        gci.best("out_out", min_points=POSE_RES**2 + 1)
+
+
+def test_save_npz_round_trips(gci, tmp_path):
+    path = gci.save_npz(tmp_path / "gci.npz")
+    assert [p.name for p in tmp_path.iterdir()] == ["gci.npz"]
+    with np.load(path) as data:
+        np.testing.assert_array_equal(data["u"], gci.u)
+        np.testing.assert_array_equal(data["v"], gci.v)
+        np.testing.assert_array_equal(data["inside"], gci.inside)
+        for mode in gci.modes:
+            np.testing.assert_array_equal(data[f"values_{mode}"], gci.values[mode])
+            np.testing.assert_array_equal(data[f"points_{mode}"], gci.points[mode])
+        meta = json.loads(str(data["metadata"]))
+    assert meta == json.loads(json.dumps(gci.metadata()))
+    assert meta["modes"] == list(gci.modes)
+    assert meta["pose_resolution"] == POSE_RES
+    assert meta["evaluations"] == gci.evaluations
+
+
+def test_failed_write_leaves_nothing(gci, tmp_path, monkeypatch):
+    def fail(*_args, **_kwargs):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(np, "savez_compressed", fail)
+    with pytest.raises(OSError, match="disk full"):
+        gci.save_npz(tmp_path / "gci.npz")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_writes_a_png(gci, gci_miw, tmp_path):
+    for atlas in (gci, gci_miw):
+        path = atlas.plot(tmp_path / f"{atlas.region}.png")
+        assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert path.stat().st_size > 10_000
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["miw.png", "reachable.png"]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"index": "speed"}, "unknown index 'speed'"),
+        ({"space": "lara"}, "unknown five_bar design space 'lara'"),
+        ({"region": "disc"}, "unknown five_bar region 'disc'"),
+        ({"modes": ("out_out", "up")}, "unknown five_bar working mode 'up'"),
+        ({"modes": ("out_out", "OABCD")}, "none repeated"),
+        ({"modes": ()}, "at least one working mode"),
+        ({"resolution": 2}, "resolution = 2 violates"),
+        ({"resolution": 4.5}, "resolution = 4.5 violates"),
+        ({"pose_resolution": 1}, "pose_resolution = 1 violates"),
+        ({"singularity_margin": 1.0}, "singularity_margin = 1.0 violates"),
+    ],
+)
+def test_bad_input(mech, kwargs, match):
+    kwargs = {"index": "gci", "resolution": 4, **kwargs}
+    with pytest.raises(pkm.PkmError, match=match):
+        compute_atlas(mech, kwargs.pop("index"), **kwargs)
+
+
+def test_unknown_names_are_unknown_name_errors(mech, gci):
+    with pytest.raises(pkm.UnknownNameError):
+        compute_atlas(mech, "gci", region="disc")
+    with pytest.raises(pkm.UnknownNameError, match="in_in"):
+        gci.best("in_in")

@@ -1,0 +1,68 @@
+"""The command line: outputs, exit statuses and one-line errors without tracebacks."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from pkm.cli import main
+
+
+def run(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "pkm.cli", *args], capture_output=True, text=True, check=False)
+
+
+def test_list_json_names_the_five_bar_and_its_indices(capsys):
+    assert main(["list", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert "five_bar" in data["mechanisms"]
+    assert {"gci", "gamma_max", "gamma_min"} <= set(data["indices"])
+    assert [p["name"] for p in data["mechanisms"]["five_bar"]["parameters"]] == ["r1", "r2", "r3"]
+
+
+def test_eval_reports_inverse_kinematics_and_local_indices(capsys):
+    assert main(["eval", "five_bar", "--pose", "0.1,1.5", "--design", "r1=1.2,r2=1.0,r3=0.8", "--json"]) == 0
+    row = json.loads(capsys.readouterr().out)["poses"][0]
+    assert 0 < row["inverse_condition_f"] <= 1
+    assert len(row["q"]) == 4
+
+
+def test_index_with_gradient_on_the_miw(capsys):
+    assert main(["index", "five_bar", "gci", "--region", "miw", "--gradient", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert 0 < data["value"] < 1
+    assert set(data["gradient"]) == {"r1", "r2", "r3"}
+    assert data["points"] == 4 * 8**2
+
+
+def test_synth_writes_its_result_and_beats_the_grid(tmp_path, capsys):
+    assert main(["synth", "five_bar.max_gci_miw", "--resolution", "5", "--out", str(tmp_path), "--json"]) == 0
+    data = json.loads((tmp_path / "five_bar.max_gci_miw.json").read_text())
+    assert data == json.loads(capsys.readouterr().out)
+    assert data["objective"] >= data["baseline_objective"]
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["index", "nobot", "gci"], "unknown mechanism 'nobot'"),
+        (["index", "five_bar", "nope"], "unknown index 'nope'"),
+        (["index", "five_bar", "gci", "--design", "r9=1"], "unknown design parameter(s) r9"),
+        (["index", "five_bar", "gci", "--design", "r1=nan"], "r1 = nan is not finite"),
+        (["index", "five_bar", "gci", "--design", "r1=0.1,r2=0.1,r3=1"], "cannot be assembled"),
+        (["index", "five_bar", "gci", "--mode", "sideways"], "unknown five_bar working mode"),
+        (["eval", "five_bar", "--pose", "9,9"], "out of reach"),
+        (["synth", "no.such"], "unknown synthesis problem"),
+        (["reproduce", "nobody2000"], "unknown paper"),
+        (["frobnicate"], "invalid choice"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(args, needle):
+    proc = run(*args)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert needle in proc.stderr
