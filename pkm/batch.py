@@ -24,12 +24,24 @@ def _mapped(f: ca.Function, n: int) -> ca.Function:
     return f.map(n, "thread", THREADS)
 
 
+@lru_cache(maxsize=256)
+def _dense(f: ca.Function) -> ca.Function:
+    """``f`` with dense inputs and outputs: buffers hold every entry, structural zeros included."""
+    dense_in = all(f.sparsity_in(i).is_dense() for i in range(f.n_in()))
+    if dense_in and all(f.sparsity_out(j).is_dense() for j in range(f.n_out())):
+        return f
+    args = [ca.MX.sym(f.name_in(i), *f.size_in(i)) for i in range(f.n_in())]
+    outs = [ca.densify(o) for o in f.call(args)]
+    return ca.Function(f.name(), args, outs, f.name_in(), f.name_out())
+
+
 def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     """Evaluate ``f`` over a batch.
 
     Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
     Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
     """
+    f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
     if len(sizes) > 1:

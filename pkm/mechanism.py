@@ -26,6 +26,8 @@ from pkm.batch import evaluate, reached
 from pkm.design import Condition, Design, Parameter, make_design
 from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 
+SINGULAR_CONDITION = 1e12
+
 DesignLike = Mapping[str, float] | Design | Sequence[float] | np.ndarray | None
 
 
@@ -134,7 +136,7 @@ class Mechanism:
         signs = np.array(self.working_mode(mode).signs)
         q, reach = evaluate(self.functions["inverse_kinematics"], x, signs, d)
         q = q[:, :, 0]
-        ok = np.all(reach[:, :, 0] >= 0, axis=1) & np.all(np.isfinite(q), axis=1)
+        ok = reached(q, reach)
         if strict and not ok.all():
             bad = int(np.flatnonzero(~ok)[0])
             raise PoseError(f"pose {x[bad].tolist()} is out of reach of the {self.name} design {self.design_dict(d)}")
@@ -195,25 +197,45 @@ class Mechanism:
             "q": q,
         }, single
 
+    def _strict_check(self, fo: dict[str, np.ndarray], pose: Any, design: DesignLike, kind: str) -> None:
+        """Raise SingularityError where the loop equations cannot be solved for J (type I) or J_f (type II)."""
+        x = np.atleast_2d(np.asarray(pose, dtype=float))
+        _, H_q, H_x = evaluate(self.functions["constraint"], fo["q"], x, self._design_vector(design))
+        if kind == "type I":
+            matrix, what = H_q, "J is unbounded at a serial (type I) singularity"
+        else:
+            n_p = H_q.shape[2] - self.n_act
+            matrix = np.concatenate([H_q[:, :, self.n_act :][:, :, :n_p], H_x], axis=2)
+            what = "J_f is unbounded at a parallel (type II) singularity"
+        with np.errstate(divide="ignore", invalid="ignore"):
+            condition = np.linalg.cond(matrix)
+        bad = ~np.isfinite(condition) | (condition > SINGULAR_CONDITION)
+        if bad.any():
+            raise SingularityError(f"{what}: pose {x[int(np.flatnonzero(bad)[0])].tolist()}")
+
     def jacobian(
         self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
     ) -> np.ndarray:
-        """J (N, n_act, n_out) with q_a_dot = J x_dot; inf entries at serial singularities.
+        """J (N, n_act, n_out) with q_a_dot = J x_dot; unbounded entries at serial singularities.
 
-        With ``strict`` a singular or unreachable pose raises.
+        With ``strict`` an unreachable pose raises :class:`PoseError` and a serial singularity (the
+        condition number of dh/dq above 1e12) raises :class:`SingularityError`.
         """
         fo, single = self._first_order(pose, design, mode, strict)
-        if strict and not np.all(np.isfinite(fo["J"])):
-            raise SingularityError("J is unbounded at a serial (type I) singularity")
+        if strict:
+            self._strict_check(fo, pose, design, "type I")
         return self._unbatch(fo["J"], single)
 
     def forward_jacobian(
         self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
     ) -> np.ndarray:
-        """J_f (N, n_out, n_act) with x_dot = J_f q_a_dot, the inverse of :meth:`jacobian`."""
+        """J_f (N, n_out, n_act) with x_dot = J_f q_a_dot, the inverse of :meth:`jacobian`.
+
+        With ``strict`` a parallel singularity raises :class:`SingularityError`.
+        """
         fo, single = self._first_order(pose, design, mode, strict)
-        if strict and not np.all(np.isfinite(fo["J_f"])):
-            raise SingularityError("J_f is unbounded at a parallel (type II) singularity")
+        if strict:
+            self._strict_check(fo, pose, design, "type II")
         return self._unbatch(fo["J_f"], single)
 
     def psi(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:

@@ -1,0 +1,164 @@
+"""Bad input to the API: pkm's own ValueError subclasses naming the thing and the violated condition.
+
+DESIGN.md section 8: unknown names, bad designs, unreachable and non-finite poses, and singular poses,
+which give the index's limiting value and never raise (unless ``strict``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
+
+m = pkm.load("five_bar")
+DESIGN = {"r1": 1.2, "r2": 1.0, "r3": 0.8}
+POSE = np.array([0.1, 1.5])
+FAR = np.array([3.0, 3.0])
+Y_COL = math.sqrt(1.2**2 - (1.0 - 0.8) ** 2)  # both distal links horizontal: a type II singularity
+# |P - O1| = r1 + r2 with O1 = (-r3, 0), and 0.2 < |P - O2| < 2.2: on chain 1's outer circle, inside chain 2's annulus
+STRETCHED = [-0.8 + 2.2 * math.cos(math.pi / 3), 2.2 * math.sin(math.pi / 3)]
+
+
+@pytest.mark.parametrize(
+    "error", [PkmError, UnknownNameError, DesignError, PoseError, SingularityError]
+)
+def test_every_error_is_a_value_error(error):
+    assert issubclass(error, ValueError)
+    assert issubclass(error, PkmError)
+
+
+@pytest.mark.parametrize(
+    ("call", "name"),
+    [
+        (lambda: pkm.load("six_bar"), "six_bar"),
+        (lambda: m.global_index("gci_42", DESIGN), "gci_42"),
+        (lambda: m.local_index("kappa_9", POSE, DESIGN), "kappa_9"),
+        (lambda: m.inverse_kinematics(POSE, DESIGN, mode="sideways"), "sideways"),
+        (lambda: m.jacobian(POSE, DESIGN, mode="OABCDE"), "OABCDE"),
+        (lambda: m.forward_kinematics([1.0, 2.0], DESIGN, assembly="left"), "left"),
+        (lambda: m.global_index("gci", DESIGN, region="moon"), "moon"),
+    ],
+    ids=["mechanism", "index", "local index", "mode", "gao mode", "assembly", "region"],
+)
+def test_unknown_name_is_named(call, name):
+    with pytest.raises(UnknownNameError, match=name):
+        call()
+
+
+@pytest.mark.parametrize(
+    ("design", "pattern"),
+    [
+        ({"r1": 1.2, "r2": 1.0}, "missing .*r3"),
+        ({**DESIGN, "r4": 0.3}, "unknown .*r4"),
+        ({**DESIGN, "r2": math.nan}, "r2 .*not finite"),
+        ({**DESIGN, "r3": math.inf}, "r3 .*not finite"),
+        ({**DESIGN, "r1": 0.0}, "r1"),
+        ({**DESIGN, "r1": -1.0}, "r1"),
+        ({**DESIGN, "r2": 0.0}, "r2"),
+        ({"r1": 0.5, "r2": 0.4, "r3": 1.0}, r"cannot be assembled.*r1 \+ r2 > r3"),
+    ],
+    ids=["missing", "extra", "nan", "inf", "r1 zero", "r1 negative", "r2 zero", "cannot assemble"],
+)
+def test_bad_design_is_a_design_error_naming_the_parameter(design, pattern):
+    with pytest.raises(DesignError, match=pattern):
+        m.inverse_kinematics(POSE, design)
+    with pytest.raises(DesignError, match=pattern):
+        m.global_index("gci", design, region="miw")
+
+
+def test_pose_out_of_reach_is_nan_in_a_batch():
+    x = np.stack([POSE, FAR, [-3.0, 0.5]])
+    np.testing.assert_array_equal(m.reachable(x, DESIGN), [True, False, False])
+    for result in (
+        m.inverse_kinematics(x, DESIGN),
+        m.jacobian(x, DESIGN),
+        m.forward_jacobian(x, DESIGN),
+        m.local_index("inverse_condition_f", x, DESIGN),
+    ):
+        assert np.all(np.isfinite(result[0]))
+        assert np.all(np.isnan(result[1:]))
+
+
+@pytest.mark.parametrize("method", ["inverse_kinematics", "jacobian", "forward_jacobian"])
+def test_pose_out_of_reach_raises_when_strict(method):
+    with pytest.raises(PoseError, match="out of reach"):
+        getattr(m, method)(np.stack([POSE, FAR]), DESIGN, strict=True)
+
+
+def test_actuator_angles_that_cannot_close_are_nan_or_raise_when_strict():
+    q = np.array([[1.6, 1.4], [math.pi, 0.0]])  # second: elbows 2 (r1 + r3) = 4 apart, r2 = 1
+    x = m.forward_kinematics(q, DESIGN)
+    assert np.all(np.isfinite(x[0]))
+    assert np.all(np.isnan(x[1]))
+    with pytest.raises(PoseError):
+        m.forward_kinematics(q, DESIGN, strict=True)
+
+
+@pytest.mark.parametrize("bad", [math.nan, math.inf, -math.inf])
+def test_non_finite_pose_is_a_pose_error(bad):
+    x = np.array([[0.1, 1.5], [0.0, bad]])
+    for call in (m.inverse_kinematics, m.jacobian, m.reachable):
+        with pytest.raises(PoseError, match="non-finite"):
+            call(x, DESIGN)
+    with pytest.raises(PoseError, match="non-finite"):
+        m.local_index("inverse_condition_f", x, DESIGN)
+    with pytest.raises(PoseError, match="non-finite"):
+        m.forward_kinematics([bad, 1.0], DESIGN)
+
+
+def test_pose_of_the_wrong_shape_is_a_pose_error():
+    with pytest.raises(PoseError, match="shape"):
+        m.inverse_kinematics([0.1, 1.5, 0.0], DESIGN)
+
+
+SINGULAR = {
+    "type I, folded elbow (inner boundary of chain 2)": ([0.8, 0.2], "out_out"),
+    "type I, stretched chain (outer boundary of chain 1)": (STRETCHED, "out_out"),
+    "type II, distal links aligned": ([0.0, Y_COL], "out_out"),
+}
+
+
+@pytest.mark.parametrize(("pose", "mode"), list(SINGULAR.values()), ids=list(SINGULAR))
+def test_singular_pose_gives_zero_inverse_condition_and_never_raises(pose, mode):
+    assert m.reachable(pose, DESIGN, mode=mode)
+    for name in ("inverse_condition_f", "inverse_condition_2"):
+        assert m.local_index(name, pose, DESIGN, mode=mode) == pytest.approx(0.0, abs=1e-6), name
+    for name in ("velocity_max", "velocity_min"):
+        assert m.local_index(name, pose, DESIGN, mode=mode) >= 0.0, name
+    m.jacobian(pose, DESIGN, mode=mode)
+    m.forward_jacobian(pose, DESIGN, mode=mode)
+
+
+def test_jacobian_at_a_serial_singularity_raises_when_strict():
+    pose, mode = SINGULAR["type I, folded elbow (inner boundary of chain 2)"]
+    with pytest.raises(SingularityError):
+        m.jacobian(pose, DESIGN, mode=mode, strict=True)
+    m.forward_jacobian(pose, DESIGN, mode=mode, strict=True)
+
+
+def test_forward_jacobian_at_a_parallel_singularity_raises_when_strict():
+    pose, mode = SINGULAR["type II, distal links aligned"]
+    with pytest.raises(SingularityError):
+        m.forward_jacobian(pose, DESIGN, mode=mode, strict=True)
+    m.jacobian(pose, DESIGN, mode=mode, strict=True)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"region": "reachable", "gradient": True},
+        {"region": "reachable", "resolution": 0},
+        {"region": "miw", "resolution": 0},
+        {"region": "reachable", "resolution": -4},
+        {"region": "miw", "resolution": 2.5},
+        {"region": "reachable", "singularity_margin": 1.0},
+    ],
+    ids=["gradient of sampled", "zero grid", "zero quadrature", "negative grid", "fractional", "margin of one"],
+)
+def test_bad_global_index_option_is_a_pkm_error(options):
+    with pytest.raises(PkmError, match="|".join(k for k in options if k != "region")):
+        m.global_index("gci", DESIGN, **options)

@@ -1,0 +1,269 @@
+"""The contract every registered mechanism passes (STYLE practice 8): a new mechanism gets it for free.
+
+Only generic means are used: designs drawn near the defaults, poses drawn in ``workspace_box`` and kept
+where ``reachable``, and the generated ``constraint`` function. As in sympy.physics.mechanics' four-bar
+test, the loop-closure residual is checked before anything computed from the joints is compared.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import SimpleNamespace
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import pkm
+from pkm.batch import evaluate
+from pkm.indices import LOCAL
+
+MECHANISMS = pkm.mechanisms()
+SEEDS = (0, 1, 2)
+SPREAD = 0.2  # designs within +-20 % of the defaults
+N_POSES = 24
+STEP = 1e-6  # central-difference step [pose units]
+MIN_INVERSE_CONDITION = 0.05
+MIN_DET_FRACTION = 0.05  # of the median |det|, so that the threshold carries the mechanism's units
+
+
+@dataclass(frozen=True)
+class Case:
+    mech: pkm.Mechanism
+    design: pkm.Design
+    poses: dict[str, np.ndarray]
+
+    @property
+    def vector(self) -> np.ndarray:
+        return self.design.vector()
+
+
+def random_design(m: pkm.Mechanism, rng: np.random.Generator) -> pkm.Design:
+    for _ in range(1000):
+        values = {p.name: p.default * (1 + SPREAD * rng.uniform(-1, 1)) for p in m.parameters}
+        try:
+            return m.design(values)
+        except pkm.DesignError:
+            continue
+    raise AssertionError(f"no valid {m.name} design within {SPREAD:.0%} of the defaults")
+
+
+def reachable_poses(m: pkm.Mechanism, design: pkm.Design, mode: str, rng: np.random.Generator) -> np.ndarray:
+    box = m.workspace_box(design.vector())
+    x = rng.uniform(box[:, 0], box[:, 1], size=(50 * N_POSES, len(box)))
+    x = x[m.reachable(x, design, mode=mode)][:N_POSES]
+    assert len(x) == N_POSES, f"{m.name} {mode}: too few reachable poses in the workspace box"
+    return x
+
+
+@pytest.fixture(scope="module", params=[(n, s) for n in MECHANISMS for s in SEEDS], ids=lambda p: f"{p[0]}-{p[1]}")
+def case(request) -> Case:
+    name, seed = request.param
+    m = pkm.load(name)
+    rng = np.random.default_rng(seed)
+    design = random_design(m, rng)
+    return Case(m, design, {mode: reachable_poses(m, design, mode, rng) for mode in m.modes})
+
+
+def closed_joints(case: Case, mode: str, x: np.ndarray | None = None) -> np.ndarray:
+    """All joints at the poses by inverse kinematics, after asserting that the loops close there."""
+    x = case.poses[mode] if x is None else x
+    q = case.mech.inverse_kinematics(x, case.design, mode=mode, passive=True)
+    assert np.all(np.isfinite(q))
+    (h, *_) = evaluate(case.mech.functions["constraint"], q, x, case.vector)
+    scale = max(1.0, float(np.abs(case.vector).max()))
+    np.testing.assert_allclose(h, 0.0, atol=1e-12 * scale, err_msg=f"loop residual, mode {mode}")
+    return q
+
+
+def regular(case: Case, mode: str) -> np.ndarray:
+    """The sampled poses away from type I and type II singularities."""
+    m, x = case.mech, case.poses[mode]
+    keep = m.local_index("inverse_condition_f", x, case.design, mode=mode) > MIN_INVERSE_CONDITION
+    for det in m.singularity(x, case.design, mode=mode).values():
+        keep &= np.abs(det) > MIN_DET_FRACTION * np.median(np.abs(det))
+    assert keep.sum() >= N_POSES // 3, f"mode {mode}: too few regular poses"
+    return x[keep]
+
+
+def test_loop_closes_at_inverse_kinematics(case):
+    for mode in case.mech.modes:
+        closed_joints(case, mode)
+
+
+def test_forward_kinematics_returns_the_pose_in_some_assembly(case):
+    m = case.mech
+    for mode, x in case.poses.items():
+        q = closed_joints(case, mode)
+        errors = [
+            np.linalg.norm(m.forward_kinematics(q[:, : m.n_act], case.design, assembly=a) - x, axis=1)
+            for a in m.assemblies
+        ]
+        best = np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0)
+        assert best.max() < 1e-9, f"mode {mode}: FK(IK(x)) misses x by {best.max():.3g}"
+
+
+def test_jacobian_matches_central_differences_of_inverse_kinematics(case):
+    m = case.mech
+    for mode in m.modes:
+        x = regular(case, mode)
+        closed_joints(case, mode, x)
+        J = m.jacobian(x, case.design, mode=mode)
+        columns = []
+        for e in np.eye(m.n_out):
+            plus = m.inverse_kinematics(x + STEP * e, case.design, mode=mode)
+            minus = m.inverse_kinematics(x - STEP * e, case.design, mode=mode)
+            columns.append((np.mod(plus - minus + np.pi, 2 * np.pi) - np.pi) / (2 * STEP))
+        fd = np.stack(columns, axis=2)
+        scale = np.abs(J).max(axis=(1, 2), keepdims=True)
+        assert np.all(np.abs(fd - J) <= 1e-6 * scale), f"mode {mode}: J differs from finite differences"
+
+
+def test_jacobian_inverts_forward_jacobian(case):
+    m = case.mech
+    for mode in m.modes:
+        x = regular(case, mode)
+        closed_joints(case, mode, x)
+        J = m.jacobian(x, case.design, mode=mode)
+        J_f = m.forward_jacobian(x, case.design, mode=mode)
+        np.testing.assert_allclose(J @ J_f, np.broadcast_to(np.eye(m.n_act), (len(x), m.n_act, m.n_act)), atol=1e-9)
+        np.testing.assert_allclose(J_f @ J, np.broadcast_to(np.eye(m.n_out), (len(x), m.n_out, m.n_out)), atol=1e-9)
+
+
+def test_psi_lies_in_the_null_space_of_the_constraint_jacobian(case):
+    m = case.mech
+    for mode in m.modes:
+        x = regular(case, mode)
+        q = closed_joints(case, mode, x)
+        _, H_q, H_x = evaluate(m.functions["constraint"], q, x, case.vector)
+        psi = m.psi(x, case.design, mode=mode)
+        J_f = m.forward_jacobian(x, case.design, mode=mode)
+        identity = np.broadcast_to(np.eye(m.n_act), (len(x), m.n_act, m.n_act))
+        np.testing.assert_array_equal(psi[:, : m.n_act, :], identity)
+        residual = H_q @ psi + H_x @ J_f
+        scale = np.abs(H_q).max() * np.abs(psi).max() + np.abs(H_x).max() * np.abs(J_f).max()
+        np.testing.assert_allclose(residual, 0.0, atol=1e-12 * scale, err_msg=f"mode {mode}")
+
+
+def test_every_local_index_lies_in_its_documented_range(case):
+    m = case.mech
+    for mode, x in case.poses.items():
+        for name, spec in LOCAL.items():
+            value = m.local_index(name, x, case.design, mode=mode)
+            assert not np.any(np.isnan(value)), f"{name} is NaN at a reachable pose ({mode})"
+            assert np.all((spec.lower <= value) & (value <= spec.upper)), f"{name} outside its range ({mode})"
+
+
+def _outputs(m: pkm.Mechanism, x: np.ndarray, design: pkm.Design, mode: str) -> dict[str, np.ndarray]:
+    out = {
+        "q": m.inverse_kinematics(x, design, mode=mode, passive=True),
+        "J": m.jacobian(x, design, mode=mode),
+        "J_f": m.forward_jacobian(x, design, mode=mode),
+        "psi": m.psi(x, design, mode=mode),
+        "reachable": m.reachable(x, design, mode=mode),
+        **m.singularity(x, design, mode=mode),
+        **{name: m.local_index(name, x, design, mode=mode) for name in LOCAL},
+    }
+    q_a = out["q"][..., : m.n_act]
+    out.update({f"fk_{a}": m.forward_kinematics(q_a, design, assembly=a) for a in m.assemblies})
+    return out
+
+
+def test_batch_equals_stacked_single_poses(case):
+    m, repeats = case.mech, 100  # 2400 poses: beyond the size where batches are evaluated by threads
+    for mode, x in case.poses.items():
+        batch = _outputs(m, x, case.design, mode)
+        singles = [_outputs(m, xi, case.design, mode) for xi in x]
+        big = _outputs(m, np.tile(x, (repeats, 1)), case.design, mode)
+        for key, value in batch.items():
+            assert value.shape[0] == len(x), key
+            np.testing.assert_array_equal(value, np.stack([s[key] for s in singles]), err_msg=key)
+            np.testing.assert_array_equal(big[key], np.concatenate([value] * repeats), err_msg=key)
+
+
+def _named_inputs(case: Case) -> dict[str, np.ndarray]:
+    """Inputs of the generated functions by the names of mechanism.py's convention."""
+    m, mode = case.mech, case.mech.working_modes[0]
+    x = case.poses[mode.name]
+    q = m.inverse_kinematics(x, case.design, mode=mode.name, passive=True)
+    assembly = np.resize(np.array([b.signs for b in m.assembly_modes]), (len(x), len(m.assembly_modes[0].signs)))
+    return {"x": x, "q": q, "q_a": q[:, : m.n_act], "mode": np.array(mode.signs), "assembly": assembly,
+            "design": case.vector}
+
+
+def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
+    """pkm.batch.evaluate (mapped) against one CasADi call per point (serial), sparse outputs included."""
+    inputs = _named_inputs(case)
+    for key, fn in case.mech.functions.items():
+        ins = [ca.SX.sym(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
+        outs = fn.call(ins)
+        F = ca.Function(key, ins, outs + [ca.jacobian(o, i) for o in outs for i in ins])
+        args = [inputs[n] for n in fn.name_in()]
+        mapped = evaluate(F, *args)
+        for k in range(len(mapped[0])):
+            serial = F.call([a[k] if a.ndim == 2 else a for a in args])
+            for j, value in enumerate(serial):
+                np.testing.assert_array_equal(mapped[j][k], np.array(ca.densify(value)), err_msg=f"{key}[{j}]")
+
+
+@pytest.mark.parametrize("name", MECHANISMS)
+def test_every_parameter_is_documented_with_a_valid_default(name):
+    m = pkm.load(name)
+    names = [p.name for p in m.parameters]
+    assert names
+    assert len(set(names)) == len(names)
+    for p in m.parameters:
+        assert p.doc.strip(), p.name
+        assert p.unit.strip(), p.name
+        assert p.lower <= p.default <= p.upper, p.name
+        p.check(p.default)
+    assert list(m.design()) == names
+    for branch in (*m.working_modes, *m.assembly_modes):
+        assert branch.doc.strip(), branch.name
+    assert len(m.pose_names) == len(m.pose_units) == m.n_out
+
+
+@pytest.mark.parametrize("name", MECHANISMS)
+def test_generated_functions_have_named_inputs_and_outputs(name):
+    for fn in pkm.load(name).functions.values():
+        ports = fn.name_in() + fn.name_out()
+        assert len(set(ports)) == len(ports)
+        assert not any(p.startswith(("i", "o")) and p[1:].isdigit() for p in ports), fn.name()
+
+
+POSITIONAL = {
+    "inverse_kinematics": lambda c: (c.x, c.design),
+    "forward_kinematics": lambda c: (c.q, c.design),
+    "jacobian": lambda c: (c.x, c.design),
+    "forward_jacobian": lambda c: (c.x, c.design),
+    "psi": lambda c: (c.x, c.design),
+    "singularity": lambda c: (c.x, c.design),
+    "reachable": lambda c: (c.x, c.design),
+    "local_index": lambda c: ("inverse_condition_f", c.x, c.design),
+    "design": lambda c: (c.design,),
+    "global_index": lambda c: ("gci", c.design),
+}
+
+
+def _keyword_cases():
+    for name in MECHANISMS:
+        for method in POSITIONAL:
+            yield pytest.param(name, method, {}, id=f"{name}-{method}")
+        for region in pkm.load(name).parametrised_regions():
+            yield pytest.param(name, "global_index", {"region": region}, id=f"{name}-global_index-{region}")
+
+
+@pytest.mark.parametrize(("name", "method", "options"), list(_keyword_cases()))
+def test_unknown_keyword_argument_is_a_type_error(name, method, options):
+    m = pkm.load(name)
+    design = m.design()
+    x = reachable_poses(m, design, m.modes[0], np.random.default_rng(0))[0]
+    context = SimpleNamespace(x=x, q=m.inverse_kinematics(x, design), design=design)
+    with pytest.raises(TypeError, match="bogus"):
+        getattr(m, method)(*POSITIONAL[method](context), **options, bogus=1)
+
+
+def test_registry_still_lists_mechanisms_after_loading_one():
+    for name in MECHANISMS:
+        pkm.load(name)
+    assert pkm.mechanisms() == MECHANISMS

@@ -1,0 +1,103 @@
+"""Global indices: convergence with resolution on both regions, exact MIW gradients, reported points.
+
+The MIW disc of Lara-Molina eq. (12) touches the reach boundary (where the inverse kinematics has a
+square-root singularity) and the parallel singularity (where ||V||max = sigma_max(J_f) is unbounded).
+So the product Gauss quadrature converges algebraically, not spectrally: about fourth order for gci and
+gamma_min, first order for gamma_max, whose integrand is unbounded at the point of contact.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pkm
+
+m = pkm.load("five_bar")
+DEFAULT = m.design()
+NAMES = ("gci", "gamma_max", "gamma_min")
+
+
+def values(name: str, region: str, resolutions) -> list:
+    return [m.global_index(name, DEFAULT, region=region, resolution=n) for n in resolutions]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_reachable_region_index_converges_as_the_grid_doubles(name):
+    v32, v64, v128, v256, v512 = values(name, "reachable", (32, 64, 128, 256, 512))
+    assert abs(v256 - v128) < abs(v64 - v32)
+    assert abs(v512 - v256) < 1e-2 * abs(v512)
+
+
+# finest-pair tolerance (16 -> 32) and the ratio of successive differences (its convergence order)
+MIW_CONVERGENCE = {"gci": (2e-5, 0.2), "gamma_min": (2e-5, 0.5), "gamma_max": (3e-2, 0.6)}
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_miw_index_converges_as_the_quadrature_doubles(name):
+    tolerance, ratio = MIW_CONVERGENCE[name]
+    v4, v8, v16, v32 = values(name, "miw", (4, 8, 16, 32))
+    assert abs(v32 - v16) < ratio * abs(v16 - v8) < ratio**2 * abs(v8 - v4)
+    assert abs(v32 - v16) < tolerance * abs(v32)
+
+
+@pytest.mark.parametrize("name", ["gci", "gamma_min"])
+def test_smooth_miw_indices_agree_to_1e_6_at_resolution_32_and_64(name):
+    v32, v64 = values(name, "miw", (32, 64))
+    assert v64 == pytest.approx(v32, rel=1e-6)
+
+
+def test_miw_gamma_max_converges_at_first_order():
+    v8, v16, v32, v64 = values("gamma_max", "miw", (8, 16, 32, 64))
+    assert (v64 - v32) / (v32 - v16) == pytest.approx(0.5, abs=0.05)
+    assert (v32 - v16) / (v16 - v8) == pytest.approx(0.5, abs=0.05)
+
+
+def random_designs(n: int, seed: int) -> list[dict[str, float]]:
+    rng = np.random.default_rng(seed)
+    return [{p.name: p.default * (1 + 0.15 * rng.uniform(-1, 1)) for p in m.parameters} for _ in range(n)]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_miw_gradient_matches_central_differences(name):
+    step = 1e-6
+    for design in random_designs(5, seed=7):
+        value, grad = m.global_index(name, design, region="miw", gradient=True)
+        assert value == m.global_index(name, design, region="miw")
+        assert list(grad) == [p.name for p in m.parameters]
+        fd = {}
+        for key in design:
+            plus, minus = dict(design), dict(design)
+            plus[key] += step
+            minus[key] -= step
+            fd[key] = (m.global_index(name, plus, region="miw") - m.global_index(name, minus, region="miw")) / (
+                2 * step
+            )
+        scale = max(abs(g) for g in grad.values())
+        for key in design:
+            assert grad[key] == pytest.approx(fd[key], rel=1e-5, abs=1e-5 * scale), (design, key)
+
+
+@pytest.mark.parametrize("region", ["reachable", "miw"])
+def test_global_value_reports_points_that_grow_with_resolution(region):
+    results = values("gci", region, (8, 16, 32))
+    points = [r.points for r in results]
+    assert all(isinstance(r, pkm.regions.GlobalValue) for r in results)
+    assert [r.region for r in results] == [region] * 3
+    assert [r.resolution for r in results] == [8, 16, 32]
+    assert points[0] < points[1] < points[2]
+    if region == "miw":
+        assert points == [4 * n**2 for n in (8, 16, 32)]
+    else:
+        assert all(0 < p <= n**2 for p, n in zip(points, (8, 16, 32), strict=True))
+
+
+def test_reachable_points_are_the_masked_grid_cells():
+    value = m.global_index("gci", DEFAULT, region="reachable", resolution=64)
+    box = m.workspace_box(DEFAULT.vector())
+    axes = [lo + (hi - lo) * (np.arange(64) + 0.5) / 64 for lo, hi in box]
+    x = np.stack([a.ravel() for a in np.meshgrid(*axes, indexing="ij")], axis=1)
+    local = m.local_index("inverse_condition_f", x, DEFAULT, mode="out_out")
+    kept = local[np.nan_to_num(local, nan=-1.0) >= pkm.regions.SINGULARITY_MARGIN]
+    assert value.points == len(kept)
+    assert value == pytest.approx(kept.mean(), rel=1e-12)
