@@ -115,7 +115,7 @@ class Atlas:
         arrays["metadata"] = np.array(json.dumps(self.metadata()))
         return _write_atomically(path, lambda fh: np.savez_compressed(fh, **arrays))
 
-    def plot(self, path: str | os.PathLike) -> Path:
+    def plot(self, path: str | os.PathLike, *, min_points: int = 1) -> Path:
         """A PNG like Gao's Figs. 4-9: filled and labelled contours over the chart, one panel per mode."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
@@ -138,7 +138,7 @@ class Atlas:
             lines = ax.contour(U, V, z, levels=levels, colors="k", linewidths=0.6)
             ax.clabel(lines, lines.levels[::2], fmt="%.3g", fontsize=7)
             ax.plot(poly[:, 0], poly[:, 1], color="k", linewidth=1.2)
-            best = self.best(mode)
+            best = self.best(mode, min_points=min_points)
             points = self.points[mode][self.u == best.u, self.v == best.v][0]
             at = ", ".join(f"{n}={c:.2f}" for n, c in zip(space.coordinates, best.coordinates, strict=True))
             ax.plot(best.u, best.v, marker="*", color="red", markersize=12, linestyle="none",

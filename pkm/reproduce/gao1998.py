@@ -159,7 +159,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
             m, name, space="gao1998", resolution=s["atlas_resolution"], pose_resolution=s["pose_resolution"]
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
-        atlas.plot(folder / f"atlas_{name}.png")
+        atlas.plot(folder / f"atlas_{name}.png", min_points=s["pose_resolution"] ** 2 // 50)
         figures.append(f"atlas_{name}.png")
         atlases[name] = (atlas, fig_no)
         bar.advance()
