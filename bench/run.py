@@ -1,0 +1,170 @@
+"""Run pkm's benchmarks and print a markdown table: ``python -m bench.run [--quick] [--json PATH]``.
+
+* throughput: IK + J + 1/kappa_f of the five-bar on 10^6 random reachable poses, pkm against a
+  hand-written numpy implementation in the same run (bench/throughput.py);
+* synthesis: ``pkm.synthesize("five_bar.max_gci_miw")`` (IPOPT) against its baseline on the same model,
+  when pkm.synthesis is available (skipped with a note otherwise).
+
+Figures are ratios against baselines measured in the same run; nothing asserts on time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import importlib.util
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import casadi
+import numpy as np
+
+from bench import throughput
+
+SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
+
+
+def log(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)
+
+
+def machine() -> dict[str, Any]:
+    """What the figures were measured on."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {
+        "date": datetime.date.today().isoformat(),
+        "cpu": cpu,
+        "cores": os.cpu_count(),
+        "os": platform.platform(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "casadi": casadi.__version__,
+    }
+
+
+def synthesis_bench() -> dict[str, Any]:
+    """IPOPT synthesis against its baseline; skipped (with the reason) when pkm.synthesis does not exist."""
+    if importlib.util.find_spec("pkm.synthesis") is None:
+        log("synthesis: pkm.synthesis is not available; skipped")
+        return {"problem": SYNTHESIS_PROBLEM, "skipped": "pkm.synthesis is not available"}
+    import pkm
+    import pkm.synthesis
+
+    synthesize = getattr(pkm, "synthesize", None) or pkm.synthesis.synthesize
+    log(f"synthesis: {SYNTHESIS_PROBLEM}")
+    start = time.perf_counter()
+    try:
+        result = synthesize(SYNTHESIS_PROBLEM).to_dict()
+    except Exception as exc:  # report the failure with the other figures, then exit 1
+        return {"problem": SYNTHESIS_PROBLEM, "error": f"{type(exc).__name__}: {exc}"}
+    total = time.perf_counter() - start
+    opt, base = result["optimizer"], result["baseline"]
+    return {
+        "problem": SYNTHESIS_PROBLEM,
+        "total_wall_time_s": total,
+        "status": result.get("status"),
+        "optimizer": {
+            "wall_time_s": opt["wall_time_s"],
+            "evaluations": opt["evaluations"],
+            "objective": result["objective"],
+            "verified_objective": result["verified_objective"],
+        },
+        "baseline": {
+            "wall_time_s": base["wall_time_s"],
+            "evaluations": base["evaluations"],
+            "objective": result["baseline_objective"],
+            "verified_objective": base.get("verified_objective"),
+        },
+        "time_ratio_baseline_over_optimizer": base["wall_time_s"] / opt["wall_time_s"],
+        "objective_gain": result["verified_objective"] - result["baseline_objective"],
+    }
+
+
+def _fmt(value: Any, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def markdown(report: dict[str, Any]) -> str:
+    env, tp = report["machine"], report["throughput"]
+    lines = [
+        f"# pkm benchmarks ({env['date']})",
+        "",
+        f"{env['cpu']}, {env['cores']} cores; {env['os']}; Python {env['python']}, numpy {env['numpy']}, "
+        f"CasADi {env['casadi']}.",
+        "",
+        f"## Throughput: IK + J + 1/kappa_f, five-bar, {tp['poses']:,} reachable poses "
+        f"(best of {tp['repeats']}, seed {tp['seed']})",
+        "",
+        "| benchmark | threads | poses/s | vs numpy | time (s) |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for r in tp["rows"]:
+        lines.append(
+            f"| {r['name']} | {r['threads']} | {r['poses_per_s'] / 1e6:.2f} M | {r['ratio_vs_numpy']:.2f}x "
+            f"| {r['seconds']:.3f} |"
+        )
+    lines += ["", f"pkm.batch.THREADS default: {tp['default_threads']}. Every row agrees with numpy to 1e-9."]
+    lines += [f"- {note}" for note in tp["notes"]]
+    syn = report["synthesis"]
+    lines += ["", f"## Synthesis: {SYNTHESIS_PROBLEM}", ""]
+    if "skipped" in syn:
+        lines.append(f"skipped: {syn['skipped']}.")
+    elif "error" in syn:
+        lines.append(f"failed: {syn['error']}")
+    else:
+        lines += [
+            "| method | wall time (s) | evaluations | objective | verified objective |",
+            "|---|---:|---:|---:|---:|",
+        ]
+        for label, key in (("IPOPT (pkm.synthesize)", "optimizer"), ("baseline (atlas grid)", "baseline")):
+            s = syn[key]
+            lines.append(
+                f"| {label} | {s['wall_time_s']:.3f} | {s['evaluations']} | {_fmt(s['objective'], '.6f')} "
+                f"| {_fmt(s['verified_objective'], '.6f')} |"
+            )
+        lines += [
+            "",
+            f"Baseline / IPOPT wall time: {syn['time_ratio_baseline_over_optimizer']:.2f}x; verified objective "
+            f"minus baseline objective: {syn['objective_gain']:+.3g}; status {syn['status']}; "
+            f"total with verification {syn['total_wall_time_s']:.2f} s.",
+        ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m bench.run", description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="10^5 poses instead of 10^6")
+    parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON to PATH")
+    parser.add_argument("--no-compiled", action="store_true", help="skip the C-compiled experiments")
+    parser.add_argument("--no-synthesis", action="store_true", help="skip the synthesis benchmark")
+    args = parser.parse_args(argv)
+    report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
+    report["machine"] = machine()
+    report["throughput"] = throughput.run(
+        100_000 if args.quick else 1_000_000, 3, compiled=not args.no_compiled, log=log
+    )
+    report["synthesis"] = {"skipped": "--no-synthesis"} if args.no_synthesis else synthesis_bench()
+    print(markdown(report))
+    if args.json:
+        path = Path(args.json)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(path.name + ".tmp")
+        tmp.write_text(json.dumps(report, indent=2, default=float) + "\n")
+        tmp.replace(path)
+    return 1 if "error" in report["synthesis"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
