@@ -71,6 +71,11 @@ def synthesis_bench() -> dict[str, Any]:
         return {"problem": SYNTHESIS_PROBLEM, "error": f"{type(exc).__name__}: {exc}"}
     total = time.perf_counter() - start
     opt, base = result["optimizer"], result["baseline"]
+    base_verified = base.get("verified_objective")
+    if base_verified is None:  # compare like with like: both verified, or both as optimised
+        gain = result["objective"] - result["baseline_objective"]
+    else:
+        gain = result["verified_objective"] - base_verified
     return {
         "problem": SYNTHESIS_PROBLEM,
         "total_wall_time_s": total,
@@ -88,7 +93,7 @@ def synthesis_bench() -> dict[str, Any]:
             "verified_objective": base.get("verified_objective"),
         },
         "time_ratio_baseline_over_optimizer": base["wall_time_s"] / opt["wall_time_s"],
-        "objective_gain": result["verified_objective"] - result["baseline_objective"],
+        "objective_gain": gain,
     }
 
 
@@ -136,8 +141,8 @@ def markdown(report: dict[str, Any]) -> str:
             )
         lines += [
             "",
-            f"Baseline / IPOPT wall time: {syn['time_ratio_baseline_over_optimizer']:.2f}x; verified objective "
-            f"minus baseline objective: {syn['objective_gain']:+.3g}; status {syn['status']}; "
+            f"Baseline / IPOPT wall time: {syn['time_ratio_baseline_over_optimizer']:.2f}x; objective of IPOPT "
+            f"minus baseline (verified): {syn['objective_gain']:+.3g}; status {syn['status']}; "
             f"total with verification {syn['total_wall_time_s']:.2f} s.",
         ]
     return "\n".join(lines)

@@ -26,6 +26,7 @@ __all__ = [
     "UnknownNameError",
     "load",
     "mechanisms",
+    "synthesize",
 ]
 
 __version__ = "0.1.0"
@@ -49,3 +50,10 @@ def load(name: str) -> Mechanism:
     if name not in registry:
         raise UnknownNameError("mechanism", name, sorted(registry))
     return registry[name]()
+
+
+def synthesize(problem: str, **options):
+    """Solve a registered synthesis problem with IPOPT; see :func:`pkm.synthesis.synthesize`."""
+    from pkm.synthesis import synthesize as _synthesize
+
+    return _synthesize(problem, **options)

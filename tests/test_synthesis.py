@@ -60,3 +60,8 @@ def test_bad_synthesis_input():
         synthesize("five_bar.nothing")
     with pytest.raises(PkmError, match="starts = 0"):
         synthesize("five_bar.max_gci_miw", starts=0)
+
+
+def test_public_entry_point_rejects_unknown_options():
+    with pytest.raises(TypeError):
+        pkm.synthesize("five_bar.max_gci_miw", bogus=1)
