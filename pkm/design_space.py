@@ -46,6 +46,3 @@ class DesignSpace:
         path = PolygonPath(poly)
         inside = path.contains_points(np.stack([U.ravel(), V.ravel()], 1), radius=-2 * inset)
         return u, v, inside.reshape(U.shape)
-
-    def contains_chart(self, u: float, v: float) -> bool:
-        return bool(PolygonPath(np.array(self.polygon)).contains_point((u, v)))

@@ -137,6 +137,7 @@ def evaluate_local(spec: LocalIndex, J: np.ndarray, J_f: np.ndarray) -> np.ndarr
     fn = local_function(spec.name, J.shape[1])
     with np.errstate(invalid="ignore"):
         value = _run(fn, J, J_f)
-        if spec.name.startswith("inverse_condition"):
-            value = np.where(np.isfinite(value), value, _run(fn, J_f, J))
+        singular = ~np.isfinite(value)
+        if spec.name.startswith("inverse_condition") and singular.any():
+            value[singular] = _run(fn, J_f[singular], J[singular])
     return np.where(np.isfinite(value), value, spec.at_singularity)
