@@ -258,7 +258,7 @@ def compute_atlas(
     ds = spaces[space]
     u, v, inside = ds.chart_grid(resolution)
     U, V = np.meshgrid(u, v, indexing="ij")
-    designs = np.stack(ds.to_design(ds.from_chart(U[inside], V[inside]), 1.0), axis=-1)
+    designs = ds.designs(mech.parameters, ds.from_chart(U[inside], V[inside]))
     per_design = pose_resolution**2 if sampled else len(regions.disc_quadrature(pose_resolution)[1])
     values, points = {}, {}
     for mode in modes:

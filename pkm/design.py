@@ -13,7 +13,11 @@ from pkm.errors import DesignError
 
 @dataclass(frozen=True)
 class Parameter:
-    """One design parameter. Values must lie in (lower, upper), or [lower, upper) if ``closed_lower``."""
+    """One design parameter. Values must lie in (lower, upper), or [lower, upper) if ``closed_lower``.
+
+    A parameter that is not ``required`` may be left out of a design: it then takes its default, or
+    ``factor * design[name]`` when ``default_from = (name, factor)``.
+    """
 
     name: str
     default: float
@@ -22,6 +26,15 @@ class Parameter:
     unit: str
     doc: str
     closed_lower: bool = False
+    required: bool = True
+    default_from: tuple[str, float] | None = None
+
+    def default_in(self, values: Mapping[str, float]) -> float:
+        """The default of this parameter given the other values of a design."""
+        if self.default_from is None:
+            return self.default
+        name, factor = self.default_from
+        return factor * float(values[name])
 
     def check(self, value: float) -> None:
         if not math.isfinite(value):
@@ -90,17 +103,25 @@ def make_design(
 ) -> Design:
     """Validate ``values`` (a mapping, or None for the defaults) into a :class:`Design`.
 
-    With ``partial`` missing parameters take their defaults; otherwise all must be given.
+    Parameters that are not required may always be left out; with ``partial`` the required ones may
+    be too. Left-out parameters take their defaults.
     """
     names = [p.name for p in parameters]
     given = {} if values is None else dict(values)
     extra = sorted(set(given) - set(names))
     if extra:
         raise DesignError(f"unknown design parameter(s) {', '.join(extra)}; expected {', '.join(names)}")
-    missing = [n for n in names if n not in given]
+    missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:
         raise DesignError(f"missing design parameter(s) {', '.join(missing)}")
-    full = {p.name: float(given.get(p.name, p.default)) for p in parameters}
+    full = {p.name: float(given[p.name]) for p in parameters if p.name in given}
+    for p in parameters:
+        if p.name not in full and p.default_from is None:
+            full[p.name] = p.default
+    for p in parameters:
+        if p.name not in full:
+            full[p.name] = p.default_in(full)
+    full = {n: full[n] for n in names}
     for p in parameters:
         p.check(full[p.name])
     for c in conditions:

@@ -7,11 +7,34 @@ synthesis. The maps use arithmetic only, so they accept floats, numpy arrays and
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 
+import casadi as ca
 import numpy as np
 from matplotlib.path import Path as PolygonPath
+
+from pkm.design import Condition, Parameter
+from pkm.errors import DesignError
+
+CLOSED = 1e-12
+SUM_TOLERANCE = 1e-9
+
+
+def interval(name: str, lower: float, upper: float, *, closed: bool = False, source: str = "") -> tuple[Condition, ...]:
+    """Conditions lower < name < upper (both ends closed with ``closed``) on normalised coordinates."""
+    slack = CLOSED if closed else 0.0
+    text = f"{lower:g} {'<=' if closed else '<'} {name} {'<=' if closed else '<'} {upper:g}{source}"
+    return (
+        Condition(text, lambda c: c[name] - lower + slack),
+        Condition(text, lambda c: upper - c[name] + slack),
+    )
+
+
+def fixed_sum(weights: Mapping[str, float], total: float, *, source: str = "") -> Condition:
+    """The condition sum(weight * coordinate) = total (to SUM_TOLERANCE)."""
+    text = " + ".join(f"{w:g} {n}" if w != 1 else n for n, w in weights.items()) + f" = {total:g}{source}"
+    return Condition(text, lambda c: SUM_TOLERANCE - abs(sum(w * c[n] for n, w in weights.items()) - total))
 
 
 @dataclass(frozen=True)
@@ -21,6 +44,9 @@ class DesignSpace:
     ``to_design(c, scale)`` and ``from_design(d) -> (c, scale)`` convert normalised coordinates c
     (last axis) to SI designs; ``to_chart(c)`` and ``from_chart(u, v)`` convert to and from the chart.
     ``polygon`` is the closure of the space in the chart (its vertices, counter-clockwise).
+    ``parameters`` names the design parameters ``to_design`` returns, in its order; the others take
+    the values of ``base`` (the paper's non-dimensional values) or the mechanism's defaults.
+    ``conditions`` are the paper's constraints on the normalised coordinates (by name).
     """
 
     name: str
@@ -32,6 +58,38 @@ class DesignSpace:
     to_chart: Callable
     from_chart: Callable
     polygon: tuple[tuple[float, float], ...]
+    parameters: tuple[str, ...] = ("r1", "r2", "r3")
+    base: Mapping[str, float] = field(default_factory=dict)
+    conditions: tuple[Condition, ...] = ()
+
+    def check(self, c: Sequence) -> None:
+        """Raise :class:`DesignError` if normalised coordinates c (last axis) violate a condition."""
+        arrays = [np.asarray(a, dtype=float) for a in c]
+        values = dict(zip(self.coordinates, arrays, strict=True))
+        for cond in self.conditions:
+            margin = np.asarray(cond.margin(values))
+            if not np.all(margin > 0):
+                k = int(np.flatnonzero(~(margin.ravel() > 0))[0])
+                shown = ", ".join(f"{n}={np.ravel(a)[k if np.size(a) > 1 else 0]:g}" for n, a in values.items())
+                raise DesignError(f"{self.name} design ({shown}) violates {cond.text}")
+
+    def designs(self, parameters: Sequence[Parameter], c: Sequence, scale=1.0, *, check: bool = True):
+        """Complete design vectors from normalised coordinates c: an (..., n_p) array, or a CasADi
+        column when c holds CasADi expressions (for synthesis)."""
+        values = dict(zip(self.parameters, self.to_design(c, scale), strict=True))
+        fixed = {p.name: self.base.get(p.name, p.default) for p in parameters}
+        for p in parameters:
+            if p.name not in values and p.name not in self.base and p.default_from is not None:
+                fixed[p.name] = p.default_from[1] * fixed[p.default_from[0]]
+        if any(isinstance(v, ca.MX | ca.SX) for v in values.values()):
+            return ca.vertcat(*[values.get(p.name, fixed[p.name]) for p in parameters])
+        if check:
+            self.check(c)
+        arrays = {n: np.asarray(v, dtype=float) for n, v in values.items()}
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+        return np.stack(
+            [np.broadcast_to(arrays.get(p.name, fixed[p.name]), shape) for p in parameters], axis=-1
+        )
 
     def chart_grid(self, resolution: int, *, inset: float = 1e-3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """A regular chart grid: axes u (n,), v (n,) and a mask (n, n) of the nodes inside the space.

@@ -151,11 +151,11 @@ class _Model:
         self.region = self.mech.parametrised_regions()[prob.region]
 
     def design(self, u, v):
-        return self.space.to_design(self.space.from_chart(u, v), 1.0)
+        return self.space.designs(self.mech.parameters, self.space.from_chart(u, v), check=False)
 
     def values(self, u: np.ndarray, v: np.ndarray, resolution: int, *, feasible: bool = True) -> np.ndarray:
         """The objective at chart points; with ``feasible``, NaN where the region is too small."""
-        designs = np.stack(self.design(u, v), axis=-1)
+        designs = self.design(u, v)
         values = regions.parametrised_global(
             self.mech, self.spec, self.region, designs, branch=self.branch, resolution=resolution
         )
@@ -166,7 +166,7 @@ class _Model:
 
     def candidate(self, u: float, v: float, objective: float) -> Candidate:
         normalised = tuple(float(c) for c in self.space.from_chart(u, v))
-        design = self.mech.design_dict(np.array(self.design(u, v), dtype=float))
+        design = self.mech.design_dict(self.design(u, v))
         return Candidate((float(u), float(v)), normalised, design, float(objective))
 
     def verify(self, cand: Candidate, resolution: int) -> None:
@@ -182,7 +182,7 @@ class _Model:
     def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], dict[str, int]]:
         w = ca.MX.sym("w", 2)
         fn = regions.parametrised_global_function(self.mech, self.spec, self.region, self.branch, resolution)
-        design = ca.vertcat(*self.design(w[0], w[1]))
+        design = self.design(w[0], w[1])
         normalised = ca.vertcat(*self.space.from_chart(w[0], w[1]))
         radius = self.mech.functions[self.region.function](design)[1]
         nlp = {"x": w, "f": -fn(design)[0], "g": ca.vertcat(normalised, radius)}

@@ -19,7 +19,7 @@ GENERATED = ROOT / "generated"
 def sources(name: str) -> list[Path]:
     """The files whose bytes determine a mechanism's generated module."""
     here = ROOT / "symbolic"
-    return [here / "codegen.py", here / "loops.py", here / "mechanisms" / f"{name}.py"]
+    return [here / "codegen.py", here / "loops.py", here / "lagrange.py", here / "mechanisms" / f"{name}.py"]
 
 
 def write(out: Path) -> None:

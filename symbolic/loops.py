@@ -11,6 +11,10 @@ gives every first-order map of the mechanism:
 * inverse kinematics (x given):   [H_a H_p] (q_a_dot, q_p_dot) = -H_x x_dot
 * forward kinematics (q_a given): [H_p H_x] (q_p_dot, x_dot) = -H_a q_a_dot
 
+Differentiating once more gives the velocity-product terms: with Phi = d(q_a, q_p)/dx,
+q_ddot = Phi x_ddot + Phi_dot x_dot, and with Psi = d(q_a, q_p)/dq_a, q_ddot = Psi q_a_ddot + Psi_dot q_a_dot,
+where Phi_dot and Psi_dot are the total time derivatives along the loop.
+
 The determinants of the two square matrices are the type I (serial, ``det [H_a H_p] = 0``) and type II
 (parallel, ``det [H_p H_x] = 0``) singularity measures of Gosselin and Angeles.
 """
@@ -85,6 +89,30 @@ class LoopClosure:
     def psi(self) -> sp.Matrix:
         """Psi = d(q_a, q_p)/d q_a: all joint rates from the actuated rates; shape (n_a + n_p, n_a)."""
         return sp.eye(len(self.q_a)).col_join(self._forward_map[: len(self.q_p), :])
+
+    def _along_loop(self, A: sp.Matrix, rates: sp.Matrix) -> sp.Matrix:
+        """Total time derivative of A(q_a, q_p, x) given the rates (q_a, q_p, x)_dot."""
+        coords = (*self.q_a, *self.q_p, *self.x)
+        out = sp.zeros(*A.shape)
+        for c, r in zip(coords, rates, strict=True):
+            out += A.diff(c) * r
+        return out
+
+    def psi_dot(self, q_a_dot: Sequence[sp.Symbol]) -> sp.Matrix:
+        """Psi_dot: the time derivative of :meth:`psi` at actuated rates ``q_a_dot``; shape (n_a + n_p, n_a)."""
+        qa_dot = sp.Matrix(q_a_dot)
+        rates = self.psi().col_join(self.forward_jacobian()) * qa_dot
+        return self._along_loop(self.psi(), rates)
+
+    def inverse_second_order(self, x_dot: Sequence[sp.Symbol]) -> tuple[sp.Matrix, sp.Matrix]:
+        """All joint rates Phi x_dot and the velocity-product accelerations Phi_dot x_dot.
+
+        Joint accelerations are Phi x_ddot + Phi_dot x_dot, with Phi = d(q_a, q_p)/dx.
+        """
+        xd = sp.Matrix(x_dot)
+        q_dot = self._inverse_map * xd
+        bias = self._along_loop(self._inverse_map, q_dot.col_join(xd)) * xd
+        return q_dot, bias
 
     def det_type1(self) -> sp.Expr:
         """det [H_a H_p]: zero on serial (type I) singularities, where J is unbounded."""

@@ -31,7 +31,7 @@ def gci_miw(mech) -> Atlas:
 
 def _design(mech, atlas: Atlas, i: int, j: int) -> dict[str, float]:
     space = mech.design_spaces[atlas.space]
-    return mech.design_dict(np.array(space.to_design(space.from_chart(atlas.u[i], atlas.v[j]), 1.0)))
+    return mech.design_dict(space.designs(mech.parameters, space.from_chart(atlas.u[i], atlas.v[j])))
 
 
 def test_shapes_and_masks(gci, mech):

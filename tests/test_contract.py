@@ -198,7 +198,11 @@ def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
         ins = [ca.SX.sym(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
         outs = fn.call(ins)
         F = ca.Function(key, ins, outs + [ca.jacobian(o, i) for o in outs for i in ins])
-        args = [inputs[n] for n in fn.name_in()]
+        rng = np.random.default_rng(11)
+        args = [
+            rng.normal(size=(len(inputs["x"]), fn.numel_in(i))) if n.endswith("_dot") else inputs[n]
+            for i, n in enumerate(fn.name_in())
+        ]
         mapped = evaluate(F, *args)
         for k in range(len(mapped[0])):
             serial = F.call([a[k] if a.ndim == 2 else a for a in args])

@@ -53,7 +53,7 @@ def _designs(m: pkm.Mechanism, count: int, rng: np.random.Generator) -> np.ndarr
     u, v, inside = space.chart_grid(64, inset=0.1)
     U, V = np.meshgrid(u, v, indexing="ij")
     pick = rng.choice(np.flatnonzero(inside.ravel()), size=count, replace=False)
-    return np.stack(space.to_design(space.from_chart(U.ravel()[pick], V.ravel()[pick]), 1.0), axis=-1)
+    return space.designs(m.parameters, space.from_chart(U.ravel()[pick], V.ravel()[pick]))
 
 
 def _poses(m: pkm.Mechanism, design: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:
@@ -122,7 +122,7 @@ def _mode_equalities(m: pkm.Mechanism, designs: np.ndarray, resolution: int) -> 
 
 def _local_map(m: pkm.Mechanism, path: Path) -> str:
     """1/kappa_f over the workspace of each working mode (the symmetry of Figs. 3-5 at a glance)."""
-    d = np.array(m.design_spaces["gao1998"].to_design([0.8, 0.8, 0.8], 1.0))
+    d = m.design_spaces["gao1998"].designs(m.parameters, [0.8, 0.8, 0.8])
     box = m.workspace_box(d)
     x, _ = regions.grid(box, 160)
     fig = Figure(figsize=(10, 8.5), layout="constrained")

@@ -15,23 +15,47 @@ Inverse kinematics of chain i with elbow sign sigma_i (Lara-Molina eqs. 4-5 solv
 sigma_1 = +1 and sigma_2 = -1 put both elbows outside the chains' triangle O_i P (Gao's OABCD).
 Forward kinematics intersects the circles of radius r2 about the elbows; the assembly sign chooses the
 side of the directed line A1 -> A2 on which P lies.
+
+Dynamics (Lara-Molina 2016 section II.B): each chain carries its proximal link (mass m1, centre of mass
+at c1 r1 from the base joint, moment of inertia g1 m1 r1^2 about it), its distal link (m2, c2 r2 from
+the elbow, g2 m2 r2^2) and the motor rotor (inertia j_i, angle theta_mi) coupled to the proximal link
+by a torsional spring k_i (eq. 13). Friction: viscous fv and Coulomb fc at the actuated joints (eq. 22),
+viscous vm at the rotors. The plane is horizontal: no gravity.
 """
 
 from __future__ import annotations
 
+from functools import cache
+
 import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
 
 r1, r2, r3 = sp.symbols("r1 r2 r3", positive=True)
+m1, m2, c1, c2, g1, g2 = sp.symbols("m1 m2 c1 c2 g1 g2", positive=True)
+k1, k2, j1, j2 = sp.symbols("k1 k2 j1 j2", positive=True)
+fv, fc, vm = sp.symbols("fv fc vm", nonnegative=True)
 x, y = sp.symbols("x y", real=True)
 theta1, theta2, phi1, phi2 = sp.symbols("theta1 theta2 phi1 phi2", real=True)
 sigma1, sigma2, sigma = sp.symbols("sigma1 sigma2 sigma", real=True)
+theta_m1, theta_m2 = sp.symbols("theta_m1 theta_m2", real=True)
+x_dot, y_dot = rate(x), rate(y)
 
-DESIGN = Port("design", (r1, r2, r3), "proximal length, distal length, half base [m]")
+DESIGN = Port(
+    "design",
+    (r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm),
+    "r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], "
+    "fc [N m], vm [N m s/rad]",
+)
 POSE = Port("x", (x, y), "end-effector position [m]")
 JOINTS = Port("q", (theta1, theta2, phi1, phi2), "actuated then passive absolute link angles [rad]")
+JOINT_RATES = Port("q_dot", tuple(rate(s) for s in JOINTS.symbols), "rates of q [rad/s]")
+ACTUATED_RATES = Port("q_a_dot", (rate(theta1), rate(theta2)), "actuated joint rates [rad/s]")
+ELASTIC = Port("z", (theta1, theta2, theta_m1, theta_m2), "actuated joint then rotor angles [rad]")
+ELASTIC_RATES = Port("z_dot", tuple(rate(s) for s in ELASTIC.symbols), "rates of z [rad/s]")
+POSE_RATES = Port("x_dot", (x_dot, y_dot), "end-effector velocity [m/s]")
 ACTUATED = Port("q_a", (theta1, theta2), "actuated joint angles [rad]")
 MODE = Port("mode", (sigma1, sigma2), "elbow signs of chains 1 and 2 (+1 or -1)")
 ASSEMBLY = Port("assembly", (sigma,), "side of the line A1 -> A2 on which P lies (+1 left, -1 right)")
@@ -131,6 +155,7 @@ def module() -> ModuleSpec:
         "First-order kinematics by implicit differentiation of the loop closure.",
     )
     _add_mic(spec)
+    _add_dynamics(spec, loop)
     return spec
 
 
@@ -166,4 +191,115 @@ def _add_mic(spec: ModuleSpec) -> None:
             Output("radius", sp.Matrix([radius]), "radius r_MIC of the MIC [m]"),
         ),
         "Maximum inscribed circle of the workspace of the out_out working mode (Lara-Molina eqs. 10-12).",
+    )
+
+
+def chains() -> tuple[Chain, Chain]:
+    """The two open chains with links, rotor, transmission spring and friction (eqs. 13-19, 22)."""
+    out = []
+    for i, (base, th, ph, tm, k, j) in enumerate(
+        zip(BASES, (theta1, theta2), (phi1, phi2), (theta_m1, theta_m2), (k1, k2), (j1, j2), strict=True), 1
+    ):
+        elbow = base + r1 * _e(th)
+        bodies = (
+            Body(f"proximal{i}", m1, base + c1 * r1 * _e(th), g1 * m1 * r1**2, th),
+            Body(f"distal{i}", m2, elbow + c2 * r2 * _e(ph), g2 * m2 * r2**2, ph),
+            Body(f"rotor{i}", sp.Integer(0), base, j, tm),
+        )
+        out.append(
+            Chain(
+                f"chain{i}",
+                (th, ph, tm),
+                bodies,
+                springs=(Spring(k, th - tm),),
+                friction=(Friction(th, fv, fc), Friction(tm, vm)),
+            )
+        )
+    return tuple(out)
+
+
+@cache
+def joint_model() -> Model:
+    """Both chains stacked in the order (theta1, theta2, phi1, phi2, theta_m1, theta_m2) (eq. 21)."""
+    return stack([chain_model(c) for c in chains()], (theta1, theta2, phi1, phi2, theta_m1, theta_m2))
+
+
+def elastic_model(loop: LoopClosure) -> Model:
+    """The complete model of eq. 31 in z = (theta_a, theta_m): the loop eliminates phi1, phi2."""
+    z = ELASTIC.symbols
+    psi = sp.zeros(6, 4)
+    psi[:4, :2] = loop.psi()
+    psi[4:, 2:] = sp.eye(2)
+    psi_dot = sp.zeros(6, 4)
+    psi_dot[:4, :2] = loop.psi_dot(ACTUATED_RATES.symbols)
+    return project(joint_model(), z, psi, psi_dot)
+
+
+def _add_dynamics(spec: ModuleSpec, loop: LoopClosure) -> None:
+    joints = joint_model()
+    links = slice(0, 4)
+    on_loop = dict(zip(joints.rates()[:4, :], JOINT_RATES.symbols, strict=True))
+    spec.add(
+        "joint_dynamics",
+        (JOINTS, JOINT_RATES, DESIGN),
+        (
+            Output("M", joints.M[links, links], "mass matrix of the links in q (eq. 21) [kg m^2]"),
+            Output("C", joints.C[links, links].xreplace(on_loop), "Christoffel Coriolis matrix in q [kg m^2/s]"),
+        ),
+        "Stacked chain dynamics of the links in the joint coordinates (Lara-Molina eqs. 20-21).",
+    )
+    model = elastic_model(loop)
+    psi = loop.psi()
+    on_actuated = dict(zip(joints.rates()[:4, :], psi * sp.Matrix(ACTUATED_RATES.symbols), strict=True))
+    C4 = joints.C[links, links].xreplace(on_actuated)
+    spec.add(
+        "actuated_dynamics",
+        (JOINTS, POSE, ACTUATED_RATES, DESIGN),
+        (
+            Output("M_t", model.M[:2, :2], "M_t = Psi^T M Psi [kg m^2]"),
+            Output("C_t", model.C[:2, :2], "C_t = Psi^T (M Psi_dot + C Psi) [kg m^2/s]"),
+            Output("C_t_paper", psi.T * C4 * psi, "Lara-Molina's Psi^T C Psi, without Psi_dot [kg m^2/s]"),
+            Output("psi_dot", loop.psi_dot(ACTUATED_RATES.symbols), "time derivative of Psi [1/s]"),
+        ),
+        "Rigid-link dynamics projected onto the actuated joints (eq. 29, Psi_dot term included).",
+    )
+    spec.add(
+        "elastic_dynamics",
+        (JOINTS, POSE, ELASTIC_RATES, DESIGN),
+        (
+            Output("M_T", model.M, "blockdiag(M_t, diag(j1, j2)) (eq. 31) [kg m^2]"),
+            Output("C_T", model.C, "blockdiag(C_t, 0) [kg m^2/s]"),
+            Output("K_T", model.stiffness(), "joint stiffness matrix [N m/rad]"),
+            Output("f_t", model.f, "friction torques (f_a, V theta_m_dot) (eqs. 22, 31) [N m]"),
+        ),
+        "Complete model of the manipulator with flexible actuated joints: M_T z_ddot + C_T z_dot + f_t + K_T z = u.",
+    )
+    M_t = model.M[:2, :2]
+    J = loop.jacobian()
+    K_half = sp.diag(sp.sqrt(k1), sp.sqrt(k2))
+    M_t_inv = M_t.adjugate() / M_t.det(method="berkowitz")
+    S = K_half * (M_t_inv + sp.diag(1 / j1, 1 / j2)) * K_half
+    spec.add(
+        "inertia",
+        (JOINTS, POSE, DESIGN),
+        (
+            Output("M_t", M_t, "actuated-space inertia Psi^T M Psi [kg m^2]"),
+            Output("M_w", J.T * M_t * J, "task-space inertia J^T M_t J (eq. 35) [kg]"),
+            Output(
+                "S_e",
+                S,
+                "K^1/2 (M_t^-1 + J_m^-1) K^1/2: its eigenvalues are the squared non-zero natural frequencies [1/s^2]",
+            ),
+        ),
+        "Inertia matrices of a posture and the elastodynamic matrix of (K_T - lambda^2 M_T) z = 0 (eq. 37).",
+    )
+    q_dot, bias = loop.inverse_second_order(POSE_RATES.symbols)
+    spec.add(
+        "second_order",
+        (JOINTS, POSE, POSE_RATES, DESIGN),
+        (
+            Output("q_dot", q_dot, "all joint rates [rad/s]"),
+            Output("q_ddot_bias", bias, "joint accelerations at zero x_ddot: Phi_dot x_dot [rad/s^2]"),
+        ),
+        "Joint rates and velocity-product accelerations from the end-effector velocity.",
     )
