@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 e5a48ad010056add).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 4af1cf71215c78e6).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "e5a48ad010056add"
+SOURCE_HASH = "4af1cf71215c78e6"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 
 

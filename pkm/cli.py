@@ -85,7 +85,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
     mode = m.working_mode(args.mode).name
     q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=True)
     J = m.jacobian(x, d, mode=mode)
-    local = {name: m.local_index(name, x, d, mode=mode) for name in indices.LOCAL}
+    local = {name: m.local_index(name, x, d, mode=mode) for name in m.local_indices()}
     sing = m.singularity(x, d, mode=mode)
     rows = []
     for k in range(len(x)):

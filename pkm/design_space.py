@@ -46,7 +46,8 @@ class DesignSpace:
     ``polygon`` is the closure of the space in the chart (its vertices, counter-clockwise).
     ``parameters`` names the design parameters ``to_design`` returns, in its order; the others take
     the values of ``base`` (the paper's non-dimensional values) or the mechanism's defaults.
-    ``conditions`` are the paper's constraints on the normalised coordinates (by name).
+    ``conditions`` are the paper's constraints on the normalised coordinates (by name), ``bounds``
+    their box (lower, upper) per coordinate, used as constraints by the synthesis.
     """
 
     name: str
@@ -58,6 +59,7 @@ class DesignSpace:
     to_chart: Callable
     from_chart: Callable
     polygon: tuple[tuple[float, float], ...]
+    bounds: tuple[tuple[float, float], ...] = ()
     parameters: tuple[str, ...] = ("r1", "r2", "r3")
     base: Mapping[str, float] = field(default_factory=dict)
     conditions: tuple[Condition, ...] = ()

@@ -1,8 +1,12 @@
-"""Local performance indices of a Jacobian, and the global indices built from them.
+"""Local performance indices of a posture, and the global indices built from them.
 
-Local indices are CasADi functions of the Jacobian at one pose, so the same graph serves the batched
-numeric evaluation and the exact gradients of the global indices in the design. pkm's J maps output
-velocities to actuator rates (q_a_dot = J x_dot); Gao 1998's [J] is pkm's forward Jacobian J_f.
+Local indices are CasADi functions of matrices at one pose (the Jacobians J and J_f from the
+generated ``first_order``, or the inertia matrices from ``inertia``), so the same graph serves the
+batched numeric evaluation and the exact gradients of the global indices in the design. pkm's J maps
+output velocities to actuator rates (q_a_dot = J x_dot); Gao 1998's [J] is pkm's forward Jacobian J_f.
+
+A global index is the region mean of its local index (Gao eqs. 6-7, Lara-Molina eq. 36) or its
+minimum over the region (Lara-Molina eq. 38).
 """
 
 from __future__ import annotations
@@ -19,7 +23,8 @@ from pkm.errors import PkmError, UnknownNameError
 
 @dataclass(frozen=True)
 class LocalIndex:
-    """A local index: its key, meaning, unit, range, and its value where the pose is singular."""
+    """A local index: its key, meaning, unit, range, its value where the pose is singular, and the
+    generated function (``source``) whose outputs (``arguments``) it is computed from."""
 
     name: str
     doc: str
@@ -27,15 +32,18 @@ class LocalIndex:
     lower: float
     upper: float
     at_singularity: float
+    source: str = "first_order"
+    arguments: tuple[str, ...] = ("J", "J_f")
 
 
 @dataclass(frozen=True)
 class GlobalIndex:
-    """A global index: the region mean of a local index (Gao eqs. 6-7 and 23-25)."""
+    """A global index: the region mean (``reduce="mean"``) or minimum (``"min"``) of a local index."""
 
     name: str
     local: str
     doc: str
+    reduce: str = "mean"
 
 
 LOCAL: dict[str, LocalIndex] = {
@@ -66,6 +74,28 @@ LOCAL: dict[str, LocalIndex] = {
             np.inf,
             0.0,
         ),
+        LocalIndex(
+            "dynamic_dexterity",
+            "1/kappa_2(M_w) = lambda_min / lambda_max of the task-space inertia M_w = J^T M_t J "
+            "(Lara-Molina eq. 35)",
+            "-",
+            0.0,
+            1.0,
+            0.0,
+            "inertia",
+            ("M_w",),
+        ),
+        LocalIndex(
+            "natural_frequency",
+            "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
+            "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the two rigid-body modes excluded",
+            "rad/s",
+            0.0,
+            np.inf,
+            np.nan,
+            "inertia",
+            ("S_e",),
+        ),
     )
 }
 
@@ -76,6 +106,15 @@ GLOBAL: dict[str, GlobalIndex] = {
         GlobalIndex("gci_2", "inverse_condition_2", "region mean of 1/kappa_2"),
         GlobalIndex("gamma_max", "velocity_max", "global maximum velocity index (Gao eqs. 23, 25)"),
         GlobalIndex("gamma_min", "velocity_min", "global minimum velocity index (Gao eqs. 24, 25)"),
+        GlobalIndex(
+            "dynamic_dexterity", "dynamic_dexterity", "global dynamic dexterity: region mean of 1/kappa_2(M_w) (eq. 36)"
+        ),
+        GlobalIndex(
+            "lambda_e",
+            "natural_frequency",
+            "elastodynamic index: region minimum of the smallest non-zero natural frequency (eq. 38)",
+            "min",
+        ),
     )
 }
 
@@ -102,11 +141,16 @@ def _singular_values_2x2(A: ca.SX) -> tuple[ca.SX, ca.SX]:
 
 @cache
 def local_function(name: str, n: int) -> ca.Function:
-    """CasADi function ``(J, J_f) -> value`` of a local index for n x n Jacobians."""
+    """CasADi function ``(*arguments) -> value`` of a local index for n x n matrices."""
     if n != 2:
-        raise PkmError(f"local index {name} is implemented for 2 x 2 Jacobians; got {n} x {n}")
-    J = ca.SX.sym("J", n, n)
-    J_f = ca.SX.sym("J_f", n, n)
+        raise PkmError(f"local index {name} is implemented for 2 x 2 matrices; got {n} x {n}")
+    spec = local_spec(name)
+    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+    if spec.source == "inertia":
+        smax, smin = _singular_values_2x2(args[0])
+        value = smin / smax if name == "dynamic_dexterity" else ca.sqrt(smin)
+        return ca.Function(name, args, [value], list(spec.arguments), [name])
+    J, J_f = args
     if name == "inverse_condition_f":
         det = ca.fabs(J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0])
         value = n * det / ca.sumsqr(J)
@@ -122,22 +166,42 @@ def local_function(name: str, n: int) -> ca.Function:
     return ca.Function(name, [J, J_f], [value], ["J", "J_f"], [name])
 
 
-def _run(fn: ca.Function, J: np.ndarray, J_f: np.ndarray) -> np.ndarray:
-    n = J.shape[1]
-    flat = [A.transpose(0, 2, 1).reshape(len(A), n * n) for A in (J, J_f)]
+@cache
+def epigraph_function(name: str, n: int) -> ca.Function:
+    """CasADi function ``(*arguments, t) -> g``: g >= 0 if and only if the local index is >= t.
+
+    For the natural frequency, sqrt(lambda_min(S_e)) >= t is S_e - t^2 I positive semidefinite:
+    trace and determinant non-negative, polynomial in S_e and t, smooth where the eigenvalues meet
+    (the closed-form lambda_min is not). Other indices use value - t.
+    """
+    spec = local_spec(name)
+    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+    t = ca.SX.sym("t")
+    if name == "natural_frequency" and n == 2:
+        S = args[0] - t**2 * ca.SX.eye(2)
+        g = ca.vertcat(S[0, 0] + S[1, 1], S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0])
+    else:
+        g = local_function(name, n)(*args) - t
+    return ca.Function(f"{name}_epigraph", [*args, t], [g], [*spec.arguments, "t"], ["g"])
+
+
+def _run(fn: ca.Function, *matrices: np.ndarray) -> np.ndarray:
+    n = matrices[0].shape[1]
+    flat = [A.transpose(0, 2, 1).reshape(len(A), n * n) for A in matrices]
     return evaluate(fn, *flat)[0][:, 0, 0]
 
 
-def evaluate_local(spec: LocalIndex, J: np.ndarray, J_f: np.ndarray) -> np.ndarray:
-    """Batched local index (N,) from J and J_f (N, n, n).
+def evaluate_local(spec: LocalIndex, matrices: dict[str, np.ndarray]) -> np.ndarray:
+    """Batched local index (N,) from the matrices (N, n, n) named by ``spec.arguments``.
 
     At a singular pose one of J, J_f is unbounded; 1/kappa, the same for J and J_f, is then taken
     from the other, and the other indices take their limiting value ``spec.at_singularity``.
     """
-    fn = local_function(spec.name, J.shape[1])
+    args = [matrices[a] for a in spec.arguments]
+    fn = local_function(spec.name, args[0].shape[1])
     with np.errstate(invalid="ignore"):
-        value = _run(fn, J, J_f)
+        value = _run(fn, *args)
         singular = ~np.isfinite(value)
         if spec.name.startswith("inverse_condition") and singular.any():
-            value[singular] = _run(fn, J_f[singular], J[singular])
+            value[singular] = _run(fn, *(a[singular] for a in args[::-1]))
     return np.where(np.isfinite(value), value, spec.at_singularity)

@@ -250,11 +250,35 @@ class Mechanism:
 
     def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """A local index (see :data:`pkm.indices.LOCAL`) at each pose; NaN where out of reach."""
-        spec = indices.local_spec(name)
+        spec = self.local_spec(name)
         fo, single = self._first_order(pose, design, mode, False)
-        values = indices.evaluate_local(spec, fo["J"], fo["J_f"])
+        values = indices.evaluate_local(spec, self._matrices(spec, fo, pose, design))
         values[~fo["reachable"]] = np.nan
         return self._unbatch(values, single)
+
+    def local_spec(self, name: str) -> indices.LocalIndex:
+        """The local index by name, if this mechanism has the generated function it needs."""
+        spec = indices.local_spec(name)
+        if spec.source not in self.functions:
+            raise PkmError(f"local index {name} needs a {spec.source} model, which {self.name} does not have")
+        return spec
+
+    def local_indices(self) -> tuple[str, ...]:
+        """Names of the local indices this mechanism can evaluate."""
+        return tuple(k for k, v in indices.LOCAL.items() if v.source in self.functions)
+
+    def global_indices(self) -> tuple[str, ...]:
+        """Names of the global indices this mechanism can evaluate."""
+        local = set(self.local_indices())
+        return tuple(k for k, v in indices.GLOBAL.items() if v.local in local)
+
+    def _matrices(self, spec: indices.LocalIndex, fo: dict[str, np.ndarray], pose: Any, design: DesignLike):
+        if spec.source == "first_order":
+            return fo
+        fn = self.functions[spec.source]
+        x = np.atleast_2d(np.asarray(pose, dtype=float))
+        outs = evaluate(fn, fo["q"], x, self._design_vector(design))
+        return dict(zip(fn.name_out(), outs, strict=True))
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """Bounding box ((lo, hi) per output coordinate) of the reachable workspace, shape (n_out, 2)."""
@@ -279,6 +303,7 @@ class Mechanism:
         ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it.
         """
         spec = indices.global_spec(name)
+        self.local_spec(spec.local)
         d = self._design_vector(design)
         branch = self.working_mode(mode)
         if region == "reachable":
@@ -299,8 +324,83 @@ class Mechanism:
         resolution = regions.DISC_RESOLUTION if resolution is None else resolution
         fn = regions.parametrised_global_function(self, spec, param[region], branch, resolution)
         value, grad = fn(d)
-        nodes = len(regions.disc_quadrature(resolution)[1])
+        nodes = len(regions.disc_nodes(resolution, spec.reduce)[1])
         value = regions.GlobalValue(float(value), points=nodes, region=region, resolution=resolution)
         if not gradient:
             return value
         return value, self.design_dict(np.asarray(grad).ravel())
+
+    def inertia_matrix(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None, space: str = "task"
+    ) -> np.ndarray:
+        """Inertia matrix (N, n, n) at the poses: ``space="task"`` M_w = J^T M_t J (n = n_out) or
+        ``"actuated"`` M_t = Psi^T M Psi (n = n_act); NaN where out of reach.
+
+        See :func:`pkm.dynamics.inertia_matrix`.
+        """
+        from pkm import dynamics
+
+        return dynamics.inertia_matrix(self, pose, design, mode=mode, space=space)
+
+    def inverse_dynamics(
+        self,
+        pose: Any,
+        velocity: Any,
+        acceleration: Any,
+        design: DesignLike = None,
+        *,
+        mode: str | None = None,
+        joint_torques: bool = False,
+    ) -> np.ndarray:
+        """Motor torques (N, n_act) for end-effector positions, velocities and accelerations (N, n_out)
+        with rigid transmissions; with ``joint_torques`` the torques the transmissions apply to the
+        actuated joints.
+
+        See :func:`pkm.dynamics.inverse_dynamics`.
+        """
+        from pkm import dynamics
+
+        return dynamics.inverse_dynamics(
+            self, pose, velocity, acceleration, design, mode=mode, joint_torques=joint_torques
+        )
+
+    def natural_frequencies(self, pose: Any, design: DesignLike = None, *, mode: str | None = None):
+        """Natural frequencies, mode shapes and rigid-body flags of the flexible-joint model at the poses.
+
+        See :func:`pkm.dynamics.natural_frequencies`.
+        """
+        from pkm import dynamics
+
+        return dynamics.natural_frequencies(self, pose, design, mode=mode)
+
+    def simulate(
+        self,
+        design: DesignLike = None,
+        *,
+        z0: Any,
+        z_dot0: Any,
+        times: Any,
+        torque: Any = None,
+        assembly: str | None = None,
+        method: str = "adams",
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
+    ):
+        """Forward dynamics of the flexible-joint model from (z0, z_dot0), sampled at ``times``.
+
+        See :func:`pkm.dynamics.simulate`.
+        """
+        from pkm import dynamics
+
+        return dynamics.simulate(
+            self,
+            design,
+            z0=z0,
+            z_dot0=z_dot0,
+            times=times,
+            torque=torque,
+            assembly=assembly,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+        )

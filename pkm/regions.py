@@ -7,6 +7,10 @@
   maximum inscribed workspace): a fixed product quadrature on the unit disc (Gauss-Legendre in the
   radius with weight rho, the periodic trapezoidal rule in the angle) mapped into the design's disc.
   The global index is then a smooth CasADi expression of the design with an exact gradient.
+
+A global index that is a region minimum (``reduce="min"``, e.g. lambda_e) is the minimum over the
+quadrature nodes plus a ring of nodes on the boundary circle and the centre: piecewise smooth in the
+design, its gradient is that of the active node. The synthesis uses the smooth epigraph form instead.
 """
 
 from __future__ import annotations
@@ -75,6 +79,20 @@ def disc_quadrature(resolution: int) -> tuple[np.ndarray, np.ndarray]:
     return nodes, weights
 
 
+@lru_cache(maxsize=32)
+def disc_nodes(resolution: int, reduce: str = "mean") -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights of a global index on the unit disc: the quadrature for a mean; for a
+    minimum, the quadrature nodes, the centre and 4 resolution nodes on the boundary circle."""
+    nodes, weights = disc_quadrature(resolution)
+    if reduce == "mean":
+        return nodes, weights
+    m = 4 * resolution
+    angle = 2 * np.pi * (np.arange(m) + 0.5) / m
+    ring = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    nodes = np.concatenate([np.zeros((1, 2)), nodes, ring])
+    return nodes, np.ones(len(nodes))
+
+
 def grid(box: np.ndarray, resolution: int) -> tuple[np.ndarray, float]:
     """Cell centres (resolution^2, 2) of a 2-D box and the cell area."""
     resolution = _check_resolution(resolution, 2)
@@ -111,7 +129,9 @@ def sampled_global(
             signs=signs,
             margin=singularity_margin,
         )
-        out += _means(value.reshape(len(chunk), -1), mask.reshape(len(chunk), -1), "reachable", resolution)
+        out += _reduce(
+            value.reshape(len(chunk), -1), mask.reshape(len(chunk), -1), "reachable", resolution, spec.reduce
+        )
         if progress is not None:
             progress(len(chunk))
     return out
@@ -121,24 +141,30 @@ def _sample(
     mech: Mechanism, spec: indices.GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """Local index of ``spec`` at poses x (N, 2) of designs d (N, n_p), and the mask of the poses kept."""
-    local = indices.local_spec(spec.local)
+    local = mech.local_spec(spec.local)
     condition = indices.local_spec("inverse_condition_f")
     q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
     q = q[:, :, 0]
     ok = reached(q, reach)
     q[~ok] = 0.0
     J, J_f, *_ = evaluate(mech.functions["first_order"], q, x, d)
-    value = indices.evaluate_local(local, J, J_f)
-    kappa = value if local is condition else indices.evaluate_local(condition, J, J_f)
-    return value, ok & (kappa >= margin)
+    matrices = {"J": J, "J_f": J_f}
+    if local.source != "first_order":
+        fn = mech.functions[local.source]
+        matrices.update(zip(fn.name_out(), evaluate(fn, q, x, d), strict=True))
+    value = indices.evaluate_local(local, matrices)
+    kappa = value if local is condition else indices.evaluate_local(condition, matrices)
+    return value, ok & (kappa >= margin) & np.isfinite(value)
 
 
-def _means(value: np.ndarray, mask: np.ndarray, region: str, resolution: int) -> list[GlobalValue]:
+def _reduce(value: np.ndarray, mask: np.ndarray, region: str, resolution: int, reduce: str) -> list[GlobalValue]:
     out = []
     for row, keep in zip(value, mask, strict=True):
         count = int(keep.sum())
-        mean = float(row[keep].mean()) if count else float("nan")
-        out.append(GlobalValue(mean, points=count, region=region, resolution=resolution))
+        result = float("nan")
+        if count:
+            result = float(row[keep].min()) if reduce == "min" else float(row[keep].mean())
+        out.append(GlobalValue(result, points=count, region=region, resolution=resolution))
     return out
 
 
@@ -161,9 +187,12 @@ def sampled_disc_global(
     box = np.stack([centre - radius, centre + radius], axis=1)
     x, _ = grid(box, resolution)
     x = x[np.sum((x - centre) ** 2, axis=1) < radius[0] ** 2]
+    if spec.reduce == "min":
+        angle = 2 * np.pi * np.arange(4 * resolution) / (4 * resolution)
+        x = np.concatenate([x, centre + radius[0] * np.stack([np.cos(angle), np.sin(angle)], axis=1)])
     d = np.broadcast_to(design, (len(x), len(design)))
     value, mask = _sample(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
-    return _means(value[None], mask[None], region.name, resolution)[0]
+    return _reduce(value[None], mask[None], region.name, resolution, spec.reduce)[0]
 
 
 @lru_cache(maxsize=64)
@@ -180,15 +209,10 @@ def parametrised_global_function(
     Jacobians and the local index are evaluated on them by ``map``: one graph, exact derivatives.
     """
     resolution = _check_resolution(resolution, 1)
-    nodes, weights = disc_quadrature(resolution)
-    n = len(weights)
     design = ca.MX.sym("design", len(mech.parameters))
-    centre, radius = mech.functions[region.function](design)
-    x = ca.repmat(centre, 1, n) + radius * ca.DM(nodes.T)
-    q, _ = mech.functions["inverse_kinematics"].map(n)(x, ca.DM(branch.signs), design)
-    J, J_f = mech.functions["first_order"].map(n)(q, x, design)[:2]
-    values = indices.local_function(spec.local, mech.n_act).map(n)(J, J_f)
-    value = ca.mtimes(values, ca.DM(weights)) / float(weights.sum())
+    values, weights = node_values(mech, spec, region, branch, design, resolution=resolution)
+    mean = ca.mtimes(values, ca.DM(weights)) / float(weights.sum())
+    value = ca.mmin(values) if spec.reduce == "min" else mean
     return ca.Function(
         f"{spec.name}_{region.name}_{branch.name}_{resolution}",
         [design],
@@ -196,6 +220,36 @@ def parametrised_global_function(
         ["design"],
         [spec.name, "gradient"],
     )
+
+
+def node_values(
+    mech: Mechanism,
+    spec: indices.GlobalIndex,
+    region: ParametrisedRegion,
+    branch: Branch,
+    design: ca.MX,
+    *,
+    resolution: int,
+    epigraph: ca.MX | None = None,
+) -> tuple[ca.MX, np.ndarray]:
+    """The local index at the region's nodes (a 1 x n row, CasADi in the design) and their weights.
+
+    With ``epigraph`` t, the constraints g >= 0 (one column per node) that say the local index is at
+    least t at every node (:func:`pkm.indices.epigraph_function`) instead of the values.
+    """
+    local = mech.local_spec(spec.local)
+    nodes, weights = disc_nodes(resolution, spec.reduce)
+    n = len(weights)
+    centre, radius = mech.functions[region.function](design)
+    x = ca.repmat(centre, 1, n) + radius * ca.DM(nodes.T)
+    q, _ = mech.functions["inverse_kinematics"].map(n)(x, ca.DM(branch.signs), design)
+    source = mech.functions[local.source]
+    outs = dict(zip(source.name_out(), source.map(n)(q, x, design), strict=True))
+    args = [outs[a] for a in local.arguments]
+    if epigraph is not None:
+        return indices.epigraph_function(local.name, mech.n_act).map(n)(*args, epigraph), weights
+    values = indices.local_function(local.name, mech.n_act).map(n)(*args)
+    return values, weights
 
 
 @lru_cache(maxsize=64)

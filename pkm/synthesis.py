@@ -3,7 +3,8 @@
 A :class:`Problem` names the mechanism, the design space whose chart holds the variables, the global
 index to optimise over a parametrised region, the working mode and the resolutions. :func:`synthesize`
 screens a coarse chart grid for starting points, runs IPOPT through ``casadi.nlpsol`` with exact first
-and second derivatives from each start, and re-verifies the optimum with a quadrature 4x denser and
+derivatives and exact (or, where a problem says so, limited-memory) second derivatives from each start,
+and re-verifies the optimum with a quadrature 4x denser and
 with the sampled index on a grid of the same region. The baseline (the papers' method: the best node
 of a dense atlas grid) runs on the same model, and both are timed and counted.
 """
@@ -40,6 +41,8 @@ class Problem:
     screening_resolution: int = 9
     baseline_resolution: int = 81
     starts: int = 4
+    hessian: str = "exact"
+    max_iter: int = 500
 
 
 PROBLEMS: dict[str, Problem] = {
@@ -56,6 +59,35 @@ PROBLEMS: dict[str, Problem] = {
             "(2 r1 + 2 r2 + r3 = 4), working mode out_out (OABCD); every link at least min_length and the "
             "MIC radius at least min_radius (both in units of Gao's average link length L): without it "
             "the optimum shrinks the MIW towards a point",
+        ),
+        Problem(
+            "five_bar.max_dynamic_dexterity_miw",
+            "five_bar",
+            "lara_molina2016",
+            "dynamic_dexterity",
+            "miw",
+            "out_out",
+            "maximise the global dynamic dexterity (Lara-Molina eq. 36) over the MIW in the design space "
+            "r1 + r2 + r3 = 3 with the paper's non-dimensional dynamics (m1 = 1.2, m2 = 0.8, k = 1, "
+            "j = 0.5 m1), working mode out_out; every length at least min_length from the bounds of eq. 32 "
+            "and the MIC radius at least min_radius (units of D)",
+            baseline_resolution=61,
+        ),
+        Problem(
+            "five_bar.max_lambda_e_miw",
+            "five_bar",
+            "lara_molina2016",
+            "lambda_e",
+            "miw",
+            "out_out",
+            "maximise the elastodynamic index lambda_e (Lara-Molina eq. 38: the smallest non-zero natural "
+            "frequency over the MIW, boundary included) in the design space r1 + r2 + r3 = 3 with the "
+            "paper's non-dimensional dynamics, working mode out_out; solved in epigraph form (maximise t "
+            "subject to S_e - t^2 I positive semidefinite at every node); lengths at least min_length from "
+            "the bounds of eq. 32 and the MIC radius at least min_radius (units of D); limited-memory "
+            "Hessian (the exact one of the node constraints costs more than it saves)",
+            baseline_resolution=61,
+            hessian="limited-memory",
         ),
     )
 }
@@ -179,14 +211,34 @@ class _Model:
         )
         cand.sampled_objective, cand.sampled_points = float(sampled), sampled.points
 
-    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], dict[str, int]]:
-        w = ca.MX.sym("w", 2)
-        fn = regions.parametrised_global_function(self.mech, self.spec, self.region, self.branch, resolution)
+    @property
+    def epigraph(self) -> bool:
+        """A region minimum is maximised in epigraph form: max t subject to index >= t at every node."""
+        return self.spec.reduce == "min"
+
+    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
+        """The NLP in the chart (and t for an epigraph) with its constraint bounds (lower, upper)."""
+        prob = self.prob
+        w = ca.MX.sym("w", 3 if self.epigraph else 2)
         design = self.design(w[0], w[1])
         normalised = ca.vertcat(*self.space.from_chart(w[0], w[1]))
         radius = self.mech.functions[self.region.function](design)[1]
-        nlp = {"x": w, "f": -fn(design)[0], "g": ca.vertcat(normalised, radius)}
-        return nlp, {"n_g": normalised.numel()}
+        box = np.array(self.space.bounds)
+        lower = [*(box[:, 0] + prob.min_length), prob.min_radius]
+        upper = [*(box[:, 1] - prob.min_length), np.inf]
+        g = [normalised, radius]
+        if self.epigraph:
+            nodes, _ = regions.node_values(
+                self.mech, self.spec, self.region, self.branch, design, resolution=resolution, epigraph=w[2]
+            )
+            g.append(ca.vec(nodes))
+            lower += [0.0] * nodes.numel()
+            upper += [np.inf] * nodes.numel()
+            f = -w[2]
+        else:
+            fn = regions.parametrised_global_function(self.mech, self.spec, self.region, self.branch, resolution)
+            f = -fn(design)[0]
+        return {"x": w, "f": f, "g": ca.vertcat(*g)}, np.array(lower), np.array(upper)
 
 
 def synthesize(
@@ -231,17 +283,25 @@ def synthesize(
     screen = model.values(su, sv, res)
     order = np.argsort(-np.nan_to_num(screen, nan=-np.inf))[:n_starts]
 
-    nlp, dims = model.nlp(res)
-    lower = [prob.min_length] * dims["n_g"] + [prob.min_radius]
-    upper = [np.inf] * dims["n_g"] + [np.inf]
-    upper[dims["n_g"] - 1] = 2.0 - prob.min_length
-    options = {"print_time": verbose, "ipopt": {"print_level": 5 if verbose else 0, "sb": "yes", "tol": 1e-10}}
+    nlp, lower, upper = model.nlp(res)
+    options = {
+        "print_time": verbose,
+        "show_eval_warnings": verbose,
+        "ipopt": {
+            "print_level": 5 if verbose else 0,
+            "sb": "yes",
+            "tol": 1e-10,
+            "hessian_approximation": prob.hessian,
+            "max_iter": prob.max_iter,
+        },
+    }
     solver = ca.nlpsol("synthesis", "ipopt", nlp, options)
     runs: list[Run] = []
     calls = len(screen)
     for k in order:
         say(f"IPOPT from start {len(runs) + 1}/{len(order)}")
-        sol = solver(x0=[su[k], sv[k]], lbg=lower, ubg=upper, lbx=-np.inf, ubx=np.inf)
+        x0 = [su[k], sv[k], 0.999 * screen[k]] if model.epigraph else [su[k], sv[k]]
+        sol = solver(x0=x0, lbg=lower, ubg=upper, lbx=-np.inf, ubx=np.inf)
         stats = solver.stats()
         calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
         w = np.asarray(sol["x"]).ravel()
@@ -289,8 +349,8 @@ def synthesize(
         baseline_cost={"wall_time_s": base_time, "evaluations": len(grid_values)},
         resolutions={
             "quadrature": res,
-            "quadrature_points": len(regions.disc_quadrature(res)[1]),
-            "verification_points": len(regions.disc_quadrature(2 * res)[1]),
+            "quadrature_points": len(regions.disc_nodes(res, model.spec.reduce)[1]),
+            "verification_points": len(regions.disc_nodes(2 * res, model.spec.reduce)[1]),
             "baseline_grid": base_res,
         },
     )
