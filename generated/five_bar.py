@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 4af1cf71215c78e6).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 bf5dd85ebdf70682).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "4af1cf71215c78e6"
+SOURCE_HASH = "bf5dd85ebdf70682"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 
 
@@ -275,12 +275,12 @@ def maximum_inscribed_circle():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 8 common subexpressions, 44 operations
+    # 8 common subexpressions, 45 operations
     _t0 = design_2**2
     _t1 = ca.fabs(design_0 - design_1)
     _t2 = design_0 + design_1
     _t3 = (design_1 > design_0 + design_2)
-    _t4 = ca.if_else(_t3, 1, ca.sqrt(design_0**2 - (design_1 - design_2)**2))
+    _t4 = ca.if_else(_t3, 1, ca.sqrt(ca.fmax(0, design_0**2 - (design_1 - design_2)**2)))
     _t5 = -_t0 + (_t2 + _t4)**2
     _t6 = 2*_t4 + 2*design_0 + 2*design_1
     _t7 = _t5/_t6

@@ -24,7 +24,14 @@ from pkm.errors import ComputationError, PkmError, UnknownNameError
 from pkm.mechanism import Mechanism
 
 #: Whether larger ("max") or smaller ("min") values of a global index are better.
-SENSE: dict[str, str] = {"gci": "max", "gci_2": "max", "gamma_max": "max", "gamma_min": "max"}
+SENSE: dict[str, str] = {
+    "gci": "max",
+    "gci_2": "max",
+    "gamma_max": "max",
+    "gamma_min": "max",
+    "dynamic_dexterity": "max",
+    "lambda_e": "max",
+}
 
 #: What the chart axes of a design space mean, and a note on its coordinates, for figures.
 CHART_NOTES: dict[str, tuple[str, str, str]] = {
@@ -32,6 +39,12 @@ CHART_NOTES: dict[str, tuple[str, str, str]] = {
         "(r1 - r2)/\u221a2",
         "3 r3/(2\u221a2)",
         "r_i = R_i / L, L the mean link length, r3 the full base, 2 r1 + 2 r2 + r3 = 4 (Gao 1998 eqs. 1-5)",
+    ),
+    "lara_molina2016": (
+        "(2 r1 + r3)/\u221a3",
+        "r3",
+        "r_i = R_i / D, D the mean of r1, r2 and the half base r3, r1 + r2 + r3 = 3 (Lara-Molina 2016 eqs. 1-2, "
+        "32-34)",
     ),
 }
 

@@ -170,7 +170,8 @@ def maximum_inscribed_circle() -> tuple[sp.Expr, sp.Expr]:
     case_1 = r1 + r3 < r2
     # Each square root sees its own case's argument and 1 otherwise: both pieces are evaluated (and
     # differentiated) everywhere, and a NaN from the unused piece would poison the gradient.
-    y_col = sp.sqrt(sp.Piecewise((1, case_1), (r1**2 - (r2 - r3) ** 2, True)))
+    # On the case boundary r2 = r1 + r3 the argument is zero and round-off may make it negative.
+    y_col = sp.sqrt(sp.Piecewise((1, case_1), (sp.Max(0, r1**2 - (r2 - r3) ** 2), True)))
     s = r1 + r2 + y_col
     y_mic_2 = (s**2 - r3**2) / (2 * s)
     # Eq. 12 ignores the inner circle of radius |r1 - r2| about each base, which its disc crosses when
