@@ -244,7 +244,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations")
     p.add_argument("--out", help="folder for <problem>.json")
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
-    p.add_argument("paper", help="gao1998 or all")
+    p.add_argument("paper", help="gao1998, lara_molina2016 or all")
     p.add_argument("--out", default="out")
     p.add_argument("--quick", action="store_true", help="low resolutions (for tests)")
     return parser
