@@ -2,6 +2,8 @@
 
 * throughput: IK + J + 1/kappa_f of the five-bar on 10^6 random reachable poses, pkm against a
   hand-written numpy implementation in the same run (bench/throughput.py);
+* dynamics: IK + M_t + M_w + 1/kappa_2(M_w) of the five-bar (Lara-Molina 2016) on the same poses, pkm
+  against a hand-written numpy implementation in the same run (bench/dynamics.py);
 * synthesis: ``pkm.synthesize("five_bar.max_gci_miw")`` (IPOPT) against its baseline on the same model,
   when pkm.synthesis is available (skipped with a note otherwise).
 
@@ -24,7 +26,7 @@ from typing import Any
 import casadi
 import numpy as np
 
-from bench import throughput
+from bench import dynamics, throughput
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
 
@@ -101,6 +103,26 @@ def _fmt(value: Any, spec: str) -> str:
     return "-" if value is None else format(value, spec)
 
 
+def dynamics_markdown(dyn: dict[str, Any]) -> list[str]:
+    if "skipped" in dyn:
+        return ["", f"## Dynamics throughput (Lara-Molina 2016): skipped ({dyn['skipped']})"]
+    lines = [
+        "",
+        f"## Dynamics throughput (Lara-Molina 2016): IK + M_t + M_w + 1/kappa_2(M_w), five-bar, "
+        f"{dyn['poses']:,} reachable poses (best of {dyn['repeats']}, seed {dyn['seed']})",
+        "",
+        "| benchmark | threads | poses/s | vs numpy | time (s) |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for r in dyn["rows"]:
+        lines.append(
+            f"| {r['name']} | {r['threads']} | {r['poses_per_s'] / 1e6:.2f} M | {r['ratio_vs_numpy']:.2f}x "
+            f"| {r['seconds']:.3f} |"
+        )
+    lines += ["", f"pkm.batch.THREADS default: {dyn['default_threads']}. Every row agrees with numpy to 1e-9."]
+    return lines + [f"- {note}" for note in dyn["notes"]]
+
+
 def markdown(report: dict[str, Any]) -> str:
     env, tp = report["machine"], report["throughput"]
     lines = [
@@ -122,6 +144,7 @@ def markdown(report: dict[str, Any]) -> str:
         )
     lines += ["", f"pkm.batch.THREADS default: {tp['default_threads']}. Every row agrees with numpy to 1e-9."]
     lines += [f"- {note}" for note in tp["notes"]]
+    lines += dynamics_markdown(report["dynamics"])
     syn = report["synthesis"]
     lines += ["", f"## Synthesis: {SYNTHESIS_PROBLEM}", ""]
     if "skipped" in syn:
@@ -153,13 +176,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="10^5 poses instead of 10^6")
     parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON to PATH")
     parser.add_argument("--no-compiled", action="store_true", help="skip the C-compiled experiments")
+    parser.add_argument("--no-dynamics", action="store_true", help="skip the dynamics throughput benchmark")
     parser.add_argument("--no-synthesis", action="store_true", help="skip the synthesis benchmark")
     args = parser.parse_args(argv)
     report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
     report["machine"] = machine()
-    report["throughput"] = throughput.run(
-        100_000 if args.quick else 1_000_000, 3, compiled=not args.no_compiled, log=log
-    )
+    n = 100_000 if args.quick else 1_000_000
+    report["throughput"] = throughput.run(n, 3, compiled=not args.no_compiled, log=log)
+    report["dynamics"] = {"skipped": "--no-dynamics"} if args.no_dynamics else dynamics.run(n, 3, log=log)
     report["synthesis"] = {"skipped": "--no-synthesis"} if args.no_synthesis else synthesis_bench()
     print(markdown(report))
     if args.json:
