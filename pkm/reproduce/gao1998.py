@@ -19,7 +19,7 @@ import pkm
 from pkm import indices, io, regions
 from pkm.atlas import compute_atlas
 from pkm.progress import Progress
-from pkm.reproduce.report import claim
+from pkm.reproduce.report import claim, synthesis_record
 from pkm.synthesis import synthesize
 
 TITLE = "Gao, Liu, Gruver 1998: performance evaluation of two-DOF planar parallel robots"
@@ -262,17 +262,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
             )
     o, b = result.optimum, result.baseline
     beyond = {
-        "problem": result.problem,
-        "design_normalised": dict(zip(("r1", "r2", "r3"), o.normalised, strict=True)),
-        "objective": o.objective,
-        "verified_objective": o.verified_objective,
-        "sampled_objective": o.sampled_objective,
-        "status": result.status,
-        "baseline_objective": b.objective,
-        "baseline_verified_objective": b.verified_objective,
-        "baseline_design_normalised": dict(zip(("r1", "r2", "r3"), b.normalised, strict=True)),
-        "optimizer": result.optimizer,
-        "baseline_cost": result.baseline_cost,
+        **synthesis_record(result),
         "text": (
             f"IPOPT maximises the GCI over the maximum inscribed workspace (out_out, MIC radius >= 0.3 L): "
             f"r = ({o.normalised[0]:.4f}, {o.normalised[1]:.4f}, {o.normalised[2]:.4f}) with GCI "

@@ -22,7 +22,7 @@ from pkm import io, regions
 from pkm.atlas import compute_atlas
 from pkm.batch import evaluate
 from pkm.progress import Progress
-from pkm.reproduce.report import claim
+from pkm.reproduce.report import claim, synthesis_record
 from pkm.synthesis import synthesize
 
 TITLE = "Lara-Molina, Koroishi, Dumur 2016: design criteria of a 2-DOF planar parallel manipulator with flexible joints"
@@ -284,17 +284,7 @@ def _mic_cap_fraction(atlas) -> float:
 def _synthesis_text(label: str, result) -> dict[str, Any]:
     o, b = result.optimum, result.baseline
     return {
-        "problem": result.problem,
-        "design_normalised": dict(zip(("r1", "r2", "r3"), o.normalised, strict=True)),
-        "objective": o.objective,
-        "verified_objective": o.verified_objective,
-        "sampled_objective": o.sampled_objective,
-        "status": result.status,
-        "baseline_objective": b.objective,
-        "baseline_verified_objective": b.verified_objective,
-        "baseline_design_normalised": dict(zip(("r1", "r2", "r3"), b.normalised, strict=True)),
-        "optimizer": result.optimizer,
-        "baseline_cost": result.baseline_cost,
+        **synthesis_record(result),
         "text": (
             f"{label}: IPOPT finds r = ({o.normalised[0]:.4f}, {o.normalised[1]:.4f}, {o.normalised[2]:.4f}) "
             f"with {o.objective:.6f}, verified {o.verified_objective:.6f} at 4x the nodes and "

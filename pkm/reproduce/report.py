@@ -27,6 +27,24 @@ def claim(
     }
 
 
+def synthesis_record(result: Any) -> dict[str, Any]:
+    """The fields of a reproduction's ``beyond_paper`` entry for a :class:`pkm.synthesis.SynthesisResult`."""
+    o, b = result.optimum, result.baseline
+    return {
+        "problem": result.problem,
+        "design_normalised": dict(zip(("r1", "r2", "r3"), o.normalised, strict=True)),
+        "objective": o.objective,
+        "verified_objective": o.verified_objective,
+        "sampled_objective": o.sampled_objective,
+        "status": result.status,
+        "baseline_objective": b.objective,
+        "baseline_verified_objective": b.verified_objective,
+        "baseline_design_normalised": dict(zip(("r1", "r2", "r3"), b.normalised, strict=True)),
+        "optimizer": result.optimizer,
+        "baseline_cost": result.baseline_cost,
+    }
+
+
 def _fmt(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:.6g}"
