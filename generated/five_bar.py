@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 bf5dd85ebdf70682).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 ba732263c6d43d9b).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "bf5dd85ebdf70682"
+SOURCE_HASH = "ba732263c6d43d9b"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 
 

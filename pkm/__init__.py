@@ -34,8 +34,9 @@ __version__ = "0.1.0"
 
 def _registry() -> dict[str, type[Mechanism]]:
     from pkm.models.five_bar import FiveBar
+    from pkm.models.slider_gantry import SliderGantry, SliderGantrySymmetric
 
-    return {cls.name: cls for cls in (FiveBar,)}
+    return {cls.name: cls for cls in (FiveBar, SliderGantry, SliderGantrySymmetric)}
 
 
 def mechanisms() -> list[str]:

@@ -272,7 +272,10 @@ def compute_atlas(
     u, v, inside = ds.chart_grid(resolution)
     U, V = np.meshgrid(u, v, indexing="ij")
     designs = ds.designs(mech.parameters, ds.from_chart(U[inside], V[inside]))
-    per_design = pose_resolution**2 if sampled else len(regions.disc_nodes(pose_resolution, spec.reduce)[1])
+    if sampled:
+        per_design = pose_resolution**2
+    else:
+        per_design = len(mech.parametrised_regions()[region].nodes(pose_resolution, spec.reduce)[1])
     values, points = {}, {}
     for mode in modes:
         branch = mech.working_mode(mode)

@@ -1,9 +1,12 @@
 """The dynamic model at runtime: inertia, inverse and forward dynamics, natural frequencies.
 
-Generic over the mechanisms whose generated module emits the Lagrange chain functions (see
-``symbolic/lagrange.py``) beside the kinematic ones:
+Generic over the mechanisms whose generated module emits dynamic functions beside the kinematic ones:
 
-* ``inertia(q, x, design) -> (M_t, M_w, S_e)``;
+* ``inertia(q, x, design) -> (M_t, M_w, ...)``, with ``S_e`` for a flexible-joint model and ``M_d``
+  for a virtual-work model;
+* ``inverse_dynamics(q, x, x_dot, x_ddot, design) -> tau``, a rigid model by virtual work (Wu 2008
+  eq. 41, see ``symbolic/virtual_work.py``), used as it is; or otherwise the Lagrange chain functions
+  (see ``symbolic/lagrange.py``):
 * ``second_order(q, x, x_dot, design) -> (q_dot, q_ddot_bias)``;
 * ``elastic_dynamics(q, x, z_dot, design) -> (M_T, C_T, K_T, f_t)``, the complete model with flexible
   actuated joints (Lara-Molina 2016 eq. 31) in z = (theta_a, theta_m), the actuated joint angles then
@@ -20,6 +23,7 @@ mechanism is horizontal: the only potential energy is that of the transmission s
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -35,7 +39,7 @@ from pkm.errors import ComputationError, PkmError, PoseError, SingularityError, 
 if TYPE_CHECKING:
     from pkm.mechanism import DesignLike, Mechanism
 
-SPACES = ("task", "actuated")
+SPACES = {"task": "M_w", "actuated": "M_t", "mixed": "M_d"}
 METHODS = ("adams", "bdf")
 RIGID_TOLERANCE = 1e-9  # eigenvalues of (K_T, M_T) below this fraction of the largest are rigid-body modes
 MATCH_TOLERANCE = 1e-8  # [pose units] forward kinematics of a trajectory's joints back onto it
@@ -93,9 +97,11 @@ def inertia_matrix(
     design : design-like, optional
     mode : str, optional
         Working mode; the mechanism's first by default.
-    space : {"task", "actuated"}
+    space : {"task", "actuated", "mixed"}
         ``"task"``: M_w = J^T M_t J, the inertia seen at the end effector (eq. 35 with pkm's J,
-        q_a_dot = J x_dot); ``"actuated"``: M_t = Psi^T M Psi, rotors excluded (eq. 29).
+        q_a_dot = J x_dot); ``"actuated"``: M_t = Psi^T M Psi, rotors excluded (eq. 29);
+        ``"mixed"``: M_d = (J^T)^-1 M_w, actuator forces per end-effector acceleration (Wu 2008 eq. 42),
+        for the mechanisms whose model emits it.
 
     Returns
     -------
@@ -103,11 +109,12 @@ def inertia_matrix(
         n = n_out for ``"task"`` and n_act for ``"actuated"``; NaN where the pose is out of reach.
     """
     if space not in SPACES:
-        raise UnknownNameError("inertia space", space, SPACES)
+        raise UnknownNameError("inertia space", space, list(SPACES))
     fn = _function(mech, "inertia")
+    if SPACES[space] not in fn.name_out():
+        raise PkmError(f"the {mech.name} model has no {space} inertia matrix ({SPACES[space]})")
     x, d, q, ok, single = mech._joints(pose, design, mode, False)
-    M_t, M_w, _ = evaluate(fn, q, x, d)
-    out = M_w if space == "task" else M_t
+    out = evaluate(fn, q, x, d)[fn.name_out().index(SPACES[space])]
     out[~ok] = np.nan
     return mech._unbatch(out, single)
 
@@ -166,7 +173,18 @@ def inverse_dynamics(
     -------
     numpy.ndarray, shape (N, n_act) or (n_act,)
         NaN where the pose is out of reach.
+
+    A mechanism with a rigid virtual-work model (``inverse_dynamics`` generated, e.g. the slider
+    gantry: tau = (J^T)^-1 M x_ddot + N, Wu 2008 eq. 41) uses it; it has no transmissions, so
+    ``joint_torques`` returns the same forces.
     """
+    if "inverse_dynamics" in mech.functions:
+        pose, x_dot, x_ddot, single = _motion_batch(mech, pose, velocity, acceleration)
+        x, d, q, ok, _ = mech._joints(pose, design, mode, False)
+        (tau,) = evaluate(mech.functions["inverse_dynamics"], q, x, x_dot, x_ddot, d)
+        tau = tau[:, :, 0]
+        tau[~ok] = np.nan
+        return mech._unbatch(tau, single)
     first, second, elastic = (
         _function(mech, "first_order"),
         _function(mech, "second_order"),
@@ -272,11 +290,16 @@ class _Operations:
     cos: Callable[[Any], Any]
     sin: Callable[[Any], Any]
     clip: Callable[[Any], Any]
+    ramp: Callable[[Any], Any]
     stack: Callable[[list[Any]], Any]
 
 
-_NUMERIC = _Operations(np.cos, np.sin, lambda u: np.clip(u, 0.0, 1.0), lambda c: np.stack(c, axis=-1))
-_SYMBOLIC = _Operations(ca.cos, ca.sin, lambda u: ca.fmin(ca.fmax(u, 0), 1), lambda c: ca.vertcat(*c))
+_NUMERIC = _Operations(
+    np.cos, np.sin, lambda u: np.clip(u, 0.0, 1.0), lambda u: np.maximum(u, 0.0), lambda c: np.stack(c, axis=-1)
+)
+_SYMBOLIC = _Operations(
+    ca.cos, ca.sin, lambda u: ca.fmin(ca.fmax(u, 0), 1), lambda u: ca.fmax(u, 0), lambda c: ca.vertcat(*c)
+)
 
 
 def _operations(t: Any) -> tuple[Any, _Operations]:
@@ -338,6 +361,41 @@ class Trajectory:
             return ops.stack([float(a_k) + float(b_k - a_k) * s for a_k, b_k in zip(a, b, strict=True)])
 
         return cls(path, duration, a.size, f"rest-to-rest from {a.tolist()} to {b.tolist()} in {duration:g} s")
+
+    @classmethod
+    def trapezoidal(cls, start: Any, end: Any, v_max: float, a_max: float) -> Trajectory:
+        """A straight move with a trapezoidal speed profile (Wu 2008 section 6.2, Table 3).
+
+        Equal accelerating and decelerating times T0 = v_max / a_max at +-a_max, cruising at v_max in
+        between; the total time T_f satisfies Wu's eq. 45, T0 = T_f - |x1 - x0| / v_max. A move too
+        short to reach v_max is triangular (T0 = sqrt(|x1 - x0| / a_max)). The arc length is
+        s(t) = a_max / 2 (r(t)^2 - r(t - T0)^2 - r(t - T_f + T0)^2 + r(t - T_f)^2), r(u) = max(u, 0);
+        the acceleration jumps at the phase changes.
+        """
+        a = _vector(start, np.size(start), "start")
+        b = _vector(end, a.size, "end")
+        v_max = _positive(v_max, "v_max")
+        a_max = _positive(a_max, "a_max")
+        length = float(np.linalg.norm(b - a))
+        if length == 0:
+            raise PkmError("start and end of a trapezoidal move coincide")
+        t0 = min(v_max / a_max, math.sqrt(length / a_max))
+        total = length / (a_max * t0) + t0
+        direction = (b - a) / length
+
+        def path(t: Any) -> Any:
+            t, ops = _operations(t)
+            r = ops.ramp
+            s = a_max / 2 * (r(t) ** 2 - r(t - t0) ** 2 - r(t - total + t0) ** 2 + r(t - total) ** 2)
+            return ops.stack([float(a_k) + float(e_k) * s for a_k, e_k in zip(a, direction, strict=True)])
+
+        return cls(
+            path,
+            total,
+            a.size,
+            f"trapezoidal move from {a.tolist()} to {b.tolist()}: v_max {v_max:g}, a_max {a_max:g}, "
+            f"T0 {t0:.4g} s, T_f {total:.4g} s",
+        )
 
     @classmethod
     def circle(cls, centre: Any, radius: float, period: float, turns: float = 1.0) -> Trajectory:

@@ -5,8 +5,9 @@ generated ``first_order``, or the inertia matrices from ``inertia``), so the sam
 batched numeric evaluation and the exact gradients of the global indices in the design. pkm's J maps
 output velocities to actuator rates (q_a_dot = J x_dot); Gao 1998's [J] is pkm's forward Jacobian J_f.
 
-A global index is the region mean of its local index (Gao eqs. 6-7, Lara-Molina eq. 36) or its
-minimum over the region (Lara-Molina eq. 38).
+A global index is the region mean of its local index (Gao eqs. 6-7, Lara-Molina eq. 36, Wu eqs. 7
+and 44), its standard deviation over the region (Wu 2008) or its minimum over the region
+(Lara-Molina eq. 38).
 """
 
 from __future__ import annotations
@@ -38,7 +39,8 @@ class LocalIndex:
 
 @dataclass(frozen=True)
 class GlobalIndex:
-    """A global index: the region mean (``reduce="mean"``) or minimum (``"min"``) of a local index."""
+    """A global index: the region mean (``reduce="mean"``), standard deviation (``"std"``) or minimum
+    (``"min"``) of a local index."""
 
     name: str
     local: str
@@ -86,6 +88,26 @@ LOCAL: dict[str, LocalIndex] = {
             ("M_w",),
         ),
         LocalIndex(
+            "velocity_ratio",
+            "k_v = |x_dot / q1_dot| at y_dot = 0 = 1 / |J_11|: platform speed along x per unit rate of the "
+            "first actuator (Wu eq. 6, i = 1)",
+            "-",
+            0.0,
+            np.inf,
+            np.inf,
+        ),
+        LocalIndex(
+            "kappa_d",
+            "kappa_D = sigma_max / sigma_min of the inertia matrix M_d = (J^T)^-1 M with tau = M_d x_ddot "
+            "(Wu eqs. 42-43)",
+            "-",
+            1.0,
+            np.inf,
+            np.inf,
+            "inertia",
+            ("M_d",),
+        ),
+        LocalIndex(
             "natural_frequency",
             "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
             "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the two rigid-body modes excluded",
@@ -115,6 +137,9 @@ GLOBAL: dict[str, GlobalIndex] = {
             "elastodynamic index: region minimum of the smallest non-zero natural frequency (eq. 38)",
             "min",
         ),
+        GlobalIndex("k_av", "velocity_ratio", "global velocity output ratio: region mean of k_v (Wu eq. 7)"),
+        GlobalIndex("kappa_d_mean", "kappa_d", "region mean of kappa_D (Wu eq. 44)"),
+        GlobalIndex("kappa_d_std", "kappa_d", "region standard deviation of kappa_D (Wu section 6.1)", "std"),
     )
 }
 
@@ -148,7 +173,7 @@ def local_function(name: str, n: int) -> ca.Function:
     args = [ca.SX.sym(a, n, n) for a in spec.arguments]
     if spec.source == "inertia":
         smax, smin = _singular_values_2x2(args[0])
-        value = smin / smax if name == "dynamic_dexterity" else ca.sqrt(smin)
+        value = {"dynamic_dexterity": smin / smax, "kappa_d": smax / smin}.get(name, ca.sqrt(smin))
         return ca.Function(name, args, [value], list(spec.arguments), [name])
     J, J_f = args
     if name == "inverse_condition_f":
@@ -161,6 +186,8 @@ def local_function(name: str, n: int) -> ca.Function:
         value = _singular_values_2x2(J_f)[0]
     elif name == "velocity_min":
         value = _singular_values_2x2(J_f)[1]
+    elif name == "velocity_ratio":
+        value = 1 / ca.fabs(J[0, 0])
     else:
         raise UnknownNameError("local index", name, sorted(LOCAL))
     return ca.Function(name, [J, J_f], [value], ["J", "J_f"], [name])

@@ -259,13 +259,20 @@ class Mechanism:
     def local_spec(self, name: str) -> indices.LocalIndex:
         """The local index by name, if this mechanism has the generated function it needs."""
         spec = indices.local_spec(name)
-        if spec.source not in self.functions:
-            raise PkmError(f"local index {name} needs a {spec.source} model, which {self.name} does not have")
+        if not self._has(spec):
+            raise PkmError(
+                f"local index {name} needs the {', '.join(spec.arguments)} of a {spec.source} model, "
+                f"which {self.name} does not have"
+            )
         return spec
+
+    def _has(self, spec: indices.LocalIndex) -> bool:
+        fn = self.functions.get(spec.source)
+        return fn is not None and set(spec.arguments) <= set(fn.name_out())
 
     def local_indices(self) -> tuple[str, ...]:
         """Names of the local indices this mechanism can evaluate."""
-        return tuple(k for k, v in indices.LOCAL.items() if v.source in self.functions)
+        return tuple(k for k, v in indices.LOCAL.items() if self._has(v))
 
     def global_indices(self) -> tuple[str, ...]:
         """Names of the global indices this mechanism can evaluate."""
@@ -324,7 +331,7 @@ class Mechanism:
         resolution = regions.DISC_RESOLUTION if resolution is None else resolution
         fn = regions.parametrised_global_function(self, spec, param[region], branch, resolution)
         value, grad = fn(d)
-        nodes = len(regions.disc_nodes(resolution, spec.reduce)[1])
+        nodes = len(param[region].nodes(resolution, spec.reduce)[1])
         value = regions.GlobalValue(float(value), points=nodes, region=region, resolution=resolution)
         if not gradient:
             return value

@@ -3,12 +3,15 @@
 * The sampled region ``reachable``: a grid of cell centres over the bounding box of a working mode's
   workspace with a mask (reachable and at least ``singularity_margin`` away from singularity in
   1/kappa_f). For atlases and for checking; not differentiable.
-* Parametrised regions (a disc whose centre and radius are functions of the design, such as the
-  maximum inscribed workspace): a fixed product quadrature on the unit disc (Gauss-Legendre in the
-  radius with weight rho, the periodic trapezoidal rule in the angle) mapped into the design's disc.
-  The global index is then a smooth CasADi expression of the design with an exact gradient.
+* Parametrised regions, a disc or a rectangle whose centre and size are functions of the design (the
+  maximum inscribed workspace of the five-bar, the task rectangle of the slider gantry): a fixed
+  product quadrature on the reference shape (on the unit disc Gauss-Legendre in the radius with weight
+  rho and the periodic trapezoidal rule in the angle; on the square [-1, 1]^2 Gauss-Legendre in both
+  axes) mapped into the design's region. The global index is then a smooth CasADi expression of the
+  design with an exact gradient.
 
-A global index that is a region minimum (``reduce="min"``, e.g. lambda_e) is the minimum over the
+A global index is a region mean, a region standard deviation (Wu 2008's companion of eq. 44) or a
+region minimum. A global index that is a region minimum (``reduce="min"``, e.g. lambda_e) is the minimum over the
 quadrature nodes plus a ring of nodes on the boundary circle and the centre: piecewise smooth in the
 design, its gradient is that of the active node. The synthesis uses the smooth epigraph form instead.
 """
@@ -50,11 +53,44 @@ class GlobalValue(float):
 
 @dataclass(frozen=True)
 class ParametrisedRegion:
-    """A disc region: ``function`` is the generated CasADi function design -> (centre, radius)."""
+    """A design-dependent region: ``function`` is the generated CasADi function design -> (centre,
+    size), the size being the radius of a ``"disc"`` or the half width and half height of a
+    ``"rectangle"``."""
 
     name: str
     function: str
     doc: str
+    shape: str = "disc"
+
+    def nodes(self, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, np.ndarray]:
+        """Nodes on the reference shape (unit disc or [-1, 1]^2) and their weights."""
+        if self.shape == "rectangle":
+            return rectangle_nodes(resolution, reduce)
+        return disc_nodes(resolution, reduce)
+
+    def place(self, centre, size, nodes: np.ndarray):
+        """The reference nodes (n, 2) mapped into the region of centre (2,) and size; numpy or CasADi."""
+        if isinstance(centre, ca.MX | ca.SX):
+            scale = ca.repmat(size, 2, 1) if self.shape == "disc" else size
+            return ca.repmat(centre, 1, len(nodes)) + ca.diag(scale) @ ca.DM(nodes.T)
+        scale = np.broadcast_to(np.ravel(size), (2,))
+        return np.ravel(centre) + nodes * scale
+
+    def contains(self, x: np.ndarray, centre: np.ndarray, size: np.ndarray) -> np.ndarray:
+        """Mask of the points (N, 2) strictly inside the region."""
+        d = x - np.ravel(centre)
+        if self.shape == "rectangle":
+            return np.all(np.abs(d) < np.ravel(size), axis=1)
+        return np.sum(d**2, axis=1) < float(np.ravel(size)[0]) ** 2
+
+    def box(self, centre: np.ndarray, size: np.ndarray) -> np.ndarray:
+        """Bounding box (2, 2) of the region."""
+        half = np.broadcast_to(np.ravel(size), (2,))
+        return np.stack([np.ravel(centre) - half, np.ravel(centre) + half], axis=1)
+
+    def boundary(self, centre: np.ndarray, size: np.ndarray, count: int) -> np.ndarray:
+        """``count`` points on the region's boundary."""
+        return self.place(centre, size, _unit_boundary(self.shape, count))
 
 
 def _check_resolution(resolution: int, minimum: int) -> int:
@@ -84,12 +120,44 @@ def disc_nodes(resolution: int, reduce: str = "mean") -> tuple[np.ndarray, np.nd
     """Nodes and weights of a global index on the unit disc: the quadrature for a mean; for a
     minimum, the quadrature nodes, the centre and 4 resolution nodes on the boundary circle."""
     nodes, weights = disc_quadrature(resolution)
-    if reduce == "mean":
+    if reduce != "min":
         return nodes, weights
     m = 4 * resolution
     angle = 2 * np.pi * (np.arange(m) + 0.5) / m
     ring = np.stack([np.cos(angle), np.sin(angle)], axis=1)
     nodes = np.concatenate([np.zeros((1, 2)), nodes, ring])
+    return nodes, np.ones(len(nodes))
+
+
+def _unit_boundary(shape: str, count: int) -> np.ndarray:
+    """``count`` points on the boundary of the unit disc or of the square [-1, 1]^2."""
+    t = (np.arange(count) + 0.5) / count
+    if shape == "disc":
+        angle = 2 * np.pi * t
+        return np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    side, u = np.divmod(4 * t, 1.0)
+    u = 2 * u - 1
+    corners = {0: (u, -np.ones_like(u)), 1: (np.ones_like(u), u), 2: (-u, np.ones_like(u)), 3: (-np.ones_like(u), -u)}
+    out = np.zeros((count, 2))
+    for k, (a, b) in corners.items():
+        on = side == k
+        out[on] = np.stack([a[on], b[on]], axis=1)
+    return out
+
+
+@lru_cache(maxsize=32)
+def rectangle_nodes(resolution: int, reduce: str = "mean") -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights on [-1, 1]^2: the Gauss-Legendre product rule of 2 resolution points per
+    axis (4 resolution^2 nodes, as on the disc); for a minimum, the nodes, the centre and 8 resolution
+    nodes on the boundary, with unit weights."""
+    resolution = _check_resolution(resolution, 1)
+    t, w = np.polynomial.legendre.leggauss(2 * resolution)
+    X, Y = np.meshgrid(t, t, indexing="ij")
+    nodes = np.stack([X.ravel(), Y.ravel()], axis=1)
+    weights = np.outer(w, w).ravel()
+    if reduce != "min":
+        return nodes, weights
+    nodes = np.concatenate([np.zeros((1, 2)), nodes, _unit_boundary("rectangle", 8 * resolution)])
     return nodes, np.ones(len(nodes))
 
 
@@ -163,12 +231,12 @@ def _reduce(value: np.ndarray, mask: np.ndarray, region: str, resolution: int, r
         count = int(keep.sum())
         result = float("nan")
         if count:
-            result = float(row[keep].min()) if reduce == "min" else float(row[keep].mean())
+            result = float({"min": np.min, "std": np.std}.get(reduce, np.mean)(row[keep]))
         out.append(GlobalValue(result, points=count, region=region, resolution=resolution))
     return out
 
 
-def sampled_disc_global(
+def sampled_region_global(
     mech: Mechanism,
     spec: indices.GlobalIndex,
     region: ParametrisedRegion,
@@ -177,19 +245,17 @@ def sampled_disc_global(
     branch: Branch,
     resolution: int,
 ) -> GlobalValue:
-    """A parametrised (disc) region's global index by sampling: cell centres of a grid inside the disc.
+    """A parametrised region's global index by sampling: cell centres of a grid inside the region.
 
     An independent check of the quadrature of :func:`parametrised_global_function`; singular poses
     are kept (margin 0), as in the quadrature.
     """
     resolution = _check_resolution(resolution, 2)
-    centre, radius = (np.asarray(a, dtype=float).ravel() for a in mech.functions[region.function](design))
-    box = np.stack([centre - radius, centre + radius], axis=1)
-    x, _ = grid(box, resolution)
-    x = x[np.sum((x - centre) ** 2, axis=1) < radius[0] ** 2]
+    centre, size = (np.asarray(a, dtype=float).ravel() for a in mech.functions[region.function](design))
+    x, _ = grid(region.box(centre, size), resolution)
+    x = x[region.contains(x, centre, size)]
     if spec.reduce == "min":
-        angle = 2 * np.pi * np.arange(4 * resolution) / (4 * resolution)
-        x = np.concatenate([x, centre + radius[0] * np.stack([np.cos(angle), np.sin(angle)], axis=1)])
+        x = np.concatenate([x, region.boundary(centre, size, 4 * resolution)])
     d = np.broadcast_to(design, (len(x), len(design)))
     value, mask = _sample(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
     return _reduce(value[None], mask[None], region.name, resolution, spec.reduce)[0]
@@ -211,8 +277,14 @@ def parametrised_global_function(
     resolution = _check_resolution(resolution, 1)
     design = ca.MX.sym("design", len(mech.parameters))
     values, weights = node_values(mech, spec, region, branch, design, resolution=resolution)
-    mean = ca.mtimes(values, ca.DM(weights)) / float(weights.sum())
-    value = ca.mmin(values) if spec.reduce == "min" else mean
+    w = ca.DM(weights / weights.sum())
+    mean = ca.mtimes(values, w)
+    if spec.reduce == "min":
+        value = ca.mmin(values)
+    elif spec.reduce == "std":
+        value = ca.sqrt(ca.mtimes((values - mean) ** 2, w))
+    else:
+        value = mean
     return ca.Function(
         f"{spec.name}_{region.name}_{branch.name}_{resolution}",
         [design],
@@ -238,10 +310,10 @@ def node_values(
     least t at every node (:func:`pkm.indices.epigraph_function`) instead of the values.
     """
     local = mech.local_spec(spec.local)
-    nodes, weights = disc_nodes(resolution, spec.reduce)
+    nodes, weights = region.nodes(resolution, spec.reduce)
     n = len(weights)
-    centre, radius = mech.functions[region.function](design)
-    x = ca.repmat(centre, 1, n) + radius * ca.DM(nodes.T)
+    centre, size = mech.functions[region.function](design)
+    x = region.place(centre, size, nodes)
     q, _ = mech.functions["inverse_kinematics"].map(n)(x, ca.DM(branch.signs), design)
     source = mech.functions[local.source]
     outs = dict(zip(source.name_out(), source.map(n)(q, x, design), strict=True))

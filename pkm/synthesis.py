@@ -206,7 +206,7 @@ class _Model:
         d = np.array(list(cand.design.values()))
         u, v = (np.array([c]) for c in cand.chart)
         cand.verified_objective = float(self.values(u, v, 2 * resolution, feasible=False)[0])
-        sampled = regions.sampled_disc_global(
+        sampled = regions.sampled_region_global(
             self.mech, self.spec, self.region, d, branch=self.branch, resolution=16 * resolution
         )
         cand.sampled_objective, cand.sampled_points = float(sampled), sampled.points
@@ -349,8 +349,8 @@ def synthesize(
         baseline_cost={"wall_time_s": base_time, "evaluations": len(grid_values)},
         resolutions={
             "quadrature": res,
-            "quadrature_points": len(regions.disc_nodes(res, model.spec.reduce)[1]),
-            "verification_points": len(regions.disc_nodes(2 * res, model.spec.reduce)[1]),
+            "quadrature_points": len(model.region.nodes(res, model.spec.reduce)[1]),
+            "verification_points": len(model.region.nodes(2 * res, model.spec.reduce)[1]),
             "baseline_grid": base_res,
         },
     )

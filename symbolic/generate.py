@@ -16,17 +16,19 @@ ROOT = Path(__file__).resolve().parent.parent
 GENERATED = ROOT / "generated"
 
 
-def sources(name: str) -> list[Path]:
+def sources(spec: codegen.ModuleSpec) -> list[Path]:
     """The files whose bytes determine a mechanism's generated module."""
     here = ROOT / "symbolic"
-    return [here / "codegen.py", here / "loops.py", here / "lagrange.py", here / "mechanisms" / f"{name}.py"]
+    shared = ("codegen.py", "loops.py", "lagrange.py", "virtual_work.py")
+    return [*(here / f for f in shared), ROOT / spec.source]
 
 
 def write(out: Path) -> None:
     """Derive every registered mechanism and write the generated tree into ``out``."""
     modules = []
     for name in sorted(MECHANISMS):
-        modules.append((MECHANISMS[name].module(), codegen.source_hash(sources(name))))
+        spec = MECHANISMS[name]()
+        modules.append((spec, codegen.source_hash(sources(spec))))
     tools = {"python": platform.python_version(), "sympy": sp.__version__}
     codegen.write_tree(out, modules, tools)
 

@@ -148,7 +148,8 @@ def test_psi_lies_in_the_null_space_of_the_constraint_jacobian(case):
 def test_every_local_index_lies_in_its_documented_range(case):
     m = case.mech
     for mode, x in case.poses.items():
-        for name, spec in LOCAL.items():
+        for name in m.local_indices():
+            spec = LOCAL[name]
             value = m.local_index(name, x, case.design, mode=mode)
             assert not np.any(np.isnan(value)), f"{name} is NaN at a reachable pose ({mode})"
             assert np.all((spec.lower <= value) & (value <= spec.upper)), f"{name} outside its range ({mode})"
@@ -162,7 +163,7 @@ def _outputs(m: pkm.Mechanism, x: np.ndarray, design: pkm.Design, mode: str) -> 
         "psi": m.psi(x, design, mode=mode),
         "reachable": m.reachable(x, design, mode=mode),
         **m.singularity(x, design, mode=mode),
-        **{name: m.local_index(name, x, design, mode=mode) for name in LOCAL},
+        **{name: m.local_index(name, x, design, mode=mode) for name in m.local_indices()},
     }
     q_a = out["q"][..., : m.n_act]
     out.update({f"fk_{a}": m.forward_kinematics(q_a, design, assembly=a) for a in m.assemblies})
@@ -200,7 +201,7 @@ def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
         F = ca.Function(key, ins, outs + [ca.jacobian(o, i) for o in outs for i in ins])
         rng = np.random.default_rng(11)
         args = [
-            rng.normal(size=(len(inputs["x"]), fn.numel_in(i))) if n.endswith("_dot") else inputs[n]
+            rng.normal(size=(len(inputs["x"]), fn.numel_in(i))) if n.endswith(("_dot", "_ddot")) else inputs[n]
             for i, n in enumerate(fn.name_in())
         ]
         mapped = evaluate(F, *args)

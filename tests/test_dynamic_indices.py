@@ -50,7 +50,7 @@ def test_quadrature_converges_and_agrees_with_the_sampled_disc(name):
     v8, v16, v32 = (m.global_index(name, d, region="miw", resolution=n) for n in (8, 16, 32))
     assert abs(v32 - v16) < abs(v16 - v8) + 1e-12
     assert abs(v32 - v16) < 2e-3 * abs(v32)
-    sampled = regions.sampled_disc_global(m, indices.global_spec(name), MIW, d, branch=m.working_mode(None),
+    sampled = regions.sampled_region_global(m, indices.global_spec(name), MIW, d, branch=m.working_mode(None),
                                           resolution=128)
     assert float(sampled) == pytest.approx(float(v32), rel=5e-3)
 

@@ -53,7 +53,12 @@ def with_jacobians(fn: ca.Function) -> ca.Function:
 
 def sample_inputs(m: pkm.Mechanism, rng: np.random.Generator) -> dict[str, np.ndarray]:
     """Valid points for the generated functions' inputs, by the names of mechanism.py's convention."""
-    design = m.design({p.name: p.default * (1 + 0.2 * rng.uniform(-1, 1)) for p in m.parameters})
+    for _ in range(1000):
+        try:
+            design = m.design({p.name: p.default * (1 + 0.2 * rng.uniform(-1, 1)) for p in m.parameters})
+            break
+        except pkm.DesignError:
+            continue
     box = m.workspace_box(design.vector())
     mode = m.working_modes[rng.integers(len(m.working_modes))]
     x = rng.uniform(box[:, 0], box[:, 1], size=(40 * N_POINTS, len(box)))
@@ -71,10 +76,10 @@ def sample_inputs(m: pkm.Mechanism, rng: np.random.Generator) -> dict[str, np.nd
 
 
 def arguments(fn: ca.Function, inputs: dict[str, np.ndarray], rng: np.random.Generator) -> list[np.ndarray]:
-    """The function's inputs by name; rates (names ending in _dot) drawn at random."""
+    """The function's inputs by name; rates and accelerations (names ending in _dot, _ddot) drawn at random."""
     n = len(inputs["x"])
     return [
-        rng.normal(size=(n, fn.numel_in(i))) if name.endswith("_dot") else inputs[name]
+        rng.normal(size=(n, fn.numel_in(i))) if name.endswith(("_dot", "_ddot")) else inputs[name]
         for i, name in enumerate(fn.name_in())
     ]
 

@@ -1,5 +1,12 @@
-"""One symbolic module per mechanism; each exposes ``module() -> codegen.ModuleSpec``."""
+"""One symbolic module per mechanism; ``MECHANISMS`` maps each registered name to the function that
+derives its ``codegen.ModuleSpec`` (a module may derive several variants)."""
 
-from symbolic.mechanisms import five_bar
+from functools import partial
 
-MECHANISMS = {"five_bar": five_bar}
+from symbolic.mechanisms import five_bar, slider_gantry
+
+MECHANISMS = {
+    "five_bar": five_bar.module,
+    "slider_gantry": partial(slider_gantry.module, symmetric=False),
+    "slider_gantry_symmetric": partial(slider_gantry.module, symmetric=True),
+}

@@ -31,7 +31,7 @@ import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
-from symbolic.loops import LoopClosure
+from symbolic.loops import LoopClosure, add_first_order
 
 r1, r2, r3 = sp.symbols("r1 r2 r3", positive=True)
 m1, m2, c1, c2, g1, g2 = sp.symbols("m1 m2 c1 c2 g1 g2", positive=True)
@@ -132,27 +132,13 @@ def module() -> ModuleSpec:
         "Closed-form forward kinematics: intersection of the circles of radius r2 about the elbows.",
     )
     loop = loop_closure()
-    spec.add(
-        "constraint",
-        (JOINTS, POSE, DESIGN),
-        (
-            Output("h", loop.h, "loop-closure residuals [m]"),
-            Output("H_q", loop.H_a.row_join(loop.H_p), "dh/dq, actuated then passive [m/rad]"),
-            Output("H_x", loop.H_x, "dh/dx [-]"),
-        ),
-        "Loop-closure residuals and their Jacobians.",
-    )
-    spec.add(
-        "first_order",
-        (JOINTS, POSE, DESIGN),
-        (
-            Output("J", loop.jacobian(), "q_a_dot = J x_dot [rad/m]"),
-            Output("J_f", loop.forward_jacobian(), "x_dot = J_f q_a_dot [m/rad]"),
-            Output("psi", loop.psi(), "q_dot = Psi q_a_dot, all joints from actuated [-]"),
-            Output("det_type1", sp.Matrix([loop.det_type1()]), "serial singularity measure [m^2]"),
-            Output("det_type2", sp.Matrix([loop.det_type2()]), "parallel singularity measure [m^2]"),
-        ),
-        "First-order kinematics by implicit differentiation of the loop closure.",
+    add_first_order(
+        spec,
+        loop,
+        joints=JOINTS,
+        pose=POSE,
+        design=DESIGN,
+        units={"h": "m", "H_q": "m/rad", "H_x": "-", "J": "rad/m", "J_f": "m/rad", "psi": "-", "det": "m^2"},
     )
     _add_mic(spec)
     _add_dynamics(spec, loop)
