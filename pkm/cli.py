@@ -61,11 +61,12 @@ def cmd_list(args: argparse.Namespace) -> None:
             "design_spaces": sorted(getattr(m, "design_spaces", {})),
         }
     from pkm.synthesis import PROBLEMS
+    from pkm.task_synthesis import TASK_PROBLEMS
 
     out = {
         "mechanisms": data,
         "indices": {k: v.doc for k, v in indices.GLOBAL.items()},
-        "problems": {k: v.doc for k, v in PROBLEMS.items()},
+        "problems": {k: v.doc for k, v in {**PROBLEMS, **TASK_PROBLEMS}.items()},
     }
     lines = []
     for name, info in data.items():
@@ -112,7 +113,12 @@ def cmd_index(args: argparse.Namespace) -> None:
     d = _design(m, args.design)
     mode = m.working_mode(args.mode).name
     out = m.global_index(
-        args.index, d, region=args.region, mode=mode, resolution=args.resolution, gradient=args.gradient,
+        args.index,
+        d,
+        region=args.region,
+        mode=mode,
+        resolution=args.resolution,
+        gradient=args.gradient,
         singularity_margin=args.margin,
     )
     value, grad = out if args.gradient else (out, None)
@@ -190,6 +196,12 @@ def cmd_synth(args: argparse.Namespace) -> None:
         f"baseline (atlas grid, {result.baseline_cost['evaluations']} evaluations, "
         f"{result.baseline_cost['wall_time_s']:.2f} s): {b.objective:.6g}, verified {b.verified_objective:.6g}"
     )
+    for label, cand in (
+        ("Wu's two-step family", getattr(result, "two_step", None)),
+        ("Wu's design", getattr(result, "paper", None)),
+    ):
+        if cand is not None:
+            text += f"\n{label}: {cand.objective:.6g} at (l, d1) = ({cand.chart[0]:.6g}, {cand.chart[1]:.6g}) m"
     _emit(args, data, text)
 
 

@@ -70,7 +70,7 @@ class ParametrisedRegion:
 
     def place(self, centre, size, nodes: np.ndarray):
         """The reference nodes (n, 2) mapped into the region of centre (2,) and size; numpy or CasADi."""
-        if isinstance(centre, ca.MX | ca.SX):
+        if isinstance(centre, ca.MX | ca.SX | ca.DM):
             scale = ca.repmat(size, 2, 1) if self.shape == "disc" else size
             return ca.repmat(centre, 1, len(nodes)) + ca.diag(scale) @ ca.DM(nodes.T)
         scale = np.broadcast_to(np.ravel(size), (2,))
@@ -277,14 +277,7 @@ def parametrised_global_function(
     resolution = _check_resolution(resolution, 1)
     design = ca.MX.sym("design", len(mech.parameters))
     values, weights = node_values(mech, spec, region, branch, design, resolution=resolution)
-    w = ca.DM(weights / weights.sum())
-    mean = ca.mtimes(values, w)
-    if spec.reduce == "min":
-        value = ca.mmin(values)
-    elif spec.reduce == "std":
-        value = ca.sqrt(ca.mtimes((values - mean) ** 2, w))
-    else:
-        value = mean
+    value = reduce_nodes(values, weights, spec.reduce)
     return ca.Function(
         f"{spec.name}_{region.name}_{branch.name}_{resolution}",
         [design],
@@ -292,6 +285,17 @@ def parametrised_global_function(
         ["design"],
         [spec.name, "gradient"],
     )
+
+
+def reduce_nodes(values: ca.MX, weights: np.ndarray, reduce: str) -> ca.MX:
+    """The weighted mean, standard deviation or minimum of a 1 x n row of node values."""
+    w = ca.DM(weights / weights.sum())
+    mean = ca.mtimes(values, w)
+    if reduce == "min":
+        return ca.mmin(values)
+    if reduce == "std":
+        return ca.sqrt(ca.mtimes((values - mean) ** 2, w))
+    return mean
 
 
 def node_values(
@@ -303,16 +307,21 @@ def node_values(
     *,
     resolution: int,
     epigraph: ca.MX | None = None,
+    placement: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[ca.MX, np.ndarray]:
     """The local index at the region's nodes (a 1 x n row, CasADi in the design) and their weights.
 
     With ``epigraph`` t, the constraints g >= 0 (one column per node) that say the local index is at
-    least t at every node (:func:`pkm.indices.epigraph_function`) instead of the values.
+    least t at every node (:func:`pkm.indices.epigraph_function`) instead of the values. With
+    ``placement`` (centre, size) the region is fixed there instead of following the design.
     """
     local = mech.local_spec(spec.local)
     nodes, weights = region.nodes(resolution, spec.reduce)
     n = len(weights)
-    centre, size = mech.functions[region.function](design)
+    if placement is None:
+        centre, size = mech.functions[region.function](design)
+    else:
+        centre, size = (ca.DM(np.asarray(a, dtype=float).reshape(-1, 1)) for a in placement)
     x = region.place(centre, size, nodes)
     q, _ = mech.functions["inverse_kinematics"].map(n)(x, ca.DM(branch.signs), design)
     source = mech.functions[local.source]

@@ -163,7 +163,9 @@ class SynthesisResult:
 
 def problem(name: str) -> Problem:
     if name not in PROBLEMS:
-        raise UnknownNameError("synthesis problem", name, sorted(PROBLEMS))
+        from pkm.task_synthesis import TASK_PROBLEMS
+
+        raise UnknownNameError("synthesis problem", name, sorted([*PROBLEMS, *TASK_PROBLEMS]))
     return PROBLEMS[name]
 
 
@@ -254,13 +256,25 @@ def synthesize(
 
     Parameters
     ----------
-    name : problem key, e.g. ``"five_bar.max_gci_miw"``.
+    name : problem key, e.g. ``"five_bar.max_gci_miw"``; the slider gantry's task-rectangle problems
+        (:data:`pkm.task_synthesis.TASK_PROBLEMS`) are solved by :func:`pkm.task_synthesis.synthesize_task`.
     resolution : quadrature resolution of the optimised objective (verification uses twice it: 4x
         the points).
     baseline_resolution : chart grid of the atlas baseline (nodes per axis).
     starts : number of IPOPT starts, the best nodes of the screening grid.
     verbose : print IPOPT's iterations.
     """
+    from pkm.task_synthesis import TASK_PROBLEMS, synthesize_task
+
+    if name in TASK_PROBLEMS:
+        return synthesize_task(
+            name,
+            resolution=resolution,
+            baseline_resolution=baseline_resolution,
+            starts=starts,
+            verbose=verbose,
+            progress=progress,
+        )
     prob = problem(name)
     res = prob.resolution if resolution is None else resolution
     base_res = prob.baseline_resolution if baseline_resolution is None else baseline_resolution
