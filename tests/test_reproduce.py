@@ -1,4 +1,4 @@
-"""`pkm reproduce gao1998` and `lara_molina2016` at low resolution: report files, claim schema, honest
+"""`pkm reproduce gao1998`, `lara_molina2016` and `wu2008` at low resolution: report files, claim schema, honest
 statuses."""
 
 from __future__ import annotations
@@ -88,3 +88,48 @@ def test_lara_molina_syntheses_beat_their_baselines(lara):
         assert run["status"] == "Solve_Succeeded"
         assert run["objective"] >= run["baseline_objective"] - 1e-9
         assert run["verified_objective"] == pytest.approx(run["objective"], rel=2e-2)
+
+
+@pytest.fixture(scope="module")
+def wu(tmp_path_factory):
+    out = tmp_path_factory.mktemp("out")
+    assert main(["reproduce", "wu2008", "--out", str(out), "--quick"]) == 0
+    folder = out / "wu2008"
+    return folder, json.loads((folder / "report.json").read_text())
+
+
+def test_wu_report_has_its_figures_and_table1(wu):
+    folder, data = wu
+    assert (folder / "report.md").read_text().startswith("# Wu")
+    assert len(data["figures"]) == 3
+    for fig in data["figures"]:
+        assert (folder / fig).stat().st_size > 1000
+    claims = {c["id"]: c for c in data["claims"]}
+    for angle, values in ((15, {"d1": 433.0, "l": 707.1, "stroke": 900.0}), (10, {"l": 616.4, "d1": 357.0})):
+        for key, paper in values.items():
+            c = claims[f"table1_theta{angle}_{key}"]
+            assert c["status"] == "match"
+            assert c["paper_value"] == paper
+            assert c["pkm_value"] == pytest.approx(paper, abs=0.5)
+
+
+def test_wu_claims_are_honest(wu):
+    _, data = wu
+    claims = {c["id"]: c for c in data["claims"]}
+    k_av = claims["table1_k_av"]
+    assert k_av["status"] == "differs"
+    assert k_av["pkm_value"]["eq7_closed_form"] == pytest.approx(k_av["pkm_value"]["eq7_quadrature"], rel=1e-6)
+    assert k_av["pkm_value"]["eq7_closed_form"] != pytest.approx(k_av["paper_value"], abs=0.05)
+    assert claims["eq41_virtual_work_vs_lagrange"]["pkm_value"]["max_relative_difference_to_lagrange"] < 1e-10
+    assert claims["fig6_asymmetric"]["status"] == claims["fig7_symmetric"]["status"] == "match"
+    assert claims["fig6_centre_isotropic"]["status"] == "match"
+
+
+def test_wu_synthesis_beats_the_papers_design(wu):
+    _, data = wu
+    run = data["beyond_paper"]["syntheses"][0]
+    assert run["status"] == "Solve_Succeeded"
+    assert run["sense"] == "min"
+    assert run["objective"] <= min(run["grid_objective"], run["two_step_objective"]) + 1e-9
+    assert run["objective"] < run["paper_design_objective"] - 0.05
+    assert run["verified_objective"] == pytest.approx(run["objective"], rel=1e-3)

@@ -14,10 +14,10 @@ from typing import Any
 
 from pkm import io
 from pkm.errors import UnknownNameError
-from pkm.reproduce import gao1998, lara_molina2016
+from pkm.reproduce import gao1998, lara_molina2016, wu2008
 from pkm.reproduce.report import write_report
 
-PAPERS = {"gao1998": gao1998, "lara_molina2016": lara_molina2016}
+PAPERS = {"gao1998": gao1998, "lara_molina2016": lara_molina2016, "wu2008": wu2008}
 
 
 def reproduce(key: str, out: Path, *, quick: bool = False) -> dict[str, Any]:
