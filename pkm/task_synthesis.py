@@ -166,6 +166,11 @@ class TaskProblem:
     (``reference_length`` = Table 1's l). Constraints: the angle margins theta_s <= |theta_i| <= theta_l
     over the rectangle, the stroke it needs at most ``max_stroke``, the frame width 2 (d1 + d2) at most
     ``max_frame_width`` and k_av at least ``min_k_av``; bounds ``length_bounds`` and ``d1_bounds``.
+
+    A design's own angle margins theta_s, theta_l are its extreme link angles over the rectangle and its
+    strokes put the rectangle's bottom and top on the slider limits, so that its task region is the
+    b x h rectangle. IPOPT starts from the best feasible points of a screening grid over the bounds and
+    of Wu's two-step family.
     """
 
     name: str
@@ -223,6 +228,10 @@ def task_problem(name: str) -> TaskProblem:
     return TASK_PROBLEMS[name]
 
 
+def _asin(value):
+    return ca.asin(value) if isinstance(value, ca.MX | ca.SX) else np.arcsin(value)
+
+
 def _sqrt(value):
     return ca.sqrt(value) if isinstance(value, ca.MX | ca.SX) else np.sqrt(value)
 
@@ -258,8 +267,8 @@ class _TaskModel:
             "l2": p.l2,
             "qs": qs,
             "ql": ql,
-            "theta_s": p.theta_s,
-            "theta_l": p.theta_l,
+            "theta_s": _asin((d1 - b / 2) / length),
+            "theta_l": _asin((d1 + b / 2) / length),
             "s12": length / 2,
             "s22": length / 2,
             "s4": length / 2,
@@ -404,12 +413,15 @@ def synthesize_task(
 
     say("screening")
     t0 = time.perf_counter()
-    screen_points = box_grid(prob.screening_resolution)
+    two_step_points = _two_step_points(prob)
+    every = max(len(two_step_points) // prob.screening_resolution, 1)
+    screen_points = np.concatenate([box_grid(prob.screening_resolution), two_step_points[::every]])
     screen, _, feasible = model.evaluate(screen_points, res)
     calls = int(feasible.sum())
-    two_step_points = _two_step_points(prob)
-    order = [k for k in np.argsort(sign * np.where(feasible, screen, np.nan)) if feasible[k]][: n_starts - 1]
-    starts_at = [screen_points[k] for k in order] + [two_step_points[0]]
+    order = [k for k in np.argsort(sign * np.where(feasible, screen, np.nan)) if feasible[k]][:n_starts]
+    starts_at = [screen_points[k] for k in order]
+    if not starts_at:
+        raise ComputationError(f"no feasible design among the {len(screen_points)} screening points of {prob.name}")
 
     fn = model.function(res)
     w = ca.MX.sym("w", 2)
