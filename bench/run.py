@@ -4,6 +4,8 @@
   hand-written numpy implementation in the same run (bench/throughput.py);
 * dynamics: IK + M_t + M_w + 1/kappa_2(M_w) of the five-bar (Lara-Molina 2016) on the same poses, pkm
   against a hand-written numpy implementation in the same run (bench/dynamics.py);
+* gantry: inverse dynamics (IK + slider forces by virtual work) of the slider gantry (Wu 2008) on 10^6
+  random states, pkm against a hand-written numpy implementation in the same run (bench/gantry.py);
 * synthesis: ``pkm.synthesize("five_bar.max_gci_miw")`` (IPOPT) against its baseline on the same model,
   when pkm.synthesis is available (skipped with a note otherwise).
 
@@ -26,7 +28,7 @@ from typing import Any
 import casadi
 import numpy as np
 
-from bench import dynamics, throughput
+from bench import dynamics, gantry, throughput
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
 
@@ -123,6 +125,26 @@ def dynamics_markdown(dyn: dict[str, Any]) -> list[str]:
     return lines + [f"- {note}" for note in dyn["notes"]]
 
 
+def gantry_markdown(gan: dict[str, Any]) -> list[str]:
+    if "skipped" in gan:
+        return ["", f"## Slider gantry inverse dynamics (Wu 2008): skipped ({gan['skipped']})"]
+    lines = [
+        "",
+        f"## Slider gantry inverse dynamics (Wu 2008): IK + slider forces, {gan['states']:,} random states "
+        f"(best of {gan['repeats']}, seed {gan['seed']})",
+        "",
+        "| benchmark | threads | states/s | vs numpy | time (s) |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for r in gan["rows"]:
+        lines.append(
+            f"| {r['name']} | {r['threads']} | {r['states_per_s'] / 1e6:.2f} M | {r['ratio_vs_numpy']:.2f}x "
+            f"| {r['seconds']:.3f} |"
+        )
+    lines += ["", f"pkm.batch.THREADS default: {gan['default_threads']}. Every row agrees with numpy to 1e-9."]
+    return lines + [f"- {note}" for note in gan["notes"]]
+
+
 def markdown(report: dict[str, Any]) -> str:
     env, tp = report["machine"], report["throughput"]
     lines = [
@@ -145,6 +167,7 @@ def markdown(report: dict[str, Any]) -> str:
     lines += ["", f"pkm.batch.THREADS default: {tp['default_threads']}. Every row agrees with numpy to 1e-9."]
     lines += [f"- {note}" for note in tp["notes"]]
     lines += dynamics_markdown(report["dynamics"])
+    lines += gantry_markdown(report["gantry"])
     syn = report["synthesis"]
     lines += ["", f"## Synthesis: {SYNTHESIS_PROBLEM}", ""]
     if "skipped" in syn:
@@ -173,10 +196,11 @@ def markdown(report: dict[str, Any]) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m bench.run", description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="10^5 poses instead of 10^6")
+    parser.add_argument("--quick", action="store_true", help="10^5 poses (and states) instead of 10^6")
     parser.add_argument("--json", metavar="PATH", help="also write the figures as JSON to PATH")
     parser.add_argument("--no-compiled", action="store_true", help="skip the C-compiled experiments")
     parser.add_argument("--no-dynamics", action="store_true", help="skip the dynamics throughput benchmark")
+    parser.add_argument("--no-gantry", action="store_true", help="skip the slider gantry inverse dynamics benchmark")
     parser.add_argument("--no-synthesis", action="store_true", help="skip the synthesis benchmark")
     args = parser.parse_args(argv)
     report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
@@ -184,6 +208,7 @@ def main(argv: list[str] | None = None) -> int:
     n = 100_000 if args.quick else 1_000_000
     report["throughput"] = throughput.run(n, 3, compiled=not args.no_compiled, log=log)
     report["dynamics"] = {"skipped": "--no-dynamics"} if args.no_dynamics else dynamics.run(n, 3, log=log)
+    report["gantry"] = {"skipped": "--no-gantry"} if args.no_gantry else gantry.run(n, 3, log=log)
     report["synthesis"] = {"skipped": "--no-synthesis"} if args.no_synthesis else synthesis_bench()
     print(markdown(report))
     if args.json:
