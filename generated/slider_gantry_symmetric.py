@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 751dd0748c23d2e7).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 647fd2e8438af86d).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry with the fourth link A4B4 (Wu section 6.3)."""
 
 import casadi as ca
 
-SOURCE_HASH = "751dd0748c23d2e7"
+SOURCE_HASH = "647fd2e8438af86d"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", )
 
 

@@ -122,10 +122,7 @@ def disc_nodes(resolution: int, reduce: str = "mean") -> tuple[np.ndarray, np.nd
     nodes, weights = disc_quadrature(resolution)
     if reduce != "min":
         return nodes, weights
-    m = 4 * resolution
-    angle = 2 * np.pi * (np.arange(m) + 0.5) / m
-    ring = np.stack([np.cos(angle), np.sin(angle)], axis=1)
-    nodes = np.concatenate([np.zeros((1, 2)), nodes, ring])
+    nodes = np.concatenate([np.zeros((1, 2)), nodes, _unit_boundary("disc", 4 * resolution)])
     return nodes, np.ones(len(nodes))
 
 
@@ -244,14 +241,18 @@ def sampled_region_global(
     *,
     branch: Branch,
     resolution: int,
+    placement: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> GlobalValue:
     """A parametrised region's global index by sampling: cell centres of a grid inside the region.
 
     An independent check of the quadrature of :func:`parametrised_global_function`; singular poses
-    are kept (margin 0), as in the quadrature.
+    are kept (margin 0), as in the quadrature. With ``placement`` (centre, size) the region is fixed
+    there instead of following the design.
     """
     resolution = _check_resolution(resolution, 2)
-    centre, size = (np.asarray(a, dtype=float).ravel() for a in mech.functions[region.function](design))
+    if placement is None:
+        placement = mech.functions[region.function](design)
+    centre, size = (np.asarray(a, dtype=float).ravel() for a in placement)
     x, _ = grid(region.box(centre, size), resolution)
     x = x[region.contains(x, centre, size)]
     if spec.reduce == "min":

@@ -161,6 +161,82 @@ class SynthesisResult:
         }
 
 
+def resolve_options(
+    prob: Any, resolution: int | None, baseline_resolution: int | None, starts: int | None
+) -> tuple[int, int, int]:
+    """The quadrature resolution, baseline resolution and number of starts: the given values or the
+    problem's own; :class:`PkmError` unless each is an integer at least 1, 3 and 1."""
+    values = (
+        ("resolution", prob.resolution if resolution is None else resolution, 1),
+        ("baseline_resolution", prob.baseline_resolution if baseline_resolution is None else baseline_resolution, 3),
+        ("starts", prob.starts if starts is None else starts, 1),
+    )
+    for label, value, minimum in values:
+        if int(value) != value or value < minimum:
+            raise PkmError(f"{label} = {value} violates: an integer >= {minimum}")
+    return tuple(int(v) for _, v, _ in values)
+
+
+def ipopt_solver(name: str, nlp: dict, *, verbose: bool, max_iter: int, hessian: str = "exact") -> ca.Function:
+    """IPOPT through ``casadi.nlpsol``, quiet (no banner) unless ``verbose``, tolerance 1e-10."""
+    options = {
+        "print_time": verbose,
+        "show_eval_warnings": verbose,
+        "ipopt": {
+            "print_level": 5 if verbose else 0,
+            "sb": "yes",
+            "tol": 1e-10,
+            "hessian_approximation": hessian,
+            "max_iter": max_iter,
+        },
+    }
+    return ca.nlpsol(name, "ipopt", nlp, options)
+
+
+def solve_from(
+    solver: ca.Function,
+    starts: list,
+    *,
+    sense: str,
+    axes: str,
+    say: Callable[[str], None],
+    **bounds: Any,
+) -> tuple[list[Run], int, Run]:
+    """Run ``solver`` from every start (its first two entries are the chart point) with ``bounds``.
+
+    The NLP's f is the objective (``sense="min"``) or its negative (``"max"``). Returns the runs, the
+    number of objective and gradient evaluations and the best converged run; :class:`ComputationError`
+    with the last status and iterate (named by ``axes``) if no run converged.
+    """
+    sign = 1.0 if sense == "min" else -1.0
+    runs: list[Run] = []
+    calls = 0
+    for k, x0 in enumerate(starts):
+        say(f"IPOPT from start {k + 1}/{len(starts)}")
+        sol = solver(x0=x0, **bounds)
+        stats = solver.stats()
+        calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
+        w = np.asarray(sol["x"]).ravel()
+        runs.append(
+            Run(
+                (float(x0[0]), float(x0[1])),
+                stats["return_status"],
+                bool(stats["success"]),
+                int(stats["iter_count"]),
+                float(sign * sol["f"]),
+                (float(w[0]), float(w[1])),
+            )
+        )
+    good = [r for r in runs if r.success]
+    if not good:
+        last = runs[-1]
+        raise ComputationError(
+            f"IPOPT did not converge from any of {len(runs)} starts; last status {last.status}, "
+            f"last iterate ({axes}) = {last.chart}, objective {last.objective:.6g}"
+        )
+    return runs, calls, min(good, key=lambda r: sign * r.objective)
+
+
 def problem(name: str) -> Problem:
     if name not in PROBLEMS:
         from pkm.task_synthesis import TASK_PROBLEMS
@@ -276,16 +352,7 @@ def synthesize(
             progress=progress,
         )
     prob = problem(name)
-    res = prob.resolution if resolution is None else resolution
-    base_res = prob.baseline_resolution if baseline_resolution is None else baseline_resolution
-    n_starts = prob.starts if starts is None else starts
-    for label, value, minimum in (
-        ("resolution", res, 1),
-        ("baseline_resolution", base_res, 3),
-        ("starts", n_starts, 1),
-    ):
-        if int(value) != value or value < minimum:
-            raise PkmError(f"{label} = {value} violates: an integer >= {minimum}")
+    res, base_res, n_starts = resolve_options(prob, resolution, baseline_resolution, starts)
     model = _Model(prob)
     say = progress or (lambda _msg: None)
 
@@ -298,46 +365,13 @@ def synthesize(
     order = np.argsort(-np.nan_to_num(screen, nan=-np.inf))[:n_starts]
 
     nlp, lower, upper = model.nlp(res)
-    options = {
-        "print_time": verbose,
-        "show_eval_warnings": verbose,
-        "ipopt": {
-            "print_level": 5 if verbose else 0,
-            "sb": "yes",
-            "tol": 1e-10,
-            "hessian_approximation": prob.hessian,
-            "max_iter": prob.max_iter,
-        },
-    }
-    solver = ca.nlpsol("synthesis", "ipopt", nlp, options)
-    runs: list[Run] = []
-    calls = len(screen)
-    for k in order:
-        say(f"IPOPT from start {len(runs) + 1}/{len(order)}")
-        x0 = [su[k], sv[k], 0.999 * screen[k]] if model.epigraph else [su[k], sv[k]]
-        sol = solver(x0=x0, lbg=lower, ubg=upper, lbx=-np.inf, ubx=np.inf)
-        stats = solver.stats()
-        calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
-        w = np.asarray(sol["x"]).ravel()
-        runs.append(
-            Run(
-                (float(su[k]), float(sv[k])),
-                stats["return_status"],
-                bool(stats["success"]),
-                int(stats["iter_count"]),
-                float(-sol["f"]),
-                (float(w[0]), float(w[1])),
-            )
-        )
+    solver = ipopt_solver("synthesis", nlp, verbose=verbose, max_iter=prob.max_iter, hessian=prob.hessian)
+    starts_at = [[su[k], sv[k], 0.999 * screen[k]] if model.epigraph else [su[k], sv[k]] for k in order]
+    runs, calls, best = solve_from(
+        solver, starts_at, sense="max", axes="u, v", say=say, lbg=lower, ubg=upper, lbx=-np.inf, ubx=np.inf
+    )
+    calls += len(screen)
     opt_time = time.perf_counter() - t0
-    good = [r for r in runs if r.success]
-    if not good:
-        last = runs[-1]
-        raise ComputationError(
-            f"IPOPT did not converge from any of {len(runs)} starts; last status {last.status}, "
-            f"last iterate (u, v) = {last.chart}, objective {last.objective:.6g}"
-        )
-    best = max(good, key=lambda r: r.objective)
     optimum = model.candidate(*best.chart, best.objective)
 
     say("baseline atlas grid")

@@ -26,8 +26,8 @@ import numpy as np
 
 from pkm import indices, regions
 from pkm.batch import evaluate
-from pkm.errors import ComputationError, DesignError, PkmError
-from pkm.synthesis import Candidate, Run, SynthesisResult
+from pkm.errors import ComputationError, DesignError
+from pkm.synthesis import Candidate, SynthesisResult, ipopt_solver, resolve_options, solve_from
 
 DEG = math.pi / 180
 FEASIBILITY_TOLERANCE = 1e-7  # [m, or -] slack on g >= 0 (IPOPT relaxes its bounds by 1e-8 relative)
@@ -349,16 +349,15 @@ class _TaskModel:
         )
         dense = self.evaluate(np.array([[length, d1]]), 2 * resolution, feasible=False)
         cand.verified_objective = float(dense[0][0])
-        x, _ = regions.grid(self.region.box(*self.placement), 16 * resolution)
-        value, mask = regions._sample(
+        sampled = regions.sampled_region_global(
             self.mech,
             self.spec,
-            x,
-            np.broadcast_to(vector, (len(x), len(vector))),
-            signs=np.array(self.branch.signs),
-            margin=0.0,
+            self.region,
+            vector,
+            branch=self.branch,
+            resolution=16 * resolution,
+            placement=self.placement,
         )
-        sampled = regions._reduce(value[None], mask[None], "task", 16 * resolution, self.spec.reduce)[0]
         cand.sampled_objective, cand.sampled_points = float(sampled), sampled.points
         return cand
 
@@ -393,16 +392,7 @@ def synthesize_task(
     """Solve a registered :class:`TaskProblem` with IPOPT from the best screening points; run Wu's
     two-step family and a grid on the same model; verify every optimum (4x quadrature and sampled)."""
     prob = task_problem(name)
-    res = prob.resolution if resolution is None else resolution
-    base_res = prob.baseline_resolution if baseline_resolution is None else baseline_resolution
-    n_starts = prob.starts if starts is None else starts
-    for label, value, minimum in (
-        ("resolution", res, 1),
-        ("baseline_resolution", base_res, 3),
-        ("starts", n_starts, 1),
-    ):
-        if int(value) != value or value < minimum:
-            raise PkmError(f"{label} = {value} violates: an integer >= {minimum}")
+    res, base_res, n_starts = resolve_options(prob, resolution, baseline_resolution, starts)
     model = _TaskModel(prob)
     say = progress or (lambda _msg: None)
     sign = 1.0 if prob.sense == "min" else -1.0
@@ -427,44 +417,20 @@ def synthesize_task(
     w = ca.MX.sym("w", 2)
     objective, _, g = fn(w)
     nlp = {"x": w, "f": sign * objective, "g": g}
-    options = {
-        "print_time": verbose,
-        "show_eval_warnings": verbose,
-        "ipopt": {"print_level": 5 if verbose else 0, "sb": "yes", "tol": 1e-10, "max_iter": prob.max_iter},
-    }
-    solver = ca.nlpsol("task_synthesis", "ipopt", nlp, options)
-    runs: list[Run] = []
-    for k, x0 in enumerate(starts_at):
-        say(f"IPOPT from start {k + 1}/{len(starts_at)}")
-        sol = solver(
-            x0=x0,
-            lbg=0.0,
-            ubg=np.inf,
-            lbx=[b[0] for b in (prob.length_bounds, prob.d1_bounds)],
-            ubx=[b[1] for b in (prob.length_bounds, prob.d1_bounds)],
-        )
-        stats = solver.stats()
-        calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
-        x = np.asarray(sol["x"]).ravel()
-        runs.append(
-            Run(
-                (float(x0[0]), float(x0[1])),
-                stats["return_status"],
-                bool(stats["success"]),
-                int(stats["iter_count"]),
-                float(sign * sol["f"]),
-                (float(x[0]), float(x[1])),
-            )
-        )
+    solver = ipopt_solver("task_synthesis", nlp, verbose=verbose, max_iter=prob.max_iter)
+    runs, ipopt_calls, best = solve_from(
+        solver,
+        starts_at,
+        sense=prob.sense,
+        axes="l, d1",
+        say=say,
+        lbg=0.0,
+        ubg=np.inf,
+        lbx=[b[0] for b in (prob.length_bounds, prob.d1_bounds)],
+        ubx=[b[1] for b in (prob.length_bounds, prob.d1_bounds)],
+    )
+    calls += ipopt_calls
     opt_time = time.perf_counter() - t0
-    good = [r for r in runs if r.success]
-    if not good:
-        last = runs[-1]
-        raise ComputationError(
-            f"IPOPT did not converge from any of {len(runs)} starts; last status {last.status}, "
-            f"last iterate (l, d1) = {last.chart}, objective {last.objective:.6g}"
-        )
-    best = min(good, key=lambda r: sign * r.objective)
 
     say("baseline: Wu's two-step family")
     t0 = time.perf_counter()

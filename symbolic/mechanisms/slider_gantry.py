@@ -233,7 +233,7 @@ def module(symmetric: bool = False) -> ModuleSpec:
         ),
         "Task rectangle Q1Q2Q3Q4 of the design within the angle margins and the strokes (Wu Fig. 2).",
     )
-    _add_dynamics(spec, loop, symmetric)
+    _add_dynamics(spec, symmetric)
     return spec
 
 
@@ -253,7 +253,7 @@ def dynamic_models(symmetric: bool):
     return loop, q_dot, bias, vw, joints, lagrange
 
 
-def _add_dynamics(spec: ModuleSpec, loop: LoopClosure, symmetric: bool) -> None:
+def _add_dynamics(spec: ModuleSpec, symmetric: bool) -> None:
     design = design_port(symmetric)
     loop, q_dot, bias, vw, joints, lagrange = dynamic_models(symmetric)
     J = loop.jacobian()
