@@ -21,9 +21,9 @@ import numpy as np
 
 import pkm
 import pkm.batch
-import pkm.indices
+import pkm.registry
 from bench.throughput import DESIGN, MODE, SEED, SERIAL_MARGIN, Timer, sample_poses
-from pkm.indices import _singular_values_2x2
+from pkm.indices.local import extreme_singular_values
 
 INDEX = "dynamic_dexterity"
 TOL = 1e-9
@@ -78,9 +78,9 @@ def numpy_pipeline(
 
 
 def dexterity_function() -> ca.Function:
-    """``M_w -> 1/kappa_2(M_w)`` built as pkm.indices builds its 2x2 indices (closed-form singular values)."""
+    """``M_w -> 1/kappa_2(M_w)`` built as pkm.indices.local builds its 2x2 indices (closed-form singular values)."""
     M_w = ca.SX.sym("M_w", 2, 2)
-    smax, smin = _singular_values_2x2(M_w)
+    smax, smin = extreme_singular_values(M_w)
     return ca.Function(INDEX, [M_w], [smin / smax], ["M_w"], [INDEX])
 
 
@@ -189,7 +189,7 @@ def run(n: int = 1_000_000, repeats: int = 3, *, log: Callable[[str], None] = pr
     default = pkm.batch.THREADS
     timer = Timer(n, repeats, log)
     timer.add("numpy, hand-written (IK + M_t + M_w + 1/kappa_2)", 1, lambda: numpy_pipeline(X, design, signs), 0.0)
-    public = INDEX in pkm.indices.LOCAL
+    public = INDEX in {i.name for i in pkm.registry.local_indices()}
     if public:
         err_public = discrepancy((m.local_index(INDEX, X, design, mode=MODE),), ref, ok, "local_index")
     for t in sorted({default, 1}, reverse=True):
@@ -223,7 +223,7 @@ def run(n: int = 1_000_000, repeats: int = 3, *, log: Callable[[str], None] = pr
         f"load average (1 min) {load[0]:.2f} before timing, {os.getloadavg()[0]:.2f} after",
     ]
     if not public:
-        notes.append(f'pkm.indices has no "{INDEX}" local index: its row was skipped')
+        notes.append(f'pkm.registry has no "{INDEX}" local index: its row was skipped')
     return {
         "poses": n,
         "repeats": repeats,

@@ -22,6 +22,7 @@ import numpy as np
 import pkm
 import pkm.batch
 from pkm.indices import local_function
+from pkm.registry import local_index
 
 DESIGN = {"r1": 1.2, "r2": 1.0, "r3": 0.8}
 MODE = "out_out"
@@ -101,7 +102,7 @@ def fused_graph(m: pkm.Mechanism, signs: tuple[float, ...]) -> tuple[list[ca.SX]
     d = ca.SX.sym("design", len(m.parameters))
     q = m.functions["inverse_kinematics"](x, s, d)[0]
     J, J_f = m.functions["first_order"](q, x, d)[:2]
-    return [x, s, d], [J, local_function(INDEX, m.n_act)(J, J_f)]
+    return [x, s, d], [J, local_function(local_index(INDEX), m.n_act)(J, J_f)]
 
 
 def compile_mapped(fn: ca.Function, chunk: int, threads: int, workdir: str) -> ca.Function:

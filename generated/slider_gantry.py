@@ -1,12 +1,15 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 647fd2e8438af86d).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 2baf8b432e1b4fd4).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "647fd2e8438af86d"
+SOURCE_HASH = "2baf8b432e1b4fd4"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", )
+PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
+POSE = ("x", "y", )
+ACTUATORS = ("q1", "q2", )
 
 
 def inverse_kinematics():
@@ -15,7 +18,7 @@ def inverse_kinematics():
     Inputs:
         x (2): [x, y] platform reference point O' [m]
         mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
         reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
@@ -72,7 +75,7 @@ def forward_kinematics():
     Inputs:
         q_a (2): [q1, q2] slider positions [m]
         assembly (1): [sigma] +1 platform above the line through the links' slider ends, -1 below
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         x (2x1, column-major): platform position [m]
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
@@ -132,7 +135,7 @@ def constraint():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         h (4x1, column-major): loop-closure residuals [m]
         H_q (4x4, column-major): dh/dq, actuated then passive [-, m/rad]
@@ -188,7 +191,7 @@ def first_order():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         J (2x2, column-major): q_a_dot = J x_dot [-]
         J_f (2x2, column-major): x_dot = J_f q_a_dot [-]
@@ -254,7 +257,7 @@ def task_rectangle():
     """Task rectangle Q1Q2Q3Q4 of the design within the angle margins and the strokes (Wu Fig. 2).
 
     Inputs:
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         centre (2x1, column-major): centre of the task rectangle [m]
         half_size (2x1, column-major): half width b/2 and half height h/2 [m]
@@ -300,7 +303,7 @@ def partial_velocities():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         H (16x2, column-major): pivot partial velocities, 2 rows each [-]
         G (8x2, column-major): angular partial velocities, 1 row each [1/m]
@@ -356,7 +359,7 @@ def virtual_work():
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         M (2x2, column-major): task-space mass matrix of eq. 41 [kg]
         N (2x1, column-major): velocity-product and gravity forces at the sliders (eq. 41) [N]
@@ -465,7 +468,7 @@ def inverse_dynamics():
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
         x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         tau (2x1, column-major): slider driving forces F1, F2 [N]
     """
@@ -571,7 +574,7 @@ def lagrange_dynamics():
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
         x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         tau (2x1, column-major): slider driving forces F1, F2 [N]
         M_t (2x2, column-major): slider-space mass matrix Psi^T M Psi [kg]
@@ -721,7 +724,7 @@ def energy():
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         T (1x1, column-major): kinetic energy of every body [J]
         V (1x1, column-major): gravitational potential energy [J]
@@ -792,7 +795,7 @@ def inertia():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [ell, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
     Outputs:
         M_t (2x2, column-major): slider-space mass matrix [kg]
         M_w (2x2, column-major): task-space mass matrix M of eq. 41 [kg]

@@ -8,11 +8,14 @@
 
 from __future__ import annotations
 
-from functools import cache
+from typing import Any
 
+from pkm import registry
 from pkm.design import Design, Parameter
 from pkm.errors import ComputationError, DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 from pkm.mechanism import Mechanism
+from pkm.synthesis import Problem, SynthesisResult
+from pkm.synthesis import synthesize as _synthesize
 
 __all__ = [
     "ComputationError",
@@ -22,6 +25,7 @@ __all__ = [
     "Parameter",
     "PkmError",
     "PoseError",
+    "Problem",
     "SingularityError",
     "UnknownNameError",
     "load",
@@ -32,29 +36,19 @@ __all__ = [
 __version__ = "0.1.0"
 
 
-def _registry() -> dict[str, type[Mechanism]]:
-    from pkm.models.five_bar import FiveBar
-    from pkm.models.slider_gantry import SliderGantry, SliderGantrySymmetric
-
-    return {cls.name: cls for cls in (FiveBar, SliderGantry, SliderGantrySymmetric)}
-
-
 def mechanisms() -> list[str]:
     """Names of the registered mechanisms."""
-    return sorted(_registry())
+    return registry.mechanisms()
 
 
-@cache
 def load(name: str) -> Mechanism:
     """The mechanism registered under ``name``."""
-    registry = _registry()
-    if name not in registry:
-        raise UnknownNameError("mechanism", name, sorted(registry))
-    return registry[name]()
+    return registry.mechanism(name)
 
 
-def synthesize(problem: str, **options):
-    """Solve a registered synthesis problem with IPOPT; see :func:`pkm.synthesis.synthesize`."""
-    from pkm.synthesis import synthesize as _synthesize
-
+def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:
+    """Solve a synthesis problem (a registered name or a :class:`pkm.synthesis.Problem`) with IPOPT and
+    verify it; see :func:`pkm.synthesis.synthesize` for the options."""
+    if isinstance(problem, str):
+        problem = registry.problem(problem)
     return _synthesize(problem, **options)

@@ -8,16 +8,19 @@ from __future__ import annotations
 
 import argparse
 import sys
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
 
-import pkm
-from pkm import indices, io
-from pkm.design import parse_design
-from pkm.errors import ComputationError, PkmError
+from pkm import io, registry
+from pkm.design import Design, parse_design
+from pkm.errors import ComputationError, PkmError, UnknownNameError
+from pkm.mechanism import Mechanism
 from pkm.progress import Progress
+from pkm.reproduce import reproduce
+from pkm.synthesis import synthesize
 
 
 class _Parser(argparse.ArgumentParser):
@@ -25,7 +28,7 @@ class _Parser(argparse.ArgumentParser):
         raise PkmError(f"{self.prog}: {message}")
 
 
-def _design(mech: pkm.Mechanism, text: str | None) -> pkm.Design:
+def _design(mech: Mechanism, text: str | None) -> Design:
     return mech.design(parse_design(text) if text else None, partial=True)
 
 
@@ -47,8 +50,8 @@ def _emit(args: argparse.Namespace, data: Any, text: str) -> None:
 
 def cmd_list(args: argparse.Namespace) -> None:
     data = {}
-    for name in pkm.mechanisms():
-        m = pkm.load(name)
+    for name in registry.mechanisms():
+        m = registry.mechanism(name)
         data[name] = {
             "doc": m.doc,
             "parameters": [
@@ -57,16 +60,19 @@ def cmd_list(args: argparse.Namespace) -> None:
             ],
             "modes": {b.name: {"aliases": list(b.aliases), "doc": b.doc} for b in m.working_modes},
             "assemblies": {b.name: b.doc for b in m.assembly_modes},
+            "pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
+            "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
             "regions": list(m.region_names()),
-            "design_spaces": sorted(getattr(m, "design_spaces", {})),
+            "design_spaces": sorted(m.design_spaces),
+            "indices": list(m.global_indices()),
         }
-    from pkm.synthesis import PROBLEMS
-    from pkm.task_synthesis import TASK_PROBLEMS
-
     out = {
         "mechanisms": data,
-        "indices": {k: v.doc for k, v in indices.GLOBAL.items()},
-        "problems": {k: v.doc for k, v in {**PROBLEMS, **TASK_PROBLEMS}.items()},
+        "indices": {i.name: {"doc": i.doc, "reduce": i.reduce, "sense": i.sense} for i in registry.global_indices()},
+        "problems": {
+            p.name: {"doc": p.doc, "variables": [v.name for v in p.variables]} for p in registry.problems().values()
+        },
+        "papers": {key: module.TITLE for key, module in registry.papers().items()},
     }
     lines = []
     for name, info in data.items():
@@ -76,11 +82,12 @@ def cmd_list(args: argparse.Namespace) -> None:
         lines.append("  regions: " + ", ".join(info["regions"]))
     lines.append("indices: " + ", ".join(out["indices"]))
     lines.append("problems: " + ", ".join(out["problems"]))
+    lines.append("papers: " + ", ".join(out["papers"]))
     _emit(args, out, "\n".join(lines))
 
 
 def cmd_eval(args: argparse.Namespace) -> None:
-    m = pkm.load(args.mechanism)
+    m = registry.mechanism(args.mechanism)
     d = _design(m, args.design)
     x = _poses(args.pose, m.n_out)
     mode = m.working_mode(args.mode).name
@@ -99,17 +106,17 @@ def cmd_eval(args: argparse.Namespace) -> None:
                 **{name: float(v[k]) for name, v in sing.items()},
             }
         )
+    shown = [name for name in ("inverse_condition_f", "velocity_max", "velocity_min") if name in local]
     text = "\n".join(
-        f"pose {r['pose'].tolist()}: q = {np.round(r['q'], 6).tolist()} rad, "
-        f"1/kappa_f = {r['inverse_condition_f']:.6g}, |V|max = {r['velocity_max']:.6g}, "
-        f"|V|min = {r['velocity_min']:.6g}"
+        f"pose {r['pose'].tolist()}: q = {np.round(r['q'], 6).tolist()}, "
+        + ", ".join(f"{name} = {r[name]:.6g}" for name in shown)
         for r in rows
     )
     _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "poses": rows}, text)
 
 
 def cmd_index(args: argparse.Namespace) -> None:
-    m = pkm.load(args.mechanism)
+    m = registry.mechanism(args.mechanism)
     d = _design(m, args.design)
     mode = m.working_mode(args.mode).name
     out = m.global_index(
@@ -131,6 +138,7 @@ def cmd_index(args: argparse.Namespace) -> None:
         "value": float(value),
         "points": value.points,
         "resolution": value.resolution,
+        "accuracy": value.accuracy,
     }
     text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}"
     if grad is not None:
@@ -142,15 +150,21 @@ def cmd_index(args: argparse.Namespace) -> None:
 def cmd_atlas(args: argparse.Namespace) -> None:
     from pkm.atlas import compute_atlas, default_modes
 
-    m = pkm.load(args.mechanism)
+    m = registry.mechanism(args.mechanism)
+    if not m.design_spaces:
+        raise PkmError(f"the {m.name} has no normalised design space to draw an atlas in")
+    name = args.space or next(iter(m.design_spaces))
+    if name not in m.design_spaces:
+        raise UnknownNameError(f"{m.name} design space", name, sorted(m.design_spaces))
+    space = m.design_spaces[name]
+    index = m.global_spec(args.index)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
-    spaces = getattr(m, "design_spaces", {})
-    inside = int(spaces[args.space].chart_grid(args.resolution)[2].sum()) if args.space in spaces else 1
+    inside = int(space.chart_grid(args.resolution)[2].sum()) if args.resolution >= 3 else 1
     bar = Progress(len(modes) * inside, f"atlas {args.index}")
     atlas = compute_atlas(
         m,
-        args.index,
-        space=args.space,
+        index,
+        space=space,
         modes=modes,
         region=args.region,
         resolution=args.resolution,
@@ -165,50 +179,55 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     atlas.save_npz(npz)
     atlas.plot(png)
     best = {mode: atlas.best(mode) for mode in atlas.modes}
-    data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "best": best}
+    u, v = space.chart_axes
+    data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense, "best": best}
     text = "\n".join(
         [f"wrote {npz} and {png} in {atlas.wall_time:.1f} s"]
-        + [f"best {args.index} in {mode}: {b[2]:.6g} at (u, v) = ({b[0]:.4f}, {b[1]:.4f})" for mode, b in best.items()]
+        + [
+            f"best {args.index} in {mode}: {b[2]:.6g} at ({u}, {v}) = ({b[0]:.4f}, {b[1]:.4f})"
+            for mode, b in best.items()
+        ]
     )
     _emit(args, data, text)
 
 
-def cmd_synth(args: argparse.Namespace) -> None:
-    from pkm.synthesis import synthesize
+def _named(values: dict[str, float]) -> str:
+    return ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
 
+
+def cmd_synth(args: argparse.Namespace) -> None:
     result = synthesize(
-        args.problem,
+        registry.problem(args.problem),
         resolution=args.resolution,
         starts=args.starts,
+        max_iter=args.max_iter,
+        tol=args.tol,
+        print_level=args.print_level,
         verbose=args.verbose,
         progress=(lambda msg: print(msg, file=sys.stderr)) if sys.stderr.isatty() else None,
     )
     data = result.to_dict()
     if args.out:
         io.write_text(Path(args.out) / f"{args.problem}.json", io.to_json(data))
-    o, b = result.optimum, result.baseline
-    text = (
+    o = result.optimum
+    lines = [
         f"{args.problem}: {result.status} after {result.iterations} iterations "
-        f"({result.optimizer['wall_time_s']:.2f} s, {result.optimizer['evaluations']} evaluations)\n"
-        f"design: " + ", ".join(f"{k} = {v:.6g}" for k, v in o.design.items()) + "\n"
-        f"objective {o.objective:.6g}, verified {o.verified_objective:.6g} (4x quadrature), "
-        f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)\n"
-        f"baseline (atlas grid, {result.baseline_cost['evaluations']} evaluations, "
-        f"{result.baseline_cost['wall_time_s']:.2f} s): {b.objective:.6g}, verified {b.verified_objective:.6g}"
-    )
-    for label, cand in (
-        ("Wu's two-step family", getattr(result, "two_step", None)),
-        ("Wu's design", getattr(result, "paper", None)),
-    ):
-        if cand is not None:
-            text += f"\n{label}: {cand.objective:.6g} at (l, d1) = ({cand.chart[0]:.6g}, {cand.chart[1]:.6g}) m"
-    _emit(args, data, text)
+        f"({result.optimizer['wall_time_s']:.2f} s, {result.optimizer['evaluations']} evaluations)",
+        f"variables: {_named(o.variables)}",
+        f"design: {_named(o.design)}",
+        f"objective ({result.sense}) {o.objective:.6g}, verified {o.verified_objective:.6g} (4x quadrature), "
+        f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)",
+    ]
+    for base in result.baselines.values():
+        lines.append(
+            f"baseline {base.name} ({base.evaluations} evaluations, {base.wall_time_s:.2f} s): "
+            f"{base.best.objective:.6g}, verified {base.best.verified_objective:.6g} at {_named(base.best.variables)}"
+        )
+    _emit(args, data, "\n".join(lines))
 
 
 def cmd_reproduce(args: argparse.Namespace) -> None:
-    from pkm.reproduce import PAPERS, reproduce
-
-    keys = sorted(PAPERS) if args.paper == "all" else [args.paper]
+    keys = sorted(registry.papers()) if args.paper == "all" else [args.paper]
     summaries = [reproduce(key, Path(args.out), quick=args.quick) for key in keys]
     text = "\n".join(f"{s['paper']}: {s['counts']} -> {s['folder']}" for s in summaries)
     _emit(args, summaries, text)
@@ -216,7 +235,7 @@ def cmd_reproduce(args: argparse.Namespace) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="pkm", description="Design of parallel kinematic machines.")
-    parser.add_argument("--version", action="version", version=pkm.__version__)
+    parser.add_argument("--version", action="version", version=version("pkm"))
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     def command(name: str, func, help_text: str) -> argparse.ArgumentParser:
@@ -243,7 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("atlas", cmd_atlas, "a global index over a normalised design space (npz and figure)")
     p.add_argument("mechanism")
     p.add_argument("index")
-    p.add_argument("--space", default="gao1998")
+    p.add_argument("--space", help="normalised design space (default: the mechanism's first)")
     p.add_argument("--region", default="reachable")
     p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
     p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")
@@ -253,10 +272,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("problem")
     p.add_argument("--resolution", type=int)
     p.add_argument("--starts", type=int)
+    p.add_argument("--max-iter", type=int, help="IPOPT's max_iter (default: the problem's)")
+    p.add_argument("--tol", type=float, help="IPOPT's tol (default: the problem's)")
+    p.add_argument("--print-level", type=int, help="IPOPT's print_level (default 0, or 5 with --verbose)")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations")
     p.add_argument("--out", help="folder for <problem>.json")
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
-    p.add_argument("paper", help="gao1998, lara_molina2016 or all")
+    p.add_argument("paper", help="a paper key (see `pkm list`) or all")
     p.add_argument("--out", default="out")
     p.add_argument("--quick", action="store_true", help="low resolutions (for tests)")
     return parser

@@ -43,7 +43,9 @@ class DesignSpace:
 
     ``to_design(c, scale)`` and ``from_design(d) -> (c, scale)`` convert normalised coordinates c
     (last axis) to SI designs; ``to_chart(c)`` and ``from_chart(u, v)`` convert to and from the chart.
-    ``polygon`` is the closure of the space in the chart (its vertices, counter-clockwise).
+    ``chart_labels`` say what each chart axis is in the normalised coordinates and ``note`` what the
+    coordinates are, for figures. ``polygon`` is the closure of the space in the chart (its vertices,
+    counter-clockwise).
     ``parameters`` names the design parameters ``to_design`` returns, in its order; the others take
     the values of ``base`` (the paper's non-dimensional values) or the mechanism's defaults.
     ``conditions`` are the paper's constraints on the normalised coordinates (by name), ``bounds``
@@ -54,13 +56,15 @@ class DesignSpace:
     doc: str
     coordinates: tuple[str, ...]
     chart_axes: tuple[str, str]
+    chart_labels: tuple[str, str]
+    note: str
     to_design: Callable
     from_design: Callable
     to_chart: Callable
     from_chart: Callable
     polygon: tuple[tuple[float, float], ...]
+    parameters: tuple[str, ...]
     bounds: tuple[tuple[float, float], ...] = ()
-    parameters: tuple[str, ...] = ("r1", "r2", "r3")
     base: Mapping[str, float] = field(default_factory=dict)
     conditions: tuple[Condition, ...] = ()
 
@@ -92,6 +96,11 @@ class DesignSpace:
         return np.stack(
             [np.broadcast_to(arrays.get(p.name, fixed[p.name]), shape) for p in parameters], axis=-1
         )
+
+    def normalised(self, design: Sequence[float]) -> dict[str, float]:
+        """The normalised coordinates of an SI design vector, by name."""
+        c, _ = self.from_design(np.asarray(design, dtype=float))
+        return {n: float(v) for n, v in zip(self.coordinates, c, strict=True)}
 
     def chart_grid(self, resolution: int, *, inset: float = 1e-3) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """A regular chart grid: axes u (n,), v (n,) and a mask (n, n) of the nodes inside the space.

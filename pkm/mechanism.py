@@ -1,48 +1,63 @@
-"""The mechanism interface shared by every model in pkm.
+"""The public Mechanism (DESIGN.md section 7): what every model of pkm offers.
 
-A mechanism loads its generated CasADi functions, which follow one convention:
-
-* ``inverse_kinematics(x, mode, design) -> (q, reach)``: all joints, actuated first; reach >= 0;
-* ``forward_kinematics(q_a, assembly, design) -> (x, q, reach)``;
-* ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` with q_a_dot = J x_dot;
-* ``constraint(q, x, design) -> (h, H_q, H_x)``.
-
-Everything here is evaluated over batches through :func:`pkm.batch.evaluate`.
+A mechanism is a subclass that declares data: its parameters and validity conditions, its working and
+assembly modes, the names and units of its pose and actuators, its regions, design spaces and its
+forward-kinematics method. Everything it computes comes from its generated functions (see
+:mod:`pkm.kinematics` for the port convention) through the generic layers: local indices through the
+fused pipeline (:mod:`pkm.regions.pipeline`), global indices over sampled or parametrised regions
+(:mod:`pkm.regions`), and the dynamics (:mod:`pkm.dynamics`), to which the facade delegates.
 """
 
 from __future__ import annotations
 
-import importlib
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+import functools
+from collections.abc import Callable, Mapping
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
-import casadi as ca
 import numpy as np
 
-from pkm import indices, regions
-from pkm.batch import evaluate, reached
+from pkm import dynamics, regions, registry
+from pkm.batch import evaluate
 from pkm.design import Condition, Design, Parameter, make_design
+from pkm.design_space import DesignSpace
 from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
+from pkm.indices import GlobalIndex, LocalIndex
+from pkm.kinematics import (
+    Branch,
+    ClosedForm,
+    DesignLike,
+    ForwardKinematics,
+    FunctionTable,
+    GeneratedFunctions,
+    as_batch,
+    find_branch,
+    solve_joints,
+    unbatch,
+)
 
 SINGULAR_CONDITION = 1e12
 
-DesignLike = Mapping[str, float] | Design | Sequence[float] | np.ndarray | None
 
+def _delegate(func: Callable[..., Any]) -> Callable[..., Any]:
+    """A method that calls ``func(self, ...)``: the facade keeps the function's docstring and
+    signature instead of copying them."""
 
-@dataclass(frozen=True)
-class Branch:
-    """A working mode (IK branch) or assembly mode (FK branch): name, signs, the papers' names."""
+    @functools.wraps(func)
+    def method(self: Mechanism, *args: Any, **kwargs: Any) -> Any:
+        return func(self, *args, **kwargs)
 
-    name: str
-    signs: tuple[float, ...]
-    doc: str
-    aliases: tuple[str, ...] = ()
+    return method
 
 
 class Mechanism:
-    """Base class of pkm's mechanisms; subclasses set the class attributes and regions."""
+    """Base class of pkm's mechanisms; subclasses set the class attributes.
+
+    ``regions`` maps a region name to a parametrised region (:mod:`pkm.regions.shapes`);
+    ``forward`` is the forward-kinematics method (:mod:`pkm.kinematics`); a mechanism whose pose or
+    actuators mix metres and radians sets ``characteristic_length``, a function of the design values by
+    parameter name (numpy or CasADi) giving the length [m] that turns an angle into an arc length.
+    """
 
     name: str = ""
     doc: str = ""
@@ -53,11 +68,22 @@ class Mechanism:
     pose_names: tuple[str, ...] = ()
     pose_units: tuple[str, ...] = ()
     actuator_names: tuple[str, ...] = ()
+    actuator_units: tuple[str, ...] = ()
+    design_spaces: ClassVar[dict[str, DesignSpace]] = {}
+    regions: ClassVar[dict[str, Any]] = {}
+    distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {}
+    forward: ForwardKinematics = ClosedForm()
+    characteristic_length: ClassVar[Callable[[Mapping[str, Any]], Any] | None] = None
 
     @cached_property
-    def functions(self) -> dict[str, ca.Function]:
+    def functions(self) -> FunctionTable:
         """The generated CasADi functions of this mechanism, by name."""
-        return importlib.import_module(f"generated.{self.name}").build()
+        return GeneratedFunctions(
+            self.name, parameters=self.parameter_names(), pose=self.pose_names, actuators=self.actuator_names
+        )
+
+    def parameter_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
 
     @property
     def modes(self) -> tuple[str, ...]:
@@ -78,78 +104,47 @@ class Mechanism:
         return len(self.pose_names)
 
     def region_names(self) -> tuple[str, ...]:
-        return ("reachable", *self.parametrised_regions())
+        return ("reachable", *self.regions)
 
-    def parametrised_regions(self) -> dict[str, regions.ParametrisedRegion]:
-        """Design-dependent regions with a fixed quadrature (differentiable in the design)."""
-        return {}
+    def region(self, name: str) -> Any:
+        """The parametrised region ``name``, or the sampled workspace for ``"reachable"``."""
+        if name == "reachable":
+            return regions.SampledWorkspace()
+        if name not in self.regions:
+            raise UnknownNameError(f"{self.name} region", name, self.region_names())
+        return self.regions[name]
 
-    def design(self, values: DesignLike = None, *, partial: bool = False) -> Design:
+    def design(self, values: DesignLike | Design = None, *, partial: bool = False) -> Design:
         """Validate a design: a mapping of parameter values, a sequence in parameter order, or None
         for the defaults."""
         if values is not None and not isinstance(values, Mapping):
             flat = np.asarray(values, dtype=float).ravel()
             if flat.size != len(self.parameters):
-                names = ", ".join(p.name for p in self.parameters)
+                names = ", ".join(self.parameter_names())
                 raise DesignError(f"a design vector needs {len(self.parameters)} values ({names}); got {flat.size}")
             values = self.design_dict(flat)
         return make_design(self.parameters, self.conditions, values, partial=partial)
 
-    def _design_vector(self, design: DesignLike) -> np.ndarray:
+    def design_vector(self, design: DesignLike | Design) -> np.ndarray:
+        """The validated design as a vector in parameter order."""
         if isinstance(design, Design):
             return design.vector()
         return self.design(design).vector()
 
-    def _branch(self, name: str | None, branches: tuple[Branch, ...], kind: str) -> Branch:
-        if name is None:
-            return branches[0]
-        for b in branches:
-            if name == b.name or name in b.aliases:
-                return b
-        raise UnknownNameError(kind, name, [b.name for b in branches])
-
-    def working_mode(self, mode: str | None) -> Branch:
-        """The working mode by name or paper alias; the first one by default."""
-        return self._branch(mode, self.working_modes, f"{self.name} working mode")
-
-    def assembly_mode(self, assembly: str | None) -> Branch:
-        return self._branch(assembly, self.assembly_modes, f"{self.name} assembly mode")
-
-    @staticmethod
-    def _batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
-        arr = np.asarray(values, dtype=float)
-        single = arr.ndim == 1
-        arr = np.atleast_2d(arr)
-        if arr.ndim != 2 or arr.shape[1] != width:
-            raise PoseError(f"{what} must have shape ({width},) or (N, {width}); got {np.shape(values)}")
-        if not np.all(np.isfinite(arr)):
-            raise PoseError(f"{what} contains non-finite values")
-        return arr, single
-
-    @staticmethod
-    def _unbatch(arr: np.ndarray, single: bool) -> np.ndarray:
-        return arr[0] if single else arr
-
-    def _joints(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
-        x, single = self._batch(pose, self.n_out, "pose")
-        d = self._design_vector(design)
-        signs = np.array(self.working_mode(mode).signs)
-        q, reach = evaluate(self.functions["inverse_kinematics"], x, signs, d)
-        q = q[:, :, 0]
-        ok = reached(q, reach)
-        if strict and not ok.all():
-            bad = int(np.flatnonzero(~ok)[0])
-            raise PoseError(f"pose {x[bad].tolist()} is out of reach of the {self.name} design {self.design_dict(d)}")
-        q[~ok] = np.nan
-        return x, d, q, ok, single
-
     def design_dict(self, vector: np.ndarray) -> dict[str, float]:
         return {p.name: float(v) for p, v in zip(self.parameters, vector, strict=True)}
 
+    def working_mode(self, mode: str | None) -> Branch:
+        """The working mode by name or paper alias; the first one by default."""
+        return find_branch(mode, self.working_modes, f"{self.name} working mode")
+
+    def assembly_mode(self, assembly: str | None) -> Branch:
+        return find_branch(assembly, self.assembly_modes, f"{self.name} assembly mode")
+
     def reachable(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """Boolean mask (N,) of the poses the working mode reaches."""
-        _, _, _, ok, single = self._joints(pose, design, mode, strict=False)
-        return self._unbatch(ok, single)
+        joints = solve_joints(self, pose, design, mode)
+        return joints.unbatch(joints.reachable)
 
     def inverse_kinematics(
         self,
@@ -165,42 +160,39 @@ class Mechanism:
         With ``passive`` all joints (actuated first) are returned; with ``strict`` an unreachable pose
         raises :class:`PoseError`.
         """
-        _, _, q, _, single = self._joints(pose, design, mode, strict)
-        return self._unbatch(q if passive else q[:, : self.n_act], single)
+        joints = solve_joints(self, pose, design, mode, strict=strict)
+        return joints.unbatch(joints.q if passive else joints.q[:, : self.n_act])
 
     def forward_kinematics(
-        self, q: Any, design: DesignLike = None, *, assembly: str | None = None, strict: bool = False
+        self,
+        q: Any,
+        design: DesignLike = None,
+        *,
+        assembly: str | None = None,
+        passive: bool = False,
+        strict: bool = False,
     ) -> np.ndarray:
-        """Poses (N, n_out) from actuated joints (N, n_act) in an assembly mode; NaN where not closable."""
-        qa, single = self._batch(q, self.n_act, "actuated joints")
-        d = self._design_vector(design)
-        signs = np.array(self.assembly_mode(assembly).signs)
-        x, _, reach = evaluate(self.functions["forward_kinematics"], qa, signs, d)
-        x = x[:, :, 0]
-        ok = reached(x, reach)
+        """Poses (N, n_out) from actuated joints (N, n_act) in an assembly mode; NaN where the loops
+        cannot be closed in it. With ``passive`` all joints (N, n_q) are returned instead."""
+        qa, single = as_batch(q, self.n_act, "actuated joints")
+        d = self.design_vector(design)
+        x, q_all, ok = self.forward.solve(self.functions, qa, self.assembly_mode(assembly), d)
         if strict and not ok.all():
             bad = int(np.flatnonzero(~ok)[0])
             raise PoseError(f"actuated joints {qa[bad].tolist()} cannot be assembled")
-        x[~ok] = np.nan
-        return self._unbatch(x, single)
+        out = q_all if passive else x
+        out = np.array(out, dtype=float)
+        out[~ok] = np.nan
+        return unbatch(out, single)
 
     def _first_order(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
-        x, d, q, ok, single = self._joints(pose, design, mode, strict)
-        J, J_f, psi, det1, det2 = evaluate(self.functions["first_order"], q, x, d)
-        return {
-            "J": J,
-            "J_f": J_f,
-            "psi": psi,
-            "det_type1": det1[:, 0, 0],
-            "det_type2": det2[:, 0, 0],
-            "reachable": ok,
-            "q": q,
-        }, single
+        joints = solve_joints(self, pose, design, mode, strict=strict)
+        J, J_f, psi, det1, det2 = evaluate(self.functions["first_order"], joints.q, joints.x, joints.design)
+        return joints, {"J": J, "J_f": J_f, "psi": psi, "det_type1": det1[:, 0, 0], "det_type2": det2[:, 0, 0]}
 
-    def _strict_check(self, fo: dict[str, np.ndarray], pose: Any, design: DesignLike, kind: str) -> None:
+    def _check_singular(self, joints: Any, kind: str) -> None:
         """Raise SingularityError where the loop equations cannot be solved for J (type I) or J_f (type II)."""
-        x = np.atleast_2d(np.asarray(pose, dtype=float))
-        _, H_q, H_x = evaluate(self.functions["constraint"], fo["q"], x, self._design_vector(design))
+        _, H_q, H_x = evaluate(self.functions["constraint"], joints.q, joints.x, joints.design)
         if kind == "type I":
             matrix, what = H_q, "J is unbounded at a serial (type I) singularity"
         else:
@@ -211,7 +203,7 @@ class Mechanism:
             condition = np.linalg.cond(matrix)
         bad = ~np.isfinite(condition) | (condition > SINGULAR_CONDITION)
         if bad.any():
-            raise SingularityError(f"{what}: pose {x[int(np.flatnonzero(bad)[0])].tolist()}")
+            raise SingularityError(f"{what}: pose {joints.x[int(np.flatnonzero(bad)[0])].tolist()}")
 
     def jacobian(
         self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
@@ -221,10 +213,10 @@ class Mechanism:
         With ``strict`` an unreachable pose raises :class:`PoseError` and a serial singularity (the
         condition number of dh/dq above 1e12) raises :class:`SingularityError`.
         """
-        fo, single = self._first_order(pose, design, mode, strict)
+        joints, fo = self._first_order(pose, design, mode, strict)
         if strict:
-            self._strict_check(fo, pose, design, "type I")
-        return self._unbatch(fo["J"], single)
+            self._check_singular(joints, "type I")
+        return joints.unbatch(fo["J"])
 
     def forward_jacobian(
         self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
@@ -233,32 +225,28 @@ class Mechanism:
 
         With ``strict`` a parallel singularity raises :class:`SingularityError`.
         """
-        fo, single = self._first_order(pose, design, mode, strict)
+        joints, fo = self._first_order(pose, design, mode, strict)
         if strict:
-            self._strict_check(fo, pose, design, "type II")
-        return self._unbatch(fo["J_f"], single)
+            self._check_singular(joints, "type II")
+        return joints.unbatch(fo["J_f"])
 
     def psi(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """Psi (N, n_joints, n_act): all joint rates from the actuated rates."""
-        fo, single = self._first_order(pose, design, mode, False)
-        return self._unbatch(fo["psi"], single)
+        joints, fo = self._first_order(pose, design, mode, False)
+        return joints.unbatch(fo["psi"])
 
     def singularity(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> dict[str, np.ndarray]:
         """Type I and type II determinants (zero at serial and parallel singularities)."""
-        fo, single = self._first_order(pose, design, mode, False)
-        return {k: self._unbatch(fo[k], single) for k in ("det_type1", "det_type2")}
+        joints, fo = self._first_order(pose, design, mode, False)
+        return {k: joints.unbatch(fo[k]) for k in ("det_type1", "det_type2")}
 
-    def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
-        """A local index (see :data:`pkm.indices.LOCAL`) at each pose; NaN where out of reach."""
-        spec = self.local_spec(name)
-        fo, single = self._first_order(pose, design, mode, False)
-        values = indices.evaluate_local(spec, self._matrices(spec, fo, pose, design))
-        values[~fo["reachable"]] = np.nan
-        return self._unbatch(values, single)
+    def _has(self, spec: LocalIndex) -> bool:
+        fn = self.functions.get(spec.source)
+        return fn is not None and set(spec.arguments) <= set(fn.name_out())
 
-    def local_spec(self, name: str) -> indices.LocalIndex:
+    def local_spec(self, name: str) -> LocalIndex:
         """The local index by name, if this mechanism has the generated function it needs."""
-        spec = indices.local_spec(name)
+        spec = registry.local_index(name)
         if not self._has(spec):
             raise PkmError(
                 f"local index {name} needs the {', '.join(spec.arguments)} of a {spec.source} model, "
@@ -266,26 +254,28 @@ class Mechanism:
             )
         return spec
 
-    def _has(self, spec: indices.LocalIndex) -> bool:
-        fn = self.functions.get(spec.source)
-        return fn is not None and set(spec.arguments) <= set(fn.name_out())
+    def global_spec(self, name: str) -> GlobalIndex:
+        """The global index by name, if this mechanism can evaluate its local index."""
+        spec = registry.global_index(name)
+        self.local_spec(spec.local.name)
+        return spec
 
     def local_indices(self) -> tuple[str, ...]:
         """Names of the local indices this mechanism can evaluate."""
-        return tuple(k for k, v in indices.LOCAL.items() if self._has(v))
+        return tuple(i.name for i in registry.local_indices() if self._has(i))
 
     def global_indices(self) -> tuple[str, ...]:
         """Names of the global indices this mechanism can evaluate."""
-        local = set(self.local_indices())
-        return tuple(k for k, v in indices.GLOBAL.items() if v.local in local)
+        return tuple(i.name for i in registry.global_indices() if self._has(i.local))
 
-    def _matrices(self, spec: indices.LocalIndex, fo: dict[str, np.ndarray], pose: Any, design: DesignLike):
-        if spec.source == "first_order":
-            return fo
-        fn = self.functions[spec.source]
-        x = np.atleast_2d(np.asarray(pose, dtype=float))
-        outs = evaluate(fn, fo["q"], x, self._design_vector(design))
-        return dict(zip(fn.name_out(), outs, strict=True))
+    def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
+        """A local index at each pose (N,); NaN where out of reach, its limit at singular poses."""
+        spec = self.local_spec(name)
+        x, single = as_batch(pose, self.n_out, "pose")
+        result = regions.evaluate_at(
+            self, (spec,), x, np.array(self.working_mode(mode).signs), self.design_vector(design)
+        )
+        return unbatch(result.values[0], single)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """Bounding box ((lo, hi) per output coordinate) of the reachable workspace, shape (n_out, 2)."""
@@ -301,113 +291,40 @@ class Mechanism:
         resolution: int | None = None,
         gradient: bool = False,
         singularity_margin: float | None = None,
-    ) -> float | tuple[float, dict[str, float]] | regions.GlobalValue:
-        """A global index: the mean of its local index over a region (DESIGN.md section 5).
+    ) -> regions.GlobalValue | tuple[regions.GlobalValue, dict[str, float]]:
+        """A global index: its local index reduced over a region (DESIGN.md section 5).
 
         ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
         a parametrised region (e.g. ``"miw"``) uses a fixed quadrature mapped into the design's region
         and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too.
-        ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it.
+        ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it. The value
+        reports its points, resolution and accuracy (:class:`pkm.regions.GlobalValue`).
         """
-        spec = indices.global_spec(name)
-        self.local_spec(spec.local)
-        d = self._design_vector(design)
+        spec = self.global_spec(name)
+        d = self.design_vector(design)
         branch = self.working_mode(mode)
-        if region == "reachable":
+        where = self.region(region)
+        if isinstance(where, regions.SampledWorkspace):
             if gradient:
                 raise PkmError(
-                    "gradient=True needs a parametrised region "
-                    f"({', '.join(self.parametrised_regions())}); the reachable region is sampled"
+                    f"gradient=True needs a parametrised region ({', '.join(self.regions)}); "
+                    "the reachable region is sampled"
                 )
             margin = regions.SINGULARITY_MARGIN if singularity_margin is None else singularity_margin
             return regions.sampled_global(
                 self, spec, d[None, :], branch, resolution=resolution, singularity_margin=margin
             )[0]
-        param = self.parametrised_regions()
-        if region not in param:
-            raise UnknownNameError(f"{self.name} region", region, self.region_names())
         if singularity_margin is not None:
             raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")
-        resolution = regions.DISC_RESOLUTION if resolution is None else resolution
-        fn = regions.parametrised_global_function(self, spec, param[region], branch, resolution)
-        value, grad = fn(d)
-        nodes = len(param[region].nodes(resolution, spec.reduce)[1])
-        value = regions.GlobalValue(float(value), points=nodes, region=region, resolution=resolution)
-        if not gradient:
+        resolution = regions.QUADRATURE_RESOLUTION if resolution is None else resolution
+        value, grad = regions.global_value(
+            self, spec, where, d, branch=branch, resolution=resolution, gradient=gradient
+        )
+        if grad is None:
             return value
-        return value, self.design_dict(np.asarray(grad).ravel())
+        return value, self.design_dict(grad)
 
-    def inertia_matrix(
-        self, pose: Any, design: DesignLike = None, *, mode: str | None = None, space: str = "task"
-    ) -> np.ndarray:
-        """Inertia matrix (N, n, n) at the poses: ``space="task"`` M_w = J^T M_t J (n = n_out) or
-        ``"actuated"`` M_t = Psi^T M Psi (n = n_act); NaN where out of reach.
-
-        See :func:`pkm.dynamics.inertia_matrix`.
-        """
-        from pkm import dynamics
-
-        return dynamics.inertia_matrix(self, pose, design, mode=mode, space=space)
-
-    def inverse_dynamics(
-        self,
-        pose: Any,
-        velocity: Any,
-        acceleration: Any,
-        design: DesignLike = None,
-        *,
-        mode: str | None = None,
-        joint_torques: bool = False,
-    ) -> np.ndarray:
-        """Motor torques (N, n_act) for end-effector positions, velocities and accelerations (N, n_out)
-        with rigid transmissions; with ``joint_torques`` the torques the transmissions apply to the
-        actuated joints.
-
-        See :func:`pkm.dynamics.inverse_dynamics`.
-        """
-        from pkm import dynamics
-
-        return dynamics.inverse_dynamics(
-            self, pose, velocity, acceleration, design, mode=mode, joint_torques=joint_torques
-        )
-
-    def natural_frequencies(self, pose: Any, design: DesignLike = None, *, mode: str | None = None):
-        """Natural frequencies, mode shapes and rigid-body flags of the flexible-joint model at the poses.
-
-        See :func:`pkm.dynamics.natural_frequencies`.
-        """
-        from pkm import dynamics
-
-        return dynamics.natural_frequencies(self, pose, design, mode=mode)
-
-    def simulate(
-        self,
-        design: DesignLike = None,
-        *,
-        z0: Any,
-        z_dot0: Any,
-        times: Any,
-        torque: Any = None,
-        assembly: str | None = None,
-        method: str = "adams",
-        rtol: float = 1e-10,
-        atol: float = 1e-12,
-    ):
-        """Forward dynamics of the flexible-joint model from (z0, z_dot0), sampled at ``times``.
-
-        See :func:`pkm.dynamics.simulate`.
-        """
-        from pkm import dynamics
-
-        return dynamics.simulate(
-            self,
-            design,
-            z0=z0,
-            z_dot0=z_dot0,
-            times=times,
-            torque=torque,
-            assembly=assembly,
-            method=method,
-            rtol=rtol,
-            atol=atol,
-        )
+    inertia_matrix = _delegate(dynamics.inertia_matrix)
+    inverse_dynamics = _delegate(dynamics.inverse_dynamics)
+    natural_frequencies = _delegate(dynamics.natural_frequencies)
+    simulate = _delegate(dynamics.simulate)

@@ -4,8 +4,8 @@ A mechanism's symbolic module describes named functions (named vector inputs of 
 matrix outputs of sympy expressions). :func:`render_module` turns them into a readable, deterministic
 Python module that builds ``casadi.Function`` objects from ``casadi.SX`` graphs after ``sympy.cse``.
 :func:`compare_or_update` regenerates a whole folder into a temporary directory and either updates the
-committed folder or fails with a unified diff; it is behind ``make generate``, ``make check-generated``
-and a test.
+committed folder or fails with a unified diff; it is behind ``make generate`` and ``make check-generated``,
+and its comparison :func:`compare_folders` behind a test.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import hashlib
 import json
 import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import ClassVar
@@ -57,12 +57,20 @@ class FunctionSpec:
 
 @dataclass
 class ModuleSpec:
-    """Everything emitted for one mechanism into ``generated/<name>.py``."""
+    """Everything emitted for one mechanism into ``generated/<name>.py``.
+
+    ``parameters``, ``pose`` and ``actuators`` are the names of the symbols of the design port, the
+    pose port and the actuated joints (set by :func:`symbolic.kinematics.add_kinematics`); they are
+    emitted as the module's ``PARAMETERS``, ``POSE`` and ``ACTUATORS`` for the runtime to check.
+    """
 
     name: str
     source: str
     doc: str
     functions: list[FunctionSpec] = field(default_factory=list)
+    parameters: tuple[str, ...] = ()
+    pose: tuple[str, ...] = ()
+    actuators: tuple[str, ...] = ()
 
     def add(
         self,
@@ -173,6 +181,11 @@ def _render_function(spec: FunctionSpec) -> list[str]:
     return lines
 
 
+def _tuple(names: Iterable[str]) -> str:
+    """A tuple of strings as Python text, one trailing comma each so that one name is still a tuple."""
+    return "(" + "".join(f'"{n}", ' for n in names) + ")"
+
+
 def render_module(spec: ModuleSpec, source_hash: str) -> str:
     """Render a mechanism's functions as the text of a generated Python module."""
     lines = [
@@ -184,7 +197,10 @@ def render_module(spec: ModuleSpec, source_hash: str) -> str:
         "import casadi as ca",
         "",
         f'SOURCE_HASH = "{source_hash}"',
-        "FUNCTIONS = (" + "".join(f'"{f.name}", ' for f in spec.functions) + ")",
+        "FUNCTIONS = " + _tuple(f.name for f in spec.functions),
+        "PARAMETERS = " + _tuple(spec.parameters),
+        "POSE = " + _tuple(spec.pose),
+        "ACTUATORS = " + _tuple(spec.actuators),
         "",
     ]
     for fn in spec.functions:
@@ -201,12 +217,15 @@ def render_module(spec: ModuleSpec, source_hash: str) -> str:
     return "\n".join(lines)
 
 
-def source_hash(paths: Sequence[Path]) -> str:
-    """sha256 over the given source files, in the given order."""
+def source_hash(root: Path, paths: Sequence[Path]) -> str:
+    """sha256 over the given source files (paths relative to ``root``), in the given order.
+
+    Each file contributes its relative path, so that moving or renaming a file changes the hash.
+    """
     digest = hashlib.sha256()
     for path in paths:
-        digest.update(path.name.encode())
-        digest.update(path.read_bytes())
+        digest.update(path.as_posix().encode())
+        digest.update((root / path).read_bytes())
     return digest.hexdigest()[:16]
 
 
@@ -219,7 +238,7 @@ def write_tree(out: Path, modules: Sequence[tuple[ModuleSpec, str]], tools: dict
         "# ruff: noqa",
         '"""CasADi functions generated from symbolic/ (one module per mechanism)."""',
         "",
-        "MECHANISMS = (" + "".join(f'"{n}", ' for n in names) + ")",
+        "MECHANISMS = " + _tuple(names),
         "",
     ]
     (out / "__init__.py").write_text("\n".join(init))
@@ -249,32 +268,42 @@ def _comparable(path: Path) -> str:
     return text
 
 
-def compare_or_update(target: Path, write: Callable[[Path], None], *, update: bool) -> list[str]:
-    """Regenerate into a temporary folder and compare with ``target``.
+def compare_folders(target: Path, fresh: Path) -> list[str]:
+    """The differences of the committed folder ``target`` from a freshly written one: file set and
+    unified diffs; empty when ``target`` is current.
 
-    Returns the list of differences (file set and unified diffs); empty when ``target`` is current.
-    With ``update`` the temporary folder replaces ``target`` when they differ. Tool versions in the
-    manifest are not compared, so that the check does not depend on the installed sympy.
+    Tool versions in the manifest are not compared, so that the check does not depend on the installed
+    sympy.
+    """
+    diffs: list[str] = []
+    old = {p.name for p in target.glob("*") if p.is_file()} if target.exists() else set()
+    new = {p.name for p in fresh.glob("*") if p.is_file()}
+    diffs += [f"missing from {target}: {n}" for n in sorted(new - old)]
+    diffs += [f"stale in {target}: {n}" for n in sorted(old - new)]
+    for name in sorted(old & new):
+        a, b = target / name, fresh / name
+        if filecmp.cmp(a, b, shallow=False):
+            continue
+        sa, sb = _comparable(a), _comparable(b)
+        if sa == sb:
+            continue
+        diff = difflib.unified_diff(
+            sa.splitlines(), sb.splitlines(), f"committed/{name}", f"regenerated/{name}", lineterm="", n=2
+        )
+        diffs.append("\n".join(list(diff)[:200]))
+    return diffs
+
+
+def compare_or_update(target: Path, write: Callable[[Path], None], *, update: bool) -> list[str]:
+    """Regenerate into a temporary folder and compare with ``target`` (:func:`compare_folders`).
+
+    Returns the list of differences; empty when ``target`` is current. With ``update`` the temporary
+    folder replaces ``target`` when they differ.
     """
     with tempfile.TemporaryDirectory() as tmp:
         fresh = Path(tmp) / "generated"
         write(fresh)
-        diffs: list[str] = []
-        old = {p.name for p in target.glob("*") if p.is_file()} if target.exists() else set()
-        new = {p.name for p in fresh.glob("*") if p.is_file()}
-        diffs += [f"missing from {target}: {n}" for n in sorted(new - old)]
-        diffs += [f"stale in {target}: {n}" for n in sorted(old - new)]
-        for name in sorted(old & new):
-            a, b = target / name, fresh / name
-            if filecmp.cmp(a, b, shallow=False):
-                continue
-            sa, sb = _comparable(a), _comparable(b)
-            if sa == sb:
-                continue
-            diff = difflib.unified_diff(
-                sa.splitlines(), sb.splitlines(), f"committed/{name}", f"regenerated/{name}", lineterm="", n=2
-            )
-            diffs.append("\n".join(list(diff)[:200]))
+        diffs = compare_folders(target, fresh)
         if diffs and update:
             if target.exists():
                 shutil.rmtree(target)

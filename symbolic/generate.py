@@ -17,10 +17,15 @@ GENERATED = ROOT / "generated"
 
 
 def sources(spec: codegen.ModuleSpec) -> list[Path]:
-    """The files whose bytes determine a mechanism's generated module."""
+    """The files whose bytes determine a mechanism's generated module, relative to the repository root
+    and sorted: every module of symbolic/ outside symbolic/mechanisms/, and the mechanism's own source.
+
+    The shared modules are found, not listed, so that a new helper cannot be forgotten; the other
+    mechanisms' sources are left out, so that editing one mechanism does not restamp the others.
+    """
     here = ROOT / "symbolic"
-    shared = ("codegen.py", "loops.py", "lagrange.py", "virtual_work.py")
-    return [*(here / f for f in shared), ROOT / spec.source]
+    shared = [p.relative_to(ROOT) for p in here.rglob("*.py") if p.relative_to(here).parts[0] != "mechanisms"]
+    return sorted({*shared, Path(spec.source)}, key=Path.as_posix)
 
 
 def write(out: Path) -> None:
@@ -28,7 +33,7 @@ def write(out: Path) -> None:
     modules = []
     for name in sorted(MECHANISMS):
         spec = MECHANISMS[name]()
-        modules.append((spec, codegen.source_hash(sources(spec))))
+        modules.append((spec, codegen.source_hash(ROOT, sources(spec))))
     tools = {"python": platform.python_version(), "sympy": sp.__version__}
     codegen.write_tree(out, modules, tools)
 

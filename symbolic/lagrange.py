@@ -1,8 +1,13 @@
 """Lagrange models of open chains and their projection onto the independent coordinates of a loop.
 
 A closed-loop mechanism is cut into open chains. Each chain carries bodies (mass, centre of mass,
-moment of inertia, orientation; planar), springs and joint friction in its own coordinates; its
-Lagrangian L = T - V gives (Lara-Molina 2016 eqs. 14-20)
+inertia tensor, rotation; spatial, with planar bodies as the special case of :mod:`symbolic.bodies`),
+springs and joint friction in its own coordinates; with the centre velocity v = (dc/dq) q_dot and the
+angular velocity omega = W q_dot, the kinetic energy is
+
+    T = sum over bodies of m |v|^2 / 2 + omega^T (R I_b R^T) omega / 2,
+
+and the Lagrangian L = T - V gives (Lara-Molina 2016 eqs. 14-20)
 
     M(q) q_ddot + C(q, q_dot) q_dot + dV/dq + f(q_dot) = tau,
 
@@ -24,6 +29,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from symbolic.bodies import angular_velocity_jacobian, in_plane, planar_inertia, rotation_z
+
 
 def rate(q: sp.Symbol) -> sp.Symbol:
     """The symbol of the time derivative of a coordinate: ``q`` -> ``q_dot``."""
@@ -32,15 +39,31 @@ def rate(q: sp.Symbol) -> sp.Symbol:
 
 @dataclass(frozen=True)
 class Body:
-    """A planar rigid body: mass, centre of mass (2-vector in the base frame, a function of the chain's
-    coordinates), moment of inertia about its centre of mass and orientation angle.
+    """A rigid body of an open chain.
+
+    Attributes
+    ----------
+    name : str
+    mass : sympy expression [kg]
+    centre : sympy.Matrix, shape (3, 1)
+        Centre of mass in the base frame, a function of the chain's coordinates [m].
+    inertia : sympy.Matrix, shape (3, 3)
+        Inertia tensor about the centre of mass in the body frame [kg m^2].
+    rotation : sympy.Matrix, shape (3, 3)
+        R(q), body frame to base frame.
     """
 
     name: str
     mass: sp.Expr
     centre: sp.Matrix
-    inertia: sp.Expr
-    angle: sp.Expr
+    inertia: sp.Matrix
+    rotation: sp.Matrix
+
+    @classmethod
+    def planar(cls, name: str, mass: sp.Expr, *, centre: Sequence[sp.Expr], inertia: sp.Expr, angle: sp.Expr) -> Body:
+        """A body of the plane z = 0: centre (2-vector), moment of inertia about its centre of mass and
+        orientation angle (counter-clockwise), embedded as R = R_z(angle), I_b = diag(0, 0, inertia)."""
+        return cls(name, mass, in_plane(centre), planar_inertia(inertia), rotation_z(angle))
 
 
 @dataclass(frozen=True)
@@ -62,7 +85,7 @@ class Friction:
 
 @dataclass(frozen=True)
 class Chain:
-    """An open chain: its coordinates, bodies, springs, friction and the gravity vector of the plane."""
+    """An open chain: its coordinates, bodies, springs, friction and the gravity vector (3, 1) [m/s^2]."""
 
     name: str
     coordinates: tuple[sp.Symbol, ...]
@@ -75,13 +98,14 @@ class Chain:
         return sp.Matrix([rate(q) for q in self.coordinates])
 
     def kinetic_energy(self) -> sp.Expr:
-        """T = sum over bodies of m |c_dot|^2 / 2 + I omega^2 / 2 (eqs. 17-18)."""
+        """T = sum over bodies of m |c_dot|^2 / 2 + omega^T I omega / 2, I = R I_b R^T (eqs. 17-18)."""
         q, qd = sp.Matrix(self.coordinates), self.rates()
         total = sp.Integer(0)
         for body in self.bodies:
             velocity = body.centre.jacobian(q) * qd
-            omega = (sp.Matrix([body.angle]).jacobian(q) * qd)[0]
-            total += body.mass * (velocity.T * velocity)[0] / 2 + body.inertia * omega**2 / 2
+            omega = angular_velocity_jacobian(body.rotation, self.coordinates) * qd
+            inertia = body.rotation * body.inertia * body.rotation.T
+            total += body.mass * (velocity.T * velocity)[0] / 2 + (omega.T * inertia * omega)[0] / 2
         return total
 
     def potential_energy(self) -> sp.Expr:

@@ -27,8 +27,6 @@ from functools import cached_property
 
 import sympy as sp
 
-from symbolic.codegen import ModuleSpec, Output, Port
-
 
 @dataclass(frozen=True)
 class LoopClosure:
@@ -127,36 +125,6 @@ class LoopClosure:
     def det_type2(self) -> sp.Expr:
         """det [H_p H_x]: zero on parallel (type II) singularities, where J is rank deficient."""
         return _det(self.H_p.row_join(self.H_x))
-
-
-def add_first_order(
-    spec: ModuleSpec, loop: LoopClosure, *, joints: Port, pose: Port, design: Port, units: dict[str, str]
-) -> None:
-    """Emit ``constraint(q, x, design) -> (h, H_q, H_x)`` and ``first_order(q, x, design) -> (J, J_f,
-    psi, det_type1, det_type2)``, the functions every mechanism of pkm loads; ``units`` holds the
-    bracketed units of each output by name."""
-    spec.add(
-        "constraint",
-        (joints, pose, design),
-        (
-            Output("h", loop.h, f"loop-closure residuals [{units['h']}]"),
-            Output("H_q", loop.H_a.row_join(loop.H_p), f"dh/dq, actuated then passive [{units['H_q']}]"),
-            Output("H_x", loop.H_x, f"dh/dx [{units['H_x']}]"),
-        ),
-        "Loop-closure residuals and their Jacobians.",
-    )
-    spec.add(
-        "first_order",
-        (joints, pose, design),
-        (
-            Output("J", loop.jacobian(), f"q_a_dot = J x_dot [{units['J']}]"),
-            Output("J_f", loop.forward_jacobian(), f"x_dot = J_f q_a_dot [{units['J_f']}]"),
-            Output("psi", loop.psi(), f"q_dot = Psi q_a_dot, all joints from actuated [{units['psi']}]"),
-            Output("det_type1", sp.Matrix([loop.det_type1()]), f"serial singularity measure [{units['det']}]"),
-            Output("det_type2", sp.Matrix([loop.det_type2()]), f"parallel singularity measure [{units['det']}]"),
-        ),
-        "First-order kinematics by implicit differentiation of the loop closure.",
-    )
 
 
 def _solve(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:

@@ -2,9 +2,10 @@
 Song 1993).
 
 Every moving body is described in the configuration coordinates s = (q, x) of the loop (all joints,
-then the platform coordinates x) by a pivot point p(s), its orientation angle phi(s) (counter-clockwise)
-and the vector c(s) from the pivot to its centre of mass, which turns with the body. Along the loop
-the configuration moves with the platform:
+then the platform coordinates x) by a pivot point p(s), its rotation R(s) and the vector c(s) from the
+pivot to its centre of mass, which turns with the body; all in the base frame, 3-D (a planar body is
+embedded in z = 0 with R = R_z(phi), :mod:`symbolic.bodies`). Along the loop the configuration moves
+with the platform:
 
     s_dot = Phi_s x_dot,   s_ddot = Phi_s x_ddot + b_s,   Phi_s = (Phi, I),   b_s = (Phi_dot x_dot, 0),
 
@@ -12,18 +13,22 @@ with Phi = d(q)/dx and Phi_dot x_dot from :meth:`symbolic.loops.LoopClosure.inve
 The partial velocity matrix of the pivot and the partial angular velocity matrix of the body
 (Wu eqs. 19-26) are
 
-    H = (dp/ds) Phi_s   (2 x n),      G = (dphi/ds) Phi_s   (1 x n),
+    H = (dp/ds) Phi_s   (3 x n),      G = W Phi_s   (3 x n),
 
-so that the pivot velocity is H x_dot and the angular velocity G x_dot. With a_P = H x_ddot + H_dot x_dot
-and alpha = G x_ddot + G_dot x_dot, the inertia force (gravity included) and the inertia moment about
-the pivot are (Newton-Euler; Wu eqs. 30-39 written once for any body)
+with W the angular velocity Jacobian of R (omega = W s_dot), so that the pivot velocity is H x_dot
+and the angular velocity omega = G x_dot. With a_P = H x_ddot + H_dot x_dot and
+alpha = G x_ddot + G_dot x_dot, the inertia force (gravity included) and the inertia moment about the
+pivot are (Newton-Euler; Wu eqs. 30-39 written once for any body)
 
-    F   = -m (a_P + alpha E c - omega^2 c - g),
-    M_P = -I_P alpha - m c x (a_P - g),                    E = [[0, -1], [1, 0]],
+    F   = -m (a_P + alpha x c + omega x (omega x c) - g),
+    M_P = -(I_P alpha + omega x I_P omega) - m c x (a_P - g),
 
-with I_P the moment of inertia about the pivot. Each splits into a part linear in the platform
-acceleration and the rest: F = F_a x_ddot + F~, M_P = M_a x_ddot + M~. The principle of virtual work
-(eq. 40) with the actuator forces tau doing work on q_a_dot = J x_dot,
+with I_P = R I_b R^T the inertia tensor about the pivot in the base frame (I_b in the body frame).
+In the plane, alpha x c = alpha E c, omega x (omega x c) = -omega^2 c with E = [[0, -1], [1, 0]],
+omega x I_P omega = 0, and M_P reduces to its z component -I_P alpha - m c x (a_P - g).
+Each splits into a part linear in the platform acceleration and the rest: F = F_a x_ddot + F~,
+M_P = M_a x_ddot + M~. The principle of virtual work (eq. 40) with the actuator forces tau doing
+work on q_a_dot = J x_dot,
 
     J^T tau + sum over bodies (H^T F + G^T M_P) = 0,
 
@@ -41,39 +46,56 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-E = sp.Matrix([[0, -1], [1, 0]])
+from symbolic.bodies import angular_velocity_jacobian, cross, in_plane, planar_inertia, rotation_z, skew
 
 
 @dataclass(frozen=True)
 class PivotBody:
-    """A planar rigid body for the virtual-work model.
+    """A rigid body for the virtual-work model.
 
     Attributes
     ----------
     name : str
     mass : sympy expression [kg]
-    pivot : sympy.Matrix (2, 1)
+    pivot : sympy.Matrix, shape (3, 1)
         The pivot point p(s) in the base frame [m]: the point whose velocity is simplest (Wu 5.1).
-    angle : sympy expression
-        Orientation phi(s), counter-clockwise [rad]; a constant for a translating body.
-    centre : sympy.Matrix (2, 1)
+    rotation : sympy.Matrix, shape (3, 3)
+        R(s), body frame to base frame; constant for a translating body.
+    centre : sympy.Matrix, shape (3, 1)
         The vector c(s) from the pivot to the centre of mass in the base frame [m]; it must turn with
-        the body (dc/ds = E c dphi/ds), which :meth:`is_rigid` checks.
-    inertia : sympy expression
-        Moment of inertia I_P about the pivot [kg m^2].
+        the body (dc/ds_k = w_k x c with w_k the columns of the angular velocity Jacobian), which
+        :meth:`is_rigid` checks.
+    inertia : sympy.Matrix, shape (3, 3)
+        Inertia tensor I_b about the pivot in the body frame [kg m^2].
     """
 
     name: str
     mass: sp.Expr
     pivot: sp.Matrix
-    angle: sp.Expr
+    rotation: sp.Matrix
     centre: sp.Matrix
-    inertia: sp.Expr
+    inertia: sp.Matrix
+
+    @classmethod
+    def planar(
+        cls,
+        name: str,
+        mass: sp.Expr,
+        *,
+        pivot: Sequence[sp.Expr],
+        angle: sp.Expr,
+        centre: Sequence[sp.Expr],
+        inertia: sp.Expr,
+    ) -> PivotBody:
+        """A body of the plane z = 0: pivot and centre offset (2-vectors), orientation angle phi
+        (counter-clockwise) and moment of inertia I_P about the pivot, embedded as R = R_z(phi),
+        I_b = diag(0, 0, I_P)."""
+        return cls(name, mass, in_plane(pivot), rotation_z(angle), in_plane(centre), planar_inertia(inertia))
 
     def is_rigid(self, coordinates: Sequence[sp.Symbol]) -> bool:
-        """Whether c turns with the body: dc/ds - E c dphi/ds vanishes identically."""
-        s = sp.Matrix(coordinates)
-        residual = self.centre.jacobian(s) - E * self.centre * sp.Matrix([self.angle]).jacobian(s)
+        """Whether c turns with the body: dc/ds_k - w_k x c, i.e. dc/ds + skew(c) W, vanishes identically."""
+        W = angular_velocity_jacobian(self.rotation, coordinates)
+        residual = self.centre.jacobian(sp.Matrix(coordinates)) + skew(self.centre) * W
         return all(sp.simplify(e) == 0 for e in residual)
 
 
@@ -110,52 +132,55 @@ class Motion:
         """s_dot = Phi_s x_dot."""
         return self.phi * sp.Matrix(self.x_dot)
 
-    def partial(self, f: sp.Matrix) -> sp.Matrix:
-        """d(f)/d(x) along the loop: (df/ds) Phi_s, the partial velocity matrix of f."""
-        return f.jacobian(self.coordinates) * self.phi
+    def partial(self, W: sp.Matrix) -> sp.Matrix:
+        """W Phi_s: the partial velocity matrix of a velocity v = W(s) s_dot along the loop; shape (k, n)."""
+        return W * self.phi
 
-    def velocity_product(self, f: sp.Matrix) -> sp.Matrix:
-        """The part of f_ddot that is not linear in x_ddot: (df/ds) b_s + s_dot^T (d2f/ds2) s_dot."""
+    def velocity_product(self, W: sp.Matrix) -> sp.Matrix:
+        """The part of d(W s_dot)/dt not linear in x_ddot: W b_s + W_dot s_dot; shape (k, 1).
+
+        W_dot s_dot has the entries s_dot^T (dW_k/ds) s_dot of the rows W_k; for the velocity of a point
+        p, W = dp/ds and dW_k/ds is the Hessian of p_k.
+        """
         s_dot = self.rates
-        grad = f.jacobian(self.coordinates)
-        out = grad * self.bias
-        for k in range(f.rows):
-            out[k] += (s_dot.T * sp.hessian(f[k], self.coordinates) * s_dot)[0]
+        out = W * self.bias
+        for k in range(W.rows):
+            out[k] += (s_dot.T * W[k, :].jacobian(self.coordinates) * s_dot)[0]
         return out
 
 
 @dataclass(frozen=True)
 class Wrench:
     """Inertia force (gravity included) and moment of one body about its pivot, split as
-    F = F_a x_ddot + F_rest and M = M_a x_ddot + M_rest; H and G are its partial (angular) velocity
-    matrices."""
+    F = F_a x_ddot + F_rest and M = M_a x_ddot + M_rest (3 x n and 3 x 1 each); H and G (3 x n) are its
+    partial velocity and angular velocity matrices."""
 
     H: sp.Matrix
     G: sp.Matrix
     F_a: sp.Matrix
     F_rest: sp.Matrix
     M_a: sp.Matrix
-    M_rest: sp.Expr
-
-
-def _cross(a: sp.Matrix, b: sp.Matrix) -> sp.Expr:
-    return a[0] * b[1] - a[1] * b[0]
+    M_rest: sp.Matrix
 
 
 def inertia_wrench(body: PivotBody, motion: Motion, gravity: sp.Matrix) -> Wrench:
-    """The inertia wrench of ``body`` about its pivot (module docstring), split by x_ddot."""
-    angle = sp.Matrix([body.angle])
-    H = motion.partial(body.pivot)
-    G = motion.partial(angle)
-    a_rest = motion.velocity_product(body.pivot)
-    alpha_rest = motion.velocity_product(angle)[0]
-    omega = (G * sp.Matrix(motion.x_dot))[0]
+    """The inertia wrench of ``body`` about its pivot (module docstring), split by x_ddot.
+
+    ``gravity`` is the 3-vector g of the base frame [m/s^2].
+    """
+    dp = body.pivot.jacobian(motion.coordinates)
+    W = angular_velocity_jacobian(body.rotation, motion.coordinates)
+    H, G = motion.partial(dp), motion.partial(W)
+    a_rest = motion.velocity_product(dp)
+    alpha_rest = motion.velocity_product(W)
+    omega = G * sp.Matrix(motion.x_dot)
     c, m = body.centre, body.mass
-    Ec = E * c
-    F_a = -m * (H + Ec * G)
-    F_rest = -m * (a_rest + alpha_rest * Ec - omega**2 * c - gravity)
-    M_a = -body.inertia * G - m * (c[0] * H[1, :] - c[1] * H[0, :])
-    M_rest = -body.inertia * alpha_rest - m * _cross(c, a_rest - gravity)
+    inertia = body.rotation * body.inertia * body.rotation.T
+    # alpha x c = -c x alpha: the part linear in x_ddot is -skew(c) G x_ddot.
+    F_a = -m * (H - skew(c) * G)
+    F_rest = -m * (a_rest + cross(alpha_rest, c) + cross(omega, cross(omega, c)) - gravity)
+    M_a = -inertia * G - m * (skew(c) * H)
+    M_rest = -inertia * alpha_rest - cross(omega, inertia * omega) - m * cross(c, a_rest - gravity)
     return Wrench(H, G, F_a, F_rest, M_a, M_rest)
 
 

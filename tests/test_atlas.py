@@ -8,9 +8,12 @@ import numpy as np
 import pytest
 
 import pkm
+from pkm import registry
 from pkm.atlas import Atlas, compute_atlas, default_modes
+from pkm.cli import main
 
 RES, POSE_RES = 7, 12
+GCI = registry.global_index("gci")
 
 
 @pytest.fixture(scope="module")
@@ -19,23 +22,30 @@ def mech() -> pkm.Mechanism:
 
 
 @pytest.fixture(scope="module")
-def gci(mech) -> Atlas:
-    return compute_atlas(mech, "gci", modes=("out_out", "out_in"), resolution=RES, pose_resolution=POSE_RES)
+def gao(mech):
+    return mech.design_spaces["gao1998"]
 
 
 @pytest.fixture(scope="module")
-def gci_miw(mech) -> Atlas:
+def gci(mech, gao) -> Atlas:
+    return compute_atlas(mech, GCI, space=gao, modes=("out_out", "out_in"), resolution=RES, pose_resolution=POSE_RES)
+
+
+@pytest.fixture(scope="module")
+def gci_miw(mech, gao) -> Atlas:
     modes = ("out_out", "in_in")
-    return compute_atlas(mech, "gci", region="miw", modes=modes, resolution=RES, pose_resolution=3)
+    return compute_atlas(mech, GCI, space=gao, region="miw", modes=modes, resolution=RES, pose_resolution=3)
 
 
 def _design(mech, atlas: Atlas, i: int, j: int) -> dict[str, float]:
-    space = mech.design_spaces[atlas.space]
+    space = atlas.space
     return mech.design_dict(space.designs(mech.parameters, space.from_chart(atlas.u[i], atlas.v[j])))
 
 
-def test_shapes_and_masks(gci, mech):
-    u, v, inside = mech.design_spaces["gao1998"].chart_grid(RES)
+def test_shapes_and_masks(gci, gao):
+    u, v, inside = gao.chart_grid(RES)
+    assert gci.index is GCI
+    assert gci.space is gao
     assert gci.modes == ("out_out", "out_in")
     np.testing.assert_array_equal(gci.u, u)
     np.testing.assert_array_equal(gci.v, v)
@@ -49,14 +59,16 @@ def test_shapes_and_masks(gci, mech):
     assert gci.wall_time > 0
 
 
-def test_values_inside_are_finite_and_in_range(gci, mech):
+def test_values_inside_are_finite_and_in_range(gci, mech, gao):
     for mode in gci.modes:
         z = gci.values[mode][gci.inside]
         assert np.isfinite(z).all()
         assert ((z > 0) & (z <= 1)).all()
         assert (gci.points[mode][gci.inside] > 0).all()
     gamma = {
-        name: compute_atlas(mech, name, modes="out_out", resolution=5, pose_resolution=8).values["out_out"]
+        name: compute_atlas(
+            mech, registry.global_index(name), space=gao, modes="out_out", resolution=5, pose_resolution=8
+        ).values["out_out"]
         for name in ("gamma_max", "gamma_min")
     }
     inside = np.isfinite(gamma["gamma_max"])
@@ -86,35 +98,35 @@ def test_parametrised_node_equals_global_index(gci_miw, mech):
     assert np.abs(gci_miw.values["in_in"][both] - gci_miw.values["out_out"][both]).max() > 0.05
 
 
-def test_gao_mode_symmetry_over_the_reachable_region(mech):
+def test_gao_mode_symmetry_over_the_reachable_region(mech, gao):
     """Gao eqs. 26-27: eta(OABCD) = eta(OA'BC'D) and eta(OABC'D) = eta(OA'BCD)."""
-    atlas = compute_atlas(mech, "gci", modes=mech.modes, resolution=5, pose_resolution=10)
+    atlas = compute_atlas(mech, GCI, space=gao, modes=mech.modes, resolution=5, pose_resolution=10)
     inside = atlas.inside
     np.testing.assert_allclose(atlas.values["in_in"][inside], atlas.values["out_out"][inside], rtol=1e-9)
     np.testing.assert_allclose(atlas.values["in_out"][inside], atlas.values["out_in"][inside], rtol=1e-9)
 
 
-def test_default_modes_are_the_distinct_ones(mech, monkeypatch):
-    monkeypatch.setattr(type(mech), "distinct_modes", ("out_out", "out_in"), raising=False)
+def test_default_modes_are_the_distinct_ones(mech, gao, monkeypatch):
+    monkeypatch.setattr(type(mech), "distinct_modes", {"reachable": ("out_out", "out_in")})
     calls = []
-    atlas = compute_atlas(mech, "gci", resolution=4, pose_resolution=4, progress=calls.append)
+    atlas = compute_atlas(mech, GCI, space=gao, resolution=4, pose_resolution=4, progress=calls.append)
     assert atlas.modes == ("out_out", "out_in")
     assert sum(calls) == atlas.inside.sum() * 2
-    # Gao's equalities hold over the reachable workspace only; over the MIW every mode is kept.
+    # Gao's equalities hold over the reachable workspace only; a region not listed keeps every mode.
     assert default_modes(mech, "miw") == mech.modes
     monkeypatch.setattr(type(mech), "distinct_modes", {"miw": ("out_out", "in_in")})
     assert default_modes(mech, "miw") == ("out_out", "in_in")
     assert default_modes(mech, "reachable") == mech.modes
 
 
-def test_best_is_the_largest_node(gci, mech):
+def test_best_is_the_largest_node(gci, gao):
     for mode in gci.modes:
         best = gci.best(mode)
         z = gci.values[mode]
         assert best.value == np.nanmax(z)
         i, j = np.argwhere(z == best.value)[0]
         assert (best.u, best.v) == (gci.u[i], gci.v[j])
-        np.testing.assert_allclose(mech.design_spaces["gao1998"].to_chart(best.coordinates), (best.u, best.v))
+        np.testing.assert_allclose(gao.to_chart(best.coordinates), (best.u, best.v))
         assert sum(best.coordinates[:2]) * 2 + best.coordinates[2] == pytest.approx(4)
     assert gci.best("OABC'D") == gci.best("out_in")
     assert gci.best() == gci.best("out_out")
@@ -139,6 +151,8 @@ def test_save_npz_round_trips(gci, tmp_path):
             np.testing.assert_array_equal(data[f"points_{mode}"], gci.points[mode])
         meta = json.loads(str(data["metadata"]))
     assert meta == json.loads(json.dumps(gci.metadata()))
+    assert (meta["mechanism"], meta["index"], meta["sense"], meta["space"]) == ("five_bar", "gci", "max", "gao1998")
+    assert meta["chart_axes"] == ["u", "v"]
     assert meta["modes"] == list(gci.modes)
     assert meta["pose_resolution"] == POSE_RES
     assert meta["evaluations"] == gci.evaluations
@@ -165,8 +179,6 @@ def test_plot_writes_a_png(gci, gci_miw, tmp_path):
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"index": "speed"}, "unknown index 'speed'"),
-        ({"space": "lara"}, "unknown five_bar design space 'lara'"),
         ({"region": "disc"}, "unknown five_bar region 'disc'"),
         ({"modes": ("out_out", "up")}, "unknown five_bar working mode 'up'"),
         ({"modes": ("out_out", "OABCD")}, "none repeated"),
@@ -177,14 +189,26 @@ def test_plot_writes_a_png(gci, gci_miw, tmp_path):
         ({"singularity_margin": 1.0}, "singularity_margin = 1.0 violates"),
     ],
 )
-def test_bad_input(mech, kwargs, match):
-    kwargs = {"index": "gci", "resolution": 4, **kwargs}
+def test_bad_input(mech, gao, kwargs, match):
+    kwargs = {"resolution": 4, **kwargs}
     with pytest.raises(pkm.PkmError, match=match):
-        compute_atlas(mech, kwargs.pop("index"), **kwargs)
+        compute_atlas(mech, GCI, space=gao, **kwargs)
 
 
-def test_unknown_names_are_unknown_name_errors(mech, gci):
+def test_unknown_index_and_design_space_are_named(mech, capsys):
+    """compute_atlas takes objects: the names become them in the registry, the mechanism and the CLI."""
+    with pytest.raises(pkm.UnknownNameError, match="unknown index 'speed'"):
+        registry.global_index("speed")
+    with pytest.raises(pkm.UnknownNameError, match="unknown index 'speed'"):
+        mech.global_spec("speed")
+    with pytest.raises(pkm.PkmError, match="kappa_d"):
+        compute_atlas(mech, registry.global_index("kappa_d_mean"), space=gao, resolution=4)
+    assert main(["atlas", "five_bar", "gci", "--space", "lara", "--resolution", "4"]) == 2
+    assert "unknown five_bar design space 'lara'" in capsys.readouterr().err
+
+
+def test_unknown_names_are_unknown_name_errors(mech, gao, gci):
     with pytest.raises(pkm.UnknownNameError):
-        compute_atlas(mech, "gci", region="disc")
+        compute_atlas(mech, GCI, space=gao, region="disc")
     with pytest.raises(pkm.UnknownNameError, match="in_in"):
         gci.best("in_in")

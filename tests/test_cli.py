@@ -24,6 +24,16 @@ def test_list_json_names_the_five_bar_and_its_indices(capsys):
     names = [p["name"] for p in data["mechanisms"]["five_bar"]["parameters"]]
     assert names[:3] == ["r1", "r2", "r3"]
     assert {"m1", "m2", "k1", "k2", "j1", "j2"} <= set(names)
+    five_bar = data["mechanisms"]["five_bar"]
+    assert five_bar["pose"] == {"x": "m", "y": "m"}
+    assert five_bar["actuators"] == {"theta1": "rad", "theta2": "rad"}
+    assert {"gci", "gamma_max", "gamma_min", "dynamic_dexterity", "lambda_e"} <= set(five_bar["indices"])
+    assert "kappa_d_mean" not in five_bar["indices"]
+    assert data["indices"]["gci"] == {"doc": data["indices"]["gci"]["doc"], "reduce": "mean", "sense": "max"}
+    assert (data["indices"]["lambda_e"]["reduce"], data["indices"]["kappa_d_mean"]["sense"]) == ("min", "min")
+    assert data["problems"]["five_bar.max_gci_miw"]["variables"] == ["u", "v"]
+    assert data["problems"]["slider_gantry.min_kappa_d_task"]["variables"] == ["l", "d1"]
+    assert {"gao1998", "lara_molina2016", "wu2008"} <= set(data["papers"])
 
 
 def test_eval_reports_inverse_kinematics_and_local_indices(capsys):
@@ -43,10 +53,29 @@ def test_index_with_gradient_on_the_miw(capsys):
 
 
 def test_synth_writes_its_result_and_beats_the_grid(tmp_path, capsys):
-    assert main(["synth", "five_bar.max_gci_miw", "--resolution", "5", "--out", str(tmp_path), "--json"]) == 0
+    args = ["synth", "five_bar.max_gci_miw", "--resolution", "5", "--out", str(tmp_path), "--json"]
+    assert main([*args, "--max-iter", "100", "--tol", "1e-9"]) == 0
     data = json.loads((tmp_path / "five_bar.max_gci_miw.json").read_text())
     assert data == json.loads(capsys.readouterr().out)
     assert data["objective"] >= data["baseline_objective"]
+    assert (data["options"]["max_iter"], data["options"]["tol"]) == (100, 1e-9)
+    assert list(data["variables"]) == ["u", "v"]
+
+
+def test_synth_prints_the_variables_by_name_and_each_baseline(capsys):
+    assert main(["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "variables: u = " in out
+    assert ", v = " in out
+    assert "design: r1 = " in out
+    assert "baseline grid (" in out
+
+
+def test_synth_that_does_not_converge_exits_1_with_the_reason(capfd):
+    assert main(["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1", "--max-iter", "0"]) == 1
+    err = capfd.readouterr().err
+    assert "Traceback" not in err
+    assert "computation failed: IPOPT did not converge" in err
 
 
 @pytest.mark.parametrize(
@@ -60,13 +89,24 @@ def test_synth_writes_its_result_and_beats_the_grid(tmp_path, capsys):
         (["index", "five_bar", "gci", "--mode", "sideways"], "unknown five_bar working mode"),
         (["eval", "five_bar", "--pose", "9,9"], "out of reach"),
         (["synth", "no.such"], "unknown synthesis problem"),
+        (["synth", "five_bar.max_gci_miw", "--tol", "0"], "tol = 0.0 violates tol > 0"),
+        (["synth", "five_bar.max_gci_miw", "--print-level", "13"], "print_level = 13 violates"),
         (["reproduce", "nobody2000"], "unknown paper"),
         (["frobnicate"], "invalid choice"),
     ],
 )
-def test_bad_input_exits_2_with_one_line(args, needle):
-    proc = run(*args)
+def test_bad_input_exits_2_with_one_line(args, needle, capfd):
+    assert main(args) == 2
+    err = capfd.readouterr().err
+    assert "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
+    assert needle in err
+
+
+def test_console_entry_exits_2_with_one_line():
+    """The module entry point (a fresh interpreter) as well as ``main``: bad input is one line, no traceback."""
+    proc = run("index", "five_bar", "gci", "--design", "r1=nan")
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
-    assert needle in proc.stderr
+    assert "r1 = nan is not finite" in proc.stderr

@@ -13,10 +13,11 @@ from types import SimpleNamespace
 import casadi as ca
 import numpy as np
 import pytest
+from helpers import port_inputs, random_design, reachable_poses
 
 import pkm
+from pkm import registry
 from pkm.batch import evaluate
-from pkm.indices import LOCAL
 
 MECHANISMS = pkm.mechanisms()
 SEEDS = (0, 1, 2)
@@ -38,31 +39,13 @@ class Case:
         return self.design.vector()
 
 
-def random_design(m: pkm.Mechanism, rng: np.random.Generator) -> pkm.Design:
-    for _ in range(1000):
-        values = {p.name: p.default * (1 + SPREAD * rng.uniform(-1, 1)) for p in m.parameters}
-        try:
-            return m.design(values)
-        except pkm.DesignError:
-            continue
-    raise AssertionError(f"no valid {m.name} design within {SPREAD:.0%} of the defaults")
-
-
-def reachable_poses(m: pkm.Mechanism, design: pkm.Design, mode: str, rng: np.random.Generator) -> np.ndarray:
-    box = m.workspace_box(design.vector())
-    x = rng.uniform(box[:, 0], box[:, 1], size=(50 * N_POSES, len(box)))
-    x = x[m.reachable(x, design, mode=mode)][:N_POSES]
-    assert len(x) == N_POSES, f"{m.name} {mode}: too few reachable poses in the workspace box"
-    return x
-
-
 @pytest.fixture(scope="module", params=[(n, s) for n in MECHANISMS for s in SEEDS], ids=lambda p: f"{p[0]}-{p[1]}")
 def case(request) -> Case:
     name, seed = request.param
     m = pkm.load(name)
     rng = np.random.default_rng(seed)
-    design = random_design(m, rng)
-    return Case(m, design, {mode: reachable_poses(m, design, mode, rng) for mode in m.modes})
+    design = random_design(m, rng, spread=SPREAD)
+    return Case(m, design, {mode: reachable_poses(m, design, mode, rng, count=N_POSES) for mode in m.modes})
 
 
 def closed_joints(case: Case, mode: str, x: np.ndarray | None = None) -> np.ndarray:
@@ -91,6 +74,10 @@ def test_loop_closes_at_inverse_kinematics(case):
         closed_joints(case, mode)
 
 
+def _angle_difference(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.mod(a - b + np.pi, 2 * np.pi) - np.pi
+
+
 def test_forward_kinematics_returns_the_pose_in_some_assembly(case):
     m = case.mech
     for mode, x in case.poses.items():
@@ -99,8 +86,16 @@ def test_forward_kinematics_returns_the_pose_in_some_assembly(case):
             np.linalg.norm(m.forward_kinematics(q[:, : m.n_act], case.design, assembly=a) - x, axis=1)
             for a in m.assemblies
         ]
-        best = np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0)
+        errors = np.where(np.isnan(errors), np.inf, errors)
+        best = errors.min(axis=0)
         assert best.max() < 1e-9, f"mode {mode}: FK(IK(x)) misses x by {best.max():.3g}"
+        # and all joints: in the assembly mode that gives back x, FK's passive joints are IK's
+        passive = np.stack([m.forward_kinematics(q[:, : m.n_act], case.design, assembly=a, passive=True)
+                            for a in m.assemblies])
+        q_fk = passive[errors.argmin(axis=0), np.arange(len(x))]
+        assert q_fk.shape == q.shape
+        np.testing.assert_array_equal(q_fk[:, : m.n_act], q[:, : m.n_act])
+        np.testing.assert_allclose(_angle_difference(q_fk, q), 0.0, atol=1e-9, err_msg=f"mode {mode}")
 
 
 def test_jacobian_matches_central_differences_of_inverse_kinematics(case):
@@ -149,7 +144,8 @@ def test_every_local_index_lies_in_its_documented_range(case):
     m = case.mech
     for mode, x in case.poses.items():
         for name in m.local_indices():
-            spec = LOCAL[name]
+            spec = m.local_spec(name)
+            assert spec is registry.local_index(name)
             value = m.local_index(name, x, case.design, mode=mode)
             assert not np.any(np.isnan(value)), f"{name} is NaN at a reachable pose ({mode})"
             assert np.all((spec.lower <= value) & (value <= spec.upper)), f"{name} outside its range ({mode})"
@@ -167,6 +163,7 @@ def _outputs(m: pkm.Mechanism, x: np.ndarray, design: pkm.Design, mode: str) -> 
     }
     q_a = out["q"][..., : m.n_act]
     out.update({f"fk_{a}": m.forward_kinematics(q_a, design, assembly=a) for a in m.assemblies})
+    out.update({f"fk_joints_{a}": m.forward_kinematics(q_a, design, assembly=a, passive=True) for a in m.assemblies})
     return out
 
 
@@ -183,13 +180,12 @@ def test_batch_equals_stacked_single_poses(case):
 
 
 def _named_inputs(case: Case) -> dict[str, np.ndarray]:
-    """Inputs of the generated functions by the names of mechanism.py's convention."""
-    m, mode = case.mech, case.mech.working_modes[0]
-    x = case.poses[mode.name]
-    q = m.inverse_kinematics(x, case.design, mode=mode.name, passive=True)
+    """Inputs of the generated functions by port name at the poses of the first working mode, the
+    assembly modes in turn."""
+    m, mode = case.mech, case.mech.modes[0]
+    x = case.poses[mode]
     assembly = np.resize(np.array([b.signs for b in m.assembly_modes]), (len(x), len(m.assembly_modes[0].signs)))
-    return {"x": x, "q": q, "q_a": q[:, : m.n_act], "mode": np.array(mode.signs), "assembly": assembly,
-            "design": case.vector}
+    return port_inputs(m, case.design, x, mode, assembly)
 
 
 def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
@@ -226,6 +222,7 @@ def test_every_parameter_is_documented_with_a_valid_default(name):
     for branch in (*m.working_modes, *m.assembly_modes):
         assert branch.doc.strip(), branch.name
     assert len(m.pose_names) == len(m.pose_units) == m.n_out
+    assert len(m.actuator_names) == len(m.actuator_units) == m.n_act
 
 
 @pytest.mark.parametrize("name", MECHANISMS)
@@ -254,7 +251,7 @@ def _keyword_cases():
     for name in MECHANISMS:
         for method in POSITIONAL:
             yield pytest.param(name, method, {}, id=f"{name}-{method}")
-        for region in pkm.load(name).parametrised_regions():
+        for region in pkm.load(name).regions:
             yield pytest.param(name, "global_index", {"region": region}, id=f"{name}-global_index-{region}")
 
 

@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 import pkm
-from pkm import indices, regions
+from pkm import regions
 from pkm.errors import DesignError, PkmError
 
 m = pkm.load("five_bar")
 SPACE = m.design_spaces["lara_molina2016"]
-MIW = m.parametrised_regions()["miw"]
+MIW = m.region("miw")
 
 # (r1, r2, r3) in units of D: two designs with r1 + r3 > r2 (eq. 12) and two with r1 + r3 < r2 (eq. 11)
 DESIGNS = ((1.2, 1.0, 0.8), (1.0, 1.3, 0.7), (0.4, 1.8, 0.8), (0.6, 1.9, 0.5))
@@ -50,8 +50,7 @@ def test_quadrature_converges_and_agrees_with_the_sampled_disc(name):
     v8, v16, v32 = (m.global_index(name, d, region="miw", resolution=n) for n in (8, 16, 32))
     assert abs(v32 - v16) < abs(v16 - v8) + 1e-12
     assert abs(v32 - v16) < 2e-3 * abs(v32)
-    sampled = regions.sampled_region_global(m, indices.global_spec(name), MIW, d, branch=m.working_mode(None),
-                                          resolution=128)
+    sampled = regions.sampled_check(m, m.global_spec(name), MIW, d, branch=m.working_mode(None), resolution=128)
     assert float(sampled) == pytest.approx(float(v32), rel=5e-3)
 
 

@@ -14,11 +14,14 @@ from typing import ClassVar
 import casadi as ca
 import numpy as np
 import pytest
+from helpers import random_design as random_geometry
+from helpers import reachable_poses
 
 import pkm
 from pkm.batch import evaluate
 from pkm.dynamics import Trajectory, energy, flexible_inverse_dynamics
 from pkm.errors import ComputationError, DesignError, PkmError, PoseError
+from pkm.kinematics import FunctionTable
 from pkm.mechanism import Mechanism
 
 m = pkm.load("five_bar")
@@ -30,7 +33,8 @@ SEEDS = (0, 1, 2)
 
 def random_design(rng: np.random.Generator) -> pkm.Design:
     """Geometry within 15 % of the default, any positive inertia, stiffness and friction."""
-    values = {k: v * (1 + 0.15 * rng.uniform(-1, 1)) for k, v in GEOMETRY.items()}
+    geometry = random_geometry(m, rng, spread=0.15, names=GEOMETRY)
+    values = {k: geometry[k] for k in GEOMETRY}
     values |= {
         "m1": rng.uniform(0.5, 2.0),
         "m2": rng.uniform(0.5, 2.0),
@@ -50,12 +54,11 @@ def random_design(rng: np.random.Generator) -> pkm.Design:
 
 
 def regular_poses(design: pkm.Design, mode: str, rng: np.random.Generator, n: int = 8) -> np.ndarray:
-    box = m.workspace_box(design.vector())
-    x = rng.uniform(box[:, 0], box[:, 1], size=(400 * n, 2))
-    x = x[m.reachable(x, design, mode=mode)]
-    x = x[np.linalg.cond(m.jacobian(x, design, mode=mode)) < MAX_CONDITION][:n]
-    assert len(x) == n, f"too few regular poses in mode {mode}"
-    return x
+    """Reachable poses of the mode with cond(J) < MAX_CONDITION."""
+    return reachable_poses(
+        m, design, mode, rng, count=n, draws=400,
+        where=lambda x: np.linalg.cond(m.jacobian(x, design, mode=mode)) < MAX_CONDITION,
+    )
 
 
 def cases():
@@ -450,9 +453,10 @@ class Kinematic(Mechanism):
     pose_names = m.pose_names
     working_modes = m.working_modes
     assembly_modes = m.assembly_modes
-    functions: ClassVar[dict[str, ca.Function]] = {
-        k: v for k, v in m.functions.items() if k in ("inverse_kinematics", "forward_kinematics")
-    }
+    functions: ClassVar[FunctionTable] = FunctionTable(
+        {k: v for k, v in m.functions.items() if k in ("inverse_kinematics", "forward_kinematics")},
+        "the kinematic_five_bar model",
+    )
 
 
 @pytest.mark.parametrize(

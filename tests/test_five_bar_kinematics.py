@@ -10,7 +10,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import pkm
-from pkm.regions import DISC_RESOLUTION, disc_quadrature
+from pkm.regions import QUADRATURE_RESOLUTION
+from pkm.regions.shapes import disc_quadrature
 
 m = pkm.load("five_bar")
 GAO1998 = m.design_spaces["gao1998"]
@@ -109,7 +110,7 @@ def random_chart_designs(n: int, seed: int) -> list[dict[str, float]]:
 
 def assert_miw_inside_out_out_workspace(design: dict[str, float]) -> None:
     centre, radius = m.maximum_inscribed_circle(design)
-    x = centre + radius * disc_quadrature(DISC_RESOLUTION)[0]
+    x = centre + radius * disc_quadrature(QUADRATURE_RESOLUTION)[0]
     reach = m.reachable(x, design, mode="out_out")
     assert reach.all(), f"{design}: {np.mean(~reach):.1%} of the MIW quadrature is out of reach"
     assert np.all(m.local_index("inverse_condition_f", x, design, mode="out_out") > 0), design

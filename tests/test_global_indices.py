@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import random_design
 
 import pkm
 
@@ -54,8 +55,11 @@ def test_miw_gamma_max_converges_at_first_order():
 
 
 def random_designs(n: int, seed: int) -> list[dict[str, float]]:
+    """Designs with the required parameters (the geometry) within 15 % of the defaults, the others left out."""
     rng = np.random.default_rng(seed)
-    return [{p.name: p.default * (1 + 0.15 * rng.uniform(-1, 1)) for p in m.parameters if p.required} for _ in range(n)]
+    required = [p.name for p in m.parameters if p.required]
+    designs = [random_design(m, rng, spread=0.15, names=required) for _ in range(n)]
+    return [{k: d[k] for k in required} for d in designs]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -87,8 +91,11 @@ def test_global_value_reports_points_that_grow_with_resolution(region):
     assert [r.region for r in results] == [region] * 3
     assert [r.resolution for r in results] == [8, 16, 32]
     assert points[0] < points[1] < points[2]
+    assert all(np.isfinite(r.accuracy) and r.accuracy > 0 for r in results)
     if region == "miw":
         assert points == [4 * n**2 for n in (8, 16, 32)]
+        # the accuracy is the change from the quadrature at half the resolution
+        assert [r.accuracy for r in results[1:]] == [abs(results[1] - results[0]), abs(results[2] - results[1])]
     else:
         assert all(0 < p <= n**2 for p, n in zip(points, (8, 16, 32), strict=True))
 

@@ -48,6 +48,12 @@ def test_synthesis_beyond_the_paper_beats_its_baseline(report):
     beyond = data["beyond_paper"]
     assert beyond["objective"] >= beyond["baseline_objective"]
     assert beyond["verified_objective"] > 0
+    assert beyond["grid_objective"] == beyond["baseline_objective"]
+    assert list(beyond["variables"]) == ["u", "v"]
+    for key in ("design_normalised", "baseline_design_normalised"):
+        r = beyond[key]
+        assert list(r) == ["r1", "r2", "r3"]
+        assert 2 * r["r1"] + 2 * r["r2"] + r["r3"] == pytest.approx(4.0)  # Gao's solution space
 
 
 @pytest.fixture(scope="module")
@@ -88,6 +94,10 @@ def test_lara_molina_syntheses_beat_their_baselines(lara):
         assert run["status"] == "Solve_Succeeded"
         assert run["objective"] >= run["baseline_objective"] - 1e-9
         assert run["verified_objective"] == pytest.approx(run["objective"], rel=2e-2)
+        assert list(run["variables"]) == ["s", "t"]
+        r = run["design_normalised"]
+        assert r["r1"] + r["r2"] + r["r3"] == pytest.approx(3.0)  # Lara-Molina's eq. 2
+        assert run["variables"]["t"] == pytest.approx(r["r3"])  # eq. 34
 
 
 @pytest.fixture(scope="module")
@@ -133,3 +143,8 @@ def test_wu_synthesis_beats_the_papers_design(wu):
     assert run["objective"] <= min(run["grid_objective"], run["two_step_objective"]) + 1e-9
     assert run["objective"] < run["paper_design_objective"] - 0.05
     assert run["verified_objective"] == pytest.approx(run["objective"], rel=1e-3)
+    assert list(run["variables"]) == ["l", "d1"]
+    paper = run["paper_design_variables"]
+    assert (paper["l"], paper["d1"]) == pytest.approx((0.6164, 0.357), abs=1e-4)  # Wu's Table 1
+    assert 10 <= run["two_step_theta_1s_deg"] <= 44.9
+    assert set(run["baselines"]) == {"grid", "two_step"}

@@ -11,11 +11,12 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 import pytest
+from helpers import random_design as random_valid_design
 
 import pkm
 from pkm.batch import evaluate
 from pkm.dynamics import Trajectory
-from pkm.errors import DesignError, PkmError
+from pkm.errors import PkmError
 
 VARIANTS = ("slider_gantry", "slider_gantry_symmetric")
 MECHANISMS = {name: pkm.load(name) for name in VARIANTS}
@@ -36,14 +37,7 @@ def masses(mech) -> tuple[str, ...]:
 
 def random_design(mech, rng: np.random.Generator) -> pkm.Design:
     """Every parameter within +-20 % of its default, drawn again until the design has a task rectangle."""
-    default = mech.design()
-    while True:
-        values = {k: v * (1 + 0.2 * rng.uniform(-1, 1)) for k, v in default.items()}
-        try:
-            mech.task_rectangle(values)
-        except DesignError:
-            continue
-        return mech.design(values)
+    return random_valid_design(mech, rng, spread=0.2, accept=mech.task_rectangle)
 
 
 def task_poses(mech, design, rng: np.random.Generator, n: int) -> np.ndarray:

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import pkm
-from pkm import task_synthesis
 from pkm.batch import evaluate
 from pkm.errors import DesignError
+from pkm.models.slider_gantry import wu2008
 from pkm.regions import grid
 
 DEG = math.pi / 180
@@ -211,7 +211,7 @@ def test_design_without_a_task_rectangle_is_a_design_error():
 )
 def test_workspace_synthesis_outside_its_domain_is_a_design_error(b, theta_1s, match):
     with pytest.raises(DesignError, match=match):
-        task_synthesis.workspace_synthesis(b, 0.4, theta_1s)
+        wu2008.workspace_synthesis(b, 0.4, theta_1s)
 
 
 @pytest.mark.parametrize(
@@ -220,7 +220,7 @@ def test_workspace_synthesis_outside_its_domain_is_a_design_error(b, theta_1s, m
     ids=["section 4.2", "Table 1"],
 )
 def test_workspace_synthesis_gives_wus_section_4_values(theta_1s, d1_mm, l_mm):
-    first = task_synthesis.workspace_synthesis(0.5, 0.4, theta_1s * DEG)
+    first = wu2008.workspace_synthesis(0.5, 0.4, theta_1s * DEG)
     assert first.d1 * 1e3 == pytest.approx(d1_mm, abs=0.05)
     assert first.length * 1e3 == pytest.approx(l_mm, abs=0.05)
     assert first.stroke * 1e3 == pytest.approx(900.0, abs=0.05)
@@ -232,7 +232,7 @@ def test_workspace_synthesis_gives_wus_section_4_values(theta_1s, d1_mm, l_mm):
 
 
 def test_k_av_over_the_task_rectangle_is_the_closed_form_of_eq_7():
-    closed = task_synthesis.k_av_closed_form(DEFAULT["l"], DEFAULT["d1"], RECTANGLE.width)
+    closed = wu2008.k_av_closed_form(DEFAULT["l"], DEFAULT["d1"], RECTANGLE.width)
     assert m.global_index("k_av", DEFAULT, region="task") == pytest.approx(closed, rel=1e-7)
     errors = [abs(m.global_index("k_av", DEFAULT, region="task", resolution=r) - closed) for r in (1, 2, 4, 8, 16)]
     assert all(b < a / 20 for a, b in itertools.pairwise(errors)), errors

@@ -6,17 +6,25 @@ import numpy as np
 import pytest
 
 import pkm
+from pkm import registry
 from pkm.errors import PkmError, UnknownNameError
 from pkm.synthesis import synthesize
+
+NAME = "five_bar.max_gci_miw"
 
 
 @pytest.fixture(scope="module")
 def result():
-    return synthesize("five_bar.max_gci_miw", resolution=6, baseline_resolution=41)
+    return pkm.synthesize(NAME, resolution=6, baseline_resolution=41)
 
 
 def test_optimum_is_at_least_as_good_as_the_atlas_grid(result):
     assert result.status == "Solve_Succeeded"
+    assert result.problem == NAME
+    assert result.sense == "max"
+    assert list(result.baselines) == ["grid"]
+    assert result.baseline is result.baselines["grid"].best
+    assert result.baselines["grid"].evaluations == 41**2
     assert result.objective >= result.baseline.objective
 
 
@@ -25,11 +33,19 @@ def test_optimum_is_verified_at_higher_density_and_by_sampling(result):
     assert result.verified_objective == pytest.approx(result.objective, rel=2e-3)
     assert result.optimum.sampled_objective == pytest.approx(result.objective, rel=5e-3)
     assert result.optimum.sampled_points > 1000
+    # the reported optimum is the converged run with the best verified objective, not the best as optimised
+    converged = [r for r in result.runs if r.success]
+    assert converged
+    assert result.verified_objective == max(r.verified_objective for r in converged)
+    assert all(np.isnan(r.verified_objective) for r in result.runs if not r.success)
 
 
 def test_optimum_satisfies_the_problem_constraints(result):
     m = pkm.load("five_bar")
-    normalised = np.array(result.optimum.normalised)
+    space = m.design_spaces["gao1998"]
+    normalised = np.array(list(space.normalised(m.design_vector(result.design)).values()))
+    assert result.optimum.feasible
+    np.testing.assert_allclose(space.to_chart(normalised), list(result.optimum.variables.values()), atol=1e-12)
     assert 2 * normalised[0] + 2 * normalised[1] + normalised[2] == pytest.approx(4.0)
     assert np.all(normalised >= 0.05 - 1e-6)
     _, radius = m.maximum_inscribed_circle(result.design)
@@ -40,7 +56,8 @@ def test_optimum_is_a_local_maximum_on_the_feasible_set(result):
     """No feasible neighbour in the chart improves the objective as optimised."""
     m = pkm.load("five_bar")
     space = m.design_spaces["gao1998"]
-    u, v = result.optimum.chart
+    assert list(result.optimum.variables) == ["u", "v"]
+    u, v = result.optimum.variables["u"], result.optimum.variables["v"]
     for du, dv in [(1e-3, 0), (-1e-3, 0), (0, 1e-3), (0, -1e-3)]:
         d = space.designs(m.parameters, space.from_chart(u + du, v + dv), check=False)
         if min(d[:3]) < 0.05 or m.maximum_inscribed_circle(d)[1] < 0.3:
@@ -57,11 +74,15 @@ def test_reports_costs_of_both_methods(result):
 
 def test_bad_synthesis_input():
     with pytest.raises(UnknownNameError, match="unknown synthesis problem"):
-        synthesize("five_bar.nothing")
+        pkm.synthesize("five_bar.nothing")
+    with pytest.raises(UnknownNameError, match="unknown synthesis problem"):
+        registry.problem("five_bar.nothing")
     with pytest.raises(PkmError, match="starts = 0"):
-        synthesize("five_bar.max_gci_miw", starts=0)
+        pkm.synthesize(NAME, starts=0)
+    with pytest.raises(PkmError, match="starts = 0"):
+        synthesize(registry.problem(NAME), starts=0)
 
 
 def test_public_entry_point_rejects_unknown_options():
     with pytest.raises(TypeError):
-        pkm.synthesize("five_bar.max_gci_miw", bogus=1)
+        pkm.synthesize(NAME, bogus=1)

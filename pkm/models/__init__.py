@@ -1,1 +1,3 @@
-"""Runtime modules of pkm's mechanisms (registered in pkm.load)."""
+"""One runtime package per mechanism: the class, its design spaces, synthesis problems and paper
+procedures. Each exports ``MECHANISMS``; its module ``problems`` defines ``problems()``; :mod:`pkm.registry`
+discovers both."""

@@ -12,21 +12,16 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from pkm import io
-from pkm.errors import UnknownNameError
-from pkm.reproduce import gao1998, lara_molina2016, wu2008
+from pkm import io, registry
 from pkm.reproduce.report import write_report
-
-PAPERS = {"gao1998": gao1998, "lara_molina2016": lara_molina2016, "wu2008": wu2008}
 
 
 def reproduce(key: str, out: Path, *, quick: bool = False) -> dict[str, Any]:
     """Run one paper's reproduction into ``out/key``; returns a summary."""
-    if key not in PAPERS:
-        raise UnknownNameError("paper", key, [*sorted(PAPERS), "all"])
+    paper = registry.paper(key)
     target = Path(out) / key
     with io.staged_folder(target) as stage:
-        report = PAPERS[key].run(stage, quick=quick)
+        report = paper.run(stage, quick=quick)
         write_report(stage, report)
     counts = Counter(c["status"] for c in report["claims"])
     return {"paper": key, "folder": str(target), "counts": dict(sorted(counts.items()))}

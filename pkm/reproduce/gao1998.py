@@ -15,9 +15,9 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-import pkm
-from pkm import indices, io, regions
+from pkm import io, regions, registry
 from pkm.atlas import compute_atlas
+from pkm.mechanism import Mechanism
 from pkm.progress import Progress
 from pkm.reproduce.report import claim, synthesis_record
 from pkm.synthesis import synthesize
@@ -47,7 +47,7 @@ def _settings(quick: bool) -> dict[str, int]:
     }
 
 
-def _designs(m: pkm.Mechanism, count: int, rng: np.random.Generator) -> np.ndarray:
+def _designs(m: Mechanism, count: int, rng: np.random.Generator) -> np.ndarray:
     """Random designs inside Gao's solution space (normalised, L = 1)."""
     space = m.design_spaces["gao1998"]
     u, v, inside = space.chart_grid(64, inset=0.1)
@@ -56,13 +56,13 @@ def _designs(m: pkm.Mechanism, count: int, rng: np.random.Generator) -> np.ndarr
     return space.designs(m.parameters, space.from_chart(U.ravel()[pick], V.ravel()[pick]))
 
 
-def _poses(m: pkm.Mechanism, design: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:
+def _poses(m: Mechanism, design: np.ndarray, count: int, rng: np.random.Generator) -> np.ndarray:
     box = m.workspace_box(design)
     x = rng.uniform(box[:, 0], box[:, 1], size=(8 * count, 2))
     return x[m.reachable(x, design)][:count]
 
 
-def _eq11_and_eq18(m: pkm.Mechanism, designs: np.ndarray, n: int, rng) -> dict[str, float]:
+def _eq11_and_eq18(m: Mechanism, designs: np.ndarray, n: int, rng) -> dict[str, float]:
     """Largest deviations of eq. (11) and of eq. (18) (as printed and corrected) from pkm's values."""
     dev = {"eq11": 0.0, "eq18_printed": 0.0, "eq18_corrected": 0.0}
     for d in designs:
@@ -90,7 +90,7 @@ def _eq11_and_eq18(m: pkm.Mechanism, designs: np.ndarray, n: int, rng) -> dict[s
     return dev
 
 
-def _symmetry(m: pkm.Mechanism, designs: np.ndarray, n: int, rng) -> dict[str, float]:
+def _symmetry(m: Mechanism, designs: np.ndarray, n: int, rng) -> dict[str, float]:
     """max |1/kappa(x, y) - 1/kappa(-x, y)| within symmetric modes and across out_in / in_out."""
     out = {"within": 0.0, "across": 0.0, "asymmetric_within": 0.0}
     for d in designs:
@@ -104,11 +104,11 @@ def _symmetry(m: pkm.Mechanism, designs: np.ndarray, n: int, rng) -> dict[str, f
     return out
 
 
-def _mode_equalities(m: pkm.Mechanism, designs: np.ndarray, resolution: int) -> dict[str, float]:
+def _mode_equalities(m: Mechanism, designs: np.ndarray, resolution: int) -> dict[str, float]:
     """Largest relative differences of each global index between the modes of eqs. (26) and (27)."""
     out: dict[str, float] = {}
     for name in GLOBALS:
-        spec = indices.global_spec(name)
+        spec = m.global_spec(name)
         val = {
             mode: np.array(regions.sampled_global(m, spec, designs, m.working_mode(mode), resolution=resolution))
             for mode in m.modes
@@ -120,7 +120,7 @@ def _mode_equalities(m: pkm.Mechanism, designs: np.ndarray, resolution: int) -> 
     return out
 
 
-def _local_map(m: pkm.Mechanism, path: Path) -> str:
+def _local_map(m: Mechanism, path: Path) -> str:
     """1/kappa_f over the workspace of each working mode (the symmetry of Figs. 3-5 at a glance)."""
     d = m.design_spaces["gao1998"].designs(m.parameters, [0.8, 0.8, 0.8])
     box = m.workspace_box(d)
@@ -143,7 +143,8 @@ def _local_map(m: pkm.Mechanism, path: Path) -> str:
 
 def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     """Compute every claim and figure into ``folder``; returns the report dictionary."""
-    m = pkm.load("five_bar")
+    m = registry.mechanism("five_bar")
+    space = m.design_spaces["gao1998"]
     s = _settings(quick)
     rng = np.random.default_rng(1998)
     bar = Progress(6, "gao1998")
@@ -156,7 +157,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     figures, atlases = [_local_map(m, folder / "local_inverse_condition.png")], {}
     for name, fig_no in zip(GLOBALS, ("4-5", "6, 8", "7, 9"), strict=True):
         atlas = compute_atlas(
-            m, name, space="gao1998", resolution=s["atlas_resolution"], pose_resolution=s["pose_resolution"]
+            m, m.global_spec(name), space=space, resolution=s["atlas_resolution"], pose_resolution=s["pose_resolution"]
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
         atlas.plot(folder / f"atlas_{name}.png", min_points=s["pose_resolution"] ** 2 // 50)
@@ -164,7 +165,9 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         atlases[name] = (atlas, fig_no)
         bar.advance()
     result = synthesize(
-        "five_bar.max_gci_miw", resolution=s["synthesis_resolution"], baseline_resolution=s["baseline_resolution"]
+        registry.problem("five_bar.max_gci_miw"),
+        resolution=s["synthesis_resolution"],
+        baseline_resolution=s["baseline_resolution"],
     )
     bar.advance()
     bar.close()
@@ -260,17 +263,21 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
                 "holds at least 2% of the pose grid",
                 )
             )
-    o, b = result.optimum, result.baseline
+    o, grid = result.optimum, result.baselines["grid"]
+    b = grid.best
+    r = space.normalised(list(o.design.values()))
     beyond = {
         **synthesis_record(result),
+        "design_normalised": r,
+        "baseline_design_normalised": space.normalised(list(b.design.values())),
         "text": (
             f"IPOPT maximises the GCI over the maximum inscribed workspace (out_out, MIC radius >= 0.3 L): "
-            f"r = ({o.normalised[0]:.4f}, {o.normalised[1]:.4f}, {o.normalised[2]:.4f}) with GCI "
+            f"r = ({r['r1']:.4f}, {r['r2']:.4f}, {r['r3']:.4f}) with GCI "
             f"{o.objective:.6f}, verified {o.verified_objective:.6f} at 4x the quadrature and "
             f"{o.sampled_objective:.6f} on a grid of {o.sampled_points} points, in "
             f"{result.optimizer['wall_time_s']:.2f} s and {result.optimizer['evaluations']} evaluations. "
-            f"The atlas-grid baseline ({result.baseline_cost['evaluations']} designs, "
-            f"{result.baseline_cost['wall_time_s']:.2f} s) reaches {b.objective:.6f} "
+            f"The atlas-grid baseline ({grid.evaluations} designs, "
+            f"{grid.wall_time_s:.2f} s) reaches {b.objective:.6f} "
             f"(verified {b.verified_objective:.6f})."
         ),
     }

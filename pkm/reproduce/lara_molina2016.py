@@ -17,10 +17,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-import pkm
-from pkm import io, regions
+from pkm import io, regions, registry
 from pkm.atlas import compute_atlas
 from pkm.batch import evaluate
+from pkm.mechanism import Mechanism
 from pkm.progress import Progress
 from pkm.reproduce.report import claim, synthesis_record
 from pkm.synthesis import synthesize
@@ -50,11 +50,11 @@ def _settings(quick: bool) -> dict[str, int]:
     }
 
 
-def _design(m: pkm.Mechanism, r: tuple[float, float, float]) -> np.ndarray:
+def _design(m: Mechanism, r: tuple[float, float, float]) -> np.ndarray:
     return m.design_spaces[SPACE].designs(m.parameters, list(r))
 
 
-def _usable(m: pkm.Mechanism, d: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _usable(m: Mechanism, d: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Grid poses over the workspace box, the mask of the usable workspace and the box.
 
     The usable workspace (Liu et al., the paper's ref. [1]) is the singularity-free region of the working
@@ -88,7 +88,7 @@ def _in_disc(x: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
     return np.sum((x - centre) ** 2, axis=1) <= radius**2
 
 
-def _mic_checks(m: pkm.Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
+def _mic_checks(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 2: the MIC of two designs inside their usable workspace, tangent to singular loci."""
     fig = Figure(figsize=(10, 4.6), layout="constrained")
     FigureCanvasAgg(fig)
@@ -124,7 +124,7 @@ def _mic_checks(m: pkm.Mechanism, path: Path, resolution: int) -> tuple[dict[str
     return out, path.name
 
 
-def _local_dexterity(m: pkm.Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
+def _local_dexterity(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 5: local dynamic dexterity over the usable workspace of r = (1.2, 1.0, 0.8) and the MIW."""
     d = _design(m, FIG2[0])
     centre, radius = m.maximum_inscribed_circle(d)
@@ -164,7 +164,7 @@ def _local_dexterity(m: pkm.Mechanism, path: Path, resolution: int) -> tuple[dic
     return out, path.name
 
 
-def _coriolis(m: pkm.Mechanism, count: int, rng: np.random.Generator) -> dict[str, float]:
+def _coriolis(m: Mechanism, count: int, rng: np.random.Generator) -> dict[str, float]:
     """Eq. 29: C_t with and without Psi_dot, and the skew symmetry of dM_t/dt - 2 C_t (by FD in time)."""
     d = _design(m, FIG2[0])
     centre, radius = m.maximum_inscribed_circle(d)
@@ -193,7 +193,7 @@ def _coriolis(m: pkm.Mechanism, count: int, rng: np.random.Generator) -> dict[st
     }
 
 
-def _frequencies(m: pkm.Mechanism) -> dict[str, float]:
+def _frequencies(m: Mechanism) -> dict[str, float]:
     """Eqs. 37-38 at the MIC centre of r = (1.2, 1.0, 0.8): the 4 eigenvalues of (K_T, M_T)."""
     d = _design(m, FIG2[0])
     centre, _ = m.maximum_inscribed_circle(d)
@@ -207,13 +207,13 @@ def _frequencies(m: pkm.Mechanism) -> dict[str, float]:
 
 def _chart_columns(atlas) -> tuple[np.ndarray, np.ndarray]:
     """Normalised (r1, r2, r3) at every chart node, shape (n, n) each."""
-    space = atlas.mechanism.design_spaces[atlas.space]
+    space = atlas.space
     U, V = np.meshgrid(atlas.u, atlas.v, indexing="ij")
     r = np.array(space.from_chart(U, V))
     return r, U
 
 
-def _discontinuity(m: pkm.Mechanism, resolution: int) -> dict[str, float]:
+def _discontinuity(m: Mechanism, resolution: int) -> dict[str, float]:
     """Global dynamic dexterity on both sides of r2 = r1 + r3 against its change over the same step
     away from the line."""
     space = m.design_spaces[SPACE]
@@ -281,26 +281,30 @@ def _mic_cap_fraction(atlas) -> float:
     return float(np.mean(raw[case2] > inner[case2] + 1e-12))
 
 
-def _synthesis_text(label: str, result) -> dict[str, Any]:
-    o, b = result.optimum, result.baseline
+def _synthesis_text(label: str, result, space) -> dict[str, Any]:
+    o, grid = result.optimum, result.baselines["grid"]
+    b = grid.best
+    r = space.normalised(list(o.design.values()))
+    rb = space.normalised(list(b.design.values()))
     return {
         **synthesis_record(result),
+        "design_normalised": r,
+        "baseline_design_normalised": rb,
         "text": (
-            f"{label}: IPOPT finds r = ({o.normalised[0]:.4f}, {o.normalised[1]:.4f}, {o.normalised[2]:.4f}) "
+            f"{label}: IPOPT finds r = ({r['r1']:.4f}, {r['r2']:.4f}, {r['r3']:.4f}) "
             f"with {o.objective:.6f}, verified {o.verified_objective:.6f} at 4x the nodes and "
             f"{o.sampled_objective:.6f} on a grid of {o.sampled_points} points, in "
             f"{result.optimizer['wall_time_s']:.2f} s and {result.optimizer['evaluations']} evaluations; the "
-            f"atlas-grid baseline ({result.baseline_cost['evaluations']} designs, "
-            f"{result.baseline_cost['wall_time_s']:.2f} s) reaches {b.objective:.6f} "
-            f"(verified {b.verified_objective:.6f}) at r = ({b.normalised[0]:.3f}, {b.normalised[1]:.3f}, "
-            f"{b.normalised[2]:.3f})."
+            f"atlas-grid baseline ({grid.evaluations} designs, "
+            f"{grid.wall_time_s:.2f} s) reaches {b.objective:.6f} "
+            f"(verified {b.verified_objective:.6f}) at r = ({rb['r1']:.3f}, {rb['r2']:.3f}, {rb['r3']:.3f})."
         ),
     }
 
 
 def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     """Compute every claim and figure into ``folder``; returns the report dictionary."""
-    m = pkm.load("five_bar")
+    m = registry.mechanism("five_bar")
     s = _settings(quick)
     rng = np.random.default_rng(2016)
     bar = Progress(7, "lara_molina2016")
@@ -314,8 +318,8 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     atlases = {}
     for name, fig_no in (("dynamic_dexterity", "6"), ("lambda_e", "7")):
         atlas = compute_atlas(
-            m, name, space=SPACE, modes=MODE, region="miw", resolution=s["atlas_resolution"],
-            pose_resolution=s["disc_resolution"],
+            m, m.global_spec(name), space=m.design_spaces[SPACE], modes=MODE, region="miw",
+            resolution=s["atlas_resolution"], pose_resolution=s["disc_resolution"],
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
         atlas.plot(folder / f"atlas_{name}_fig{fig_no}.png")
@@ -328,7 +332,9 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     cap = _mic_cap_fraction(atlases["lambda_e"])
     bar.advance()
     syntheses = [
-        synthesize(name, resolution=s["synthesis_resolution"], baseline_resolution=s["baseline_resolution"])
+        synthesize(
+            registry.problem(name), resolution=s["synthesis_resolution"], baseline_resolution=s["baseline_resolution"]
+        )
         for name in ("five_bar.max_dynamic_dexterity_miw", "five_bar.max_lambda_e_miw")
     ]
     bar.advance()
@@ -476,8 +482,8 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         )
     )
     beyond = [
-        _synthesis_text("Global dynamic dexterity over the MIW", syntheses[0]),
-        _synthesis_text("Elastodynamic index lambda_e", syntheses[1]),
+        _synthesis_text("Global dynamic dexterity over the MIW", syntheses[0], m.design_spaces[SPACE]),
+        _synthesis_text("Elastodynamic index lambda_e", syntheses[1], m.design_spaces[SPACE]),
     ]
     return {
         "paper": "lara_molina2016",

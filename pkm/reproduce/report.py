@@ -28,20 +28,37 @@ def claim(
 
 
 def synthesis_record(result: Any) -> dict[str, Any]:
-    """The fields of a reproduction's ``beyond_paper`` entry for a :class:`pkm.synthesis.SynthesisResult`."""
-    o, b = result.optimum, result.baseline
+    """The fields of a reproduction's ``beyond_paper`` entry for a :class:`pkm.synthesis.SynthesisResult`,
+    labelled by the result's own variable and parameter names; ``<baseline>_objective`` for each
+    baseline and ``baseline_objective`` for the first."""
+    o = result.optimum
+    baselines = {
+        name: {
+            "variables": b.best.variables,
+            "objective": b.best.objective,
+            "verified_objective": b.best.verified_objective,
+            "wall_time_s": b.wall_time_s,
+            "evaluations": b.evaluations,
+            "doc": b.doc,
+        }
+        for name, b in result.baselines.items()
+    }
+    first = next(iter(baselines.values()))
     return {
         "problem": result.problem,
-        "design_normalised": dict(zip(("r1", "r2", "r3"), o.normalised, strict=True)),
+        "sense": result.sense,
+        "variables": o.variables,
+        "design": o.design,
         "objective": o.objective,
         "verified_objective": o.verified_objective,
         "sampled_objective": o.sampled_objective,
+        "sampled_points": o.sampled_points,
         "status": result.status,
-        "baseline_objective": b.objective,
-        "baseline_verified_objective": b.verified_objective,
-        "baseline_design_normalised": dict(zip(("r1", "r2", "r3"), b.normalised, strict=True)),
         "optimizer": result.optimizer,
-        "baseline_cost": result.baseline_cost,
+        "baseline_objective": first["objective"],
+        "baseline_verified_objective": first["verified_objective"],
+        **{f"{name}_objective": b["objective"] for name, b in baselines.items()},
+        "baselines": baselines,
     }
 
 

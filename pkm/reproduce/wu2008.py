@@ -10,6 +10,7 @@ synthesis beyond the paper. Units: Table 1 in mm as in the paper; everything els
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -17,14 +18,20 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-import pkm
-from pkm import io
+from pkm import io, registry
 from pkm.batch import evaluate
 from pkm.dynamics import Trajectory
+from pkm.mechanism import Mechanism
+from pkm.models.slider_gantry.wu2008 import (
+    DEG,
+    k_av_closed_form,
+    two_step_design,
+    two_step_points,
+    workspace_synthesis,
+)
 from pkm.progress import Progress
-from pkm.reproduce.report import claim
-from pkm.synthesis import synthesize
-from pkm.task_synthesis import DEG, k_av_closed_form, two_step_design, workspace_synthesis
+from pkm.reproduce.report import claim, synthesis_record
+from pkm.synthesis import ProblemModel, synthesize
 
 TITLE = "Wu, Wang, Wang, Shao 2008: dimensional synthesis and dynamic manipulability of a planar 2-DOF PM"
 B, H, D2, L2 = 0.5, 0.4, 0.1, 0.2  # Table 1 / section 4.2 [m]
@@ -83,7 +90,7 @@ def _table1_claims() -> list[dict[str, Any]]:
     return claims
 
 
-def _k_av_claims(m: pkm.Mechanism) -> list[dict[str, Any]]:
+def _k_av_claims(m: Mechanism) -> list[dict[str, Any]]:
     design = two_step_design(B, H, 10 * DEG, d2=D2, l2=L2)
     quadrature = float(m.global_index("k_av", design, region="task", resolution=16))
     first = workspace_synthesis(B, H, 10 * DEG)
@@ -123,7 +130,7 @@ def _k_av_claims(m: pkm.Mechanism) -> list[dict[str, Any]]:
     ]
 
 
-def _model_claims(m: pkm.Mechanism, rng: np.random.Generator) -> list[dict[str, Any]]:
+def _model_claims(m: Mechanism, rng: np.random.Generator) -> list[dict[str, Any]]:
     """Virtual work against Lagrange on random states; the symmetry of M."""
     d = m.design().vector()
     box = m.task_rectangle().box
@@ -159,7 +166,7 @@ def _model_claims(m: pkm.Mechanism, rng: np.random.Generator) -> list[dict[str, 
     ]
 
 
-def _forces(m: pkm.Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str]:
+def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str]:
     """Fig. 4: the driving forces along Table 3's trapezoidal move."""
     move = Trajectory.trapezoidal(TABLE3["x0"], TABLE3["x1"], TABLE3["v_max"], TABLE3["a_s"])
     t = (np.arange(samples) + 0.5) / samples * move.duration
@@ -196,7 +203,7 @@ def _forces(m: pkm.Mechanism, path: Path, samples: int) -> tuple[dict[str, Any],
     return out, path.name
 
 
-def _kappa_map(m: pkm.Mechanism, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _kappa_map(m: Mechanism, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     rect = m.task_rectangle()
     xs = np.linspace(*rect.box[0], resolution)
     ys = np.linspace(*rect.box[1], max(resolution // 2, 5))
@@ -220,7 +227,7 @@ def _isotropy(X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
     }
 
 
-def _maps(ms: dict[str, pkm.Mechanism], path: Path, resolution: int) -> tuple[dict[str, Any], str]:
+def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Figs. 6-7: kappa_D over the task rectangle of both variants."""
     fig = Figure(figsize=(11, 4.2))
     FigureCanvasAgg(fig)
@@ -245,7 +252,7 @@ def _maps(ms: dict[str, pkm.Mechanism], path: Path, resolution: int) -> tuple[di
     return out, path.name
 
 
-def _ellipses(ms: dict[str, pkm.Mechanism], path: Path) -> tuple[dict[str, Any], str]:
+def _ellipses(ms: dict[str, Mechanism], path: Path) -> tuple[dict[str, Any], str]:
     """Fig. 5: acceleration ellipses {a : |(J^T)^-1 M a| <= F} over the task rectangle, and their axes on
     the y axis."""
     fig = Figure(figsize=(11, 4.5))
@@ -281,34 +288,28 @@ def _ellipses(ms: dict[str, pkm.Mechanism], path: Path) -> tuple[dict[str, Any],
     return out, path.name
 
 
-def _synthesis_record(result) -> dict[str, Any]:
-    o, g, t, p = result.optimum, result.baseline, result.two_step, result.paper
+def _synthesis_record(result, resolution: int) -> dict[str, Any]:
+    problem = registry.problem(PROBLEM)
+    paper_point = two_step_points(B, H, np.array([10 * DEG]))[0]
+    p = ProblemModel(problem).assess(paper_point, resolution)
+    o, grid, family = result.optimum, result.baselines["grid"], result.baselines["two_step"]
+    g, t = grid.best, family.best
+    theta_1s = math.degrees(math.asin((t.variables["d1"] - B / 2) / t.variables["l"]))
     text = (
         f"Minimise the mean of kappa_D over Wu's 500 x 400 mm rectangle ({PROBLEM}): IPOPT finds l = "
-        f"{o.chart[0] * 1e3:.1f} mm, d1 = {o.chart[1] * 1e3:.1f} mm with {o.objective:.5f} (verified "
+        f"{o.variables['l'] * 1e3:.1f} mm, d1 = {o.variables['d1'] * 1e3:.1f} mm with {o.objective:.5f} (verified "
         f"{o.verified_objective:.5f} at 4x the nodes, {o.sampled_objective:.5f} on a grid of {o.sampled_points} "
         f"points) in {result.optimizer['wall_time_s']:.2f} s and {result.optimizer['evaluations']} evaluations. "
-        f"On the same model Wu's Table 1 design (l = {p.chart[0] * 1e3:.1f}, d1 = {p.chart[1] * 1e3:.1f} mm) "
-        f"has {p.objective:.5f}; the best of Wu's two-step family (theta_1S = "
-        f"{result.two_step_cost['theta_1s_deg']:.2f} deg, {result.two_step_cost['evaluations']} designs, "
-        f"{result.two_step_cost['wall_time_s']:.2f} s) {t.objective:.5f}; a {result.resolutions['baseline_grid']}^2 "
-        f"grid over (l, d1) ({result.baseline_cost['evaluations']} feasible designs, "
-        f"{result.baseline_cost['wall_time_s']:.2f} s) {g.objective:.5f}."
+        f"On the same model Wu's Table 1 design (l = {paper_point[0] * 1e3:.1f}, d1 = {paper_point[1] * 1e3:.1f} mm) "
+        f"has {p.objective:.5f}; the best of Wu's two-step family (theta_1S = {theta_1s:.2f} deg, "
+        f"{family.evaluations} designs, {family.wall_time_s:.2f} s) {t.objective:.5f}; a {grid.resolution}^2 "
+        f"grid over (l, d1) ({grid.evaluations} designs, {grid.wall_time_s:.2f} s) {g.objective:.5f}."
     )
     return {
-        "problem": result.problem,
-        "sense": result.sense,
-        "design": o.design,
-        "objective": o.objective,
-        "verified_objective": o.verified_objective,
-        "sampled_objective": o.sampled_objective,
-        "status": result.status,
-        "optimizer": result.optimizer,
+        **synthesis_record(result),
         "paper_design_objective": p.objective,
-        "two_step_objective": t.objective,
-        "two_step": {"chart_l_d1_m": list(t.chart), **result.two_step_cost},
-        "grid_objective": g.objective,
-        "grid": {"chart_l_d1_m": list(g.chart), **result.baseline_cost},
+        "paper_design_variables": p.variables,
+        "two_step_theta_1s_deg": theta_1s,
         "text": text,
     }
 
@@ -316,7 +317,7 @@ def _synthesis_record(result) -> dict[str, Any]:
 def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     """Compute every claim and figure into ``folder``; returns the report dictionary."""
     s = _settings(quick)
-    asym, sym = pkm.load("slider_gantry"), pkm.load("slider_gantry_symmetric")
+    asym, sym = registry.mechanism("slider_gantry"), registry.mechanism("slider_gantry_symmetric")
     variants = {"asymmetric (Fig. 1)": asym, "symmetric (section 6.3)": sym}
     rng = np.random.default_rng(2008)
     bar = Progress(5, "wu2008")
@@ -328,7 +329,9 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     ellipses, fig5 = _ellipses(variants, folder / "inertia_ellipses_fig5.png")
     maps, fig67 = _maps(variants, folder / "kappa_d_maps_fig6_fig7.png", s["map_resolution"])
     bar.advance()
-    result = synthesize(PROBLEM, resolution=s["synthesis_resolution"], baseline_resolution=s["baseline_resolution"])
+    result = synthesize(
+        registry.problem(PROBLEM), resolution=s["synthesis_resolution"], baseline_resolution=s["baseline_resolution"]
+    )
     bar.advance()
     jump = max(forces["jump_at_switches_N"])
     claims.append(
@@ -406,7 +409,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     ]
     bar.advance()
     bar.close()
-    record = _synthesis_record(result)
+    record = _synthesis_record(result, s["synthesis_resolution"])
     return {
         "paper": "wu2008",
         "title": TITLE,

@@ -30,8 +30,9 @@ from functools import cache
 import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_kinematics
 from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
-from symbolic.loops import LoopClosure, add_first_order
+from symbolic.loops import LoopClosure
 
 r1, r2, r3 = sp.symbols("r1 r2 r3", positive=True)
 m1, m2, c1, c2, g1, g2 = sp.symbols("m1 m2 c1 c2 g1 g2", positive=True)
@@ -111,33 +112,33 @@ def module() -> ModuleSpec:
     """Every function pkm's ``five_bar`` loads."""
     spec = ModuleSpec("five_bar", "symbolic/mechanisms/five_bar.py", "CasADi functions of the symmetric 5R.")
     q, margins = inverse_kinematics()
-    spec.add(
-        "inverse_kinematics",
-        (POSE, MODE, DESIGN),
-        (
-            Output("q", q, "theta1, theta2, phi1, phi2 [rad]"),
-            Output("reach", margins, "1 - cos^2 of each elbow angle; >= 0 where reachable"),
-        ),
-        "Closed-form inverse kinematics of both chains for the elbow signs in mode.",
-    )
     p, q_fk, height2 = forward_kinematics()
-    spec.add(
-        "forward_kinematics",
-        (ACTUATED, ASSEMBLY, DESIGN),
-        (
-            Output("x", p, "end-effector position [m]"),
-            Output("q", q_fk, "theta1, theta2, phi1, phi2 [rad]"),
-            Output("reach", height2, "r2^2 - |A1 A2|^2 / 4; >= 0 where the chains close"),
-        ),
-        "Closed-form forward kinematics: intersection of the circles of radius r2 about the elbows.",
-    )
     loop = loop_closure()
-    add_first_order(
+    add_kinematics(
         spec,
         loop,
-        joints=JOINTS,
         pose=POSE,
+        joints=JOINTS,
+        actuated=ACTUATED,
         design=DESIGN,
+        mode=MODE,
+        inverse=InverseKinematics(
+            q,
+            margins,
+            doc="Closed-form inverse kinematics of both chains for the elbow signs in mode.",
+            q_doc="theta1, theta2, phi1, phi2 [rad]",
+            reach_doc="1 - cos^2 of each elbow angle; >= 0 where reachable",
+        ),
+        forward=ForwardKinematics(
+            p,
+            q_fk,
+            height2,
+            doc="Closed-form forward kinematics: intersection of the circles of radius r2 about the elbows.",
+            x_doc="end-effector position [m]",
+            q_doc="theta1, theta2, phi1, phi2 [rad]",
+            reach_doc="r2^2 - |A1 A2|^2 / 4; >= 0 where the chains close",
+        ),
+        assembly=ASSEMBLY,
         units={"h": "m", "H_q": "m/rad", "H_x": "-", "J": "rad/m", "J_f": "m/rad", "psi": "-", "det": "m^2"},
     )
     _add_mic(spec)
@@ -189,9 +190,9 @@ def chains() -> tuple[Chain, Chain]:
     ):
         elbow = base + r1 * _e(th)
         bodies = (
-            Body(f"proximal{i}", m1, base + c1 * r1 * _e(th), g1 * m1 * r1**2, th),
-            Body(f"distal{i}", m2, elbow + c2 * r2 * _e(ph), g2 * m2 * r2**2, ph),
-            Body(f"rotor{i}", sp.Integer(0), base, j, tm),
+            Body.planar(f"proximal{i}", m1, centre=base + c1 * r1 * _e(th), inertia=g1 * m1 * r1**2, angle=th),
+            Body.planar(f"distal{i}", m2, centre=elbow + c2 * r2 * _e(ph), inertia=g2 * m2 * r2**2, angle=ph),
+            Body.planar(f"rotor{i}", sp.Integer(0), centre=base, inertia=j, angle=tm),
         )
         out.append(
             Chain(

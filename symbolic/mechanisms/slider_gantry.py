@@ -29,14 +29,15 @@ from functools import cache
 import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_kinematics
 from symbolic.lagrange import Body, Chain, chain_model, project, rate, stack
-from symbolic.loops import LoopClosure, add_first_order
+from symbolic.loops import LoopClosure
 from symbolic.virtual_work import Motion, PivotBody, virtual_work
 
-ell, d1, d2, l2 = sp.symbols("ell d1 d2 l2", positive=True)
+ell, d1, d2, l2 = sp.symbols("l d1 d2 l2", positive=True)
 qs, ql = sp.symbols("qs ql", real=True)
 theta_s, theta_l = sp.symbols("theta_s theta_l", positive=True)
-m11, m21, m12, m22, m13, m23, m4, m_platform = sp.symbols("m11 m21 m12 m22 m13 m23 m4 m_platform", positive=True)
+m11, m21, m12, m22, m13, m23, m4, m_platform = sp.symbols("m11 m21 m12 m22 m13 m23 m4 mN", positive=True)
 I12, I22, I4, s12, s22, s4 = sp.symbols("I12 I22 I4 s12 s22 s4", positive=True)
 m5, I5, s5 = sp.symbols("m5 I5 s5", positive=True)
 g = sp.Symbol("g", nonnegative=True)
@@ -59,6 +60,7 @@ MODE = Port("mode", (sigma1, sigma2), "branch of each chain: +1 slider below its
 ASSEMBLY = Port("assembly", (sigma,), "+1 platform above the line through the links' slider ends, -1 below")
 
 P = sp.Matrix([x, y])
+GRAVITY = sp.Matrix([0, -g, 0])
 
 
 def design_port(symmetric: bool) -> Port:
@@ -150,19 +152,29 @@ def _geometry(symmetric: bool):
     return B1, B2, links
 
 
+def _translating_pivot_body(name: str, mass: sp.Symbol, pivot: sp.Matrix) -> PivotBody:
+    """A body that only translates, with its centre of mass at its pivot."""
+    return PivotBody.planar(name, mass, pivot=pivot, angle=sp.Integer(0), centre=sp.zeros(2, 1), inertia=sp.Integer(0))
+
+
+def _translating_body(name: str, mass: sp.Symbol, centre: sp.Matrix) -> Body:
+    """A body that only translates: its rotational inertia never enters the kinetic energy."""
+    return Body.planar(name, mass, centre=centre, inertia=sp.Integer(0), angle=sp.Integer(0))
+
+
 def pivot_bodies(symmetric: bool) -> list[PivotBody]:
     """Every moving body of Table 2 with the pivots of Wu section 5.1."""
     B1, B2, links = _geometry(symmetric)
-    zero = sp.zeros(2, 1)
     bodies = [
-        PivotBody("slider1", m11, B1, sp.Integer(0), zero, sp.Integer(0)),
-        PivotBody("slider2", m21, B2, sp.Integer(0), zero, sp.Integer(0)),
-        PivotBody("counterweight1", m13, sp.Matrix([B1[0], -q1]), sp.Integer(0), zero, sp.Integer(0)),
-        PivotBody("counterweight2", m23, sp.Matrix([B2[0], -q2]), sp.Integer(0), zero, sp.Integer(0)),
+        _translating_pivot_body("slider1", m11, B1),
+        _translating_pivot_body("slider2", m21, B2),
+        _translating_pivot_body("counterweight1", m13, sp.Matrix([B1[0], -q1])),
+        _translating_pivot_body("counterweight2", m23, sp.Matrix([B2[0], -q2])),
     ]
     for name, m, inertia, s, pivot, th, _ in links:
-        bodies.append(PivotBody(name, m, pivot, sp.pi / 2 - th, s * _up(th), inertia))
-    bodies.append(PivotBody("platform", m_platform, P, sp.Integer(0), zero, sp.Integer(0)))
+        angle = sp.pi / 2 - th
+        bodies.append(PivotBody.planar(name, m, pivot=pivot, angle=angle, centre=s * _up(th), inertia=inertia))
+    bodies.append(_translating_pivot_body("platform", m_platform, P))
     return bodies
 
 
@@ -170,20 +182,20 @@ def chains(symmetric: bool) -> tuple[Chain, Chain]:
     """The same bodies as two open chains in (q_i, theta_i) for the Lagrange derivation; the platform
     rides on chain 1 (its position from B1 and theta1), inertias about the centres of mass."""
     B1, B2, links = _geometry(symmetric)
-    gravity = sp.Matrix([0, -g])
     bodies: dict[int, list[Body]] = {1: [], 2: []}
     for i, (B, m_slider, m_counter) in ((1, (B1, m11, m13)), (2, (B2, m21, m23))):
         bodies[i] += [
-            Body(f"slider{i}", m_slider, B, sp.Integer(0), sp.Integer(0)),
-            Body(f"counterweight{i}", m_counter, sp.Matrix([B[0], -B[1]]), sp.Integer(0), sp.Integer(0)),
+            _translating_body(f"slider{i}", m_slider, B),
+            _translating_body(f"counterweight{i}", m_counter, sp.Matrix([B[0], -B[1]])),
         ]
     for name, m, inertia, s, pivot, th, i in links:
-        bodies[i].append(Body(name, m, pivot + s * _up(th), inertia - m * s**2, sp.pi / 2 - th))
+        centre = pivot + s * _up(th)
+        bodies[i].append(Body.planar(name, m, centre=centre, inertia=inertia - m * s**2, angle=sp.pi / 2 - th))
     platform = B1 + ell * _up(theta1) + sp.Matrix([d2, l2 / 2])
-    bodies[1].append(Body("platform", m_platform, platform, sp.Integer(0), sp.Integer(0)))
+    bodies[1].append(_translating_body("platform", m_platform, platform))
     return (
-        Chain("chain1", (q1, theta1), tuple(bodies[1]), gravity=gravity),
-        Chain("chain2", (q2, theta2), tuple(bodies[2]), gravity=gravity),
+        Chain("chain1", (q1, theta1), tuple(bodies[1]), gravity=GRAVITY),
+        Chain("chain2", (q2, theta2), tuple(bodies[2]), gravity=GRAVITY),
     )
 
 
@@ -194,33 +206,32 @@ def module(symmetric: bool = False) -> ModuleSpec:
     spec = ModuleSpec(name, "symbolic/mechanisms/slider_gantry.py", f"CasADi functions of the slider gantry {variant}.")
     design = design_port(symmetric)
     q, margins = inverse_kinematics()
-    spec.add(
-        "inverse_kinematics",
-        (POSE, MODE, design),
-        (
-            Output("q", q, "q1, q2 [m], theta1, theta2 [rad]"),
-            Output("reach", margins, "l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable"),
-        ),
-        "Closed-form inverse kinematics (Wu eq. 2) for the branch signs in mode, with the slider strokes.",
-    )
     p, q_fk, height2 = forward_kinematics()
-    spec.add(
-        "forward_kinematics",
-        (ACTUATED, ASSEMBLY, design),
-        (
-            Output("x", p, "platform position [m]"),
-            Output("q", q_fk, "q1, q2 [m], theta1, theta2 [rad]"),
-            Output("reach", height2, "l^2 - |C1 C2|^2 / 4 [m^2]; >= 0 where the chains close"),
-        ),
-        "Closed-form forward kinematics: intersection of two circles of radius l.",
-    )
-    loop = loop_closure()
-    add_first_order(
+    add_kinematics(
         spec,
-        loop,
-        joints=JOINTS,
+        loop_closure(),
         pose=POSE,
+        joints=JOINTS,
+        actuated=ACTUATED,
         design=design,
+        mode=MODE,
+        inverse=InverseKinematics(
+            q,
+            margins,
+            doc="Closed-form inverse kinematics (Wu eq. 2) for the branch signs in mode, with the slider strokes.",
+            q_doc="q1, q2 [m], theta1, theta2 [rad]",
+            reach_doc="l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable",
+        ),
+        forward=ForwardKinematics(
+            p,
+            q_fk,
+            height2,
+            doc="Closed-form forward kinematics: intersection of two circles of radius l.",
+            x_doc="platform position [m]",
+            q_doc="q1, q2 [m], theta1, theta2 [rad]",
+            reach_doc="l^2 - |C1 C2|^2 / 4 [m^2]; >= 0 where the chains close",
+        ),
+        assembly=ASSEMBLY,
         units={"h": "m", "H_q": "-, m/rad", "H_x": "-", "J": "-", "J_f": "-", "psi": "-, rad/m", "det": "m^2"},
     )
     centre, half = task_rectangle()
@@ -245,8 +256,7 @@ def dynamic_models(symmetric: bool):
     q_dot, bias = loop.inverse_second_order(POSE_RATES.symbols)
     phi = loop.inverse_map()
     motion = Motion.of(JOINTS.symbols, POSE.symbols, phi, bias, POSE_RATES.symbols)
-    gravity = sp.Matrix([0, -g])
-    vw = virtual_work(pivot_bodies(symmetric), motion, gravity)
+    vw = virtual_work(pivot_bodies(symmetric), motion, GRAVITY)
     joints = stack([chain_model(c) for c in chains(symmetric)], JOINTS.symbols)
     q_a_dot = sp.Matrix([rate(q1), rate(q2)])
     lagrange = project(joints, (q1, q2), loop.psi(), loop.psi_dot(list(q_a_dot)))
@@ -259,12 +269,15 @@ def _add_dynamics(spec: ModuleSpec, symmetric: bool) -> None:
     J = loop.jacobian()
     J_T_inv = J.T.adjugate() / J.det(method="berkowitz")
     a = sp.Matrix(POSE_ACCELERATIONS.symbols)
+    # Every body moves in the plane z = 0: only the x, y rows of H and the z row of G are non-zero.
+    H = sp.Matrix.vstack(*(w.H[:2, :] for w in vw.wrenches))
+    G = sp.Matrix.vstack(*(w.G[2, :] for w in vw.wrenches))
     spec.add(
         "partial_velocities",
         (JOINTS, POSE, design),
         (
-            Output("H", sp.Matrix.vstack(*(w.H for w in vw.wrenches)), "pivot partial velocities, 2 rows each [-]"),
-            Output("G", sp.Matrix.vstack(*(w.G for w in vw.wrenches)), "angular partial velocities, 1 row each [1/m]"),
+            Output("H", H, "pivot partial velocities, 2 rows each [-]"),
+            Output("G", G, "angular partial velocities, 1 row each [1/m]"),
         ),
         "Partial velocity and angular velocity matrices of every body (Wu eqs. 19-26), bodies in the order "
         "slider1, slider2, counterweight1, counterweight2, link1, link3, link2"

@@ -18,8 +18,9 @@ import numpy as np
 
 from pkm.design import Condition, Parameter
 from pkm.errors import DesignError
-from pkm.mechanism import Branch, DesignLike, Mechanism
-from pkm.regions import ParametrisedRegion
+from pkm.kinematics import Branch, DesignLike
+from pkm.mechanism import Mechanism
+from pkm.regions import Rectangle
 
 DEG = math.pi / 180
 INF = math.inf
@@ -153,18 +154,15 @@ class SliderGantry(Mechanism):
     pose_names = ("x", "y")
     pose_units = ("m", "m")
     actuator_names = ("q1", "q2")
-    design_spaces: ClassVar[dict] = {}
-
-    def parametrised_regions(self) -> dict[str, ParametrisedRegion]:
-        return {
-            "task": ParametrisedRegion(
-                "task",
-                "task_rectangle",
-                "task rectangle Q1Q2Q3Q4 of Wu Fig. 2: the largest rectangle centred on x = 0 with "
-                "theta_s <= |theta_i| <= theta_l and both sliders within [qs, ql] (mode below)",
-                shape="rectangle",
-            )
-        }
+    actuator_units = ("m", "m")
+    regions: ClassVar[dict[str, Rectangle]] = {
+        "task": Rectangle(
+            "task",
+            "task rectangle Q1Q2Q3Q4 of Wu Fig. 2: the largest rectangle centred on x = 0 with "
+            "theta_s <= |theta_i| <= theta_l and both sliders within [qs, ql] (mode below)",
+            function="task_rectangle",
+        )
+    }
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """|x| <= l - d1 (both links reach); y within the strokes plus or minus l and l2/2."""
@@ -174,7 +172,7 @@ class SliderGantry(Mechanism):
 
     def task_rectangle(self, design: DesignLike = None) -> TaskRectangle:
         """The design's task rectangle Q1Q2Q3Q4 (Wu section 4.1); :class:`DesignError` if it is empty."""
-        vector = self._design_vector(design)
+        vector = self.design_vector(design)
         centre, half = (np.asarray(a, dtype=float).ravel() for a in self.functions["task_rectangle"](vector))
         if not (half[0] > 0 and half[1] > 0):
             d = self.design_dict(vector)

@@ -1,0 +1,213 @@
+"""Local performance indices of a posture, for n x n matrices.
+
+A local index is a CasADi function of matrices at one pose: the Jacobians J and J_f of the generated
+``first_order`` (q_a_dot = J x_dot, x_dot = J_f q_a_dot), or the inertia matrices of ``inertia``. The
+same graph serves the batched evaluation and the exact design gradients of the global indices. Gao
+1998's [J] is pkm's forward Jacobian J_f.
+
+Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formulas of Gao 1998 and
+the trigonometric solution of the characteristic cubic of a symmetric 3 x 3 matrix (Smith 1961).
+Where both J and J_f enter, the smallest singular value of one is the inverse of the largest of the
+other, which the closed forms give to full relative accuracy even near a singularity.
+
+A pose mixing metres and radians is normalised by the mechanism's characteristic length before any
+index is taken (see :mod:`pkm.regions.pipeline`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from pkm.errors import PkmError
+
+MAX_DIMENSION = 3
+ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the closed form finite at A = a I
+
+
+@dataclass(frozen=True)
+class LocalIndex:
+    """A local index: key, meaning, unit, documented range, its value where the pose is singular, the
+    generated function (``source``) and outputs (``arguments``) it is computed from, and its formula
+    on CasADi matrices."""
+
+    name: str
+    doc: str
+    unit: str
+    lower: float
+    upper: float
+    at_singularity: float
+    formula: Callable[..., ca.SX]
+    source: str = "first_order"
+    arguments: tuple[str, ...] = ("J", "J_f")
+
+
+def _check_square(A: ca.SX) -> int:
+    n = A.size1()
+    if A.size2() != n or not 1 <= n <= MAX_DIMENSION:
+        raise PkmError(
+            f"local indices need square matrices of size 1 to {MAX_DIMENSION}; got {A.size1()} x {A.size2()}"
+        )
+    return n
+
+
+def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """Largest and smallest eigenvalue of a symmetric n x n matrix (n <= 3) in closed form."""
+    n = _check_square(S)
+    if n == 1:
+        return S[0, 0], S[0, 0]
+    if n == 2:
+        mean = (S[0, 0] + S[1, 1]) / 2
+        radius = ca.sqrt(((S[0, 0] - S[1, 1]) / 2) ** 2 + S[0, 1] ** 2)
+        return mean + radius, mean - radius
+    q = ca.trace(S) / 3
+    off = S[0, 1] ** 2 + S[0, 2] ** 2 + S[1, 2] ** 2
+    p = ca.sqrt(ca.fmax(((S[0, 0] - q) ** 2 + (S[1, 1] - q) ** 2 + (S[2, 2] - q) ** 2 + 2 * off) / 6, ISOTROPIC))
+    r = ca.det((S - q * ca.SX.eye(3)) / p) / 2
+    phi = ca.acos(ca.fmin(ca.fmax(r, -1), 1)) / 3
+    return q + 2 * p * ca.cos(phi), q + 2 * p * ca.cos(phi + 2 * math.pi / 3)
+
+
+def extreme_singular_values(A: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """sigma_max, sigma_min of an n x n matrix (n <= 3); for n = 2 in Gao's closed form
+    (sigma_max sigma_min = |det A|)."""
+    n = _check_square(A)
+    if n == 1:
+        return ca.fabs(A[0, 0]), ca.fabs(A[0, 0])
+    if n == 2:
+        frob2 = ca.sumsqr(A)
+        det = ca.fabs(A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0])
+        smax = ca.sqrt((frob2 + ca.sqrt(ca.fmax(frob2**2 - 4 * det**2, 0))) / 2)
+        return smax, det / smax
+    largest, smallest = symmetric_eigenvalues(A.T @ A)
+    return ca.sqrt(largest), ca.sqrt(ca.fmax(smallest, 0))
+
+
+def largest_singular_value(A: ca.SX) -> ca.SX:
+    return extreme_singular_values(A)[0]
+
+
+def _inverse_condition_f(J: ca.SX, J_f: ca.SX) -> ca.SX:
+    """1/kappa_f = n / sqrt(tr(J J^T) tr(J^-1 J^-T)) with J^-1 = J_f (Gao eqs. 8-11)."""
+    return J.size1() / ca.sqrt(ca.sumsqr(J) * ca.sumsqr(J_f))
+
+
+def _inverse_condition_2(J: ca.SX, J_f: ca.SX) -> ca.SX:
+    """1/kappa_2 = sigma_min(J) / sigma_max(J) = 1 / (sigma_max(J) sigma_max(J_f))."""
+    return 1 / (largest_singular_value(J) * largest_singular_value(J_f))
+
+
+def _manipulability(_J: ca.SX, J_f: ca.SX) -> ca.SX:
+    """w = sqrt(det(J_f J_f^T)) = |det J_f| (Yoshikawa): output velocity volume per unit actuator rates."""
+    return ca.fabs(ca.det(J_f))
+
+
+def _ratio(M: ca.SX) -> ca.SX:
+    """1/kappa_2(M) = sigma_min / sigma_max."""
+    smax, smin = extreme_singular_values(M)
+    return smin / smax
+
+
+def _kappa(M: ca.SX) -> ca.SX:
+    """kappa_2(M) = sigma_max / sigma_min."""
+    smax, smin = extreme_singular_values(M)
+    return smax / smin
+
+
+def _symmetric_ratio(M: ca.SX) -> ca.SX:
+    """lambda_min / lambda_max of a symmetric positive definite matrix."""
+    if _check_square(M) == 2:
+        return _ratio(M)
+    largest, smallest = symmetric_eigenvalues(M)
+    return smallest / largest
+
+
+def _lowest_frequency(S: ca.SX) -> ca.SX:
+    if _check_square(S) == 2:
+        return ca.sqrt(extreme_singular_values(S)[1])
+    return ca.sqrt(ca.fmax(symmetric_eigenvalues(S)[1], 0))
+
+
+LOCAL_INDICES: tuple[LocalIndex, ...] = (
+    LocalIndex(
+        "inverse_condition_f",
+        "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
+        "-", 0.0, 1.0, 0.0, _inverse_condition_f,
+    ),
+    LocalIndex(
+        "inverse_condition_2", "1/kappa_2 = sigma_min(J) / sigma_max(J)", "-", 0.0, 1.0, 0.0, _inverse_condition_2
+    ),
+    LocalIndex(
+        "velocity_max",
+        "||V||max = sigma_max(J_f): largest output speed for unit actuator rates (Gao eq. 22)",
+        "m/rad", 0.0, np.inf, np.inf, lambda _J, J_f: largest_singular_value(J_f),
+    ),
+    LocalIndex(
+        "velocity_min",
+        "||V||min = sigma_min(J_f) = 1 / sigma_max(J): smallest output speed for unit actuator rates (Gao eq. 22)",
+        "m/rad", 0.0, np.inf, 0.0, lambda J, _J_f: 1 / largest_singular_value(J),
+    ),
+    LocalIndex(
+        "manipulability",
+        "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
+        "-", 0.0, np.inf, 0.0, _manipulability,
+    ),
+    LocalIndex(
+        "velocity_ratio",
+        "k_v = |x_dot / q1_dot| at the other outputs' rates 0 = 1 / |J_11|: speed of the first output per unit "
+        "rate of the first actuator (Wu eq. 6, i = 1)",
+        "-", 0.0, np.inf, np.inf, lambda J, _J_f: 1 / ca.fabs(J[0, 0]),
+    ),
+    LocalIndex(
+        "dynamic_dexterity",
+        "1/kappa_2(M_w) = lambda_min / lambda_max of the task-space inertia M_w = J^T M_t J (Lara-Molina eq. 35)",
+        "-", 0.0, 1.0, 0.0, _symmetric_ratio, "inertia", ("M_w",),
+    ),
+    LocalIndex(
+        "kappa_d",
+        "kappa_D = sigma_max / sigma_min of the inertia matrix M_d = (J^T)^-1 M with tau = M_d x_ddot (Wu eqs. 42-43)",
+        "-", 1.0, np.inf, np.inf, _kappa, "inertia", ("M_d",),
+    ),
+    LocalIndex(
+        "natural_frequency",
+        "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
+        "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the rigid-body modes excluded",
+        "rad/s", 0.0, np.inf, np.nan, _lowest_frequency, "inertia", ("S_e",),
+    ),
+)
+
+
+@cache
+def local_function(spec: LocalIndex, n: int) -> ca.Function:
+    """CasADi function ``(*arguments) -> value`` of a local index on n x n matrices."""
+    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+    return ca.Function(spec.name, args, [spec.formula(*args)], list(spec.arguments), [spec.name])
+
+
+@cache
+def epigraph_function(spec: LocalIndex, n: int) -> ca.Function:
+    """CasADi function ``(*arguments, t) -> g``: g >= 0 if and only if the local index is >= t.
+
+    For the natural frequency, sqrt(lambda_min(S_e)) >= t is S_e - t^2 I positive semidefinite, which
+    for n = 2 is a non-negative trace and determinant: polynomial in S_e and t, smooth where the
+    eigenvalues meet (the closed-form lambda_min is not). Other indices use value - t.
+    """
+    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+    t = ca.SX.sym("t")
+    if spec.arguments == ("S_e",) and n == 2:
+        S = args[0] - t**2 * ca.SX.eye(2)
+        g = ca.vertcat(S[0, 0] + S[1, 1], S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0])
+    else:
+        g = local_function(spec, n)(*args) - t
+    return ca.Function(f"{spec.name}_epigraph", [*args, t], [g], [*spec.arguments, "t"], ["margin"])
+
+
+def finish(spec: LocalIndex, value: np.ndarray) -> np.ndarray:
+    """Values of a local index with the non-finite ones (singular poses) replaced by the limit
+    ``spec.at_singularity``."""
+    return np.where(np.isfinite(value), value, spec.at_singularity)

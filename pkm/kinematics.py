@@ -1,0 +1,291 @@
+"""The kinematic core shared by every mechanism: branches, batch shaping, design vectors, the typed
+wrapper over the generated functions, joint solutions and forward kinematics.
+
+Every mechanism's generated module follows one port convention (written by ``symbolic/kinematics.py``):
+
+* ``inverse_kinematics(x, mode, design) -> (q, reach)``: all joints, actuated first; reach >= 0;
+* ``forward_kinematics(q_a, assembly, design) -> (x, q, reach)`` where a closed form exists;
+* ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` with q_a_dot = J x_dot;
+* ``constraint(q, x, design) -> (h, H_q, H_x)``;
+
+and carries the names of its design parameters, pose coordinates and actuators (``PARAMETERS``,
+``POSE``, ``ACTUATORS``), which :class:`GeneratedFunctions` checks against the runtime's on loading.
+Forward kinematics is closed form (:class:`ClosedForm`), a Newton rootfinder on the loop residual
+(:class:`Rootfinder`) or the real roots of an emitted polynomial (:class:`PolynomialRoots`), all behind
+the one contract of :meth:`ForwardKinematics.solve`.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, Protocol
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate, reached
+from pkm.errors import PkmError, PoseError, UnknownNameError
+
+if TYPE_CHECKING:
+    from pkm.design import Design
+
+DesignLike = Mapping[str, float] | Sequence[float] | np.ndarray | None
+ROOT_TOLERANCE = 1e-10  # [residual units] a numerical FK solution closes the loop to this
+IMAGINARY_TOLERANCE = 1e-8  # relative imaginary part below which a polynomial root counts as real
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A working mode (IK branch) or assembly mode (FK branch): name, signs (or index), the papers' names."""
+
+    name: str
+    signs: tuple[float, ...]
+    doc: str
+    aliases: tuple[str, ...] = ()
+
+
+def find_branch(name: str | None, branches: Sequence[Branch], kind: str) -> Branch:
+    """The branch called ``name`` (or one of its aliases); the first one when ``name`` is None."""
+    if name is None:
+        return branches[0]
+    for b in branches:
+        if name == b.name or name in b.aliases:
+            return b
+    raise UnknownNameError(kind, name, [b.name for b in branches])
+
+
+def as_batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
+    """``values`` as an (N, width) array, and whether it was a single 1-D row; :class:`PoseError`
+    naming ``what`` for a wrong shape or non-finite values."""
+    arr = np.asarray(values, dtype=float)
+    single = arr.ndim == 1
+    arr = np.atleast_2d(arr)
+    if arr.ndim != 2 or arr.shape[1] != width:
+        raise PoseError(f"{what} must have shape ({width},) or (N, {width}); got {np.shape(values)}")
+    if not np.all(np.isfinite(arr)):
+        raise PoseError(f"{what} contains non-finite values")
+    return arr, single
+
+
+def unbatch(arr: np.ndarray, single: bool) -> np.ndarray:
+    """The first row of a batch that came from a single 1-D input, else the batch."""
+    return arr[0] if single else arr
+
+
+class FunctionTable(Mapping[str, ca.Function]):
+    """A mechanism's CasADi functions by name; ``source`` says where they come from in messages."""
+
+    def __init__(self, functions: Mapping[str, ca.Function], source: str) -> None:
+        self._table = dict(functions)
+        self.source = source
+
+    def _load(self) -> dict[str, ca.Function]:
+        return self._table
+
+    def __getitem__(self, name: str) -> ca.Function:
+        return self._load()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._load())
+
+    def __len__(self) -> int:
+        return len(self._load())
+
+    def check(self) -> None:
+        """Raise :class:`PkmError` where the functions do not fit the mechanism (nothing to check here)."""
+
+    def require(self, name: str, purpose: str) -> ca.Function:
+        """The function ``name``; :class:`PkmError` saying what needs it when the model lacks it."""
+        functions = self._load()
+        if name not in functions:
+            raise PkmError(
+                f"{purpose} needs the {name!r} function, which {self.source} does not have "
+                f"(it has {', '.join(sorted(functions))})"
+            )
+        return functions[name]
+
+
+class GeneratedFunctions(FunctionTable):
+    """The functions of ``generated.<module>``, loaded on first use with the names of its ports checked.
+
+    Loading checks that the module's ``PARAMETERS``, ``POSE`` and ``ACTUATORS`` equal the runtime's
+    names, so that a design vector means the same on both sides.
+    """
+
+    def __init__(self, module: str, *, parameters: Sequence[str], pose: Sequence[str], actuators: Sequence[str]):
+        super().__init__({}, f"generated.{module}")
+        self.module = module
+        self.expected = {"PARAMETERS": tuple(parameters), "POSE": tuple(pose), "ACTUATORS": tuple(actuators)}
+
+    def check(self) -> None:
+        """Import the generated module (without building its functions) and compare its names."""
+        generated = importlib.import_module(f"generated.{self.module}")
+        for attribute, expected in self.expected.items():
+            found = tuple(getattr(generated, attribute, ()))
+            if found != expected:
+                raise PkmError(
+                    f"generated.{self.module}.{attribute} = {found} differs from the runtime's {expected}: "
+                    "regenerate with `make generate` or fix the mechanism's names"
+                )
+
+    @cached_property
+    def _generated(self) -> dict[str, ca.Function]:
+        self.check()
+        return importlib.import_module(f"generated.{self.module}").build()
+
+    def _load(self) -> dict[str, ca.Function]:
+        return self._generated
+
+
+class KinematicModel(Protocol):
+    """What the generic layers read of a mechanism."""
+
+    name: str
+    n_act: int
+    n_out: int
+    functions: FunctionTable
+    assembly_modes: tuple[Branch, ...]
+
+    def design_vector(self, design: DesignLike | Design) -> np.ndarray: ...
+
+    def working_mode(self, mode: str | None) -> Branch: ...
+
+    def assembly_mode(self, assembly: str | None) -> Branch: ...
+
+
+@dataclass(frozen=True)
+class Joints:
+    """Joint solutions of a batch of poses: poses x (N, n_out), design vector (n_p,), all joints q
+    (N, n_q; NaN where out of reach), the reach mask (N,) and whether the input was a single pose."""
+
+    x: np.ndarray
+    design: np.ndarray
+    q: np.ndarray
+    reachable: np.ndarray
+    single: bool
+
+    def unbatch(self, arr: np.ndarray) -> np.ndarray:
+        return unbatch(arr, self.single)
+
+
+def solve_joints(mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False) -> Joints:
+    """Inverse kinematics of a batch of poses in a working mode; NaN where out of reach, or
+    :class:`PoseError` with ``strict``."""
+    x, single = as_batch(pose, mech.n_out, "pose")
+    d = mech.design_vector(design)
+    signs = np.array(mech.working_mode(mode).signs)
+    q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
+    q = q[:, :, 0]
+    ok = reached(q, reach)
+    if strict and not ok.all():
+        bad = int(np.flatnonzero(~ok)[0])
+        raise PoseError(f"pose {x[bad].tolist()} is out of reach of the {mech.name} in mode {mode or 'default'}")
+    q[~ok] = np.nan
+    return Joints(x, d, q, ok, single)
+
+
+class ForwardKinematics(Protocol):
+    """A forward-kinematics method: poses and all joints from actuated joints in an assembly mode."""
+
+    def solve(
+        self, functions: Mapping[str, ca.Function], q_a: np.ndarray, branch: Branch, design: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Poses (N, n_out), all joints (N, n_q) and the mask (N,) of the actuated joints that close."""
+        ...
+
+
+@dataclass(frozen=True)
+class ClosedForm:
+    """Forward kinematics by the generated closed form ``forward_kinematics(q_a, assembly, design)``."""
+
+    function: str = "forward_kinematics"
+
+    def solve(self, functions, q_a, branch, design):
+        x, q, reach = evaluate(functions[self.function], q_a, np.array(branch.signs), design)
+        x, q = x[:, :, 0], q[:, :, 0]
+        return x, q, reached(x, reach)
+
+
+@dataclass(frozen=True)
+class Rootfinder:
+    """Forward kinematics by Newton's method on the loop residual h(q_a, q_p, x) = 0 in (q_p, x).
+
+    ``seed`` is the name of a generated function ``(q_a, assembly, design) -> z0`` giving the starting
+    point (q_p, x) of an assembly mode; the solution closes the loop to :data:`ROOT_TOLERANCE` and is
+    the assembly mode's where Newton's method converges from its seed.
+    """
+
+    seed: str = "forward_seed"
+    max_iter: int = 50
+
+    @staticmethod
+    def _residual(constraint: ca.Function, n_act: int) -> ca.Function:
+        z = ca.MX.sym("z", constraint.numel_in(0) - n_act + constraint.numel_in(1))
+        p = ca.MX.sym("p", n_act + constraint.numel_in(2))
+        n_q = constraint.numel_in(0)
+        q = ca.vertcat(p[:n_act], z[: n_q - n_act])
+        x = z[n_q - n_act :]
+        h = constraint(q, x, p[n_act:])[0]
+        return ca.Function("loop_residual", [z, p], [h])
+
+    def solve(self, functions, q_a, branch, design):
+        constraint = functions["constraint"]
+        n_act = q_a.shape[1]
+        n_q = constraint.numel_in(0)
+        residual = self._residual(constraint, n_act)
+        finder = ca.rootfinder(
+            "forward_kinematics", "newton", residual, {"max_iter": self.max_iter, "error_on_fail": False}
+        )
+        (z0,) = evaluate(functions[self.seed], q_a, np.array(branch.signs), design)
+        params = np.hstack([q_a, np.broadcast_to(design, (len(q_a), len(design)))])
+        (z,) = evaluate(finder, z0[:, :, 0], params)
+        z = z[:, :, 0]
+        q = np.hstack([q_a, z[:, : n_q - n_act]])
+        x = z[:, n_q - n_act :]
+        with np.errstate(invalid="ignore"):
+            (h,) = evaluate(residual, z, params)
+            ok = np.all(np.abs(h[:, :, 0]) <= ROOT_TOLERANCE * max(1.0, float(np.abs(design).max())), axis=1)
+        return x, q, ok & np.all(np.isfinite(z), axis=1)
+
+
+@dataclass(frozen=True)
+class PolynomialRoots:
+    """Forward kinematics through the real roots of an emitted univariate polynomial.
+
+    ``polynomial(q_a, design) -> c`` gives the coefficients (highest degree first); ``back(root, q_a,
+    design) -> (x, q, reach)`` recovers the pose and the joints from one root. Assembly mode k (its
+    ``signs[0]``, counted from 0) is the k-th real root in ascending order: NaN where fewer exist.
+    """
+
+    polynomial: str = "forward_polynomial"
+    back: str = "forward_from_root"
+
+    def roots(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
+        """Real roots (N, degree), ascending, NaN-padded; by the eigenvalues of the companion matrices."""
+        (c,) = evaluate(functions[self.polynomial], q_a, design)
+        c = c.reshape(len(q_a), -1)
+        degree = c.shape[1] - 1
+        lead = c[:, :1]
+        lead = np.where(lead == 0, np.nan, lead)
+        companion = np.zeros((len(c), degree, degree))
+        companion[:, 0, :] = -c[:, 1:] / lead
+        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+        finite = np.all(np.isfinite(companion), axis=(1, 2))
+        values = np.full((len(c), degree), np.nan + 0j)
+        if finite.any():
+            values[finite] = np.linalg.eigvals(companion[finite])
+        scale = np.maximum(1.0, np.abs(values))
+        real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * scale
+        out = np.where(real, values.real, np.nan)
+        return np.sort(out, axis=1)
+
+    def solve(self, functions, q_a, branch, design):
+        k = int(branch.signs[0])
+        root = self.roots(functions, q_a, design)[:, k : k + 1]
+        x, q, reach = evaluate(functions[self.back], np.nan_to_num(root), q_a, design)
+        x, q = x[:, :, 0], q[:, :, 0]
+        ok = reached(x, reach) & np.isfinite(root[:, 0])
+        return x, q, ok

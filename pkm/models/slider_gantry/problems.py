@@ -1,0 +1,126 @@
+"""The slider gantry's synthesis for a fixed task rectangle (Wu 2008 section 4) and pkm's IPOPT
+synthesis beyond it.
+
+The link length l and the half distance d1 are free; the b x h task rectangle, centred at (0,
+centre_y), must lie in the workspace with the angle margins theta_s <= |theta_i| <= theta_l
+(singularity margins) and within the slider stroke; the platform d2, l2 and Table 2's masses are fixed;
+the links keep their mass and s = l/2 and their inertia about the pivot scales as l^2 from Table 2's
+(at Table 1's l). A design's own angle margins are its extreme link angles over the rectangle and its
+strokes put the rectangle's bottom and top on the slider limits, so that its task region is the
+rectangle. A global index over the rectangle is optimised with IPOPT, compared with Wu's two-step
+family (theta_1S swept) and with a grid over (l, d1), all on the same model.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from pkm import registry
+from pkm.models.slider_gantry.wu2008 import DEG, asin, required_stroke, sqrt, two_step_angles, two_step_points
+from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
+
+WIDTH, HEIGHT, CENTRE_Y = 0.5, 0.4, 0.5  # Wu's task rectangle [m]
+D2, L2 = 0.1, 0.2  # Wu's Table 1 platform [m]
+THETA_S, THETA_L = 10 * DEG, 80 * DEG  # Wu's angle margins
+MAX_STROKE = 0.9  # [m] Wu's stroke
+MAX_FRAME_WIDTH = 1.0  # [m] 2 (d1 + d2)
+MIN_K_AV = 1.0
+REFERENCE_LENGTH = 0.6164  # [m] Table 1's l, at which Table 2's link inertias hold
+TWO_STEP_SAMPLES = 351
+SCALED_INERTIAS = ("I12", "I22", "I4", "I5")
+HALF_LENGTH_OFFSETS = ("s12", "s22", "s4", "s5")
+
+
+def task_design(mech: Any, length: Any, d1: Any) -> list[Any]:
+    """The design vector (parameter order) of (l, d1) for Wu's task rectangle: floats, arrays or CasADi."""
+    base = dict(mech.design())
+    b, h = WIDTH, HEIGHT
+    values = {
+        **base,
+        "l": length,
+        "d1": d1,
+        "d2": D2,
+        "l2": L2,
+        "qs": CENTRE_Y - h / 2 - L2 / 2 - sqrt(length**2 - (d1 - b / 2) ** 2),
+        "ql": CENTRE_Y + h / 2 - L2 / 2 - sqrt(length**2 - (d1 + b / 2) ** 2),
+        "theta_s": asin((d1 - b / 2) / length),
+        "theta_l": asin((d1 + b / 2) / length),
+    }
+    scale = (length / REFERENCE_LENGTH) ** 2
+    for name in SCALED_INERTIAS:
+        if name in base:
+            values[name] = base[name] * scale
+    for name in HALF_LENGTH_OFFSETS:
+        if name in base:
+            values[name] = length / 2
+    names = mech.parameter_names()
+    if isinstance(length, np.ndarray) or isinstance(d1, np.ndarray):
+        shape = np.broadcast_shapes(np.shape(length), np.shape(d1))
+        return np.stack([np.broadcast_to(np.asarray(values[n], dtype=float), shape) for n in names], axis=-1)
+    return [values[n] for n in names]
+
+
+def _family() -> np.ndarray:
+    return two_step_points(WIDTH, HEIGHT, two_step_angles(THETA_S, TWO_STEP_SAMPLES))
+
+
+def _min_kappa_d_task() -> Problem:
+    mech = registry.mechanism("slider_gantry")
+    task = mech.regions["task"].at((0.0, CENTRE_Y), (WIDTH / 2, HEIGHT / 2))
+    quantities = {
+        "kappa_d_mean": Quantity(registry.global_index("kappa_d_mean"), task),
+        "k_av": Quantity(registry.global_index("k_av"), task),
+    }
+    constraints = (
+        Constraint("theta_1 >= theta_s over the rectangle", lambda t: t["d1"] - WIDTH / 2 - t["l"] * math.sin(THETA_S)),
+        Constraint("theta_2 <= theta_l over the rectangle", lambda t: t["l"] * math.sin(THETA_L) - t["d1"] - WIDTH / 2),
+        Constraint("stroke <= max_stroke", lambda t: MAX_STROKE - required_stroke(t["l"], t["d1"], WIDTH, HEIGHT)),
+        Constraint("frame width 2 (d1 + d2) <= max_frame_width", lambda t: MAX_FRAME_WIDTH - 2 * (t["d1"] + D2)),
+        Constraint("k_av >= min_k_av", lambda t: t["k_av"], MIN_K_AV),
+    )
+    family = _family()
+    every = max(len(family) // 9, 1)
+    problem = Problem(
+        name="slider_gantry.min_kappa_d_task",
+        doc=(
+            "minimise the mean of kappa_D (Wu eq. 44) over Wu's 500 x 400 mm task rectangle in the link "
+            "length l and the half distance d1, with the angle margins 10 <= |theta_i| <= 80 deg, the "
+            "stroke at most Wu's 900 mm, the frame width 2 (d1 + d2) at most 1 m and k_av >= 1; Table 2 "
+            "masses, link inertia scaled with l^2; against Wu's two-step family (theta_1S swept) and a grid"
+        ),
+        mechanism=mech,
+        variables=(
+            Variable("l", 0.4, 1.2, "m", "length of each link"),
+            Variable("d1", 0.25, 0.75, "m", "Wu's half distance between the slider joints, less d2"),
+        ),
+        design=lambda w: task_design(mech, w[0], w[1]),
+        quantities=quantities,
+        objective=Objective.of("kappa_d_mean", quantities["kappa_d_mean"]),
+        constraints=constraints,
+        mode="below",
+        starting_points=lambda: family[::every],
+        max_iter=200,
+        notes={
+            "width": WIDTH, "height": HEIGHT, "centre_y": CENTRE_Y, "d2": D2, "l2": L2,
+            "theta_s": THETA_S, "theta_l": THETA_L, "max_stroke": MAX_STROKE,
+            "max_frame_width": MAX_FRAME_WIDTH, "min_k_av": MIN_K_AV,
+        },
+    )
+    baselines = (
+        problem.grid_baseline(61),
+        Baseline(
+            "two_step",
+            "Wu's two-step family: eqs. 14-15 with theta_1S swept from theta_s to 44.9 deg",
+            lambda n: two_step_points(WIDTH, HEIGHT, two_step_angles(THETA_S, n)),
+            TWO_STEP_SAMPLES,
+            follows_resolution=False,
+        ),
+    )
+    return Problem(**{**problem.__dict__, "baselines": baselines})
+
+
+def problems() -> tuple[Problem, ...]:
+    return (_min_kappa_d_task(),)

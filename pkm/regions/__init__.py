@@ -1,0 +1,53 @@
+"""Regions over which global indices are taken (DESIGN.md section 5).
+
+* :mod:`pkm.regions.shapes`: parametrised regions, small shape classes with one protocol (disc,
+  rectangle, box, cylinder, a domain between curves), each with a fixed quadrature mapped into the
+  region that the design places;
+* :mod:`pkm.regions.sampled`: the sampled reachable workspace, an n-D grid with a mask;
+* :mod:`pkm.regions.pipeline`: the one fused graph pose -> IK -> first order (and inertia) -> local index;
+* :mod:`pkm.regions.quadrature`: global indices over parametrised regions with exact design gradients.
+
+To add a shape, subclass :class:`PlacedRegion` (a reference rule, the inside test, boundary points)
+or implement the same three methods as :class:`MappedSquare`.
+"""
+
+from pkm.regions.pipeline import Evaluation, evaluate_at, pipeline
+from pkm.regions.quadrature import (
+    QUADRATURE_RESOLUTION,
+    global_value,
+    node_values,
+    parametrised_global,
+    quadrature_function,
+    quadrature_value,
+    sampled_check,
+    value_function,
+)
+from pkm.regions.sampled import SAMPLED_RESOLUTION, SINGULARITY_MARGIN, SampledWorkspace, sampled_global
+from pkm.regions.shapes import Box, Cylinder, Disc, MappedSquare, PlacedRegion, Rectangle, grid
+from pkm.regions.value import GlobalValue
+
+__all__ = [
+    "QUADRATURE_RESOLUTION",
+    "SAMPLED_RESOLUTION",
+    "SINGULARITY_MARGIN",
+    "Box",
+    "Cylinder",
+    "Disc",
+    "Evaluation",
+    "GlobalValue",
+    "MappedSquare",
+    "PlacedRegion",
+    "Rectangle",
+    "SampledWorkspace",
+    "evaluate_at",
+    "global_value",
+    "grid",
+    "node_values",
+    "parametrised_global",
+    "pipeline",
+    "quadrature_function",
+    "quadrature_value",
+    "sampled_check",
+    "sampled_global",
+    "value_function",
+]

@@ -1,0 +1,151 @@
+"""The one fused pipeline: pose -> inverse kinematics -> first order (and inertia) -> local indices.
+
+:func:`pipeline` composes a mechanism's generated ``inverse_kinematics``, the generated functions the
+local indices read (``first_order``, ``inertia``) and the indices' formulas into one ``casadi.SX``
+graph ``(x, mode, design) -> (q, reach, values...)``. Everything that evaluates a local index uses it:
+local indices at poses, the sampled regions and atlases (numerically, through :func:`evaluate_at`),
+and the quadratures of the parametrised regions (mapped over the nodes, symbolically in the design).
+
+Poses that mix metres and radians are normalised by a characteristic length L of the design before any
+index is taken: each angular coordinate is replaced by the arc length L theta (Gosselin 1990; Angeles
+2007 section 5.7), so that the matrices become
+
+    J_n = S_q J S_x^-1,  J_f_n = S_x J_f S_q^-1,  M_w_n = S_x^-1 M_w S_x^-1,
+    M_t_n = S_q^-1 M_t S_q^-1,  M_d_n = S_q^-1 M_d S_x^-1,
+
+with S_x = diag(1 for a length, L for an angle) over the pose and S_q likewise over the actuators.
+A mechanism whose pose and actuators each have one unit is left as it is (its indices are invariant
+to a uniform scaling).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any, Protocol
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate, reached
+from pkm.errors import PkmError
+from pkm.indices import LocalIndex, finish, local_function
+
+ANGLE = "rad"
+TRANSFORMS: dict[str, tuple[str, str]] = {
+    "J": ("q", "x^-1"),
+    "J_f": ("x", "q^-1"),
+    "M_w": ("x^-1", "x^-1"),
+    "M_t": ("q^-1", "q^-1"),
+    "M_d": ("q^-1", "x^-1"),
+}
+
+
+class PipelineModel(Protocol):
+    name: str
+    n_act: int
+    n_out: int
+    functions: Any
+    pose_units: tuple[str, ...]
+    actuator_units: tuple[str, ...]
+
+    characteristic_length: Any
+
+    def parameter_names(self) -> tuple[str, ...]: ...
+
+
+def mixed(units: Sequence[str]) -> bool:
+    """Whether coordinates of these units mix angles with other units."""
+    return ANGLE in units and len(set(units)) > 1
+
+
+def _scales(mech: PipelineModel, design: ca.SX) -> dict[str, ca.SX] | None:
+    """S_x and S_q as column vectors, or None when no normalisation is needed."""
+    if not (mixed(mech.pose_units) or mixed(mech.actuator_units)):
+        return None
+    if mech.characteristic_length is None:
+        raise PkmError(
+            f"the {mech.name} mixes {', '.join(sorted(set(mech.pose_units) | set(mech.actuator_units)))} "
+            "in its coordinates: its indices need a characteristic_length"
+        )
+    names = mech.parameter_names()
+    length = mech.characteristic_length({n: design[k] for k, n in enumerate(names)})
+
+    def scale(units: Sequence[str]) -> ca.SX:
+        return ca.vertcat(*[length if mixed(units) and u == ANGLE else ca.SX(1) for u in units])
+
+    return {"x": scale(mech.pose_units), "q": scale(mech.actuator_units)}
+
+
+def _side(scales: dict[str, ca.SX], key: str) -> ca.SX:
+    s = scales[key.removesuffix("^-1")]
+    return ca.diag(1 / s if key.endswith("^-1") else s)
+
+
+def normalise(name: str, matrix: ca.SX, scales: dict[str, ca.SX] | None) -> ca.SX:
+    """A matrix of the port convention in normalised coordinates (module docstring)."""
+    if scales is None or name not in TRANSFORMS:
+        return matrix
+    left, right = TRANSFORMS[name]
+    return _side(scales, left) @ matrix @ _side(scales, right)
+
+
+@lru_cache(maxsize=256)
+def pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False) -> ca.Function:
+    """``(x, mode, design) -> (q, reach, *values)``: one fused SX graph for the local indices
+    ``locals_``; with ``matrices`` the normalised argument matrices of the first index follow."""
+    fns = mech.functions
+    ik = fns["inverse_kinematics"]
+    x = ca.SX.sym("x", mech.n_out)
+    mode = ca.SX.sym("mode", ik.numel_in(1))
+    design = ca.SX.sym("design", ik.numel_in(2))
+    q, reach = ik(x, mode, design)
+    scales = _scales(mech, design)
+    sources: dict[str, dict[str, ca.SX]] = {}
+    for spec in locals_:
+        if spec.source not in sources:
+            fn = fns.require(spec.source, f"the local index {spec.name}")
+            sources[spec.source] = dict(zip(fn.name_out(), fn(q, x, design), strict=True))
+    outputs, names = [q, reach], ["q", "reach"]
+    arguments = {}
+    for spec in locals_:
+        missing = [a for a in spec.arguments if a not in sources[spec.source]]
+        if missing:
+            raise PkmError(f"the local index {spec.name} needs {', '.join(missing)} of {spec.source}")
+        args = [normalise(a, sources[spec.source][a], scales) for a in spec.arguments]
+        arguments[spec.name] = args
+        outputs.append(local_function(spec, args[0].size1())(*args))
+        names.append(spec.name)
+    if matrices:
+        outputs += arguments[locals_[0].name]
+        names += list(locals_[0].arguments)
+    label = "_".join(s.name for s in locals_)
+    return ca.Function(f"{mech.name}_{label}", [x, mode, design], outputs, ["x", "mode", "design"], names)
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Local indices at a batch of poses: joints q (N, n_q), the reach mask (N,) and one (N,) array of
+    values per index, NaN where out of reach and the index's limit at singular poses."""
+
+    q: np.ndarray
+    reachable: np.ndarray
+    values: tuple[np.ndarray, ...]
+
+
+def evaluate_at(
+    mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
+) -> Evaluation:
+    """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
+    q, reach, *values = evaluate(pipeline(mech, tuple(locals_)), x, signs, design)
+    q = q[:, :, 0]
+    ok = reached(q, reach)
+    out = []
+    with np.errstate(invalid="ignore"):
+        for spec, raw in zip(locals_, values, strict=True):
+            v = finish(spec, raw[:, 0, 0])
+            v[~ok] = np.nan
+            out.append(v)
+    q[~ok] = np.nan
+    return Evaluation(q, ok, tuple(out))

@@ -1,0 +1,133 @@
+"""Global indices over parametrised regions by a fixed quadrature, differentiable in the design.
+
+The region's nodes are placed by the design (:mod:`pkm.regions.shapes`), the fused pipeline
+(:mod:`pkm.regions.pipeline`) is mapped over them, and the node values are reduced with the region's
+weights: one CasADi graph from the design to the index, with an exact gradient. A region minimum
+(``reduce="min"``) is the minimum over the nodes, which include the region's centre and boundary:
+piecewise smooth in the design, with the gradient of the active node. Syntheses maximise it in the
+smooth epigraph form (:func:`node_values` with ``epigraph``).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.indices import GlobalIndex, epigraph_function, reduce_nodes, reduce_samples
+from pkm.regions.pipeline import pipeline
+from pkm.regions.sampled import sample_values
+from pkm.regions.shapes import check_resolution
+from pkm.regions.value import GlobalValue
+
+QUADRATURE_RESOLUTION = 8
+
+
+def node_values(
+    mech: Any,
+    spec: GlobalIndex,
+    region: Any,
+    branch: Any,
+    design: ca.MX,
+    *,
+    resolution: int,
+    epigraph: ca.MX | None = None,
+) -> tuple[ca.MX, ca.MX]:
+    """The local index at the region's nodes (a 1 x n row, CasADi in the design) and their weights.
+
+    With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
+    the local index is at least t at every node (:func:`pkm.indices.epigraph_function`).
+    """
+    points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
+    n = points.size2()
+    fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
+    outputs = fn(points, ca.DM(branch.signs), design)
+    if epigraph is not None:
+        matrices = outputs[3:]
+        g = epigraph_function(spec.local, matrices[0].size1()).map(n)(*matrices, epigraph)
+        return g, weights
+    return outputs[2], weights
+
+
+def quadrature_value(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
+) -> ca.MX:
+    """The global index over the region as a CasADi expression of the design (no gradient attached)."""
+    values, weights = node_values(mech, spec, region, branch, design, resolution=check_resolution(resolution, 1))
+    return reduce_nodes(values, weights, spec.reduce)
+
+
+@lru_cache(maxsize=64)
+def quadrature_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
+    """CasADi function ``design -> (value, gradient)`` of a global index over a parametrised region."""
+    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
+    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution)
+    return ca.Function(
+        f"{spec.name}_{region.name}_{branch.name}_{resolution}",
+        [design],
+        [value, ca.gradient(value, design)],
+        ["design"],
+        [spec.name, "gradient"],
+    )
+
+
+@lru_cache(maxsize=64)
+def value_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
+    """CasADi function ``design -> value`` of a global index over a parametrised region."""
+    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
+    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution)
+    return ca.Function(
+        f"{spec.name}_{region.name}_{branch.name}_{resolution}_value", [design], [value], ["design"], [spec.name]
+    )
+
+
+def parametrised_global(
+    mech: Any, spec: GlobalIndex, region: Any, designs: np.ndarray, *, branch: Any, resolution: int
+) -> np.ndarray:
+    """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p)."""
+    return evaluate(value_function(mech, spec, region, branch, resolution), designs)[0][:, 0, 0]
+
+
+def global_value(
+    mech: Any,
+    spec: GlobalIndex,
+    region: Any,
+    design: np.ndarray,
+    *,
+    branch: Any,
+    resolution: int,
+    gradient: bool = False,
+) -> tuple[GlobalValue, np.ndarray | None]:
+    """The index of one design, with its exact gradient (n_p,) when asked; the accuracy is the change
+    from the quadrature at half the resolution (from resolution 2 on)."""
+    grad = None
+    if gradient:
+        value, grad = quadrature_function(mech, spec, region, branch, resolution)(design)
+        grad = np.asarray(grad).ravel()
+    else:
+        value = value_function(mech, spec, region, branch, resolution)(design)
+    value = float(value)
+    accuracy = float("nan")
+    if resolution >= 2:
+        coarse = float(value_function(mech, spec, region, branch, resolution // 2)(design))
+        accuracy = abs(value - coarse)
+    points = region.node_count(resolution, spec.reduce)
+    out = GlobalValue(value, points=points, region=region.name, resolution=resolution, accuracy=accuracy)
+    return out, grad
+
+
+def sampled_check(
+    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, resolution: int
+) -> GlobalValue:
+    """A parametrised region's global index by sampling: cell centres of a grid inside the region
+    (and its boundary for a minimum). An independent check of the quadrature; singular poses are kept
+    (margin 0), as in the quadrature."""
+    design = np.asarray(design, dtype=float)
+    x, cell = region.sample(mech.functions, design, resolution, spec.reduce)
+    d = np.broadcast_to(design, (len(x), len(design)))
+    value, keep = sample_values(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
+    result = reduce_samples(value, keep, cell, spec.reduce)
+    return GlobalValue(result, points=int(keep.sum()), region=region.name, resolution=resolution)

@@ -1,0 +1,96 @@
+"""The sampled region ``reachable``: a working mode's workspace as an n-D grid with a mask.
+
+The cell centres of a regular grid over the bounding box of the workspace are kept where the working
+mode reaches them and at least ``singularity_margin`` away from singularity in 1/kappa_f. For atlases
+and for checking; not differentiable in the design. The accuracy reported is the change of the
+index from the grid of every other cell along each axis to the full grid.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from pkm.errors import PkmError
+from pkm.indices import LOCAL_INDICES, GlobalIndex, reduce_samples
+from pkm.regions.pipeline import evaluate_at
+from pkm.regions.shapes import check_resolution, grid
+from pkm.regions.value import GlobalValue
+
+SAMPLED_RESOLUTION = 64
+SINGULARITY_MARGIN = 0.01
+DESIGNS_PER_BATCH = 32
+CONDITION = next(i for i in LOCAL_INDICES if i.name == "inverse_condition_f")
+
+
+@dataclass(frozen=True)
+class SampledWorkspace:
+    """The reachable workspace of a working mode, sampled on a grid over ``mech.workspace_box``."""
+
+    name: str = "reachable"
+    doc: str = "the working mode's reachable workspace, sampled on a grid with a mask"
+
+
+def check_margin(singularity_margin: float) -> float:
+    if not 0 <= singularity_margin < 1:
+        raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
+    return float(singularity_margin)
+
+
+def coarse_mask(resolution: int, dimension: int) -> np.ndarray:
+    """The cells of a resolution^d grid with every index even: a grid of half the resolution."""
+    index = np.indices((resolution,) * dimension).reshape(dimension, -1)
+    return np.all(index % 2 == 0, axis=0)
+
+
+def sample_values(
+    mech: Any, spec: GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The local index of ``spec`` at poses x (N, n) of designs d, and the mask of the poses kept:
+    reachable, 1/kappa_f at least ``margin`` and the value finite."""
+    locals_ = (spec.local,) if spec.local is CONDITION else (spec.local, CONDITION)
+    result = evaluate_at(mech, locals_, x, signs, d)
+    value = result.values[0]
+    kappa = result.values[-1]
+    with np.errstate(invalid="ignore"):
+        keep = result.reachable & (kappa >= margin) & np.isfinite(value)
+    return value, keep
+
+
+def sampled_global(
+    mech: Any,
+    spec: GlobalIndex,
+    designs: np.ndarray,
+    branch: Any,
+    *,
+    resolution: int | None = None,
+    singularity_margin: float = SINGULARITY_MARGIN,
+    progress: Callable[[int], object] | None = None,
+) -> list[GlobalValue]:
+    """Global index over the sampled reachable workspace of each design (D, n_p), vectorised."""
+    resolution = check_resolution(SAMPLED_RESOLUTION if resolution is None else resolution, 2)
+    margin = check_margin(singularity_margin)
+    coarse = coarse_mask(resolution, mech.n_out)
+    signs = np.array(branch.signs)
+    out: list[GlobalValue] = []
+    for start in range(0, len(designs), DESIGNS_PER_BATCH):
+        chunk = designs[start : start + DESIGNS_PER_BATCH]
+        grids = [grid(mech.workspace_box(d), resolution) for d in chunk]
+        value, keep = sample_values(
+            mech, spec, np.concatenate([g[0] for g in grids]), np.repeat(chunk, len(grids[0][0]), axis=0),
+            signs=signs, margin=margin,
+        )
+        value, keep = value.reshape(len(chunk), -1), keep.reshape(len(chunk), -1)
+        for row, mask, (_, cell) in zip(value, keep, grids, strict=True):
+            full = reduce_samples(row, mask, cell, spec.reduce)
+            half = reduce_samples(row[coarse], mask[coarse], cell * 2**mech.n_out, spec.reduce)
+            out.append(
+                GlobalValue(full, points=int(mask.sum()), region="reachable", resolution=resolution,
+                            accuracy=abs(full - half))
+            )
+        if progress is not None:
+            progress(len(chunk))
+    return out

@@ -1,0 +1,355 @@
+"""Parametrised regions: small shape classes sharing one protocol (DESIGN.md section 5).
+
+A region is placed by the design: a generated function ``design -> (centre, size)`` (the maximum
+inscribed circle of the five-bar, the task rectangle of the slider gantry), or fixed with
+:meth:`PlacedRegion.at`. Each shape has a fixed quadrature on its reference domain (the unit disc, the
+cube [-1, 1]^d, or the unit square for a domain between curves) which is mapped into the placed region:
+the nodes and their weights (area or volume elements) are CasADi expressions of the design, so every
+global index built on them is differentiable in the design.
+
+Protocol, shared by every shape:
+
+* ``quadrature(functions, design, resolution, reduce) -> (points, weights)``: points d x n and
+  weights 1 x n, CasADi when the design is CasADi, numpy (n, d) and (n,) when it is numeric. For a
+  minimum (``reduce="min"``) the nodes include the centre and the boundary, with zero weight;
+* ``sample(functions, design, resolution, reduce) -> (points, cell)``: the cell centres (m, d) of a
+  regular grid inside the region and the cell measure, for an independent check by sampling (with the
+  boundary points for a minimum);
+* ``node_count(resolution, reduce)``.
+
+Reference rules: on the unit disc Gauss-Legendre in the radius with weight rho and ``4 resolution``
+equally spaced angles (exact area pi); on [-1, 1]^d and on the unit square Gauss-Legendre with
+``2 resolution`` points per axis; a cylinder is the product of the disc and the segment.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.errors import PkmError
+
+CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
+
+
+def check_resolution(resolution: int, minimum: int) -> int:
+    if isinstance(resolution, bool) or int(resolution) != resolution or resolution < minimum:
+        raise PkmError(f"resolution = {resolution} violates: an integer >= {minimum}")
+    return int(resolution)
+
+
+@lru_cache(maxsize=32)
+def gauss_legendre(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1]."""
+    return np.polynomial.legendre.leggauss(count)
+
+
+@lru_cache(maxsize=32)
+def disc_quadrature(resolution: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (n, 2) and weights (n,) on the unit disc; n = 4 resolution^2; exact area pi."""
+    resolution = check_resolution(resolution, 1)
+    t, w = gauss_legendre(resolution)
+    rho, w_rho = (t + 1) / 2, w / 2 * (t + 1) / 2
+    m = 4 * resolution
+    angle = 2 * np.pi * (np.arange(m) + 0.5) / m
+    nodes = np.stack([np.outer(rho, np.cos(angle)).ravel(), np.outer(rho, np.sin(angle)).ravel()], axis=1)
+    weights = np.outer(w_rho, np.full(m, 2 * np.pi / m)).ravel()
+    return nodes, weights
+
+
+def ring(count: int) -> np.ndarray:
+    """``count`` equally spaced points on the unit circle."""
+    angle = 2 * np.pi * (np.arange(count) + 0.5) / count
+    return np.stack([np.cos(angle), np.sin(angle)], axis=1)
+
+
+def square_perimeter(count: int) -> np.ndarray:
+    """``count`` equally spaced points on the boundary of [-1, 1]^2, counter-clockwise from (-1, -1)."""
+    t = (np.arange(count) + 0.5) / count
+    side, u = np.divmod(4 * t, 1.0)
+    u = 2 * u - 1
+    one = np.ones_like(u)
+    edges = {0: (u, -one), 1: (one, u), 2: (-u, one), 3: (-one, -u)}
+    out = np.zeros((count, 2))
+    for k, (a, b) in edges.items():
+        on = side == k
+        out[on] = np.stack([a[on], b[on]], axis=1)
+    return out
+
+
+def product(*rules: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The tensor product of quadrature rules given as (nodes (n_k, d_k), weights (n_k,))."""
+    nodes, weights = rules[0]
+    for more, w in rules[1:]:
+        nodes = np.hstack([np.repeat(nodes, len(more), axis=0), np.tile(more, (len(nodes), 1))])
+        weights = np.outer(weights, w).ravel()
+    return nodes, weights
+
+
+def _segment(resolution: int, with_ends: bool) -> tuple[np.ndarray, np.ndarray]:
+    t, w = gauss_legendre(2 * resolution)
+    if with_ends:
+        t, w = np.concatenate([t, [-1.0, 0.0, 1.0]]), np.concatenate([w, [0.0, 0.0, 0.0]])
+    return t[:, None], w
+
+
+def grid(box: np.ndarray, resolution: int) -> tuple[np.ndarray, float]:
+    """Cell centres (resolution^d, d) of a d-dimensional box (d, 2) and the cell measure."""
+    resolution = check_resolution(resolution, 2)
+    box = np.asarray(box, dtype=float)
+    axes = [lo + (hi - lo) * (np.arange(resolution) + 0.5) / resolution for lo, hi in box]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    cell = float(np.prod([(hi - lo) / resolution for lo, hi in box]))
+    return np.stack([m.ravel() for m in mesh], axis=1), cell
+
+
+def _numeric(design: Any) -> bool:
+    return not isinstance(design, ca.MX | ca.SX | ca.DM)
+
+
+def _as_numpy(points: ca.DM, weights: ca.DM) -> tuple[np.ndarray, np.ndarray]:
+    return np.asarray(points).T.copy(), np.asarray(weights).ravel()
+
+
+@dataclass(frozen=True)
+class PlacedRegion:
+    """A shape at a centre with a size: from the generated function ``function`` (design -> (centre,
+    size)) or ``fixed`` (centre, size) values. Subclasses set ``dimension`` and the reference rule."""
+
+    name: str
+    doc: str
+    function: str | None = None
+    fixed: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+
+    dimension = 2
+
+    def at(self, centre: Any, size: Any) -> PlacedRegion:
+        """The same shape fixed at ``centre`` with ``size`` instead of following the design."""
+        return replace(self, fixed=(tuple(np.ravel(centre).tolist()), tuple(np.ravel(size).tolist())))
+
+    def placement(self, functions: Any, design: Any) -> tuple[Any, Any]:
+        """(centre, size) for a design: CasADi column vectors (DM for a numeric design)."""
+        if self.fixed is not None:
+            return ca.DM(self.fixed[0]), ca.DM(self.fixed[1])
+        if self.function is None:
+            raise PkmError(f"region {self.name} has neither a placement function nor a fixed placement")
+        centre, size = functions[self.function](ca.DM(design) if _numeric(design) else design)
+        return centre, size
+
+    def scale(self, size: Any) -> Any:
+        """Half-extent of the region along each pose axis (a d x 1 CasADi vector)."""
+        return size
+
+    def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    def inside_reference(self, u: np.ndarray) -> np.ndarray:
+        """Mask of reference points (n, d) strictly inside the reference domain."""
+        return np.all(np.abs(u) < 1, axis=1)
+
+    def boundary_reference(self, count: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:
+        return len(self.reference(check_resolution(resolution, 1), reduce)[1])
+
+    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+        nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
+        centre, size = self.placement(functions, design)
+        scale = self.scale(size)
+        points = ca.repmat(centre, 1, len(nodes)) + ca.diag(scale) @ ca.DM(nodes.T)
+        w = ca.DM(weights).T * _product(scale)
+        if _numeric(design):
+            return _as_numpy(ca.DM(points), ca.DM(w))
+        return points, w
+
+    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+        resolution = check_resolution(resolution, 2)
+        centre, size = (np.asarray(a, dtype=float).ravel() for a in self.placement(functions, np.asarray(design)))
+        scale = np.asarray(self.scale(ca.DM(size)), dtype=float).ravel()
+        box = np.stack([centre - scale, centre + scale], axis=1)
+        points, cell = grid(box, resolution)
+        points = points[self.inside_reference((points - centre) / scale)]
+        if reduce == "min":
+            points = np.concatenate([points, centre + scale * self.boundary_reference(4 * resolution)])
+        return points, cell
+
+
+def _product(scale: Any) -> Any:
+    out = scale[0]
+    for k in range(1, scale.numel()):
+        out = out * scale[k]
+    return out
+
+
+@dataclass(frozen=True)
+class Disc(PlacedRegion):
+    """A disc: centre (2,), size (radius,)."""
+
+    dimension = 2
+
+    def scale(self, size):
+        return ca.repmat(size[0], 2, 1)
+
+    def reference(self, resolution, reduce):
+        nodes, weights = disc_quadrature(resolution)
+        if reduce != "min":
+            return nodes, weights
+        extra = np.concatenate([np.zeros((1, 2)), ring(4 * resolution)])
+        return np.concatenate([extra[:1], nodes, extra[1:]]), np.concatenate([[0.0], weights, np.zeros(len(extra) - 1)])
+
+    def inside_reference(self, u):
+        return np.sum(u**2, axis=1) < 1
+
+    def boundary_reference(self, count):
+        return ring(count)
+
+
+@dataclass(frozen=True)
+class Rectangle(PlacedRegion):
+    """An axis-aligned rectangle: centre (2,), size (half width, half height)."""
+
+    dimension = 2
+
+    def reference(self, resolution, reduce):
+        t, w = gauss_legendre(2 * resolution)
+        nodes, weights = product((t[:, None], w), (t[:, None], w))
+        if reduce != "min":
+            return nodes, weights
+        rim = square_perimeter(8 * resolution)
+        return (
+            np.concatenate([np.zeros((1, 2)), nodes, rim]),
+            np.concatenate([[0.0], weights, np.zeros(len(rim))]),
+        )
+
+    def boundary_reference(self, count):
+        return square_perimeter(count)
+
+
+@dataclass(frozen=True)
+class Box(PlacedRegion):
+    """An axis-aligned box in three pose coordinates: centre (3,), size (three half extents). For a
+    minimum the nodes of each axis add -1, 0 and 1: the centre, the faces, edges and corners."""
+
+    dimension = 3
+
+    def reference(self, resolution, reduce):
+        axis = _segment(resolution, reduce == "min")
+        return product(axis, axis, axis)
+
+    def boundary_reference(self, count):
+        k = max(2, math.ceil(math.sqrt(count / 6)))
+        t = np.linspace(-1, 1, k)[:, None]
+        nodes, _ = product((t, np.ones(k)), (t, np.ones(k)), (t, np.ones(k)))
+        return nodes[np.any(np.abs(nodes) == 1, axis=1)]
+
+
+@dataclass(frozen=True)
+class Cylinder(PlacedRegion):
+    """A cylinder in three pose coordinates with its axis along pose coordinate ``axis``: centre (3,),
+    size (radius, half length). The product of the disc rule and the Gauss-Legendre segment; for a
+    minimum, of the disc's nodes with its centre and rim and the segment's with its ends and middle."""
+
+    axis: int = 0
+    dimension = 3
+
+    def _order(self) -> list[int]:
+        """Positions of (disc u, disc v, axial) in the pose coordinates."""
+        others = [k for k in range(3) if k != self.axis]
+        return [others[0], others[1], self.axis]
+
+    def scale(self, size):
+        out = [None, None, None]
+        out[self._order()[0]] = size[0]
+        out[self._order()[1]] = size[0]
+        out[self.axis] = size[1]
+        return ca.vertcat(*out)
+
+    def _arrange(self, nodes: np.ndarray) -> np.ndarray:
+        out = np.empty_like(nodes)
+        out[:, self._order()] = nodes
+        return out
+
+    def reference(self, resolution, reduce):
+        disc = Disc.reference(self, resolution, reduce)
+        nodes, weights = product(disc, _segment(resolution, reduce == "min"))
+        return self._arrange(nodes), weights
+
+    def inside_reference(self, u):
+        order = self._order()
+        return (u[:, order[0]] ** 2 + u[:, order[1]] ** 2 < 1) & (np.abs(u[:, self.axis]) < 1)
+
+    def boundary_reference(self, count):
+        k = max(2, math.ceil(math.sqrt(count)))
+        side, _ = product((ring(k), np.ones(k)), (np.linspace(-1, 1, k)[:, None], np.ones(k)))
+        caps, _ = product((disc_quadrature(max(1, k // 4))[0], np.ones(4 * max(1, k // 4) ** 2)),
+                          (np.array([[-1.0], [1.0]]), np.ones(2)))
+        return self._arrange(np.concatenate([side, caps]))
+
+
+@dataclass(frozen=True)
+class MappedSquare:
+    """A two-dimensional domain between design-dependent curves, mapped from the unit square.
+
+    The first pose coordinate a runs over [a_lo, a_hi] (the generated function ``bounds``: design ->
+    (a_lo, a_hi)); at each a the second runs from lower(a) to upper(a) (the generated function
+    ``curves``: (a, design) -> (lower, upper)). The unit square (u, v) maps to a = a_lo + (a_hi - a_lo)
+    u, b = lower(a) + (upper(a) - lower(a)) v with the area element (a_hi - a_lo)(upper(a) - lower(a)).
+    """
+
+    name: str
+    doc: str
+    bounds: str
+    curves: str
+
+    dimension = 2
+
+    def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+        t, w = gauss_legendre(2 * resolution)
+        nodes, weights = product((t[:, None], w), (t[:, None], w))
+        if reduce == "min":
+            rim = square_perimeter(8 * resolution)
+            nodes = np.concatenate([np.zeros((1, 2)), nodes, rim])
+            weights = np.concatenate([[0.0], weights, np.zeros(len(rim))])
+        return (nodes + 1) / 2, weights / 4
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:
+        return len(self.reference(check_resolution(resolution, 1), reduce)[1])
+
+    def _map(self, functions: Any, design: Any, nodes: np.ndarray):
+        lo, hi = functions[self.bounds](design)
+        u, v = ca.DM(nodes[:, 0]).T, ca.DM(nodes[:, 1]).T
+        a = lo + (hi - lo) * u
+        lower, upper = functions[self.curves].map(len(nodes))(a, design)
+        b = lower + (upper - lower) * v
+        return ca.vertcat(a, b), (hi - lo) * (upper - lower)
+
+    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+        nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
+        numeric = _numeric(design)
+        points, element = self._map(functions, ca.DM(design) if numeric else design, nodes)
+        w = ca.DM(weights).T * element
+        if numeric:
+            return _as_numpy(ca.DM(points), ca.DM(w))
+        return points, w
+
+    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+        resolution = check_resolution(resolution, 2)
+        d = np.asarray(design, dtype=float)
+        lo, hi = (float(v) for v in functions[self.bounds](d))
+        a = np.linspace(lo, hi, CURVE_SAMPLES)
+        lower, upper = (v[:, 0, 0] for v in evaluate(functions[self.curves], a[:, None], d))
+        box = np.array([[lo, hi], [float(lower.min()), float(upper.max())]])
+        points, cell = grid(box, resolution)
+        at_lower, at_upper = (v[:, 0, 0] for v in evaluate(functions[self.curves], points[:, :1], d))
+        points = points[(points[:, 1] > at_lower) & (points[:, 1] < at_upper)]
+        if reduce == "min":
+            rim, _ = self.quadrature(functions, d, max(1, resolution // 2), "min")
+            points = np.concatenate([points, rim[-8 * max(1, resolution // 2) :]])
+        return points, cell

@@ -1,0 +1,20 @@
+"""The value of a global index with what it rests on."""
+
+from __future__ import annotations
+
+
+class GlobalValue(float):
+    """A global index value that also reports the region, the resolution, how many points it used and
+    the accuracy reached: the change from the same rule at half the resolution (NaN when not estimated)."""
+
+    points: int
+    region: str
+    resolution: int
+    accuracy: float
+
+    def __new__(
+        cls, value: float, *, points: int, region: str, resolution: int, accuracy: float = float("nan")
+    ) -> GlobalValue:
+        obj = super().__new__(cls, value)
+        obj.points, obj.region, obj.resolution, obj.accuracy = points, region, resolution, float(accuracy)
+        return obj

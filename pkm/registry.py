@@ -1,0 +1,110 @@
+"""The one place where a name becomes a mechanism, a synthesis problem, an index or a paper.
+
+Mechanisms and their problems are discovered in the packages of :mod:`pkm.models`: each exports
+``MECHANISMS`` (its Mechanism classes), and its module ``problems`` defines ``problems()`` (its
+synthesis problems, built on first use).
+Papers are the modules of :mod:`pkm.reproduce` that define ``run``. Indices come from the catalogues
+of :mod:`pkm.indices`. Everything below this module takes objects, never names.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import pkgutil
+from functools import cache
+from types import ModuleType
+from typing import Any
+
+from pkm.errors import UnknownNameError
+from pkm.indices import GLOBAL_INDICES, LOCAL_INDICES, GlobalIndex, LocalIndex
+
+MODELS = "pkm.models"
+PAPERS = "pkm.reproduce"
+
+
+def _submodules(package: str) -> list[ModuleType]:
+    root = importlib.import_module(package)
+    return [importlib.import_module(f"{package}.{m.name}") for m in pkgutil.iter_modules(root.__path__)]
+
+
+@cache
+def _model_packages() -> tuple[ModuleType, ...]:
+    return tuple(m for m in _submodules(MODELS) if hasattr(m, "MECHANISMS"))
+
+
+@cache
+def _mechanism_classes() -> dict[str, type]:
+    return {cls.name: cls for package in _model_packages() for cls in package.MECHANISMS}
+
+
+def mechanisms() -> list[str]:
+    """Names of the registered mechanisms."""
+    return sorted(_mechanism_classes())
+
+
+@cache
+def mechanism(name: str) -> Any:
+    """The mechanism registered under ``name`` (one instance per name), its generated names checked."""
+    classes = _mechanism_classes()
+    if name not in classes:
+        raise UnknownNameError("mechanism", name, sorted(classes))
+    mech = classes[name]()
+    mech.functions.check()
+    return mech
+
+
+@cache
+def problems() -> dict[str, Any]:
+    """Every registered synthesis problem by name."""
+    out = {}
+    for package in _model_packages():
+        if importlib.util.find_spec(f"{package.__name__}.problems") is not None:
+            out.update({p.name: p for p in importlib.import_module(f"{package.__name__}.problems").problems()})
+    return out
+
+
+def problem(name: str) -> Any:
+    """The synthesis problem registered under ``name``."""
+    known = problems()
+    if name not in known:
+        raise UnknownNameError("synthesis problem", name, sorted(known))
+    return known[name]
+
+
+def local_indices() -> tuple[LocalIndex, ...]:
+    return LOCAL_INDICES
+
+
+def global_indices() -> tuple[GlobalIndex, ...]:
+    return GLOBAL_INDICES
+
+
+def local_index(name: str) -> LocalIndex:
+    """The local index called ``name``."""
+    for spec in LOCAL_INDICES:
+        if spec.name == name:
+            return spec
+    raise UnknownNameError("local index", name, [s.name for s in LOCAL_INDICES])
+
+
+def global_index(name: str) -> GlobalIndex:
+    """The global index called ``name``."""
+    for spec in GLOBAL_INDICES:
+        if spec.name == name:
+            return spec
+    raise UnknownNameError("index", name, [s.name for s in GLOBAL_INDICES])
+
+
+@cache
+def papers() -> dict[str, ModuleType]:
+    """The reproducible papers by key: the modules of :mod:`pkm.reproduce` that define ``run``."""
+    return {m.__name__.rsplit(".", 1)[1]: m for m in _submodules(PAPERS) if hasattr(m, "run")}
+
+
+def paper(key: str) -> ModuleType:
+    """The reproduction module of the paper ``key``."""
+    known = papers()
+    if key not in known:
+        raise UnknownNameError("paper", key, [*sorted(known), "all"])
+    return known[key]

@@ -1,0 +1,175 @@
+"""A problem turned into CasADi functions of its variables, numeric and symbolic.
+
+One graph per quadrature resolution maps the variables w to the objective, the constraint values and
+the quantities: the design map, the regions' quadratures and the fused pipeline of
+:mod:`pkm.regions` composed, so the NLP has exact derivatives and the grids and checks evaluate the
+same model in batches.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.regions import node_values, quadrature_value, sampled_check
+from pkm.synthesis.problem import Problem, Terms
+
+SAMPLED_FACTOR = 16  # the sampled check's grid per axis, in units of the quadrature resolution
+
+
+@dataclass
+class Candidate:
+    """A design found by one method: its variables, design, objective as optimised, as verified with
+    a quadrature 4x denser, and by sampling each quantity on a grid (with the fewest points used)."""
+
+    variables: dict[str, float]
+    design: dict[str, float]
+    objective: float
+    verified_objective: float = float("nan")
+    sampled_objective: float = float("nan")
+    sampled_points: int = 0
+    feasible: bool = True
+
+
+class ProblemModel:
+    """The problem's objective and constraints in the variables, numeric and symbolic."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        self.mech = problem.mechanism
+        self.branch = self.mech.working_mode(problem.mode)
+        self._functions: dict[int, ca.Function] = {}
+        self._objective: ca.Function | None = None
+        self.lower = np.array([c.lower for c in problem.constraints], dtype=float)
+        self.upper = np.array([c.upper for c in problem.constraints], dtype=float)
+
+    @property
+    def sign(self) -> float:
+        """+1 to minimise the objective, -1 to maximise it."""
+        return 1.0 if self.problem.objective.sense == "min" else -1.0
+
+    def design(self, w: Any) -> Any:
+        """The design vector of the variables (a CasADi column)."""
+        out = self.problem.design([w[k] for k in range(w.numel())])
+        return ca.vertcat(*out) if isinstance(out, list | tuple) else out
+
+    def terms(self, w: Any, design: Any, quantities: dict[str, Any]) -> Terms:
+        names = self.mech.parameter_names()
+        values = {n: design[k] for k, n in enumerate(names)}
+        values.update({v.name: w[k] for k, v in enumerate(self.problem.variables)})
+        values.update(quantities)
+        return Terms(values, self.mech.functions, design)
+
+    def expressions(self, w: Any, quantities: dict[str, Any]) -> tuple[Any, Any]:
+        """The objective and the constraint column at w with the given quantity values."""
+        design = self.design(w)
+        terms = self.terms(w, design, quantities)
+        g = ca.vertcat(*[c.expression(terms) for c in self.problem.constraints])
+        return self.problem.objective.expression(terms), g
+
+    def quantities(self, design: Any, resolution: int) -> dict[str, Any]:
+        return {
+            name: quadrature_value(self.mech, q.index, q.region, self.branch, design, resolution=resolution)
+            for name, q in self.problem.quantities.items()
+        }
+
+    def function(self, resolution: int) -> ca.Function:
+        """w -> (objective, g, *quantities) with the quadratures at ``resolution``."""
+        if resolution not in self._functions:
+            w = ca.MX.sym("w", len(self.problem.variables))
+            quantities = self.quantities(self.design(w), resolution)
+            f, g = self.expressions(w, quantities)
+            self._functions[resolution] = ca.Function(
+                f"{self.problem.name.replace('.', '_')}_{resolution}",
+                [w],
+                [f, g, *quantities.values()],
+                ["w"],
+                ["objective", "constraints", *quantities],
+            )
+        return self._functions[resolution]
+
+    def feasible(self, g: np.ndarray) -> np.ndarray:
+        """Mask of constraint rows (N, m) within their bounds up to the problem's tolerance."""
+        tol = self.problem.feasibility_tolerance
+        with np.errstate(invalid="ignore"):
+            return np.all((g >= self.lower - tol) & (g <= self.upper + tol), axis=1)
+
+    def evaluate(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        """Objective (N,) and feasibility (N,) at the variable points (N, n)."""
+        points = np.atleast_2d(np.asarray(points, dtype=float))
+        f, g, *_ = evaluate(self.function(resolution), points)
+        objective = f[:, 0, 0]
+        ok = self.feasible(g[:, :, 0]) & np.isfinite(objective)
+        return objective, ok
+
+    def best(self, objective: np.ndarray, ok: np.ndarray, count: int = 1) -> np.ndarray:
+        """Indices of the ``count`` best feasible values in the objective's sense."""
+        score = np.where(ok, self.sign * objective, np.inf)
+        order = np.argsort(score, kind="stable")
+        return order[: min(count, int(ok.sum()))]
+
+    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray, bool]:
+        """The NLP (x, f, g) with bounds on g, and whether it is in epigraph form: a region minimum
+        maximised becomes max t subject to the local index >= t at every node."""
+        prob = self.problem
+        name = prob.objective.quantity
+        epigraph = (
+            name is not None and prob.quantities[name].index.reduce == "min" and prob.objective.sense == "max"
+        )
+        w = ca.MX.sym("w", len(prob.variables))
+        if not epigraph:
+            f, g = self.function(resolution)(w)[:2]
+            return {"x": w, "f": self.sign * f, "g": g}, self.lower, self.upper, False
+        t = ca.MX.sym("t")
+        design = self.design(w)
+        _, g = self.expressions(w, self.quantities(design, resolution))
+        quantity = prob.quantities[name]
+        nodes, _ = node_values(
+            self.mech, quantity.index, quantity.region, self.branch, design, resolution=resolution, epigraph=t
+        )
+        lower = np.concatenate([self.lower, np.zeros(nodes.numel())])
+        upper = np.concatenate([self.upper, np.full(nodes.numel(), np.inf)])
+        return {"x": ca.vertcat(w, t), "f": -t, "g": ca.vertcat(g, ca.vec(nodes))}, lower, upper, True
+
+    def candidate(self, point: np.ndarray, objective: float, resolution: int) -> Candidate:
+        """A candidate at ``point`` with its objective verified at twice the resolution (4x the
+        points of a 2-D rule) and by sampling every quantity on a grid of its region."""
+        point = np.asarray(point, dtype=float)
+        design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
+        verified, ok = self.evaluate(point[None], 2 * resolution)
+        sampled, points = {}, []
+        for name, quantity in self.problem.quantities.items():
+            value = sampled_check(
+                self.mech, quantity.index, quantity.region, design, branch=self.branch,
+                resolution=SAMPLED_FACTOR * resolution,
+            )
+            sampled[name] = float(value)
+            points.append(value.points)
+        sampled_objective = float(self._objective_with(point, sampled))
+        return Candidate(
+            variables=dict(zip(self.problem.variable_names, point.tolist(), strict=True)),
+            design=self.mech.design_dict(design),
+            objective=float(objective),
+            verified_objective=float(verified[0]),
+            sampled_objective=sampled_objective,
+            sampled_points=min(points) if points else 0,
+            feasible=bool(ok[0]),
+        )
+
+    def assess(self, point: np.ndarray, resolution: int) -> Candidate:
+        """The candidate at a given point of the variables: its objective at ``resolution``, verified."""
+        objective, _ = self.evaluate(np.atleast_2d(point), resolution)
+        return self.candidate(np.ravel(point), float(objective[0]), resolution)
+
+    def _objective_with(self, point: np.ndarray, quantities: dict[str, float]) -> float:
+        """The objective at ``point`` with the given quantity values in place of the quadratures."""
+        if self._objective is None:
+            w = ca.MX.sym("w", len(self.problem.variables))
+            values = {k: ca.MX.sym(k) for k in self.problem.quantities}
+            f, _ = self.expressions(w, values)
+            self._objective = ca.Function("objective", [w, *values.values()], [f])
+        return float(self._objective(point, *quantities.values()))

@@ -1,0 +1,154 @@
+"""What a synthesis problem states (DESIGN.md section 6).
+
+A :class:`Problem` names its variables with bounds and units, maps them to a complete design vector
+(numpy or CasADi, so that the same map serves the grids and the NLP), names the quantities it reads
+(global indices over regions), states an objective and named constraints as expressions of those
+quantities, the variables, the design parameters and the outputs of generated design functions
+(:class:`Terms`), a working mode, and the baselines it is compared with. Problems are declared by the
+mechanism packages (``pkm/models/<name>/problems.py``) and solved by the one driver,
+:func:`pkm.synthesis.synthesize`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pkm.errors import PkmError
+from pkm.indices import GlobalIndex
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A design variable of a synthesis: name, bounds, unit, meaning."""
+
+    name: str
+    lower: float
+    upper: float
+    unit: str = "-"
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """A global index over a parametrised region, in the problem's working mode."""
+
+    index: GlobalIndex
+    region: Any
+
+
+class Terms(Mapping[str, Any]):
+    """The values an objective or constraint expression reads, by name: the problem's quantities,
+    its variables and the design parameters (numpy or CasADi), and with :meth:`call` the outputs of
+    the mechanism's generated design functions at the design."""
+
+    def __init__(self, values: Mapping[str, Any], functions: Mapping[str, Any], design: Any) -> None:
+        self._values = dict(values)
+        self._functions = functions
+        self._design = design
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in self._values:
+            raise PkmError(f"an expression reads {name!r}, which is none of {', '.join(self._values)}")
+        return self._values[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._values)
+
+    def __len__(self) -> int:
+        return len(self._values)
+
+    def call(self, function: str, output: str) -> Any:
+        """Output ``output`` of the generated function ``function(design)``."""
+        fn = self._functions[function]
+        return fn(self._design)[fn.name_out().index(output)]
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """A named constraint lower <= expression(terms) <= upper."""
+
+    name: str
+    expression: Callable[[Terms], Any]
+    lower: float = 0.0
+    upper: float = math.inf
+
+
+@dataclass(frozen=True)
+class Objective:
+    """The objective: an expression of the terms and its sense (``"max"`` or ``"min"``). ``quantity``
+    names the quantity when the objective is that quantity alone; a region minimum maximised is then
+    solved in epigraph form."""
+
+    expression: Callable[[Terms], Any]
+    sense: str
+    doc: str
+    quantity: str | None = None
+
+    @classmethod
+    def of(cls, name: str, quantity: Quantity) -> Objective:
+        """A quantity as the objective, in its index's sense."""
+        return cls(lambda t: t[name], quantity.index.sense, quantity.index.doc, name)
+
+
+def grid_points(variables: Sequence[Variable], resolution: int) -> np.ndarray:
+    """A regular grid (resolution^n, n) over the variables' bounds, bounds included."""
+    axes = [np.linspace(v.lower, v.upper, resolution) for v in variables]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    return np.stack([m.ravel() for m in mesh], axis=1)
+
+
+@dataclass(frozen=True)
+class Baseline:
+    """A search by the papers' own method, run through the same model: ``points(resolution)`` gives its
+    candidate variable values (N, n); the best feasible one is its result. A baseline that
+    ``follows_resolution`` takes the resolution a caller asks of the baselines instead of its own."""
+
+    name: str
+    doc: str
+    points: Callable[[int], np.ndarray]
+    resolution: int
+    follows_resolution: bool = True
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """A dimensional synthesis: variables, their map to a design, quantities, objective, constraints,
+    working mode, baselines and the resolutions and IPOPT settings it is solved with.
+
+    ``design(values)`` takes the variables in order (arrays of one shape, or CasADi scalars) and returns
+    the complete design vector: (..., n_p) numpy, or an n_p x 1 CasADi column. ``starting_points`` adds
+    screening points (N, n) to the grid over the bounds.
+    """
+
+    name: str
+    doc: str
+    mechanism: Any
+    variables: tuple[Variable, ...]
+    design: Callable[[Sequence[Any]], Any]
+    quantities: Mapping[str, Quantity]
+    objective: Objective
+    constraints: tuple[Constraint, ...] = ()
+    mode: str | None = None
+    baselines: tuple[Baseline, ...] = ()
+    starting_points: Callable[[], np.ndarray] | None = None
+    resolution: int = 8
+    screening_resolution: int = 9
+    starts: int = 4
+    hessian: str = "exact"
+    max_iter: int = 500
+    tol: float = 1e-10
+    feasibility_tolerance: float = 1e-7
+    notes: Mapping[str, Any] = field(default_factory=dict)
+
+    @property
+    def variable_names(self) -> tuple[str, ...]:
+        return tuple(v.name for v in self.variables)
+
+    def grid_baseline(self, resolution: int, doc: str = "the best node of a regular grid over the bounds") -> Baseline:
+        """The grid search over the variables' bounds as a baseline."""
+        return Baseline("grid", doc, lambda n: grid_points(self.variables, n), resolution)

@@ -1,0 +1,190 @@
+"""The kinematic port convention of every mechanism, written by one helper.
+
+pkm's runtime reads the same four functions from every generated module, with the same ports in the
+same order:
+
+* ``inverse_kinematics(x, mode, design) -> (q, reach)``: all joints, actuated first, on the working
+  mode's branch; reach >= 0 where the pose is reachable;
+* ``forward_kinematics(q_a, assembly, design) -> (x, q, reach)``: only where a closed form exists;
+  reach >= 0 where the chains close;
+* ``constraint(q, x, design) -> (h, H_q, H_x)``: the loop closure h(q, x) = 0 and its Jacobians;
+* ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)``: q_a_dot = J x_dot,
+  x_dot = J_f q_a_dot, q_dot = Psi q_a_dot and the singularity measures (:mod:`symbolic.loops`);
+
+and the names of the design parameters, pose coordinates and actuated joints, which the runtime
+checks against its own so that a design vector means the same on both sides. A mechanism supplies the
+maths (:class:`LoopClosure`, :class:`InverseKinematics`, optionally :class:`ForwardKinematics`) and
+its ports; :func:`add_kinematics` emits the rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.loops import LoopClosure
+
+
+@dataclass(frozen=True)
+class InverseKinematics:
+    """A closed-form inverse kinematics on the branch chosen by the signs of the ``mode`` port.
+
+    Attributes
+    ----------
+    q : sympy.Matrix, shape (n_a + n_p, 1)
+        All joints, actuated first, in the pose, mode and design symbols.
+    reach : sympy.Matrix, shape (k, 1)
+        Margins, all >= 0 where the pose is reachable on the branch.
+    doc : str
+        Docstring of the emitted function.
+    q_doc, reach_doc : str
+        Meaning and units of the outputs ``q`` and ``reach``.
+    """
+
+    q: sp.Matrix
+    reach: sp.Matrix
+    doc: str
+    q_doc: str
+    reach_doc: str
+
+
+@dataclass(frozen=True)
+class ForwardKinematics:
+    """A closed-form forward kinematics on the branch chosen by the signs of the ``assembly`` port.
+
+    Attributes
+    ----------
+    x : sympy.Matrix, shape (n_x, 1)
+        The pose, in the actuated joint, assembly and design symbols.
+    q : sympy.Matrix, shape (n_a + n_p, 1)
+        All joints, actuated first.
+    reach : sympy.Matrix, shape (k, 1)
+        Margins, all >= 0 where the chains close.
+    doc : str
+        Docstring of the emitted function.
+    x_doc, q_doc, reach_doc : str
+        Meaning and units of the outputs ``x``, ``q`` and ``reach``.
+    """
+
+    x: sp.Matrix
+    q: sp.Matrix
+    reach: sp.Matrix
+    doc: str
+    x_doc: str
+    q_doc: str
+    reach_doc: str
+
+
+FIRST_ORDER_UNITS = ("h", "H_q", "H_x", "J", "J_f", "psi", "det")
+
+
+def add_kinematics(
+    spec: ModuleSpec,
+    loop: LoopClosure,
+    *,
+    pose: Port,
+    joints: Port,
+    actuated: Port,
+    design: Port,
+    mode: Port,
+    inverse: InverseKinematics,
+    forward: ForwardKinematics | None = None,
+    assembly: Port | None = None,
+    units: dict[str, str],
+) -> None:
+    """Emit the kinematic functions of the port convention (module docstring) and record the names.
+
+    Parameters
+    ----------
+    spec : ModuleSpec
+        The module to add to; its ``parameters``, ``pose`` and ``actuators`` are set to the names of
+        the symbols of ``design``, ``pose`` and ``actuated``.
+    loop : LoopClosure
+        The loop closure h(q_a, q_p, x) = 0 in the symbols of ``actuated``, ``joints`` and ``pose``.
+    pose, joints, actuated, design : Port
+        The ports ``x`` (n_x), ``q`` (n_a + n_p, actuated first), ``q_a`` (n_a) and ``design``.
+    mode : Port
+        The working-mode signs read by ``inverse``.
+    inverse : InverseKinematics
+        The closed-form inverse kinematics.
+    forward : ForwardKinematics, optional
+        The closed-form forward kinematics, with the ``assembly`` port of its branch signs; without it
+        no ``forward_kinematics`` is emitted.
+    units : dict
+        Bracketed units of the outputs of ``constraint`` and ``first_order`` by name: ``h``, ``H_q``,
+        ``H_x``, ``J``, ``J_f``, ``psi`` and ``det`` (both determinants).
+
+    Raises
+    ------
+    ValueError
+        If the ports do not match the loop's coordinates, the joint counts differ, ``forward`` and
+        ``assembly`` are not given together, or a unit is missing.
+    """
+    _check_ports(loop, pose=pose, joints=joints, actuated=actuated)
+    if (forward is None) != (assembly is None):
+        raise ValueError(f"{spec.name}: forward kinematics and the assembly port go together")
+    missing = [k for k in FIRST_ORDER_UNITS if k not in units]
+    if missing:
+        raise ValueError(f"{spec.name}: no units for {missing}")
+    n_q = len(joints.symbols)
+    solutions = [("inverse", inverse.q)] + ([("forward", forward.q)] if forward is not None else [])
+    for kind, q in solutions:
+        if q.shape != (n_q, 1):
+            raise ValueError(f"{spec.name}: {kind} kinematics gives q of shape {q.shape}, not ({n_q}, 1)")
+
+    spec.parameters = tuple(s.name for s in design.symbols)
+    spec.pose = tuple(s.name for s in pose.symbols)
+    spec.actuators = tuple(s.name for s in actuated.symbols)
+    spec.add(
+        "inverse_kinematics",
+        (pose, mode, design),
+        (Output("q", inverse.q, inverse.q_doc), Output("reach", inverse.reach, inverse.reach_doc)),
+        inverse.doc,
+    )
+    if forward is not None:
+        spec.add(
+            "forward_kinematics",
+            (actuated, assembly, design),
+            (
+                Output("x", forward.x, forward.x_doc),
+                Output("q", forward.q, forward.q_doc),
+                Output("reach", forward.reach, forward.reach_doc),
+            ),
+            forward.doc,
+        )
+    spec.add(
+        "constraint",
+        (joints, pose, design),
+        (
+            Output("h", loop.h, f"loop-closure residuals [{units['h']}]"),
+            Output("H_q", loop.H_a.row_join(loop.H_p), f"dh/dq, actuated then passive [{units['H_q']}]"),
+            Output("H_x", loop.H_x, f"dh/dx [{units['H_x']}]"),
+        ),
+        "Loop-closure residuals and their Jacobians.",
+    )
+    spec.add(
+        "first_order",
+        (joints, pose, design),
+        (
+            Output("J", loop.jacobian(), f"q_a_dot = J x_dot [{units['J']}]"),
+            Output("J_f", loop.forward_jacobian(), f"x_dot = J_f q_a_dot [{units['J_f']}]"),
+            Output("psi", loop.psi(), f"q_dot = Psi q_a_dot, all joints from actuated [{units['psi']}]"),
+            Output("det_type1", sp.Matrix([loop.det_type1()]), f"serial singularity measure [{units['det']}]"),
+            Output("det_type2", sp.Matrix([loop.det_type2()]), f"parallel singularity measure [{units['det']}]"),
+        ),
+        "First-order kinematics by implicit differentiation of the loop closure.",
+    )
+
+
+def _check_ports(loop: LoopClosure, *, pose: Port, joints: Port, actuated: Port) -> None:
+    """The ports must carry the loop's coordinates in its order: q = (q_a, q_p), q_a, x."""
+    expected = (
+        ("joints", joints, (*loop.q_a, *loop.q_p)),
+        ("actuated", actuated, loop.q_a),
+        ("pose", pose, loop.x),
+    )
+    for role, port, wanted in expected:
+        if tuple(port.symbols) != tuple(wanted):
+            raise ValueError(f"the {role} port {port.name} carries {list(port.symbols)}, the loop {list(wanted)}")

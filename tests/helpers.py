@@ -1,0 +1,94 @@
+"""Helpers shared by the test files: random valid designs near the defaults, reachable poses of a
+working mode, and the inputs of the generated functions by port name.
+
+pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test files import these with
+``from helpers import ...``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from typing import Any
+
+import numpy as np
+
+import pkm
+
+ATTEMPTS = 1000  # random designs drawn before giving up
+
+
+def random_design(
+    mech: pkm.Mechanism,
+    rng: np.random.Generator,
+    *,
+    spread: float = 0.2,
+    names: Iterable[str] | None = None,
+    accept: Callable[[pkm.Design], Any] | None = None,
+) -> pkm.Design:
+    """A valid design with each parameter (or each of ``names``; the others keep their defaults) drawn
+    uniformly within +-``spread`` of its default: one draw per parameter per attempt, in parameter
+    order, until the design is valid and ``accept(design)`` raises no :class:`pkm.DesignError`."""
+    wanted = None if names is None else set(names)
+    chosen = [p for p in mech.parameters if wanted is None or p.name in wanted]
+    for _ in range(ATTEMPTS):
+        values = {p.name: p.default * (1 + spread * rng.uniform(-1, 1)) for p in chosen}
+        try:
+            design = mech.design(values)
+            if accept is not None:
+                accept(design)
+        except pkm.DesignError:
+            continue
+        return design
+    raise AssertionError(f"no valid {mech.name} design within {spread:.0%} of the defaults in {ATTEMPTS} draws")
+
+
+def reachable_poses(
+    mech: pkm.Mechanism,
+    design: Any,
+    mode: str,
+    rng: np.random.Generator,
+    *,
+    count: int = 24,
+    draws: int = 50,
+    where: Callable[[np.ndarray], np.ndarray] | None = None,
+) -> np.ndarray:
+    """``count`` poses (count, n_out) that the working mode reaches, drawn uniformly in the workspace
+    box (``draws`` x ``count`` candidates) and, with ``where``, kept where ``where(poses)`` (a mask)
+    holds; fails the test when fewer are found."""
+    box = mech.workspace_box(mech.design_vector(design))
+    x = rng.uniform(box[:, 0], box[:, 1], size=(draws * count, len(box)))
+    x = x[mech.reachable(x, design, mode=mode)]
+    if where is not None:
+        x = x[where(x)]
+    x = x[:count]
+    assert len(x) == count, f"{mech.name} {mode}: {len(x)} of {count} poses found in the workspace box"
+    return x
+
+
+def port_inputs(
+    mech: pkm.Mechanism, design: Any, x: np.ndarray, mode: str, assembly: np.ndarray
+) -> dict[str, np.ndarray]:
+    """The inputs of the generated functions by the names of the port convention (pkm.kinematics) at
+    poses x (N, n_out) of a working mode, with the assembly signs (N, k) of each pose."""
+    branch = mech.working_mode(mode)
+    q = mech.inverse_kinematics(x, design, mode=branch.name, passive=True)
+    return {
+        "x": x,
+        "q": q,
+        "q_a": q[:, : mech.n_act],
+        "mode": np.array(branch.signs),
+        "assembly": np.asarray(assembly, dtype=float),
+        "design": mech.design_vector(design),
+    }
+
+
+def inputs_by_port(mech: pkm.Mechanism, rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
+    """Valid inputs (keys x, q, q_a, mode, assembly, design) of the generated functions at ``n`` poses:
+    a random design within 20 % of the defaults, a random working mode, reachable poses in it and a
+    random assembly mode per pose."""
+    design = random_design(mech, rng, spread=0.2)
+    mode = mech.working_modes[rng.integers(len(mech.working_modes))]
+    x = reachable_poses(mech, design, mode.name, rng, count=n, draws=40)
+    picks = rng.integers(len(mech.assembly_modes), size=len(x))
+    assembly = np.array([mech.assembly_modes[k].signs for k in picks])
+    return port_inputs(mech, design, x, mode.name, assembly)
