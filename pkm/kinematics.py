@@ -171,20 +171,28 @@ class Joints:
         return unbatch(arr, self.single)
 
 
+def as_joints(
+    x: np.ndarray, design: np.ndarray, q: np.ndarray, reach: np.ndarray, single: bool, *, strict: bool, what: str
+) -> Joints:
+    """Joints from the inverse kinematics' outputs: NaN where out of reach, or :class:`PoseError`
+    naming ``what`` with ``strict``."""
+    ok = reached(q, reach)
+    if strict and not ok.all():
+        bad = int(np.flatnonzero(~ok)[0])
+        raise PoseError(f"pose {x[bad].tolist()} is out of reach of {what}")
+    q = np.array(q)
+    q[~ok] = np.nan
+    return Joints(x, design, q, ok, single)
+
+
 def solve_joints(mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False) -> Joints:
     """Inverse kinematics of a batch of poses in a working mode; NaN where out of reach, or
     :class:`PoseError` with ``strict``."""
     x, single = as_batch(pose, mech.n_out, "pose")
     d = mech.design_vector(design)
-    signs = np.array(mech.working_mode(mode).signs)
-    q, reach = evaluate(mech.functions["inverse_kinematics"], x, signs, d)
-    q = q[:, :, 0]
-    ok = reached(q, reach)
-    if strict and not ok.all():
-        bad = int(np.flatnonzero(~ok)[0])
-        raise PoseError(f"pose {x[bad].tolist()} is out of reach of the {mech.name} in mode {mode or 'default'}")
-    q[~ok] = np.nan
-    return Joints(x, d, q, ok, single)
+    branch = mech.working_mode(mode)
+    q, reach = evaluate(mech.functions["inverse_kinematics"], x, np.array(branch.signs), d)
+    return as_joints(x, d, q[:, :, 0], reach, single, strict=strict, what=f"the {mech.name} in mode {branch.name}")
 
 
 class ForwardKinematics(Protocol):

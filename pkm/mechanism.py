@@ -31,6 +31,7 @@ from pkm.kinematics import (
     FunctionTable,
     GeneratedFunctions,
     as_batch,
+    as_joints,
     find_branch,
     solve_joints,
     unbatch,
@@ -186,9 +187,20 @@ class Mechanism:
         return unbatch(out, single)
 
     def _first_order(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
-        joints = solve_joints(self, pose, design, mode, strict=strict)
-        J, J_f, psi, det1, det2 = evaluate(self.functions["first_order"], joints.q, joints.x, joints.design)
-        return joints, {"J": J, "J_f": J_f, "psi": psi, "det_type1": det1[:, 0, 0], "det_type2": det2[:, 0, 0]}
+        """Joints and the first-order kinematics at poses, in one pass of the fused pipeline."""
+        x, single = as_batch(pose, self.n_out, "pose")
+        d = self.design_vector(design)
+        branch = self.working_mode(mode)
+        fused = regions.pipeline(self, (), first_order=True)
+        q, reach, *outputs = evaluate(fused, x, np.array(branch.signs), d)
+        what = f"the {self.name} in mode {branch.name}"
+        joints = as_joints(x, d, q[:, :, 0], reach, single, strict=strict, what=what)
+        fo = dict(zip(fused.name_out()[2:], outputs, strict=True))
+        for value in fo.values():
+            value[~joints.reachable] = np.nan
+        for key in ("det_type1", "det_type2"):
+            fo[key] = fo[key][:, 0, 0]
+        return joints, fo
 
     def _check_singular(self, joints: Any, kind: str) -> None:
         """Raise SingularityError where the loop equations cannot be solved for J (type I) or J_f (type II)."""

@@ -92,9 +92,12 @@ def normalise(name: str, matrix: ca.SX, scales: dict[str, ca.SX] | None) -> ca.S
 
 
 @lru_cache(maxsize=256)
-def pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False) -> ca.Function:
+def pipeline(
+    mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False
+) -> ca.Function:
     """``(x, mode, design) -> (q, reach, *values)``: one fused SX graph for the local indices
-    ``locals_``; with ``matrices`` the normalised argument matrices of the first index follow."""
+    ``locals_``; with ``matrices`` the normalised argument matrices of the first index follow, with
+    ``first_order`` every output of the generated ``first_order`` (as generated, not normalised)."""
     fns = mech.functions
     ik = fns["inverse_kinematics"]
     x = ca.SX.sym("x", mech.n_out)
@@ -103,10 +106,10 @@ def pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: boo
     q, reach = ik(x, mode, design)
     scales = _scales(mech, design)
     sources: dict[str, dict[str, ca.SX]] = {}
-    for spec in locals_:
-        if spec.source not in sources:
-            fn = fns.require(spec.source, f"the local index {spec.name}")
-            sources[spec.source] = dict(zip(fn.name_out(), fn(q, x, design), strict=True))
+    wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
+    for source in dict.fromkeys(wanted):
+        fn = fns.require(source, f"the {mech.name} pipeline")
+        sources[source] = dict(zip(fn.name_out(), fn(q, x, design), strict=True))
     outputs, names = [q, reach], ["q", "reach"]
     arguments = {}
     for spec in locals_:
@@ -120,7 +123,10 @@ def pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: boo
     if matrices:
         outputs += arguments[locals_[0].name]
         names += list(locals_[0].arguments)
-    label = "_".join(s.name for s in locals_)
+    if first_order:
+        outputs += list(sources["first_order"].values())
+        names += list(sources["first_order"])
+    label = "_".join([*(s.name for s in locals_), *(["first_order"] if first_order else [])])
     return ca.Function(f"{mech.name}_{label}", [x, mode, design], outputs, ["x", "mode", "design"], names)
 
 
