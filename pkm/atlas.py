@@ -19,7 +19,7 @@ import numpy as np
 
 from pkm import io, regions
 from pkm.design_space import DesignSpace
-from pkm.errors import ComputationError, PkmError, UnknownNameError
+from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.indices import GlobalIndex
 from pkm.mechanism import Mechanism
 
@@ -151,12 +151,6 @@ def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
     return tuple(mech.distinct_modes.get(region, mech.modes))
 
 
-def _check_int(name: str, value: object, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
-        raise PkmError(f"{name} = {value!r} violates: an integer >= {minimum}")
-    return int(value)
-
-
 def compute_atlas(
     mech: Mechanism,
     index: GlobalIndex,
@@ -206,13 +200,13 @@ def compute_atlas(
     modes = tuple(mech.working_mode(m).name for m in modes)
     if not modes or len(set(modes)) != len(modes):
         raise PkmError(f"modes = {modes} violates: at least one working mode, none repeated")
-    resolution = _check_int("resolution", resolution, 3)
+    resolution = check_integer("resolution", resolution, 3)
     sampled = isinstance(where, regions.SampledWorkspace)
     if pose_resolution is None:
         pose_resolution = regions.SAMPLED_RESOLUTION if sampled else regions.QUADRATURE_RESOLUTION
-    pose_resolution = _check_int("pose_resolution", pose_resolution, 2 if sampled else 1)
-    if sampled and not 0 <= singularity_margin < 1:
-        raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
+    pose_resolution = check_integer("pose_resolution", pose_resolution, 2 if sampled else 1)
+    if sampled:
+        regions.check_margin(singularity_margin)
 
     start = time.perf_counter()
     u, v, inside = space.chart_grid(resolution)

@@ -176,9 +176,9 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     stem = f"{m.name}_{args.index}_{args.region}"
     npz = out / f"{stem}.npz"
     png = out / f"{stem}.png"
-    atlas.save_npz(npz)
-    atlas.plot(png)
     best = {mode: atlas.best(mode) for mode in atlas.modes}
+    atlas.plot(png)
+    atlas.save_npz(npz)
     u, v = space.chart_axes
     data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense, "best": best}
     text = "\n".join(
@@ -266,7 +266,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--region", default="reachable")
     p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
     p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")
-    p.add_argument("--pose-resolution", type=int, help="pose grid (reachable) or quadrature (miw)")
+    p.add_argument("--pose-resolution", type=int, help="pose grid (reachable) or quadrature (parametrised region)")
     p.add_argument("--out", default="out", help="folder for the npz and the figure")
     p = command("synth", cmd_synth, "solve a synthesis problem with IPOPT and verify it")
     p.add_argument("problem")

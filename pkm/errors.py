@@ -28,3 +28,10 @@ class SingularityError(PkmError):
 
 class ComputationError(RuntimeError):
     """A computation that failed on valid input (for instance IPOPT did not converge)."""
+
+
+def check_integer(name: str, value: object, minimum: int) -> int:
+    """``value`` as an int; :class:`PkmError` naming ``name`` unless it is an integer >= ``minimum``."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or int(value) != value or value < minimum:
+        raise PkmError(f"{name} = {value!r} violates: an integer >= {minimum}")
+    return int(value)

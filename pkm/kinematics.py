@@ -20,7 +20,7 @@ from __future__ import annotations
 import importlib
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import TYPE_CHECKING, Any, Protocol
 
 import casadi as ca
@@ -217,6 +217,19 @@ class ClosedForm:
         return x, q, reached(x, reach)
 
 
+@lru_cache(maxsize=32)
+def _newton(constraint: ca.Function, n_act: int, max_iter: int) -> tuple[ca.Function, ca.Function]:
+    """The loop residual h(z, p) in z = (q_p, x), p = (q_a, design), and a Newton rootfinder on it."""
+    n_q = constraint.numel_in(0)
+    z = ca.MX.sym("z", n_q - n_act + constraint.numel_in(1))
+    p = ca.MX.sym("p", n_act + constraint.numel_in(2))
+    q = ca.vertcat(p[:n_act], z[: n_q - n_act])
+    h = constraint(q, z[n_q - n_act :], p[n_act:])[0]
+    residual = ca.Function("loop_residual", [z, p], [h])
+    finder = ca.rootfinder("forward_kinematics", "newton", residual, {"max_iter": max_iter, "error_on_fail": False})
+    return residual, finder
+
+
 @dataclass(frozen=True)
 class Rootfinder:
     """Forward kinematics by Newton's method on the loop residual h(q_a, q_p, x) = 0 in (q_p, x).
@@ -229,24 +242,11 @@ class Rootfinder:
     seed: str = "forward_seed"
     max_iter: int = 50
 
-    @staticmethod
-    def _residual(constraint: ca.Function, n_act: int) -> ca.Function:
-        z = ca.MX.sym("z", constraint.numel_in(0) - n_act + constraint.numel_in(1))
-        p = ca.MX.sym("p", n_act + constraint.numel_in(2))
-        n_q = constraint.numel_in(0)
-        q = ca.vertcat(p[:n_act], z[: n_q - n_act])
-        x = z[n_q - n_act :]
-        h = constraint(q, x, p[n_act:])[0]
-        return ca.Function("loop_residual", [z, p], [h])
-
     def solve(self, functions, q_a, branch, design):
         constraint = functions["constraint"]
         n_act = q_a.shape[1]
         n_q = constraint.numel_in(0)
-        residual = self._residual(constraint, n_act)
-        finder = ca.rootfinder(
-            "forward_kinematics", "newton", residual, {"max_iter": self.max_iter, "error_on_fail": False}
-        )
+        residual, finder = _newton(constraint, n_act, self.max_iter)
         (z0,) = evaluate(functions[self.seed], q_a, np.array(branch.signs), design)
         params = np.hstack([q_a, np.broadcast_to(design, (len(q_a), len(design)))])
         (z,) = evaluate(finder, z0[:, :, 0], params)
@@ -272,23 +272,29 @@ class PolynomialRoots:
     back: str = "forward_from_root"
 
     def roots(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
-        """Real roots (N, degree), ascending, NaN-padded; by the eigenvalues of the companion matrices."""
+        """Real roots (N, degree), ascending, NaN-padded; by the eigenvalues of the companion matrices.
+
+        Leading coefficients that vanish (relative to the largest) lower the degree of that row's
+        polynomial instead of sending its roots to infinity.
+        """
         (c,) = evaluate(functions[self.polynomial], q_a, design)
         c = c.reshape(len(q_a), -1)
         degree = c.shape[1] - 1
-        lead = c[:, :1]
-        lead = np.where(lead == 0, np.nan, lead)
-        companion = np.zeros((len(c), degree, degree))
-        companion[:, 0, :] = -c[:, 1:] / lead
-        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
-        finite = np.all(np.isfinite(companion), axis=(1, 2))
+        scale = np.max(np.abs(c), axis=1, keepdims=True)
+        leading = np.argmax(np.abs(c) > IMAGINARY_TOLERANCE**2 * scale, axis=1)
         values = np.full((len(c), degree), np.nan + 0j)
-        if finite.any():
-            values[finite] = np.linalg.eigvals(companion[finite])
-        scale = np.maximum(1.0, np.abs(values))
-        real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * scale
-        out = np.where(real, values.real, np.nan)
-        return np.sort(out, axis=1)
+        for skip in np.unique(leading[np.all(np.isfinite(c), axis=1)]):
+            rows = np.flatnonzero((leading == skip) & np.all(np.isfinite(c), axis=1))
+            d = degree - skip
+            if d < 1:
+                continue
+            coefficients = c[rows, skip:]
+            companion = np.zeros((len(rows), d, d))
+            companion[:, 0, :] = -coefficients[:, 1:] / coefficients[:, :1]
+            companion[:, np.arange(1, d), np.arange(d - 1)] = 1.0
+            values[rows, :d] = np.linalg.eigvals(companion)
+        real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * np.maximum(1.0, np.abs(values))
+        return np.sort(np.where(real, values.real, np.nan), axis=1)
 
     def solve(self, functions, q_a, branch, design):
         k = int(branch.signs[0])

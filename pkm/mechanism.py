@@ -56,8 +56,9 @@ class Mechanism:
 
     ``regions`` maps a region name to a parametrised region (:mod:`pkm.regions.shapes`);
     ``forward`` is the forward-kinematics method (:mod:`pkm.kinematics`); a mechanism whose pose or
-    actuators mix metres and radians sets ``characteristic_length``, a function of the design values by
-    parameter name (numpy or CasADi) giving the length [m] that turns an angle into an arc length.
+    actuators mix metres and radians sets ``characteristic_length``, a function (plain or static) of the
+    design values by parameter name (numpy or CasADi) giving the length [m] that turns an angle into an
+    arc length.
     """
 
     name: str = ""
@@ -192,10 +193,10 @@ class Mechanism:
         d = self.design_vector(design)
         branch = self.working_mode(mode)
         fused = regions.pipeline(self, (), first_order=True)
-        q, reach, *outputs = evaluate(fused, x, np.array(branch.signs), d)
+        q, reach, _, *outputs = evaluate(fused, x, np.array(branch.signs), d)
         what = f"the {self.name} in mode {branch.name}"
         joints = as_joints(x, d, q[:, :, 0], reach, single, strict=strict, what=what)
-        fo = dict(zip(fused.name_out()[2:], outputs, strict=True))
+        fo = dict(zip(fused.name_out()[3:], outputs, strict=True))
         for value in fo.values():
             value[~joints.reachable] = np.nan
         for key in ("det_type1", "det_type2"):
@@ -307,7 +308,7 @@ class Mechanism:
         """A global index: its local index reduced over a region (DESIGN.md section 5).
 
         ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
-        a parametrised region (e.g. ``"miw"``) uses a fixed quadrature mapped into the design's region
+        a parametrised region (one of ``regions``) uses a fixed quadrature mapped into the design's region
         and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too.
         ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it. The value
         reports its points, resolution and accuracy (:class:`pkm.regions.GlobalValue`).

@@ -3,7 +3,7 @@
 Mechanisms and their problems are discovered in the packages of :mod:`pkm.models`: each exports
 ``MECHANISMS`` (its Mechanism classes), and its module ``problems`` defines ``problems()`` (its
 synthesis problems, built on first use).
-Papers are the modules of :mod:`pkm.reproduce` that define ``run``. Indices come from the catalogues
+Papers are the modules of :mod:`pkm.reproduce` that define ``TITLE`` and ``run``. Indices come from the catalogues
 of :mod:`pkm.indices`. Everything below this module takes objects, never names.
 """
 
@@ -98,8 +98,8 @@ def global_index(name: str) -> GlobalIndex:
 
 @cache
 def papers() -> dict[str, ModuleType]:
-    """The reproducible papers by key: the modules of :mod:`pkm.reproduce` that define ``run``."""
-    return {m.__name__.rsplit(".", 1)[1]: m for m in _submodules(PAPERS) if hasattr(m, "run")}
+    """The reproducible papers by key: the modules of :mod:`pkm.reproduce` with ``TITLE`` and ``run``."""
+    return {m.__name__.rsplit(".", 1)[1]: m for m in _submodules(PAPERS) if hasattr(m, "run") and hasattr(m, "TITLE")}
 
 
 def paper(key: str) -> ModuleType:

@@ -21,15 +21,6 @@ def _with(capability: str) -> list[str]:
     return [n for n in pkm.mechanisms() if capability in pkm.load(n).functions]
 
 
-@pytest.fixture(scope="module", params=pkm.mechanisms())
-def sample(request):
-    m = pkm.load(request.param)
-    rng = np.random.default_rng(SEED)
-    design = random_design(m, rng)
-    mode = m.modes[0]
-    return m, design, mode, reachable_poses(m, design, mode, rng, count=16)
-
-
 @pytest.mark.parametrize("name", _with("inertia"))
 def test_inertia_matrices_are_symmetric_positive_definite(name):
     m = pkm.load(name)

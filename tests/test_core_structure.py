@@ -135,6 +135,19 @@ def test_generic_modules_name_no_mechanism_paper_or_design_parameter():
     assert found == []
 
 
+def test_generic_docs_and_comments_name_no_mechanism():
+    """Docstrings and comments of generic modules speak of mechanisms in general (the facade's usage
+    example aside)."""
+    variants = {v for n in registry.mechanisms() for v in (n, n.replace("_", "-"), n.replace("_", " "))}
+    found = []
+    for module, path in MODULES.items():
+        if module == "pkm" or (module.split(".")[1:2] and module.split(".")[1] in SPECIFIC):
+            continue
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            found += [f"{module}:{number}: {v!r}" for v in variants if re.search(rf"\b{re.escape(v)}\b", line, re.I)]
+    assert found == []
+
+
 @pytest.mark.parametrize("name", pkm.mechanisms())
 def test_generated_names_equal_the_runtime_names(name):
     m = pkm.load(name)

@@ -10,6 +10,7 @@ joints, so J = dq/dx and J_f = J^-1.
 
 from __future__ import annotations
 
+import itertools
 import math
 from functools import cached_property
 from typing import ClassVar
@@ -23,6 +24,7 @@ from pkm import registry
 from pkm.design import Parameter
 from pkm.errors import PkmError
 from pkm.indices import GlobalIndex
+from pkm.indices.local import extreme_singular_values
 from pkm.kinematics import Branch, FunctionTable, PolynomialRoots, Rootfinder
 from pkm.mechanism import Mechanism
 from pkm.models.five_bar import FiveBar
@@ -200,17 +202,57 @@ def test_global_index_converges_with_resolution_and_agrees_with_sampling(tripod,
     assert float(sampled) == pytest.approx(values[2], rel=1e-3)
 
 
-def test_region_minimum_includes_the_boundary_and_bounds_the_sampled_minimum(tripod):
+def test_region_minimum_is_over_interior_faces_edges_and_corners(tripod):
     spec = registry.global_index("gci")
     minimum = GlobalIndex("gci_min", spec.local, "region minimum of 1/kappa_f", "min")
     branch = tripod.working_mode(None)
     box = tripod.regions["box"]
     d = tripod.design().vector()
+    reference, _ = box.reference(3, "min")
+    corners = np.array(list(itertools.product((-1.0, 1.0), repeat=3)))
+    assert all(np.any(np.all(reference == c, axis=1)) for c in corners)
+    assert np.any(np.all(reference == 0, axis=1))
+    points, _ = box.quadrature(tripod.functions, d, 3, "min")
+    at_nodes = tripod.local_index("inverse_condition_f", points, d)
     value = float(quadrature_function(tripod, minimum, box, branch, 3)(d)[0])
+    assert value == pytest.approx(float(np.min(at_nodes)), rel=1e-12)
+    interior, _ = box.quadrature(tripod.functions, d, 3, "mean")
+    assert value < float(np.min(tripod.local_index("inverse_condition_f", interior, d)))
     sampled = float(sampled_check(tripod, minimum, box, d, branch=branch, resolution=24))
-    mean = tripod.global_index("gci", region="box", resolution=3)
-    assert value <= mean
-    assert value == pytest.approx(sampled, rel=2e-2)
+    assert value == pytest.approx(sampled, rel=2e-3)
+
+
+def test_a_region_out_of_reach_has_no_measure_and_no_mean(tripod):
+    below = tripod.regions["box"].at((-5.0, 0.0, 0.0), (0.1, 0.2, 0.15))
+    spec = registry.global_index("region_measure")
+    d = tripod.design().vector()
+    branch = tripod.working_mode(None)
+    assert float(quadrature_function(tripod, spec, below, branch, 2)(d)[0]) == 0.0
+    mean = float(quadrature_function(tripod, registry.global_index("gci"), below, branch, 2)(d)[0])
+    assert np.isnan(mean)
+
+
+def test_3x3_singular_values_keep_their_relative_accuracy_when_ill_conditioned():
+    rng = np.random.default_rng(8)
+    A = ca.SX.sym("A", 3, 3)
+    f = ca.Function("f", [A], list(extreme_singular_values(A)))
+    for condition in (1e2, 1e6, 1e10):
+        U, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        V, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        sigma = np.array([1.0, 0.3, 1 / condition])
+        largest, smallest = (float(v) for v in f(U @ np.diag(sigma) @ V.T))
+        assert largest == pytest.approx(1.0, rel=1e-14)
+        assert smallest == pytest.approx(1 / condition, rel=1e-15 * condition)
+
+
+def test_polynomial_roots_drop_vanishing_leading_coefficients():
+    """q t^2 + t - 1 = 0: two roots for q != 0, the one root t = 1 at q = 0, none out at infinity."""
+    q, d = ca.SX.sym("q_a", 1), ca.SX.sym("design", 1)
+    table = FunctionTable({"forward_polynomial": ca.Function("p", [q, d], [ca.vertcat(q, 1, -1)])}, "a test")
+    roots = PolynomialRoots().roots(table, np.array([[0.0], [0.25], [1e-30]]), np.zeros(1))
+    np.testing.assert_allclose(roots[0], [1.0, np.nan])
+    np.testing.assert_allclose(roots[1], [-2 - 2 * np.sqrt(2), -2 + 2 * np.sqrt(2)])
+    np.testing.assert_allclose(roots[2], [1.0, np.nan])
 
 
 def test_sampled_reachable_index_is_n_dimensional(tripod):

@@ -86,3 +86,16 @@ def test_bad_synthesis_input():
 def test_public_entry_point_rejects_unknown_options():
     with pytest.raises(TypeError):
         pkm.synthesize(NAME, bogus=1)
+
+
+def test_runs_are_ranked_by_their_verified_objective_not_the_optimisers_quadrature():
+    """Lara-Molina's dexterity at quadrature resolution 8: the run that the coarse quadrature ranks
+    first verifies worse than another run at 4x the nodes; the result is the other run."""
+    result = pkm.synthesize("five_bar.max_dynamic_dexterity_miw", starts=4, baseline_resolution=5)
+    converged = [r for r in result.runs if r.success]
+    by_quadrature = max(converged, key=lambda r: r.objective)
+    by_verification = max(converged, key=lambda r: r.verified_objective)
+    assert by_verification is not by_quadrature
+    assert result.verified_objective == by_verification.verified_objective
+    assert result.variables == by_verification.variables
+    assert by_verification.verified_objective > by_quadrature.verified_objective + 1e-4

@@ -69,7 +69,7 @@ class NaturalFrequencies:
     def lowest_elastic(self) -> np.ndarray:
         """The smallest non-zero natural frequency [rad/s], shape (N,).
 
-        This is the local quantity that eq. 38 minimises over the MIW: the smallest lambda_T, taken
+        This is the local quantity that eq. 38 minimises over a region: the smallest lambda_T, taken
         literally, is always a rigid-body 0.
         """
         return np.where(self.rigid, np.inf, self.frequencies).min(axis=-1)

@@ -116,8 +116,8 @@ def inverse_dynamics(
     numpy.ndarray, shape (N, n_act) or (n_act,)
         NaN where the pose is out of reach.
 
-    A mechanism with a rigid virtual-work model (``inverse_dynamics`` generated, e.g. the slider
-    gantry: tau = (J^T)^-1 M x_ddot + N, Wu 2008 eq. 41) uses it; it has no transmissions, so
+    A mechanism with a rigid virtual-work model (``inverse_dynamics`` generated:
+    tau = (J^T)^-1 M x_ddot + N, Wu 2008 eq. 41) uses it; it has no transmissions, so
     ``joint_torques`` returns the same forces.
     """
     if "inverse_dynamics" in mech.functions:

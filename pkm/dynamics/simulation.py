@@ -79,7 +79,7 @@ def simulate(
         Assembly mode; the mechanism's first by default.
     method : {"adams", "bdf"}
         CVODES' linear multistep method. Adams-Moulton suits the undamped oscillations of eq. 31 (on
-        the five-bar it conserves energy some 20 times better than BDF at the same tolerances, in a
+        a planar 5R it conserves energy some 20 times better than BDF at the same tolerances, in a
         third of the steps); BDF suits transmissions much stiffer than the motion is fast.
     rtol, atol : float
         Relative and absolute tolerances of CVODES.

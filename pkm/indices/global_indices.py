@@ -14,7 +14,8 @@ import casadi as ca
 import numpy as np
 
 from pkm.errors import PkmError
-from pkm.indices.local import LOCAL_INDICES, LocalIndex
+from pkm.indices import local
+from pkm.indices.local import LocalIndex
 
 REDUCTIONS = ("mean", "std", "min", "measure")
 SENSES = ("max", "min")
@@ -47,15 +48,17 @@ class GlobalIndex:
         return a > b if self.sense == "max" else a < b
 
 
-def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str) -> ca.MX:
-    """The weighted mean, standard deviation, minimum or measure (sum of weights) of a 1 x n row of
-    node values with absolute weights (area or volume elements); numpy weights or CasADi."""
+def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str, valid: ca.MX) -> ca.MX:
+    """The weighted mean, standard deviation, minimum or measure of a 1 x n row of node values with
+    absolute weights (area or volume elements; numpy or CasADi) and the row ``valid`` (1 where a node
+    is reached, else 0). The measure is the weight of the valid nodes; a minimum is NaN where a node is
+    not valid, as the mean and standard deviation are through the node's NaN value."""
     w = ca.DM(np.reshape(weights, (-1, 1))) if isinstance(weights, np.ndarray) else ca.vec(weights)
     total = ca.sum1(w)
     if reduce == "measure":
-        return total
+        return ca.mtimes(valid, w)
     if reduce == "min":
-        return ca.mmin(values)
+        return ca.if_else(ca.mmin(valid) > 0, ca.mmin(values), np.nan)
     mean = ca.mtimes(values, w) / total
     if reduce == "std":
         return ca.sqrt(ca.mtimes((values - mean) ** 2, w) / total)
@@ -64,41 +67,38 @@ def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str) -> ca.
 
 def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float, reduce: str) -> float:
     """The reduction of sampled values (n,) over the kept points, each of measure ``cell``."""
+    if reduce == "measure":
+        return float(keep.sum() * cell)
     if not keep.any():
         return float("nan")
     kept = values[keep]
-    if reduce == "measure":
-        return float(keep.sum() * cell)
     return float({"min": np.min, "std": np.std}.get(reduce, np.mean)(kept))
 
 
-def _local(name: str) -> LocalIndex:
-    return next(i for i in LOCAL_INDICES if i.name == name)
-
-
 GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
-    GlobalIndex("gci", _local("inverse_condition_f"), "global conditioning index eta (Gao eqs. 6-7)"),
-    GlobalIndex("gci_2", _local("inverse_condition_2"), "region mean of 1/kappa_2"),
-    GlobalIndex("gamma_max", _local("velocity_max"), "global maximum velocity index (Gao eqs. 23, 25)"),
-    GlobalIndex("gamma_min", _local("velocity_min"), "global minimum velocity index (Gao eqs. 24, 25)"),
-    GlobalIndex("manipulability", _local("manipulability"), "region mean of the manipulability |det J_f|"),
+    GlobalIndex("gci", local.INVERSE_CONDITION_F, "global conditioning index eta (Gao eqs. 6-7)"),
+    GlobalIndex("gci_2", local.INVERSE_CONDITION_2, "region mean of 1/kappa_2"),
+    GlobalIndex("gamma_max", local.VELOCITY_MAX, "global maximum velocity index (Gao eqs. 23, 25)"),
+    GlobalIndex("gamma_min", local.VELOCITY_MIN, "global minimum velocity index (Gao eqs. 24, 25)"),
+    GlobalIndex("manipulability", local.MANIPULABILITY, "region mean of the manipulability |det J_f|"),
     GlobalIndex(
-        "dynamic_dexterity", _local("dynamic_dexterity"),
+        "dynamic_dexterity", local.DYNAMIC_DEXTERITY,
         "global dynamic dexterity: region mean of 1/kappa_2(M_w) (Lara-Molina eq. 36)",
     ),
     GlobalIndex(
-        "lambda_e", _local("natural_frequency"),
+        "lambda_e", local.NATURAL_FREQUENCY,
         "elastodynamic index: region minimum of the smallest non-zero natural frequency (Lara-Molina eq. 38)",
         "min",
     ),
-    GlobalIndex("k_av", _local("velocity_ratio"), "global velocity output ratio: region mean of k_v (Wu eq. 7)"),
-    GlobalIndex("kappa_d_mean", _local("kappa_d"), "region mean of kappa_D (Wu eq. 44)", sense="min"),
+    GlobalIndex("k_av", local.VELOCITY_RATIO, "global velocity output ratio: region mean of k_v (Wu eq. 7)"),
+    GlobalIndex("kappa_d_mean", local.KAPPA_D, "region mean of kappa_D (Wu eq. 44)", sense="min"),
     GlobalIndex(
-        "kappa_d_std", _local("kappa_d"), "region standard deviation of kappa_D (Wu section 6.1)", "std", "min"
+        "kappa_d_std", local.KAPPA_D, "region standard deviation of kappa_D (Wu section 6.1)", "std", "min"
     ),
     GlobalIndex(
-        "region_measure", _local("inverse_condition_f"),
-        "area (2-D) or volume (3-D) of the region's poses where the mechanism is reachable and regular",
+        "region_measure", local.INVERSE_CONDITION_F,
+        "area (2-D) or volume (3-D) of the region's poses that the working mode reaches (over the sampled "
+        "workspace: also at least the singularity margin from singularity)",
         "measure",
     ),
 )

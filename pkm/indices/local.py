@@ -5,10 +5,11 @@ A local index is a CasADi function of matrices at one pose: the Jacobians J and 
 same graph serves the batched evaluation and the exact design gradients of the global indices. Gao
 1998's [J] is pkm's forward Jacobian J_f.
 
-Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formulas of Gao 1998 and
-the trigonometric solution of the characteristic cubic of a symmetric 3 x 3 matrix (Smith 1961).
-Where both J and J_f enter, the smallest singular value of one is the inverse of the largest of the
-other, which the closed forms give to full relative accuracy even near a singularity.
+Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formulas of Gao 1998 and,
+for 3 x 3, the largest eigenvalue of a symmetric matrix by the trigonometric solution of its cubic
+(Smith 1961) with the smallest from the adjugate (sigma_min(A) = |det A| / sigma_max(adj A)). Where
+both J and J_f enter, the smallest singular value of one is the inverse of the largest of the other.
+Larger matrices raise :class:`PkmError`: no mechanism of pkm has more than three degrees of freedom.
 
 A pose mixing metres and radians is normalised by the mechanism's characteristic length before any
 index is taken (see :mod:`pkm.regions.pipeline`).
@@ -16,7 +17,6 @@ index is taken (see :mod:`pkm.regions.pipeline`).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
@@ -56,8 +56,36 @@ def _check_square(A: ca.SX) -> int:
     return n
 
 
+def _adjugate(A: ca.SX) -> ca.SX:
+    """The adjugate of a 3 x 3 matrix (transposed cofactors): adj(A) A = det(A) I."""
+    rows = []
+    for i in range(3):
+        row = []
+        for j in range(3):
+            r = [k for k in range(3) if k != j]
+            c = [k for k in range(3) if k != i]
+            minor = A[r[0], c[0]] * A[r[1], c[1]] - A[r[0], c[1]] * A[r[1], c[0]]
+            row.append((-1) ** (i + j) * minor)
+        rows.append(ca.horzcat(*row))
+    return ca.vertcat(*rows)
+
+
+def _largest_symmetric_3(S: ca.SX) -> ca.SX:
+    """Largest eigenvalue of a symmetric 3 x 3 matrix by the trigonometric solution of its cubic."""
+    q = ca.trace(S) / 3
+    off = S[0, 1] ** 2 + S[0, 2] ** 2 + S[1, 2] ** 2
+    p = ca.sqrt(ca.fmax(((S[0, 0] - q) ** 2 + (S[1, 1] - q) ** 2 + (S[2, 2] - q) ** 2 + 2 * off) / 6, ISOTROPIC))
+    r = ca.det((S - q * ca.SX.eye(3)) / p) / 2
+    return q + 2 * p * ca.cos(ca.acos(ca.fmin(ca.fmax(r, -1), 1)) / 3)
+
+
 def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
-    """Largest and smallest eigenvalue of a symmetric n x n matrix (n <= 3) in closed form."""
+    """Largest and smallest eigenvalue of a symmetric positive semidefinite n x n matrix (n <= 3).
+
+    For n = 3 the smallest is det(S) / lambda_max(adj S) (adj S = det(S) S^-1): the largest eigenvalue
+    of a matrix is accurate to its own size, where the smallest of the cubic's roots would lose
+    det-sized digits to cancellation.
+    """
     n = _check_square(S)
     if n == 1:
         return S[0, 0], S[0, 0]
@@ -65,12 +93,7 @@ def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
         mean = (S[0, 0] + S[1, 1]) / 2
         radius = ca.sqrt(((S[0, 0] - S[1, 1]) / 2) ** 2 + S[0, 1] ** 2)
         return mean + radius, mean - radius
-    q = ca.trace(S) / 3
-    off = S[0, 1] ** 2 + S[0, 2] ** 2 + S[1, 2] ** 2
-    p = ca.sqrt(ca.fmax(((S[0, 0] - q) ** 2 + (S[1, 1] - q) ** 2 + (S[2, 2] - q) ** 2 + 2 * off) / 6, ISOTROPIC))
-    r = ca.det((S - q * ca.SX.eye(3)) / p) / 2
-    phi = ca.acos(ca.fmin(ca.fmax(r, -1), 1)) / 3
-    return q + 2 * p * ca.cos(phi), q + 2 * p * ca.cos(phi + 2 * math.pi / 3)
+    return _largest_symmetric_3(S), ca.det(S) / _largest_symmetric_3(_adjugate(S))
 
 
 def extreme_singular_values(A: ca.SX) -> tuple[ca.SX, ca.SX]:
@@ -84,8 +107,9 @@ def extreme_singular_values(A: ca.SX) -> tuple[ca.SX, ca.SX]:
         det = ca.fabs(A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0])
         smax = ca.sqrt((frob2 + ca.sqrt(ca.fmax(frob2**2 - 4 * det**2, 0))) / 2)
         return smax, det / smax
-    largest, smallest = symmetric_eigenvalues(A.T @ A)
-    return ca.sqrt(largest), ca.sqrt(ca.fmax(smallest, 0))
+    adj = _adjugate(A)
+    largest = ca.sqrt(_largest_symmetric_3(A.T @ A))
+    return largest, ca.fabs(ca.det(A)) / ca.sqrt(_largest_symmetric_3(adj.T @ adj))
 
 
 def largest_singular_value(A: ca.SX) -> ca.SX:
@@ -133,52 +157,62 @@ def _lowest_frequency(S: ca.SX) -> ca.SX:
     return ca.sqrt(ca.fmax(symmetric_eigenvalues(S)[1], 0))
 
 
+INVERSE_CONDITION_F = LocalIndex(
+    "inverse_condition_f",
+    "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
+    "-", 0.0, 1.0, 0.0, _inverse_condition_f,
+)
+INVERSE_CONDITION_2 = LocalIndex(
+    "inverse_condition_2", "1/kappa_2 = sigma_min(J) / sigma_max(J)", "-", 0.0, 1.0, 0.0, _inverse_condition_2
+)
+VELOCITY_MAX = LocalIndex(
+    "velocity_max",
+    "||V||max = sigma_max(J_f): largest output speed for unit actuator rates (Gao eq. 22)",
+    "m/rad", 0.0, np.inf, np.inf, lambda _J, J_f: largest_singular_value(J_f),
+)
+VELOCITY_MIN = LocalIndex(
+    "velocity_min",
+    "||V||min = sigma_min(J_f) = 1 / sigma_max(J): smallest output speed for unit actuator rates (Gao eq. 22)",
+    "m/rad", 0.0, np.inf, 0.0, lambda J, _J_f: 1 / largest_singular_value(J),
+)
+MANIPULABILITY = LocalIndex(
+    "manipulability",
+    "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
+    "-", 0.0, np.inf, 0.0, _manipulability,
+)
+VELOCITY_RATIO = LocalIndex(
+    "velocity_ratio",
+    "k_v = |x_dot / q1_dot| at the other outputs' rates 0 = 1 / |J_11|: speed of the first output per unit "
+    "rate of the first actuator (Wu eq. 6, i = 1)",
+    "-", 0.0, np.inf, np.inf, lambda J, _J_f: 1 / ca.fabs(J[0, 0]),
+)
+DYNAMIC_DEXTERITY = LocalIndex(
+    "dynamic_dexterity",
+    "1/kappa_2(M_w) = lambda_min / lambda_max of the task-space inertia M_w = J^T M_t J (Lara-Molina eq. 35)",
+    "-", 0.0, 1.0, 0.0, _symmetric_ratio, "inertia", ("M_w",),
+)
+KAPPA_D = LocalIndex(
+    "kappa_d",
+    "kappa_D = sigma_max / sigma_min of the inertia matrix M_d = (J^T)^-1 M with tau = M_d x_ddot (Wu eqs. 42-43)",
+    "-", 1.0, np.inf, np.inf, _kappa, "inertia", ("M_d",),
+)
+NATURAL_FREQUENCY = LocalIndex(
+    "natural_frequency",
+    "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
+    "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the rigid-body modes excluded",
+    "rad/s", 0.0, np.inf, np.nan, _lowest_frequency, "inertia", ("S_e",),
+)
+
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
-    LocalIndex(
-        "inverse_condition_f",
-        "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
-        "-", 0.0, 1.0, 0.0, _inverse_condition_f,
-    ),
-    LocalIndex(
-        "inverse_condition_2", "1/kappa_2 = sigma_min(J) / sigma_max(J)", "-", 0.0, 1.0, 0.0, _inverse_condition_2
-    ),
-    LocalIndex(
-        "velocity_max",
-        "||V||max = sigma_max(J_f): largest output speed for unit actuator rates (Gao eq. 22)",
-        "m/rad", 0.0, np.inf, np.inf, lambda _J, J_f: largest_singular_value(J_f),
-    ),
-    LocalIndex(
-        "velocity_min",
-        "||V||min = sigma_min(J_f) = 1 / sigma_max(J): smallest output speed for unit actuator rates (Gao eq. 22)",
-        "m/rad", 0.0, np.inf, 0.0, lambda J, _J_f: 1 / largest_singular_value(J),
-    ),
-    LocalIndex(
-        "manipulability",
-        "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
-        "-", 0.0, np.inf, 0.0, _manipulability,
-    ),
-    LocalIndex(
-        "velocity_ratio",
-        "k_v = |x_dot / q1_dot| at the other outputs' rates 0 = 1 / |J_11|: speed of the first output per unit "
-        "rate of the first actuator (Wu eq. 6, i = 1)",
-        "-", 0.0, np.inf, np.inf, lambda J, _J_f: 1 / ca.fabs(J[0, 0]),
-    ),
-    LocalIndex(
-        "dynamic_dexterity",
-        "1/kappa_2(M_w) = lambda_min / lambda_max of the task-space inertia M_w = J^T M_t J (Lara-Molina eq. 35)",
-        "-", 0.0, 1.0, 0.0, _symmetric_ratio, "inertia", ("M_w",),
-    ),
-    LocalIndex(
-        "kappa_d",
-        "kappa_D = sigma_max / sigma_min of the inertia matrix M_d = (J^T)^-1 M with tau = M_d x_ddot (Wu eqs. 42-43)",
-        "-", 1.0, np.inf, np.inf, _kappa, "inertia", ("M_d",),
-    ),
-    LocalIndex(
-        "natural_frequency",
-        "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
-        "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the rigid-body modes excluded",
-        "rad/s", 0.0, np.inf, np.nan, _lowest_frequency, "inertia", ("S_e",),
-    ),
+    INVERSE_CONDITION_F,
+    INVERSE_CONDITION_2,
+    VELOCITY_MAX,
+    VELOCITY_MIN,
+    MANIPULABILITY,
+    VELOCITY_RATIO,
+    DYNAMIC_DEXTERITY,
+    KAPPA_D,
+    NATURAL_FREQUENCY,
 )
 
 

@@ -22,7 +22,13 @@ from pkm.regions.quadrature import (
     sampled_check,
     value_function,
 )
-from pkm.regions.sampled import SAMPLED_RESOLUTION, SINGULARITY_MARGIN, SampledWorkspace, sampled_global
+from pkm.regions.sampled import (
+    SAMPLED_RESOLUTION,
+    SINGULARITY_MARGIN,
+    SampledWorkspace,
+    check_margin,
+    sampled_global,
+)
 from pkm.regions.shapes import Box, Cylinder, Disc, MappedSquare, PlacedRegion, Rectangle, grid
 from pkm.regions.value import GlobalValue
 
@@ -39,6 +45,7 @@ __all__ = [
     "PlacedRegion",
     "Rectangle",
     "SampledWorkspace",
+    "check_margin",
     "evaluate_at",
     "global_value",
     "grid",

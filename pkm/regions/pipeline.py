@@ -28,7 +28,7 @@ from typing import Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import evaluate, reached
+from pkm.batch import REACH_TOLERANCE, evaluate, reached
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, finish, local_function
 
@@ -64,13 +64,14 @@ def _scales(mech: PipelineModel, design: ca.SX) -> dict[str, ca.SX] | None:
     """S_x and S_q as column vectors, or None when no normalisation is needed."""
     if not (mixed(mech.pose_units) or mixed(mech.actuator_units)):
         return None
-    if mech.characteristic_length is None:
+    length_of = type(mech).characteristic_length
+    if length_of is None:
         raise PkmError(
             f"the {mech.name} mixes {', '.join(sorted(set(mech.pose_units) | set(mech.actuator_units)))} "
             "in its coordinates: its indices need a characteristic_length"
         )
     names = mech.parameter_names()
-    length = mech.characteristic_length({n: design[k] for k, n in enumerate(names)})
+    length = length_of({n: design[k] for k, n in enumerate(names)})
 
     def scale(units: Sequence[str]) -> ca.SX:
         return ca.vertcat(*[length if mixed(units) and u == ANGLE else ca.SX(1) for u in units])
@@ -95,22 +96,24 @@ def normalise(name: str, matrix: ca.SX, scales: dict[str, ca.SX] | None) -> ca.S
 def pipeline(
     mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False
 ) -> ca.Function:
-    """``(x, mode, design) -> (q, reach, *values)``: one fused SX graph for the local indices
-    ``locals_``; with ``matrices`` the normalised argument matrices of the first index follow, with
-    ``first_order`` every output of the generated ``first_order`` (as generated, not normalised)."""
+    """``(x, mode, design) -> (q, reach, valid, *values)``: one fused SX graph for the local indices
+    ``locals_``; ``valid`` is 1 where the pose is reached and 0 elsewhere, where the values are NaN.
+    With ``matrices`` the normalised argument matrices of the first index follow, with ``first_order``
+    every output of the generated ``first_order`` (as generated, not normalised)."""
     fns = mech.functions
     ik = fns["inverse_kinematics"]
     x = ca.SX.sym("x", mech.n_out)
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
     q, reach = ik(x, mode, design)
+    reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     scales = _scales(mech, design)
     sources: dict[str, dict[str, ca.SX]] = {}
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
     for source in dict.fromkeys(wanted):
         fn = fns.require(source, f"the {mech.name} pipeline")
         sources[source] = dict(zip(fn.name_out(), fn(q, x, design), strict=True))
-    outputs, names = [q, reach], ["q", "reach"]
+    outputs, names = [q, reach, reachable], ["q", "reach", "valid"]
     arguments = {}
     for spec in locals_:
         missing = [a for a in spec.arguments if a not in sources[spec.source]]
@@ -118,7 +121,8 @@ def pipeline(
             raise PkmError(f"the local index {spec.name} needs {', '.join(missing)} of {spec.source}")
         args = [normalise(a, sources[spec.source][a], scales) for a in spec.arguments]
         arguments[spec.name] = args
-        outputs.append(local_function(spec, args[0].size1())(*args))
+        value = local_function(spec, args[0].size1())(*args)
+        outputs.append(ca.if_else(reachable, value, np.nan))
         names.append(spec.name)
     if matrices:
         outputs += arguments[locals_[0].name]
@@ -144,7 +148,7 @@ def evaluate_at(
     mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
 ) -> Evaluation:
     """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
-    q, reach, *values = evaluate(pipeline(mech, tuple(locals_)), x, signs, design)
+    q, reach, _, *values = evaluate(pipeline(mech, tuple(locals_)), x, signs, design)
     q = q[:, :, 0]
     ok = reached(q, reach)
     out = []

@@ -35,8 +35,9 @@ def node_values(
     *,
     resolution: int,
     epigraph: ca.MX | None = None,
-) -> tuple[ca.MX, ca.MX]:
-    """The local index at the region's nodes (a 1 x n row, CasADi in the design) and their weights.
+) -> tuple[ca.MX, ca.MX, ca.MX]:
+    """The local index at the region's nodes (a 1 x n row, CasADi in the design, NaN where a node is
+    out of reach), their weights and whether each node is reached (1 or 0).
 
     With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
     the local index is at least t at every node (:func:`pkm.indices.epigraph_function`).
@@ -46,18 +47,20 @@ def node_values(
     fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
     outputs = fn(points, ca.DM(branch.signs), design)
     if epigraph is not None:
-        matrices = outputs[3:]
+        matrices = outputs[4:]
         g = epigraph_function(spec.local, matrices[0].size1()).map(n)(*matrices, epigraph)
-        return g, weights
-    return outputs[2], weights
+        return g, weights, outputs[2]
+    return outputs[3], weights, outputs[2]
 
 
 def quadrature_value(
     mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
 ) -> ca.MX:
     """The global index over the region as a CasADi expression of the design (no gradient attached)."""
-    values, weights = node_values(mech, spec, region, branch, design, resolution=check_resolution(resolution, 1))
-    return reduce_nodes(values, weights, spec.reduce)
+    values, weights, valid = node_values(
+        mech, spec, region, branch, design, resolution=check_resolution(resolution, 1)
+    )
+    return reduce_nodes(values, weights, spec.reduce, valid)
 
 
 @lru_cache(maxsize=64)

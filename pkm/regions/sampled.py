@@ -15,7 +15,8 @@ from typing import Any
 import numpy as np
 
 from pkm.errors import PkmError
-from pkm.indices import LOCAL_INDICES, GlobalIndex, reduce_samples
+from pkm.indices import GlobalIndex, reduce_samples
+from pkm.indices.local import INVERSE_CONDITION_F
 from pkm.regions.pipeline import evaluate_at
 from pkm.regions.shapes import check_resolution, grid
 from pkm.regions.value import GlobalValue
@@ -23,7 +24,7 @@ from pkm.regions.value import GlobalValue
 SAMPLED_RESOLUTION = 64
 SINGULARITY_MARGIN = 0.01
 DESIGNS_PER_BATCH = 32
-CONDITION = next(i for i in LOCAL_INDICES if i.name == "inverse_condition_f")
+CONDITION = INVERSE_CONDITION_F
 
 
 @dataclass(frozen=True)

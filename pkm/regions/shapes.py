@@ -1,7 +1,7 @@
 """Parametrised regions: small shape classes sharing one protocol (DESIGN.md section 5).
 
-A region is placed by the design: a generated function ``design -> (centre, size)`` (the maximum
-inscribed circle of the five-bar, the task rectangle of the slider gantry), or fixed with
+A region is placed by the design: a generated function ``design -> (centre, size)`` (a maximum
+inscribed circle, a task rectangle), or fixed with
 :meth:`PlacedRegion.at`. Each shape has a fixed quadrature on its reference domain (the unit disc, the
 cube [-1, 1]^d, or the unit square for a domain between curves) which is mapped into the placed region:
 the nodes and their weights (area or volume elements) are CasADi expressions of the design, so every
@@ -33,15 +33,13 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.errors import PkmError
+from pkm.errors import PkmError, check_integer
 
 CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
 
 
 def check_resolution(resolution: int, minimum: int) -> int:
-    if isinstance(resolution, bool) or int(resolution) != resolution or resolution < minimum:
-        raise PkmError(f"resolution = {resolution} violates: an integer >= {minimum}")
-    return int(resolution)
+    return check_integer("resolution", resolution, minimum)
 
 
 @lru_cache(maxsize=32)
@@ -81,6 +79,40 @@ def square_perimeter(count: int) -> np.ndarray:
         on = side == k
         out[on] = np.stack([a[on], b[on]], axis=1)
     return out
+
+
+def square_rim(count: int) -> np.ndarray:
+    """``count`` points on the boundary of [-1, 1]^2 (:func:`square_perimeter`) and its four corners,
+    where extremes over a rectangle often lie."""
+    corners = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    return np.concatenate([square_perimeter(count), corners])
+
+
+def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+    """The unit disc's nodes and weights; for a minimum also its centre and a rim of ``4 resolution``
+    points, with zero weight."""
+    nodes, weights = disc_quadrature(resolution)
+    if reduce != "min":
+        return nodes, weights
+    rim = ring(4 * resolution)
+    return (
+        np.concatenate([np.zeros((1, 2)), nodes, rim]),
+        np.concatenate([[0.0], weights, np.zeros(len(rim))]),
+    )
+
+
+def square_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+    """[-1, 1]^2 by Gauss-Legendre with ``2 resolution`` points per axis; for a minimum also its
+    centre and :func:`square_rim` with ``8 resolution`` points, with zero weight."""
+    t, w = gauss_legendre(2 * resolution)
+    nodes, weights = product((t[:, None], w), (t[:, None], w))
+    if reduce != "min":
+        return nodes, weights
+    rim = square_rim(8 * resolution)
+    return (
+        np.concatenate([np.zeros((1, 2)), nodes, rim]),
+        np.concatenate([[0.0], weights, np.zeros(len(rim))]),
+    )
 
 
 def product(*rules: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -198,11 +230,7 @@ class Disc(PlacedRegion):
         return ca.repmat(size[0], 2, 1)
 
     def reference(self, resolution, reduce):
-        nodes, weights = disc_quadrature(resolution)
-        if reduce != "min":
-            return nodes, weights
-        extra = np.concatenate([np.zeros((1, 2)), ring(4 * resolution)])
-        return np.concatenate([extra[:1], nodes, extra[1:]]), np.concatenate([[0.0], weights, np.zeros(len(extra) - 1)])
+        return disc_rule(resolution, reduce)
 
     def inside_reference(self, u):
         return np.sum(u**2, axis=1) < 1
@@ -218,18 +246,10 @@ class Rectangle(PlacedRegion):
     dimension = 2
 
     def reference(self, resolution, reduce):
-        t, w = gauss_legendre(2 * resolution)
-        nodes, weights = product((t[:, None], w), (t[:, None], w))
-        if reduce != "min":
-            return nodes, weights
-        rim = square_perimeter(8 * resolution)
-        return (
-            np.concatenate([np.zeros((1, 2)), nodes, rim]),
-            np.concatenate([[0.0], weights, np.zeros(len(rim))]),
-        )
+        return square_rule(resolution, reduce)
 
     def boundary_reference(self, count):
-        return square_perimeter(count)
+        return square_rim(count)
 
 
 @dataclass(frozen=True)
@@ -277,8 +297,7 @@ class Cylinder(PlacedRegion):
         return out
 
     def reference(self, resolution, reduce):
-        disc = Disc.reference(self, resolution, reduce)
-        nodes, weights = product(disc, _segment(resolution, reduce == "min"))
+        nodes, weights = product(disc_rule(resolution, reduce), _segment(resolution, reduce == "min"))
         return self._arrange(nodes), weights
 
     def inside_reference(self, u):
@@ -311,12 +330,7 @@ class MappedSquare:
     dimension = 2
 
     def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
-        t, w = gauss_legendre(2 * resolution)
-        nodes, weights = product((t[:, None], w), (t[:, None], w))
-        if reduce == "min":
-            rim = square_perimeter(8 * resolution)
-            nodes = np.concatenate([np.zeros((1, 2)), nodes, rim])
-            weights = np.concatenate([[0.0], weights, np.zeros(len(rim))])
+        nodes, weights = square_rule(resolution, reduce)
         return (nodes + 1) / 2, weights / 4
 
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
@@ -350,6 +364,6 @@ class MappedSquare:
         at_lower, at_upper = (v[:, 0, 0] for v in evaluate(functions[self.curves], points[:, :1], d))
         points = points[(points[:, 1] > at_lower) & (points[:, 1] < at_upper)]
         if reduce == "min":
-            rim, _ = self.quadrature(functions, d, max(1, resolution // 2), "min")
-            points = np.concatenate([points, rim[-8 * max(1, resolution // 2) :]])
+            rim, _ = self._map(functions, ca.DM(d), (square_rim(4 * resolution) + 1) / 2)
+            points = np.concatenate([points, np.asarray(rim).T])
         return points, cell

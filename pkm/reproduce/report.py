@@ -43,7 +43,7 @@ def synthesis_record(result: Any) -> dict[str, Any]:
         }
         for name, b in result.baselines.items()
     }
-    first = next(iter(baselines.values()))
+    first = next(iter(baselines.values()), {"objective": None, "verified_objective": None})
     return {
         "problem": result.problem,
         "sense": result.sense,

@@ -19,7 +19,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm.errors import ComputationError, PkmError
+from pkm.errors import ComputationError, PkmError, check_integer
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
 
@@ -84,12 +84,13 @@ class SynthesisResult:
         return self.optimum.verified_objective
 
     @property
-    def baseline(self) -> Candidate:
-        """The best point of the first baseline."""
-        return next(iter(self.baselines.values())).best
+    def baseline(self) -> Candidate | None:
+        """The best point of the first baseline (None for a problem without baselines)."""
+        first = next(iter(self.baselines.values()), None)
+        return None if first is None else first.best
 
     def to_dict(self) -> dict[str, Any]:
-        first = next(iter(self.baselines.values()))
+        first = next(iter(self.baselines.values()), None)
         return {
             "problem": self.problem,
             "sense": self.sense,
@@ -99,9 +100,11 @@ class SynthesisResult:
             "design": self.optimum.design,
             "objective": self.optimum.objective,
             "verified_objective": self.optimum.verified_objective,
-            "baseline_objective": first.best.objective,
+            "baseline_objective": None if first is None else first.best.objective,
             "optimum": asdict(self.optimum),
-            "baseline": {**asdict(first.best), "wall_time_s": first.wall_time_s, "evaluations": first.evaluations},
+            "baseline": None
+            if first is None
+            else {**asdict(first.best), "wall_time_s": first.wall_time_s, "evaluations": first.evaluations},
             "baselines": {k: asdict(b) for k, b in self.baselines.items()},
             "optimizer": self.optimizer,
             "runs": [asdict(r) for r in self.runs],
@@ -110,21 +113,15 @@ class SynthesisResult:
         }
 
 
-def _check_int(label: str, value: Any, minimum: int) -> int:
-    if isinstance(value, bool) or int(value) != value or value < minimum:
-        raise PkmError(f"{label} = {value} violates: an integer >= {minimum}")
-    return int(value)
-
-
 def ipopt_options(
     problem: Problem, *, verbose: bool, max_iter: int | None, tol: float | None, print_level: int | None
 ) -> dict[str, Any]:
     """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given."""
-    max_iter = _check_int("max_iter", problem.max_iter if max_iter is None else max_iter, 0)
+    max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0)
     tol = problem.tol if tol is None else float(tol)
     if not tol > 0:
         raise PkmError(f"tol = {tol} violates tol > 0")
-    level = (5 if verbose else 0) if print_level is None else _check_int("print_level", print_level, 0)
+    level = (5 if verbose else 0) if print_level is None else check_integer("print_level", print_level, 0)
     if level > 12:
         raise PkmError(f"print_level = {level} violates print_level <= 12")
     return {
@@ -184,10 +181,10 @@ def synthesize(
     verbose : print IPOPT's iterations and timing.
     progress : called with a short message at each stage.
     """
-    res = _check_int("resolution", problem.resolution if resolution is None else resolution, 1)
-    n_starts = _check_int("starts", problem.starts if starts is None else starts, 1)
+    res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1)
+    n_starts = check_integer("starts", problem.starts if starts is None else starts, 1)
     if baseline_resolution is not None:
-        _check_int("baseline_resolution", baseline_resolution, 3)
+        check_integer("baseline_resolution", baseline_resolution, 3)
     options = ipopt_options(problem, verbose=verbose, max_iter=max_iter, tol=tol, print_level=print_level)
     model = ProblemModel(problem)
     say = progress or (lambda _msg: None)
@@ -235,6 +232,11 @@ def synthesize(
         run.verified_objective = cand.verified_objective
         candidates.append((run, cand))
     best_run, optimum = min(candidates, key=lambda rc: _rank(model, rc[1]))
+    if not optimum.feasible:
+        raise ComputationError(
+            f"every converged run of {problem.name} violates a constraint by more than "
+            f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}"
+        )
 
     baselines = {}
     for base in problem.baselines:

@@ -18,7 +18,7 @@ from pkm.batch import evaluate
 from pkm.regions import node_values, quadrature_value, sampled_check
 from pkm.synthesis.problem import Problem, Terms
 
-SAMPLED_FACTOR = 16  # the sampled check's grid per axis, in units of the quadrature resolution
+SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
 
 
 @dataclass
@@ -128,7 +128,7 @@ class ProblemModel:
         design = self.design(w)
         _, g = self.expressions(w, self.quantities(design, resolution))
         quantity = prob.quantities[name]
-        nodes, _ = node_values(
+        nodes, _, _ = node_values(
             self.mech, quantity.index, quantity.region, self.branch, design, resolution=resolution, epigraph=t
         )
         lower = np.concatenate([self.lower, np.zeros(nodes.numel())])
@@ -142,10 +142,11 @@ class ProblemModel:
         design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
         verified, ok = self.evaluate(point[None], 2 * resolution)
         sampled, points = {}, []
+        # as many grid cells as a 2-D check in every dimension: (16 resolution)^2 in all
+        per_axis = max(2, round((SAMPLED_FACTOR * resolution) ** (2 / self.mech.n_out)))
         for name, quantity in self.problem.quantities.items():
             value = sampled_check(
-                self.mech, quantity.index, quantity.region, design, branch=self.branch,
-                resolution=SAMPLED_FACTOR * resolution,
+                self.mech, quantity.index, quantity.region, design, branch=self.branch, resolution=per_axis
             )
             sampled[name] = float(value)
             points.append(value.points)

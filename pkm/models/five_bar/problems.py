@@ -3,6 +3,8 @@ in the chart of a normalised design space (Gao 1998; Lara-Molina 2016), against 
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from pkm import registry
 from pkm.design_space import DesignSpace
 from pkm.synthesis import Constraint, Objective, Problem, Quantity, Variable
@@ -54,7 +56,7 @@ def _chart_problem(
         notes={"space": space.name, "min_length": MIN_LENGTH, "min_radius": MIN_RADIUS},
     )
     baseline = problem.grid_baseline(baseline_resolution, "the best node of the atlas grid over the chart")
-    return Problem(**{**problem.__dict__, "baselines": (baseline,)})
+    return replace(problem, baselines=(baseline,))
 
 
 def problems() -> tuple[Problem, ...]:

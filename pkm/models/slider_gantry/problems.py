@@ -14,6 +14,7 @@ family (theta_1S swept) and with a grid over (l, d1), all on the same model.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -119,7 +120,7 @@ def _min_kappa_d_task() -> Problem:
             follows_resolution=False,
         ),
     )
-    return Problem(**{**problem.__dict__, "baselines": baselines})
+    return replace(problem, baselines=baselines)
 
 
 def problems() -> tuple[Problem, ...]:
