@@ -1,0 +1,18 @@
+"""Numbers in docs come from code: the before/after table of docs/benchmarks.md is the output of
+bench.compare for the committed JSON runs."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from bench.compare import table
+
+ROOT = Path(__file__).resolve().parent.parent
+RUNS = ROOT / "docs" / "benchmarks"
+
+
+def test_before_after_table_is_quoted_from_the_committed_runs():
+    before = json.loads((RUNS / "core_before.json").read_text())
+    after = json.loads((RUNS / "core_after.json").read_text())
+    assert table(before, after) in (ROOT / "docs" / "benchmarks.md").read_text()
