@@ -72,6 +72,6 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
 
 def reached(values: np.ndarray, reach: np.ndarray) -> np.ndarray:
     """Mask (N,) of the solutions that exist: reach margins >= 0 up to round-off and values finite."""
-    margins = reach.reshape(len(reach), -1)
-    finite = np.all(np.isfinite(values.reshape(len(values), -1)), axis=1)
+    margins = reach.reshape(len(reach), int(np.prod(reach.shape[1:])))
+    finite = np.all(np.isfinite(values.reshape(len(values), int(np.prod(values.shape[1:])))), axis=1)
     return np.all(margins >= -REACH_TOLERANCE, axis=1) & finite

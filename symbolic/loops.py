@@ -62,6 +62,8 @@ class LoopClosure:
 
     @cached_property
     def H_p(self) -> sp.Matrix:
+        if not self.q_p:
+            return sp.zeros(self.h.rows, 0)
         return self.h.jacobian(self.q_p)
 
     @cached_property

@@ -30,8 +30,9 @@ def random_design(
     order, until the design is valid and ``accept(design)`` raises no :class:`pkm.DesignError`."""
     wanted = None if names is None else set(names)
     chosen = [p for p in mech.parameters if wanted is None or p.name in wanted]
+    kept = {p.name: p.default for p in mech.parameters if p.required and p not in chosen}
     for _ in range(ATTEMPTS):
-        values = {p.name: p.default * (1 + spread * rng.uniform(-1, 1)) for p in chosen}
+        values = {**kept, **{p.name: p.default * (1 + spread * rng.uniform(-1, 1)) for p in chosen}}
         try:
             design = mech.design(values)
             if accept is not None:
@@ -69,7 +70,8 @@ def port_inputs(
     mech: pkm.Mechanism, design: Any, x: np.ndarray, mode: str, assembly: np.ndarray
 ) -> dict[str, np.ndarray]:
     """The inputs of the generated functions by the names of the port convention (pkm.kinematics) at
-    poses x (N, n_out) of a working mode, with the assembly signs (N, k) of each pose."""
+    poses x (N, n_out) of a working mode, with the assembly signs (N, k) of each pose; ``root`` (the
+    variable of a forward-kinematics polynomial) runs over [-0.9, 0.9]."""
     branch = mech.working_mode(mode)
     q = mech.inverse_kinematics(x, design, mode=branch.name, passive=True)
     return {
@@ -78,6 +80,7 @@ def port_inputs(
         "q_a": q[:, : mech.n_act],
         "mode": np.array(branch.signs),
         "assembly": np.asarray(assembly, dtype=float),
+        "root": np.linspace(-0.9, 0.9, len(x))[:, None],
         "design": mech.design_vector(design),
     }
 

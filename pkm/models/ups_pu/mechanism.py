@@ -1,0 +1,126 @@
+"""The spatial 2-UPS-PU platform of Zhao, Tang and Zhao 2008: one translation l0 along the central PU
+leg and two rotations theta1 (about the base X axis) and theta2 (about the moving y_p axis).
+
+See ``symbolic/mechanisms/ups_pu.py`` for the equations and docs/papers/zhao2008.md for the mapping to
+the paper. The forward kinematics is the degree-8 polynomial in tan(theta2 / 2) of the symbolic module:
+assembly mode ``root<k>`` is its k-th real root in ascending order.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.design import Condition, Parameter
+from pkm.errors import PoseError
+from pkm.kinematics import Branch, DesignLike, PolynomialRoots, as_batch, unbatch
+from pkm.mechanism import Mechanism
+
+DEG = math.pi / 180
+INF = math.inf
+MAX_ASSEMBLIES = 8
+WRENCH = ("F_x", "F_y", "F_z", "M_x", "M_y", "M_z")
+
+
+def _length(name: str, default: float, doc: str) -> Parameter:
+    return Parameter(name, default, 0.0, INF, "m", doc)
+
+
+def _angle(name: str, default: float, lower: float, upper: float, doc: str) -> Parameter:
+    return Parameter(name, default, lower, upper, "rad", doc)
+
+
+PARAMETERS = (
+    _length("r", 0.124, "radius of the platform's spherical joints S1, S2 about U0 (Zhao Table 1: 124 mm)"),
+    _length("R", 0.186, "radius of the base universal joints U1, U2 about O (Table 1: 186 mm)"),
+    _angle("alpha", 90 * DEG, -math.pi - 1e-12, math.pi, "angular position of U1 and S1 (Zhao section 6: 90 deg)"),
+    _angle("beta", 27 * DEG, -math.pi - 1e-12, math.pi, "angular position of U2 and S2 (Table 1: 27 deg)"),
+    _length("l_min", 0.396, "shortest length of the UPS legs (Table 1: 396 mm)"),
+    _length("l_max", 0.712, "longest length of the UPS legs (Table 1: 712 mm)"),
+    _length("l0_min", 0.450, "lowest position l0 of U0 (Table 1: 450 mm)"),
+    _length("l0_max", 0.650, "highest position l0 of U0 (Table 1: 650 mm)"),
+    _angle("theta_u_max", 90 * DEG, 0.0, math.pi, "largest misalignment of a universal joint (section 5.3: 90 deg)"),
+    _angle("theta_s_max", 60 * DEG, 0.0, math.pi, "largest misalignment of a spherical joint (section 5.3: 60 deg)"),
+    Parameter("D", 0.005, 0.0, INF, "m", "diameter of the legs, the least distance between two legs "
+              "(section 5.3: 5 mm)", closed_lower=True),
+)
+
+CONDITIONS = (
+    Condition("l_min < l_max (the UPS legs have a stroke)", lambda d: d["l_max"] - d["l_min"]),
+    Condition("l0_min < l0_max (the PU leg has a stroke)", lambda d: d["l0_max"] - d["l0_min"]),
+    Condition(
+        "alpha != beta (two distinct UPS legs)", lambda d: abs(math.remainder(d["alpha"] - d["beta"], 2 * math.pi))
+    ),
+)
+
+
+@dataclass(frozen=True)
+class Statics:
+    """Forces that balance a wrench at U0 (Zhao eq. 8), over a batch of poses.
+
+    Attributes
+    ----------
+    actuators : numpy.ndarray, shape (N, 3)
+        f1, f2 along the UPS legs from U_i to S_i and f0 along Z [N].
+    constraint : numpy.ndarray, shape (N, 3)
+        The PU leg's constraint forces f_x, f_y along X, Y [N] and torque m_c [N m].
+    """
+
+    actuators: np.ndarray
+    constraint: np.ndarray
+
+
+class UpsPu(Mechanism):
+    name = "ups_pu"
+    doc = "spatial 2-UPS-PU platform of Zhao 2008: pose (l0, theta1, theta2), actuated l1, l2 and l0"
+    parameters = PARAMETERS
+    conditions = CONDITIONS
+    working_modes = (Branch("legs", (1.0,), "the leg lengths of eq. 4 (one solution per pose)"),)
+    assembly_modes = tuple(
+        Branch(f"root{k}", (float(k),), f"the {k + 1}-th real root of the forward polynomial in tan(theta2/2)")
+        for k in range(MAX_ASSEMBLIES)
+    )
+    pose_names = ("l0", "theta1", "theta2")
+    pose_units = ("m", "rad", "rad")
+    actuator_names = ("l1", "l2", "l0_leg")
+    actuator_units = ("m", "m", "m")
+    forward = PolynomialRoots()
+    regions: ClassVar[dict[str, Any]] = {}
+
+    @staticmethod
+    def characteristic_length(design: Mapping[str, Any]) -> Any:
+        """The platform radius r: an angle of the platform times r is the displacement of S_i."""
+        return design["r"]
+
+    def workspace_box(self, design: np.ndarray) -> np.ndarray:
+        """l0 over its stroke and both angles within +-90 deg (the range of eq. 6)."""
+        d = self.design_dict(design)
+        return np.array([[d["l0_min"], d["l0_max"]], [-math.pi / 2, math.pi / 2], [-math.pi / 2, math.pi / 2]])
+
+    def statics(
+        self, pose: Any, wrench: Any, design: DesignLike = None, *, printed: bool = False
+    ) -> Statics:
+        """Actuator and constraint forces that balance the wrench (F, M) at U0 (Zhao eq. 8).
+
+        ``printed`` uses eq. 8 as printed (unit moment axes, the constraint torque about Z) instead of
+        the physical wrench matrix; see docs/papers/zhao2008.md. A wrench (6,) is shared by the poses.
+        Rows where the wrench matrix is singular (condition number above 1e12) are NaN.
+        """
+        x, single = as_batch(pose, self.n_out, "pose")
+        w = np.asarray(wrench, dtype=float)
+        if w.shape[-1:] != (6,) or w.ndim > 2 or not np.all(np.isfinite(w)):
+            raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
+        w = np.broadcast_to(w, (len(x), 6))
+        W, W_printed = evaluate(self.functions["statics"], x, self.design_vector(design))
+        matrix = W_printed if printed else W
+        forces = np.full((len(x), 6), np.nan)
+        with np.errstate(invalid="ignore"):
+            regular = np.linalg.cond(matrix) < 1e12
+        if regular.any():
+            forces[regular] = np.linalg.solve(matrix[regular], w[regular][:, :, None])[:, :, 0]
+        return Statics(unbatch(forces[:, :3], single), unbatch(forces[:, 3:], single))

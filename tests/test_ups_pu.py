@@ -1,0 +1,139 @@
+"""The 2-UPS-PU platform of Zhao, Tang and Zhao 2008: forward kinematics on every assembly, the
+paper's closed form at alpha = 90 deg (eq. 6, with its l1 and l2 swapped back), the claim for
+alpha = 0, statics by virtual work and by the platform's equilibrium, and bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from helpers import random_design, reachable_poses
+
+import pkm
+from pkm.batch import evaluate
+from pkm.errors import DesignError, PoseError
+
+DEG = math.pi / 180
+
+
+@pytest.fixture(scope="module")
+def mech():
+    return pkm.load("ups_pu")
+
+
+@pytest.fixture(scope="module", params=[90.0, 30.0, 0.0])
+def case(request, mech):
+    rng = np.random.default_rng(int(request.param))
+    design = random_design(mech, rng, names=("r", "R", "beta"))
+    design = mech.design({**design, "alpha": request.param * DEG})
+    return design, reachable_poses(mech, design, "legs", rng, count=40)
+
+
+def test_every_real_root_is_an_assembly_of_the_same_leg_lengths(mech, case):
+    design, x = case
+    q = mech.inverse_kinematics(x, design)
+    found = np.zeros(len(x), dtype=bool)
+    for assembly in mech.assemblies:
+        pose = mech.forward_kinematics(q, design, assembly=assembly)
+        closed = np.all(np.isfinite(pose), axis=1)
+        np.testing.assert_allclose(mech.inverse_kinematics(pose[closed], design), q[closed], atol=1e-9)
+        found |= np.linalg.norm(pose - x, axis=1) < 1e-9
+    assert found.all()
+
+
+def _paper_eq6(l1, l2, l0, r, R, beta, *, as_printed):
+    """Zhao eq. 6 for alpha = 90 deg; as printed theta1 reads l2 and a reads l1, swapped back otherwise."""
+    first, second = (l2, l1) if as_printed else (l1, l2)
+    theta1 = math.asin((first**2 - r**2 - R**2 - l0**2) / (2 * r * math.hypot(l0, R))) + math.atan(R / l0)
+    a = (r**2 + R**2 + l0**2 - second**2) / (2 * r)
+    b = l0 * math.sin(beta) * math.sin(theta1) - R * math.sin(beta) ** 2 * math.cos(theta1)
+    c = l0 * math.cos(beta) * math.cos(theta1) + R * math.cos(beta) * math.sin(beta) * math.sin(theta1)
+    d = R * math.cos(beta) ** 2
+    theta2 = math.asin((a + b) / math.hypot(c, d)) - math.atan(d / c)
+    return theta1, theta2
+
+
+def test_paper_closed_form_at_alpha_90_holds_with_l1_and_l2_swapped_back(mech):
+    design = mech.design()
+    d = dict(design)
+    rng = np.random.default_rng(6)
+    x = np.column_stack([rng.uniform(0.45, 0.65, 20), rng.uniform(-0.5, 0.5, 20), rng.uniform(-0.5, 0.5, 20)])
+    q = mech.inverse_kinematics(x, design)
+    wrong = 0
+    for (l1, l2, l0), pose in zip(q, x, strict=True):
+        corrected = _paper_eq6(l1, l2, l0, d["r"], d["R"], d["beta"], as_printed=False)
+        np.testing.assert_allclose(corrected, pose[1:], atol=1e-9)
+        try:
+            printed = _paper_eq6(l1, l2, l0, d["r"], d["R"], d["beta"], as_printed=True)
+        except ValueError:  # the arcsine's argument leaves [-1, 1]
+            wrong += 1
+            continue
+        wrong += not np.allclose(printed, pose[1:], atol=1e-6)
+    assert wrong == len(x)
+
+
+def test_at_alpha_0_the_first_leg_depends_on_both_angles(mech):
+    """The decoupling behind eq. 6 needs S1 on the second U axis (alpha = 90 deg): at alpha = 0 leg 1
+    moves with theta2 as well, so the paper's 'same calculation' does not apply."""
+    for alpha, moves in ((90 * DEG, False), (0.0, True)):
+        design = mech.design({**mech.design(), "alpha": alpha})
+        x = np.array([[0.5, 0.2, -0.3], [0.5, 0.2, 0.3]])
+        l1 = mech.inverse_kinematics(x, design)[:, 0]
+        assert (abs(l1[0] - l1[1]) > 1e-6) == moves
+
+
+def _generalised_force(x: np.ndarray, wrench: np.ndarray) -> np.ndarray:
+    """Virtual work of a wrench (F, M) at U0 per unit pose rate: U0 moves along Z with l0, the platform
+    turns about X with theta1 and about Rx(theta1) Y with theta2."""
+    t1 = x[:, 1]
+    axis2 = np.stack([np.zeros_like(t1), np.cos(t1), np.sin(t1)], axis=1)
+    return np.stack([wrench[:, 2], wrench[:, 3], np.einsum("ni,ni->n", wrench[:, 3:], axis2)], axis=1)
+
+
+def test_actuator_forces_satisfy_virtual_work(mech, case):
+    design, x = case
+    rng = np.random.default_rng(3)
+    wrench = rng.normal(size=(len(x), 6)) * [100, 100, 1000, 10, 10, 10]
+    forces = mech.statics(x, wrench, design).actuators
+    J = mech.jacobian(x, design)
+    np.testing.assert_allclose(np.einsum("nij,ni->nj", J, forces), _generalised_force(x, wrench), rtol=1e-9,
+                               atol=1e-9 * np.abs(wrench).max())
+
+
+def test_forces_balance_the_platform(mech, case):
+    design, x = case
+    rng = np.random.default_rng(4)
+    wrench = rng.normal(size=(len(x), 6)) * [100, 100, 1000, 10, 10, 10]
+    result = mech.statics(x, wrench, design)
+    U0, S1, S2, U1, U2, _ = (v[:, :, 0] for v in evaluate(mech.functions["joint_positions"], x, design.vector()))
+    s1 = (S1 - U1) / np.linalg.norm(S1 - U1, axis=1, keepdims=True)
+    s2 = (S2 - U2) / np.linalg.norm(S2 - U2, axis=1, keepdims=True)
+    f1, f2, f0 = result.actuators.T
+    fx, fy, mc = result.constraint.T
+    ez = np.array([0.0, 0.0, 1.0])
+    force = f1[:, None] * s1 + f2[:, None] * s2 + f0[:, None] * ez + np.stack([fx, fy, 0 * fx], axis=1)
+    normal = np.stack([0 * mc, -np.sin(x[:, 1]), np.cos(x[:, 1])], axis=1)
+    moment = (f1[:, None] * np.cross(S1 - U0, s1) + f2[:, None] * np.cross(S2 - U0, s2) + mc[:, None] * normal)
+    np.testing.assert_allclose(np.hstack([force, moment]), wrench, atol=1e-9 * np.abs(wrench).max())
+
+
+def test_printed_statics_differs_from_the_physical_one_where_theta1_is_not_zero(mech):
+    x = np.array([[0.5, 0.3, 0.2]])
+    wrench = np.array([10.0, -20.0, -500.0, 3.0, -4.0, 5.0])
+    physical = mech.statics(x, wrench)
+    printed = mech.statics(x, wrench, printed=True)
+    assert not np.allclose(physical.actuators, printed.actuators, rtol=1e-3)
+
+
+def test_bad_input(mech):
+    with pytest.raises(DesignError, match="alpha != beta"):
+        mech.design({**mech.design(), "beta": mech.design()["alpha"]})
+    with pytest.raises(DesignError, match=r"D = -0\.001"):
+        mech.design({**mech.design(), "D": -0.001})
+    with pytest.raises(DesignError, match="alpha"):
+        mech.design({**mech.design(), "alpha": 4.0})
+    with pytest.raises(DesignError, match="l_min < l_max"):
+        mech.design({**mech.design(), "l_max": 0.3})
+    with pytest.raises(PoseError, match="wrench"):
+        mech.statics([0.5, 0.0, 0.0], [1.0, 2.0])
