@@ -18,7 +18,7 @@ the one contract of :meth:`ForwardKinematics.solve`.
 from __future__ import annotations
 
 import importlib
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from typing import TYPE_CHECKING, Any, Protocol
@@ -109,16 +109,26 @@ class FunctionTable(Mapping[str, ca.Function]):
 
 
 class GeneratedFunctions(FunctionTable):
-    """The functions of ``generated.<module>``, loaded on first use with the names of its ports checked.
+    """The functions of ``generated.<module>``, loaded on first use with the names of its ports checked,
+    and the functions ``extra`` composes from them (CasADi, for what sympy would render poorly).
 
     Loading checks that the module's ``PARAMETERS``, ``POSE`` and ``ACTUATORS`` equal the runtime's
     names, so that a design vector means the same on both sides.
     """
 
-    def __init__(self, module: str, *, parameters: Sequence[str], pose: Sequence[str], actuators: Sequence[str]):
+    def __init__(
+        self,
+        module: str,
+        *,
+        parameters: Sequence[str],
+        pose: Sequence[str],
+        actuators: Sequence[str],
+        extra: Callable[[Mapping[str, ca.Function]], Mapping[str, ca.Function]] | None = None,
+    ) -> None:
         super().__init__({}, f"generated.{module}")
         self.module = module
         self.expected = {"PARAMETERS": tuple(parameters), "POSE": tuple(pose), "ACTUATORS": tuple(actuators)}
+        self.extra = extra
 
     def check(self) -> None:
         """Import the generated module (without building its functions) and compare its names."""
@@ -134,7 +144,10 @@ class GeneratedFunctions(FunctionTable):
     @cached_property
     def _generated(self) -> dict[str, ca.Function]:
         self.check()
-        return importlib.import_module(f"generated.{self.module}").build()
+        functions = importlib.import_module(f"generated.{self.module}").build()
+        if self.extra is not None:
+            functions.update(self.extra(functions))
+        return functions
 
     def _load(self) -> dict[str, ca.Function]:
         return self._generated

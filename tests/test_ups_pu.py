@@ -137,3 +137,49 @@ def test_bad_input(mech):
         mech.design({**mech.design(), "l_max": 0.3})
     with pytest.raises(PoseError, match="wrench"):
         mech.statics([0.5, 0.0, 0.0], [1.0, 2.0])
+
+
+def test_workspace_margins_against_independent_computations(mech):
+    """Every margin recomputed from the joint positions with numpy: strokes, joint misalignments, the
+    least distance between legs by brute force over the segments, and the sign of det J."""
+    from pkm.models.ups_pu.workspace import MARGINS
+
+    rng = np.random.default_rng(9)
+    design = mech.design()
+    d = dict(design)
+    x = np.column_stack([rng.uniform(0.4, 0.7, 30), rng.uniform(-1.2, 1.2, 30), rng.uniform(-1.2, 1.2, 30)])
+    margins = mech.workspace_margins(x, design)
+    assert list(margins) == list(MARGINS)
+    q = mech.inverse_kinematics(x, design)
+    _, S1, S2, U1, U2, z_p = (v[:, :, 0] for v in evaluate(mech.functions["joint_positions"], x, design.vector()))
+    np.testing.assert_allclose(margins["l1_min"], q[:, 0] - d["l_min"], atol=1e-12)
+    np.testing.assert_allclose(margins["l2_max"], d["l_max"] - q[:, 1], atol=1e-12)
+    np.testing.assert_allclose(margins["l0_min"], x[:, 0] - d["l0_min"], atol=1e-12)
+    leg1 = (S1 - U1) / np.linalg.norm(S1 - U1, axis=1, keepdims=True)
+    angle_u1 = np.arccos(leg1[:, 2])
+    assert np.array_equal(margins["u1_range"] >= 0, angle_u1 <= d["theta_u_max"])
+    angle_s1 = np.arccos(np.einsum("ni,ni->n", leg1, z_p))
+    assert np.array_equal(margins["s1_range"] >= 0, angle_s1 <= d["theta_s_max"])
+    s = np.linspace(0, 1, 401)
+    for k in range(len(x)):
+        a = U1[k] + s[:, None] * (S1[k] - U1[k])
+        b = U2[k] + s[:, None] * (S2[k] - U2[k])
+        brute = np.min(np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2))
+        assert margins["legs_1_2"][k] + d["D"] == pytest.approx(brute, abs=2e-3 * np.linalg.norm(S1[k] - U1[k]))
+        assert margins["legs_1_2"][k] + d["D"] <= brute + 1e-12
+    r = d["r"]
+    det = np.linalg.det(mech.jacobian(x, design) @ np.diag([1, 1 / r, 1 / r]))
+    home = np.linalg.det(mech.jacobian(np.column_stack([x[:, 0], 0 * x[:, :2]]), design) @ np.diag([1, 1 / r, 1 / r]))
+    np.testing.assert_allclose(margins["jacobian_sign"], det * np.sign(home), rtol=1e-10)
+    assert np.all(home < 0)
+
+
+def test_ray_search_area_agrees_with_sampling_where_the_section_is_star_shaped(mech):
+    from pkm.models.ups_pu.workspace import section
+
+    d = mech.design().vector()
+    for l0 in (0.45, 0.55, 0.65):
+        cut = section(mech, d, l0, resolution=160, rays=360, step=0.25 * DEG)
+        assert cut.reentrant_rays == 0
+        assert cut.sampled_area == pytest.approx(cut.ray_area, rel=1.5e-2)
+        assert cut.mask.any()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
@@ -18,8 +19,9 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.design import Condition, Parameter
 from pkm.errors import PoseError
-from pkm.kinematics import Branch, DesignLike, PolynomialRoots, as_batch, unbatch
+from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
 from pkm.mechanism import Mechanism
+from pkm.models.ups_pu import workspace
 
 DEG = math.pi / 180
 INF = math.inf
@@ -91,6 +93,26 @@ class UpsPu(Mechanism):
     actuator_units = ("m", "m", "m")
     forward = PolynomialRoots()
     regions: ClassVar[dict[str, Any]] = {}
+
+    @cached_property
+    def functions(self) -> FunctionTable:
+        """The generated functions and the workspace margins composed from them."""
+        names = self.parameter_names()
+        return GeneratedFunctions(
+            self.name,
+            parameters=names,
+            pose=self.pose_names,
+            actuators=self.actuator_names,
+            extra=lambda generated: workspace.functions(generated, names),
+        )
+
+    def workspace_margins(self, pose: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
+        """The margins of the four constraints of Zhao section 5 by name (see
+        :mod:`pkm.models.ups_pu.workspace`), each (N,) or a float; >= 0 where the constraint holds."""
+        x, single = as_batch(pose, self.n_out, "pose")
+        d = self.design_vector(design)
+        (margins,) = evaluate(self.functions["workspace_margins"], self.inverse_kinematics(x, d), x, d)
+        return {name: unbatch(margins[:, k, 0], single) for k, name in enumerate(workspace.MARGINS)}
 
     @staticmethod
     def characteristic_length(design: Mapping[str, Any]) -> Any:

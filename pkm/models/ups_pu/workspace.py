@@ -1,0 +1,146 @@
+"""The workspace of the 2-UPS-PU under the four mechanical constraints of Zhao section 5.
+
+Each constraint is a margin, >= 0 where it holds, smooth where it can be (for IPOPT) and a boolean mask
+when compared with 0 (for sampling), all in one CasADi function ``workspace_margins(q, x, design)``
+composed from the generated ``first_order`` and ``joint_positions``:
+
+* ``jacobian_sign``: det(J_n) times the sign of det(J_n) at the home orientation theta1 = theta2 = 0
+  of the same l0, J_n = J diag(1, 1/r, 1/r). Eq. 9 as printed, |q| > 0, fails at the home pose of the
+  paper's own Fig. 3 design (pkm: det < 0 there); the reading that makes sense is that the workspace
+  does not cross the singular surface, so the determinant keeps its home sign.
+* strokes (eq. 10): ``l1 - l_min``, ``l_max - l1``, the same for l2, ``l0 - l0_min``, ``l0_max - l0``.
+* joint ranges (eqs. 11-12): cos(misalignment) - cos(limit) for the base universal joints U1, U2 (leg
+  axis against the base normal Z), the spherical joints S1, S2 (leg axis against the platform normal
+  z_p) and the platform universal joint U0 (z_p against Z).
+* link interference (eq. 13): the least distance between the segments U1S1, U2S2 and OU0, pairwise,
+  less the leg diameter D (closest points of two segments, clamped to the segments; continuous and
+  piecewise smooth).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+
+MARGINS = (
+    "jacobian_sign",
+    "l1_min", "l1_max", "l2_min", "l2_max", "l0_min", "l0_max",
+    "u1_range", "u2_range", "s1_range", "s2_range", "u0_range",
+    "legs_1_2", "legs_1_0", "legs_2_0",
+)
+PARALLEL = 1e-12  # [m^4] below this, two segments count as parallel
+DEG = math.pi / 180
+
+
+def segment_distance(p1: ca.SX, q1: ca.SX, p2: ca.SX, q2: ca.SX) -> ca.SX:
+    """Least distance between the segments p1q1 and p2q2 (closest points, Ericson 2005 section 5.1.9)."""
+    d1, d2, w = q1 - p1, q2 - p2, p1 - p2
+    a, e = ca.dot(d1, d1), ca.dot(d2, d2)
+    b, c, f = ca.dot(d1, d2), ca.dot(d1, w), ca.dot(d2, w)
+    denominator = a * e - b**2
+    s = ca.if_else(denominator > PARALLEL, ca.fmin(ca.fmax((b * f - c * e) / denominator, 0), 1), 0)
+    t = (b * s + f) / e
+    s = ca.if_else(t < 0, ca.fmin(ca.fmax(-c / a, 0), 1), ca.if_else(t > 1, ca.fmin(ca.fmax((b - c) / a, 0), 1), s))
+    t = ca.fmin(ca.fmax(t, 0), 1)
+    return ca.norm_2(p1 + s * d1 - (p2 + t * d2))
+
+
+def functions(generated: Mapping[str, ca.Function], parameters: Sequence[str]) -> dict[str, ca.Function]:
+    """``workspace_margins(q, x, design) -> margins`` (in the order of :data:`MARGINS`), the design
+    vector's entries named by ``parameters``."""
+    first_order, positions = generated["first_order"], generated["joint_positions"]
+    q = ca.SX.sym("q", 3)
+    x = ca.SX.sym("x", 3)
+    d = ca.SX.sym("design", first_order.numel_in(2))
+    value = {name: d[k] for k, name in enumerate(parameters)}
+    r, l_min, l_max, l0_min, l0_max = (value[n] for n in ("r", "l_min", "l_max", "l0_min", "l0_max"))
+    u_max, s_max, diameter = value["theta_u_max"], value["theta_s_max"], value["D"]
+    scale = ca.diag(ca.vertcat(1, 1 / r, 1 / r))
+    det = ca.det(first_order(q, x, d)[0] @ scale)
+    home = ca.vertcat(x[0], 0, 0)
+    home_q = generated["inverse_kinematics"](home, ca.DM([1.0]), d)[0]
+    det_home = ca.det(first_order(home_q, home, d)[0] @ scale)
+    u0, s1, s2, u1, u2, z_p = positions(x, d)
+    a1 = (s1 - u1) / ca.norm_2(s1 - u1)
+    a2 = (s2 - u2) / ca.norm_2(s2 - u2)
+    origin = ca.DM.zeros(3)
+    margins = ca.vertcat(
+        det * ca.sign(det_home),
+        q[0] - l_min, l_max - q[0], q[1] - l_min, l_max - q[1], x[0] - l0_min, l0_max - x[0],
+        a1[2] - ca.cos(u_max), a2[2] - ca.cos(u_max),
+        ca.dot(a1, z_p) - ca.cos(s_max), ca.dot(a2, z_p) - ca.cos(s_max),
+        z_p[2] - ca.cos(u_max),
+        segment_distance(u1, s1, u2, s2) - diameter,
+        segment_distance(u1, s1, origin, u0) - diameter,
+        segment_distance(u2, s2, origin, u0) - diameter,
+    )
+    return {
+        "workspace_margins": ca.Function(
+            "workspace_margins", [q, x, d], [margins], ["q", "x", "design"], ["margins"]
+        )
+    }
+
+
+def tilt_to_angles(phi: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(theta1, theta2) of the platform normal at polar angle phi and tilt gamma (Zhao eqs. 14-15)."""
+    theta2 = np.arcsin(np.sin(gamma) * np.cos(phi))
+    theta1 = -np.arcsin(np.sin(gamma) * np.sin(phi) / np.cos(theta2))
+    return theta1, theta2
+
+
+def inside(mech: Any, x: np.ndarray, design: np.ndarray) -> np.ndarray:
+    """Mask (N,) of the poses that satisfy every constraint."""
+    q = mech.inverse_kinematics(x, design)
+    (margins,) = evaluate(mech.functions["workspace_margins"], q, x, design)
+    return np.all(margins[:, :, 0] >= 0, axis=1)
+
+
+@dataclass(frozen=True)
+class Section:
+    """The workspace at one l0: its area in the (theta1, theta2) plane [rad^2] by dense sampling and by
+    the paper's ray search, the ray search's boundary (theta1, theta2), the sampled mask, and the rays
+    along which the workspace re-enters after the first violation (where it is not star-shaped)."""
+
+    l0: float
+    sampled_area: float
+    ray_area: float
+    boundary: np.ndarray
+    grid: np.ndarray
+    mask: np.ndarray
+    reentrant_rays: int
+
+
+def section(mech: Any, design: np.ndarray, l0: float, *, resolution: int = 200, rays: int = 360,
+            step: float = 0.25 * DEG) -> Section:
+    """The workspace section at ``l0``: sampled on a resolution^2 grid over theta1, theta2 in
+    [-90, 90] deg, and by the ray search of Zhao section 5.3 (step 5): along ``rays`` polar angles
+    phi, the tilt gamma grows by ``step`` from the home orientation until a constraint fails. The ray
+    search assumes the section is star-shaped about the home orientation in (phi, gamma); where it is
+    not, the two areas differ."""
+    axis = -math.pi / 2 + math.pi * (np.arange(resolution) + 0.5) / resolution
+    T1, T2 = np.meshgrid(axis, axis, indexing="ij")
+    grid = np.stack([np.full(T1.size, l0), T1.ravel(), T2.ravel()], axis=1)
+    mask = inside(mech, grid, design)
+    cell = (math.pi / resolution) ** 2
+    phi = 2 * math.pi * np.arange(rays) / rays
+    gammas = np.arange(1, int(math.pi / 2 / step)) * step
+    P, G = np.meshgrid(phi, gammas, indexing="ij")
+    t1, t2 = tilt_to_angles(P.ravel(), G.ravel())
+    ok = inside(mech, np.stack([np.full(t1.size, l0), t1, t2], axis=1), design).reshape(P.shape)
+    first_out = np.where(ok.all(axis=1), len(gammas), np.argmin(ok, axis=1))
+    beyond = np.arange(len(gammas))[None, :] > first_out[:, None]
+    reentrant = int(np.any(ok & beyond, axis=1).sum())
+    reach = np.where(first_out > 0, gammas[np.maximum(first_out - 1, 0)], 0.0)
+    b1, b2 = tilt_to_angles(phi, reach)
+    boundary = np.stack([b1, b2], axis=1)
+    ray_area = 0.5 * abs(np.dot(b1, np.roll(b2, -1)) - np.dot(b2, np.roll(b1, -1)))
+    return Section(
+        l0, float(mask.sum() * cell), float(ray_area), boundary, grid[:, 1:], mask.reshape(T1.shape), reentrant
+    )
