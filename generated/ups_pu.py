@@ -1,13 +1,13 @@
-# Generated from symbolic/mechanisms/ups_pu.py (source sha256 24a3b77e1b793cee).
+# Generated from symbolic/mechanisms/ups_pu.py (source sha256 5bfd5d9b098157a0).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-UPS-PU platform."""
 
 import casadi as ca
 
-SOURCE_HASH = "24a3b77e1b793cee"
+SOURCE_HASH = "5bfd5d9b098157a0"
 FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "joint_positions", "statics", )
-PARAMETERS = ("r", "R", "alpha", "beta", "l_min", "l_max", "l0_min", "l0_max", "theta_u_max", "theta_s_max", "D", )
+PARAMETERS = ("r", "R", "alpha", "beta", "l_min", "l_max", "l0_min", "l0_max", "theta_u_max", "theta_s_max", "D", "payload", "payload_height", "g", "task_tilt", "task_height", )
 POSE = ("l0", "theta1", "theta2", )
 ACTUATORS = ("l1", "l2", "l0_leg", )
 
@@ -18,7 +18,7 @@ def inverse_kinematics():
     Inputs:
         x (3): [l0, theta1, theta2] l0 [m], theta1, theta2 [rad]
         mode (1): [sigma] unused: the inverse kinematics has one solution (+1)
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         q (3x1, column-major): l1, l2, l0_leg [m]
         reach (3x1, column-major): the lengths themselves: every pose has an inverse kinematics
@@ -29,7 +29,7 @@ def inverse_kinematics():
     x_2 = x[2]
     mode = ca.SX.sym("mode", 1)
     mode_0 = mode[0]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -41,6 +41,11 @@ def inverse_kinematics():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 17 common subexpressions, 54 operations
     _t0 = ca.sin(x_1)
     _t1 = ca.sin(design_2)
@@ -70,7 +75,7 @@ def constraint():
     Inputs:
         q (3): [l1, l2, l0_leg] UPS leg lengths l1, l2 and the PU leg's stroke l0 [m]
         x (3): [l0, theta1, theta2] l0 [m], theta1, theta2 [rad]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         h (3x1, column-major): loop-closure residuals [m^2, m]
         H_q (3x3, column-major): dh/dq, actuated then passive [m, -]
@@ -84,7 +89,7 @@ def constraint():
     x_0 = x[0]
     x_1 = x[1]
     x_2 = x[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -96,6 +101,11 @@ def constraint():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 26 common subexpressions, 106 operations
     _t0 = ca.sin(x_1)
     _t1 = ca.sin(design_2)
@@ -135,7 +145,7 @@ def first_order():
     Inputs:
         q (3): [l1, l2, l0_leg] UPS leg lengths l1, l2 and the PU leg's stroke l0 [m]
         x (3): [l0, theta1, theta2] l0 [m], theta1, theta2 [rad]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         J (3x3, column-major): q_a_dot = J x_dot [-, m/rad]
         J_f (3x3, column-major): x_dot = J_f q_a_dot [-, rad/m]
@@ -151,7 +161,7 @@ def first_order():
     x_0 = x[0]
     x_1 = x[1]
     x_2 = x[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -163,6 +173,11 @@ def first_order():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 61 common subexpressions, 363 operations
     _t0 = 1/q_0
     _t1 = ca.sin(design_2)
@@ -238,7 +253,7 @@ def forward_polynomial():
 
     Inputs:
         q_a (3): [l1, l2, l0_leg] actuated lengths [m]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         c (9x1, column-major): coefficients of t^8 ... t^0, t = tan(theta2 / 2) [m^8]
     """
@@ -246,7 +261,7 @@ def forward_polynomial():
     q_a_0 = q_a[0]
     q_a_1 = q_a[1]
     q_a_2 = q_a[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -258,6 +273,11 @@ def forward_polynomial():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 61 common subexpressions, 206 operations
     _t0 = ca.sin(design_2)
     _t1 = design_0**2
@@ -330,7 +350,7 @@ def forward_from_root():
     Inputs:
         root (1): [t] t = tan(theta2 / 2) [-]
         q_a (3): [l1, l2, l0_leg] actuated lengths [m]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         x (3x1, column-major): l0 [m], theta1, theta2 [rad]
         q (3x1, column-major): l1, l2, l0_leg [m]
@@ -342,7 +362,7 @@ def forward_from_root():
     q_a_0 = q_a[0]
     q_a_1 = q_a[1]
     q_a_2 = q_a[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -354,6 +374,11 @@ def forward_from_root():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 36 common subexpressions, 110 operations
     _t0 = ca.sin(design_2)
     _t1 = 2*design_1
@@ -402,7 +427,7 @@ def joint_positions():
 
     Inputs:
         x (3): [l0, theta1, theta2] l0 [m], theta1, theta2 [rad]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         U0 (3x1, column-major): U0 in the base frame [m]
         S1 (3x1, column-major): S1 in the base frame [m]
@@ -415,7 +440,7 @@ def joint_positions():
     x_0 = x[0]
     x_1 = x[1]
     x_2 = x[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -427,6 +452,11 @@ def joint_positions():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
     # 14 common subexpressions, 37 operations
     _t0 = ca.cos(design_2)
     _t1 = ca.cos(x_2)
@@ -452,20 +482,26 @@ def joint_positions():
 
 
 def statics():
-    """Wrench matrices of the statics (Zhao eq. 8): physical, and as printed.
+    """Wrench matrices of the statics (Zhao eq. 8): physical, and as printed; the payload's wrench.
 
     Inputs:
+        q (3): [l1, l2, l0_leg] UPS leg lengths l1, l2 and the PU leg's stroke l0 [m]
         x (3): [l0, theta1, theta2] l0 [m], theta1, theta2 [rad]
-        design (11): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]
+        design (16): [r, R, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height, g, task_tilt, task_height] r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]
     Outputs:
         W (6x6, column-major): (F, M) at U0 = W (f1, f2, f0, f_x, f_y, m_c) [-, m]
         W_printed (6x6, column-major): eq. 8 as printed: normalised moment axes, m_c about Z [-]
+        w_load (6x1, column-major): the payload's wrench (F, M) at U0 [N, N m]
     """
+    q = ca.SX.sym("q", 3)
+    q_0 = q[0]
+    q_1 = q[1]
+    q_2 = q[2]
     x = ca.SX.sym("x", 3)
     x_0 = x[0]
     x_1 = x[1]
     x_2 = x[2]
-    design = ca.SX.sym("design", 11)
+    design = ca.SX.sym("design", 16)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -477,7 +513,12 @@ def statics():
     design_8 = design[8]
     design_9 = design[9]
     design_10 = design[10]
-    # 41 common subexpressions, 127 operations
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    # 44 common subexpressions, 133 operations
     _t0 = ca.cos(design_2)
     _t1 = ca.cos(x_2)
     _t2 = -design_1*_t0 + _t0*_t1*design_0
@@ -485,43 +526,47 @@ def statics():
     _t4 = ca.sin(design_2)
     _t5 = _t4*design_0
     _t6 = ca.cos(x_1)
-    _t7 = design_0*ca.sin(x_2)
-    _t8 = _t0*_t7
-    _t9 = _t3*_t5 - _t6*_t8
-    _t10 = _t9 + x_0
-    _t11 = _t3*_t8 + _t5*_t6
-    _t12 = -design_1*_t4 + _t11
-    _t13 = 1/ca.sqrt(_t10**2 + _t12**2 + _t2**2)
-    _t14 = _t13*_t2
-    _t15 = _t12*_t13
-    _t16 = _t10*_t13
-    _t17 = _t1*design_0
-    _t18 = _t0*_t17
-    _t19 = ca.cos(design_3)
-    _t20 = -design_1*_t19 + _t1*_t19*design_0
-    _t21 = ca.sin(design_3)
-    _t22 = _t21*design_0
-    _t23 = _t19*_t7
-    _t24 = _t22*_t3 - _t23*_t6
-    _t25 = _t24 + x_0
-    _t26 = _t22*_t6 + _t23*_t3
-    _t27 = -design_1*_t21 + _t26
-    _t28 = 1/ca.sqrt(_t20**2 + _t25**2 + _t27**2)
-    _t29 = _t20*_t28
-    _t30 = _t27*_t28
-    _t31 = _t25*_t28
-    _t32 = _t17*_t19
-    _t33 = _t10*_t11 - _t10*_t12
-    _t34 = -_t10*_t18 + _t10*_t2
-    _t35 = -_t11*_t2 + _t12*_t18
-    _t36 = 1/ca.sqrt(_t33**2 + _t34**2 + _t35**2)
-    _t37 = _t25*_t26 - _t25*_t27
-    _t38 = _t20*_t25 - _t25*_t32
-    _t39 = -_t20*_t26 + _t27*_t32
-    _t40 = 1/ca.sqrt(_t37**2 + _t38**2 + _t39**2)
-    W = ca.reshape(ca.vertcat(_t14, _t15, _t16, _t10*_t11*_t13 - _t15*_t9, _t13*_t2*_t9 - _t16*_t18, -_t11*_t14 + _t15*_t18, _t29, _t30, _t31, -_t24*_t30 + _t25*_t26*_t28, _t20*_t24*_t28 - _t31*_t32, -_t26*_t29 + _t30*_t32, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, -_t3, _t6), 6, 6)
-    W_printed = ca.reshape(ca.vertcat(_t14, _t15, _t16, _t33*_t36, _t34*_t36, _t35*_t36, _t29, _t30, _t31, _t37*_t40, _t38*_t40, _t39*_t40, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1), 6, 6)
-    return ca.Function("statics", [x, design], [W, W_printed], ["x", "design"], ["W", "W_printed"])
+    _t7 = ca.sin(x_2)
+    _t8 = _t7*design_0
+    _t9 = _t0*_t8
+    _t10 = _t3*_t5 - _t6*_t9
+    _t11 = _t10 + x_0
+    _t12 = _t3*_t9 + _t5*_t6
+    _t13 = -design_1*_t4 + _t12
+    _t14 = 1/ca.sqrt(_t11**2 + _t13**2 + _t2**2)
+    _t15 = _t14*_t2
+    _t16 = _t13*_t14
+    _t17 = _t11*_t14
+    _t18 = _t1*design_0
+    _t19 = _t0*_t18
+    _t20 = ca.cos(design_3)
+    _t21 = -design_1*_t20 + _t1*_t20*design_0
+    _t22 = ca.sin(design_3)
+    _t23 = _t22*design_0
+    _t24 = _t20*_t8
+    _t25 = _t23*_t3 - _t24*_t6
+    _t26 = _t25 + x_0
+    _t27 = _t23*_t6 + _t24*_t3
+    _t28 = -design_1*_t22 + _t27
+    _t29 = 1/ca.sqrt(_t21**2 + _t26**2 + _t28**2)
+    _t30 = _t21*_t29
+    _t31 = _t28*_t29
+    _t32 = _t26*_t29
+    _t33 = _t18*_t20
+    _t34 = _t11*_t12 - _t11*_t13
+    _t35 = -_t11*_t19 + _t11*_t2
+    _t36 = -_t12*_t2 + _t13*_t19
+    _t37 = 1/ca.sqrt(_t34**2 + _t35**2 + _t36**2)
+    _t38 = _t26*_t27 - _t26*_t28
+    _t39 = _t21*_t26 - _t26*_t33
+    _t40 = -_t21*_t27 + _t28*_t33
+    _t41 = 1/ca.sqrt(_t38**2 + _t39**2 + _t40**2)
+    _t42 = design_13*design_11
+    _t43 = _t42*design_12
+    W = ca.reshape(ca.vertcat(_t15, _t16, _t17, -_t10*_t16 + _t11*_t12*_t14, _t10*_t14*_t2 - _t17*_t19, -_t12*_t15 + _t16*_t19, _t30, _t31, _t32, -_t25*_t31 + _t26*_t27*_t29, _t21*_t25*_t29 - _t32*_t33, -_t27*_t30 + _t31*_t33, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, -_t3, _t6), 6, 6)
+    W_printed = ca.reshape(ca.vertcat(_t15, _t16, _t17, _t34*_t37, _t35*_t37, _t36*_t37, _t30, _t31, _t32, _t38*_t41, _t39*_t41, _t40*_t41, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1), 6, 6)
+    w_load = ca.reshape(ca.vertcat(0, 0, -_t42, _t1*_t3*_t43, _t43*_t7, 0), 6, 1)
+    return ca.Function("statics", [q, x, design], [W, W_printed, w_load], ["q", "x", "design"], ["W", "W_printed", "w_load"])
 
 
 def build():

@@ -1,7 +1,7 @@
 """Global indices: a local index reduced over a region, with the sense in which it is better.
 
 A global index is the region mean of its local index (Gao eqs. 6-7, Lara-Molina eq. 36, Wu eqs. 7 and
-44), its standard deviation (Wu section 6.1), its minimum (Lara-Molina eq. 38), or a region measure:
+44), its standard deviation (Wu section 6.1), its minimum (Lara-Molina eq. 38) or maximum, or a region measure:
 the area or volume of the points where the local index is defined. Each carries its sense: larger
 (``"max"``) or smaller (``"min"``) is better.
 """
@@ -17,7 +17,7 @@ from pkm.errors import PkmError
 from pkm.indices import local
 from pkm.indices.local import LocalIndex
 
-REDUCTIONS = ("mean", "std", "min", "measure")
+REDUCTIONS = ("mean", "std", "min", "max", "measure")
 SENSES = ("max", "min")
 
 
@@ -57,8 +57,9 @@ def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str, valid:
     total = ca.sum1(w)
     if reduce == "measure":
         return ca.mtimes(valid, w)
-    if reduce == "min":
-        return ca.if_else(ca.mmin(valid) > 0, ca.mmin(values), np.nan)
+    if reduce in ("min", "max"):
+        extreme = ca.mmin(values) if reduce == "min" else ca.mmax(values)
+        return ca.if_else(ca.mmin(valid) > 0, extreme, np.nan)
     mean = ca.mtimes(values, w) / total
     if reduce == "std":
         return ca.sqrt(ca.mtimes((values - mean) ** 2, w) / total)
@@ -72,7 +73,7 @@ def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float, reduce: st
     if not keep.any():
         return float("nan")
     kept = values[keep]
-    return float({"min": np.min, "std": np.std}.get(reduce, np.mean)(kept))
+    return float({"min": np.min, "max": np.max, "std": np.std}.get(reduce, np.mean)(kept))
 
 
 GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
@@ -94,6 +95,15 @@ GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
     GlobalIndex("kappa_d_mean", local.KAPPA_D, "region mean of kappa_D (Wu eq. 44)", sense="min"),
     GlobalIndex(
         "kappa_d_std", local.KAPPA_D, "region standard deviation of kappa_D (Wu section 6.1)", "std", "min"
+    ),
+    GlobalIndex(
+        "actuator_force_max", local.ACTUATOR_FORCE, "region maximum of the largest actuator force under the load",
+        "max", "min",
+    ),
+    GlobalIndex(
+        "workspace_margin_min", local.WORKSPACE_MARGIN,
+        "region minimum of the least workspace-constraint margin: >= 0 where the region lies in the workspace",
+        "min",
     ),
     GlobalIndex(
         "region_measure", local.INVERSE_CONDITION_F,

@@ -34,7 +34,8 @@ ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the 
 class LocalIndex:
     """A local index: key, meaning, unit, documented range, its value where the pose is singular, the
     generated function (``source``) and outputs (``arguments``) it is computed from, and its formula
-    on CasADi matrices."""
+    on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a smooth g with g >= 0 exactly
+    where the index is >= t (value - t otherwise)."""
 
     name: str
     doc: str
@@ -45,6 +46,7 @@ class LocalIndex:
     formula: Callable[..., ca.SX]
     source: str = "first_order"
     arguments: tuple[str, ...] = ("J", "J_f")
+    epigraph: Callable[..., ca.SX] | None = None
 
 
 def _check_square(A: ca.SX) -> int:
@@ -151,6 +153,15 @@ def _symmetric_ratio(M: ca.SX) -> ca.SX:
     return smallest / largest
 
 
+def _frequency_epigraph(S: ca.SX, t: ca.SX) -> ca.SX:
+    """sqrt(lambda_min(S_e)) >= t as S_e - t^2 I positive semidefinite: for n = 2 a non-negative trace
+    and determinant, polynomial in S_e and t and smooth where the eigenvalues meet."""
+    if _check_square(S) != 2:
+        return _lowest_frequency(S) - t
+    M = S - t**2 * ca.SX.eye(2)
+    return ca.vertcat(M[0, 0] + M[1, 1], M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0])
+
+
 def _lowest_frequency(S: ca.SX) -> ca.SX:
     if _check_square(S) == 2:
         return ca.sqrt(extreme_singular_values(S)[1])
@@ -200,7 +211,18 @@ NATURAL_FREQUENCY = LocalIndex(
     "natural_frequency",
     "smallest non-zero natural frequency of (K_T - lambda^2 M_T) z = 0 (Lara-Molina eq. 37): "
     "sqrt(lambda_min(S_e)), S_e = K^1/2 (M_t^-1 + J_m^-1) K^1/2; the rigid-body modes excluded",
-    "rad/s", 0.0, np.inf, np.nan, _lowest_frequency, "inertia", ("S_e",),
+    "rad/s", 0.0, np.inf, np.nan, _lowest_frequency, "inertia", ("S_e",), _frequency_epigraph,
+)
+ACTUATOR_FORCE = LocalIndex(
+    "actuator_force",
+    "largest actuator force (absolute) that holds the mechanism's load, from its generated actuator_forces",
+    "N", 0.0, np.inf, np.inf, lambda f: ca.mmax(ca.fabs(f)), "actuator_forces", ("f_a",),
+)
+WORKSPACE_MARGIN = LocalIndex(
+    "workspace_margin",
+    "least margin of the mechanism's workspace constraints (>= 0 inside the workspace), from its generated "
+    "workspace_margins; its epigraph keeps every margin as its own smooth constraint",
+    "-", -np.inf, np.inf, -np.inf, ca.mmin, "workspace_margins", ("margins",), lambda m, t: m - t,
 )
 
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
@@ -213,31 +235,27 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     DYNAMIC_DEXTERITY,
     KAPPA_D,
     NATURAL_FREQUENCY,
+    ACTUATOR_FORCE,
+    WORKSPACE_MARGIN,
 )
 
 
 @cache
-def local_function(spec: LocalIndex, n: int) -> ca.Function:
-    """CasADi function ``(*arguments) -> value`` of a local index on n x n matrices."""
-    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+def local_function(spec: LocalIndex, n: int, shapes: tuple[tuple[int, int], ...] | None = None) -> ca.Function:
+    """CasADi function ``(*arguments) -> value`` of a local index on n x n matrices, or on arguments of
+    the given ``shapes``."""
+    shapes = shapes or ((n, n),) * len(spec.arguments)
+    args = [ca.SX.sym(a, *shape) for a, shape in zip(spec.arguments, shapes, strict=True)]
     return ca.Function(spec.name, args, [spec.formula(*args)], list(spec.arguments), [spec.name])
 
 
 @cache
-def epigraph_function(spec: LocalIndex, n: int) -> ca.Function:
-    """CasADi function ``(*arguments, t) -> g``: g >= 0 if and only if the local index is >= t.
-
-    For the natural frequency, sqrt(lambda_min(S_e)) >= t is S_e - t^2 I positive semidefinite, which
-    for n = 2 is a non-negative trace and determinant: polynomial in S_e and t, smooth where the
-    eigenvalues meet (the closed-form lambda_min is not). Other indices use value - t.
-    """
-    args = [ca.SX.sym(a, n, n) for a in spec.arguments]
+def epigraph_function(spec: LocalIndex, shapes: tuple[tuple[int, int], ...]) -> ca.Function:
+    """CasADi function ``(*arguments, t) -> g`` on arguments of the given shapes: g >= 0 if and only
+    if the local index is >= t (the index's own ``epigraph`` where it has one, else value - t)."""
+    args = [ca.SX.sym(a, *shape) for a, shape in zip(spec.arguments, shapes, strict=True)]
     t = ca.SX.sym("t")
-    if spec.arguments == ("S_e",) and n == 2:
-        S = args[0] - t**2 * ca.SX.eye(2)
-        g = ca.vertcat(S[0, 0] + S[1, 1], S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0])
-    else:
-        g = local_function(spec, n)(*args) - t
+    g = spec.epigraph(*args, t) if spec.epigraph is not None else local_function(spec, 0, shapes)(*args) - t
     return ca.Function(f"{spec.name}_epigraph", [*args, t], [g], [*spec.arguments, "t"], ["margin"])
 
 

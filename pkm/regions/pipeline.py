@@ -112,7 +112,7 @@ def pipeline(
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
     for source in dict.fromkeys(wanted):
         fn = fns.require(source, f"the {mech.name} pipeline")
-        sources[source] = dict(zip(fn.name_out(), fn(q, x, design), strict=True))
+        sources[source] = dict(zip(fn.name_out(), fn.call([q, x, design]), strict=True))
     outputs, names = [q, reach, reachable], ["q", "reach", "valid"]
     arguments = {}
     for spec in locals_:
@@ -121,7 +121,7 @@ def pipeline(
             raise PkmError(f"the local index {spec.name} needs {', '.join(missing)} of {spec.source}")
         args = [normalise(a, sources[spec.source][a], scales) for a in spec.arguments]
         arguments[spec.name] = args
-        value = local_function(spec, args[0].size1())(*args)
+        value = local_function(spec, args[0].size1(), tuple(a.shape for a in args))(*args)
         outputs.append(ca.if_else(reachable, value, np.nan))
         names.append(spec.name)
     if matrices:

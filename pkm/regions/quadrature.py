@@ -40,15 +40,19 @@ def node_values(
     out of reach), their weights and whether each node is reached (1 or 0).
 
     With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
-    the local index is at least t at every node (:func:`pkm.indices.epigraph_function`).
+    the local index is at least t at every node (:func:`pkm.indices.epigraph_function`), or at most t
+    for a region maximum.
     """
     points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
     n = points.size2()
     fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
     outputs = fn(points, ca.DM(branch.signs), design)
+    if epigraph is not None and spec.reduce == "max":
+        return epigraph - outputs[3], weights, outputs[2]
     if epigraph is not None:
         matrices = outputs[4:]
-        g = epigraph_function(spec.local, matrices[0].size1()).map(n)(*matrices, epigraph)
+        shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
+        g = epigraph_function(spec.local, shapes).map(n)(*matrices, epigraph)
         return g, weights, outputs[2]
     return outputs[3], weights, outputs[2]
 

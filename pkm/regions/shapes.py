@@ -10,8 +10,8 @@ global index built on them is differentiable in the design.
 Protocol, shared by every shape:
 
 * ``quadrature(functions, design, resolution, reduce) -> (points, weights)``: points d x n and
-  weights 1 x n, CasADi when the design is CasADi, numpy (n, d) and (n,) when it is numeric. For a
-  minimum (``reduce="min"``) the nodes include the centre and the boundary, with zero weight;
+  weights 1 x n, CasADi when the design is CasADi, numpy (n, d) and (n,) when it is numeric. For an
+  extreme (``reduce="min"`` or ``"max"``) the nodes include the centre and the boundary, with zero weight;
 * ``sample(functions, design, resolution, reduce) -> (points, cell)``: the cell centres (m, d) of a
   regular grid inside the region and the cell measure, for an independent check by sampling (with the
   boundary points for a minimum);
@@ -88,11 +88,14 @@ def square_rim(count: int) -> np.ndarray:
     return np.concatenate([square_perimeter(count), corners])
 
 
+EXTREMES = ("min", "max")
+
+
 def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
-    """The unit disc's nodes and weights; for a minimum also its centre and a rim of ``4 resolution``
+    """The unit disc's nodes and weights; for an extreme also its centre and a rim of ``4 resolution``
     points, with zero weight."""
     nodes, weights = disc_quadrature(resolution)
-    if reduce != "min":
+    if reduce not in EXTREMES:
         return nodes, weights
     rim = ring(4 * resolution)
     return (
@@ -103,10 +106,10 @@ def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
 
 def square_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
     """[-1, 1]^2 by Gauss-Legendre with ``2 resolution`` points per axis; for a minimum also its
-    centre and :func:`square_rim` with ``8 resolution`` points, with zero weight."""
+    centre and :func:`square_rim` with ``8 resolution`` points (for an extreme), with zero weight."""
     t, w = gauss_legendre(2 * resolution)
     nodes, weights = product((t[:, None], w), (t[:, None], w))
-    if reduce != "min":
+    if reduce not in EXTREMES:
         return nodes, weights
     rim = square_rim(8 * resolution)
     return (
@@ -208,7 +211,7 @@ class PlacedRegion:
         box = np.stack([centre - scale, centre + scale], axis=1)
         points, cell = grid(box, resolution)
         points = points[self.inside_reference((points - centre) / scale)]
-        if reduce == "min":
+        if reduce in EXTREMES:
             points = np.concatenate([points, centre + scale * self.boundary_reference(4 * resolution)])
         return points, cell
 
@@ -260,7 +263,7 @@ class Box(PlacedRegion):
     dimension = 3
 
     def reference(self, resolution, reduce):
-        axis = _segment(resolution, reduce == "min")
+        axis = _segment(resolution, reduce in EXTREMES)
         return product(axis, axis, axis)
 
     def boundary_reference(self, count):
@@ -297,7 +300,7 @@ class Cylinder(PlacedRegion):
         return out
 
     def reference(self, resolution, reduce):
-        nodes, weights = product(disc_rule(resolution, reduce), _segment(resolution, reduce == "min"))
+        nodes, weights = product(disc_rule(resolution, reduce), _segment(resolution, reduce in EXTREMES))
         return self._arrange(nodes), weights
 
     def inside_reference(self, u):
@@ -363,7 +366,40 @@ class MappedSquare:
         points, cell = grid(box, resolution)
         at_lower, at_upper = (v[:, 0, 0] for v in evaluate(functions[self.curves], points[:, :1], d))
         points = points[(points[:, 1] > at_lower) & (points[:, 1] < at_upper)]
-        if reduce == "min":
+        if reduce in EXTREMES:
             rim, _ = self._map(functions, ca.DM(d), (square_rim(4 * resolution) + 1) / 2)
             points = np.concatenate([points, np.asarray(rim).T])
         return points, cell
+
+
+@dataclass(frozen=True)
+class Mapped:
+    """A placed shape in other coordinates, mapped into the pose by the generated function ``to_pose``
+    ((y, design) -> x). Weights and measures stay those of the shape's own coordinates (a task region
+    stated in the coordinates a designer specifies it in)."""
+
+    name: str
+    doc: str
+    inner: PlacedRegion
+    to_pose: str
+
+    @property
+    def dimension(self) -> int:
+        return self.inner.dimension
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:
+        return self.inner.node_count(resolution, reduce)
+
+    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+        numeric = _numeric(design)
+        d = ca.DM(design) if numeric else design
+        points, weights = self.inner.quadrature(functions, d, resolution, reduce)
+        mapped = functions[self.to_pose].map(points.size2())(points, d)
+        if numeric:
+            return _as_numpy(ca.DM(mapped), ca.DM(weights))
+        return mapped, weights
+
+    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+        points, cell = self.inner.sample(functions, design, resolution, reduce)
+        (mapped,) = evaluate(functions[self.to_pose], points, np.asarray(design, dtype=float))
+        return mapped[:, :, 0], cell

@@ -23,8 +23,6 @@ from pkm.errors import ComputationError, PkmError, check_integer
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
 
-EPIGRAPH_START = 0.999  # t starts just below the screening value, inside the feasible set
-
 
 @dataclass
 class Run:
@@ -141,13 +139,21 @@ def _named(problem: Problem, values: np.ndarray) -> dict[str, float]:
     return dict(zip(problem.variable_names, (float(v) for v in values), strict=True))
 
 
-def _screen(model: ProblemModel, resolution: int, screening: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -> tuple[np.ndarray, np.ndarray]:
+    """The screening points and the indices of the starts: the best feasible points, or where none is
+    feasible the least infeasible (IPOPT starts from infeasible points too)."""
     prob = model.problem
     points = grid_points(prob.variables, screening)
     if prob.starting_points is not None:
         points = np.concatenate([points, np.atleast_2d(prob.starting_points())])
-    objective, ok = model.evaluate(points, resolution)
-    return points, objective, ok
+    objective, ok, violation = model.assess_points(points, resolution)
+    order = model.best(objective, ok, starts)
+    if len(order) == 0:
+        finite = np.isfinite(violation)
+        order = np.argsort(np.where(finite, violation, np.inf), kind="stable")[: min(starts, int(finite.sum()))]
+    if len(order) == 0:
+        raise ComputationError(f"the model of {prob.name} is undefined at all {len(points)} screening points")
+    return points, order
 
 
 def _rank(model: ProblemModel, cand: Candidate) -> tuple[bool, float]:
@@ -191,15 +197,13 @@ def synthesize(
 
     say("screening")
     t0 = time.perf_counter()
-    points, screen, ok = _screen(model, res, problem.screening_resolution)
-    order = model.best(screen, ok, n_starts)
-    if len(order) == 0:
-        raise ComputationError(f"no feasible design among the {len(points)} screening points of {problem.name}")
-    nlp, lower, upper, epigraph = model.nlp(res)
+    points, order = _screen(model, res, problem.screening_resolution, n_starts)
+    nlp, lower, upper = model.nlp(res)
+    extra = len(model.extremes)
     solver = ca.nlpsol(problem.name.replace(".", "_"), "ipopt", nlp, options)
     bounds = {
-        "lbx": [v.lower for v in problem.variables] + ([-np.inf] if epigraph else []),
-        "ubx": [v.upper for v in problem.variables] + ([np.inf] if epigraph else []),
+        "lbx": [v.lower for v in problem.variables] + [-np.inf] * extra,
+        "ubx": [v.upper for v in problem.variables] + [np.inf] * extra,
         "lbg": lower,
         "ubg": upper,
     }
@@ -207,13 +211,13 @@ def synthesize(
     evaluations = len(points)
     for k, index in enumerate(order):
         say(f"IPOPT from start {k + 1}/{len(order)}")
-        x0 = [*points[index], EPIGRAPH_START * screen[index]] if epigraph else list(points[index])
+        x0 = model.start(points[index], res)
         sol = solver(x0=x0, **bounds)
         stats = solver.stats()
         calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
         evaluations += calls
         w = np.asarray(sol["x"]).ravel()[: len(problem.variables)]
-        value = -float(sol["f"]) if epigraph else model.sign * float(sol["f"])
+        value = model.sign * float(sol["f"])
         runs.append(Run(_named(problem, points[index]), stats["return_status"], bool(stats["success"]),
                         int(stats["iter_count"]), calls, value, _named(problem, w)))
     opt_time = time.perf_counter() - t0
@@ -248,7 +252,10 @@ def synthesize(
         wall = time.perf_counter() - t1
         pick = model.best(values, feasible)
         if len(pick) == 0:
-            raise ComputationError(f"no feasible point of the {base.name} baseline of {problem.name}")
+            # nothing feasible: report the point with the best objective, marked infeasible
+            pick = model.best(values, np.isfinite(values))
+        if len(pick) == 0:
+            raise ComputationError(f"no point of the {base.name} baseline of {problem.name} has an objective")
         best = model.candidate(candidates_at[pick[0]], values[pick[0]], res)
         baselines[base.name] = BaselineResult(base.name, base.doc, best, wall, len(candidates_at), n)
 

@@ -18,6 +18,7 @@ from pkm.batch import evaluate
 from pkm.regions import node_values, quadrature_value, sampled_check
 from pkm.synthesis.problem import Problem, Terms
 
+EPIGRAPH_SLACK = 1e-3  # an extreme's variable starts this far (relative) inside its node bounds
 SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
 
 
@@ -46,6 +47,8 @@ class ProblemModel:
         self._objective: ca.Function | None = None
         self.lower = np.array([c.lower for c in problem.constraints], dtype=float)
         self.upper = np.array([c.upper for c in problem.constraints], dtype=float)
+        margin = np.array([c.margin for c in problem.constraints], dtype=float)
+        self.nlp_lower, self.nlp_upper = self.lower + margin, self.upper - margin
 
     @property
     def sign(self) -> float:
@@ -100,11 +103,20 @@ class ProblemModel:
 
     def evaluate(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray]:
         """Objective (N,) and feasibility (N,) at the variable points (N, n)."""
+        objective, ok, _ = self.assess_points(points, resolution)
+        return objective, ok
+
+    def assess_points(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Objective (N,), feasibility (N,) and the total constraint violation (N,; inf where the
+        model is undefined) at the variable points (N, n)."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
         f, g, *_ = evaluate(self.function(resolution), points)
-        objective = f[:, 0, 0]
-        ok = self.feasible(g[:, :, 0]) & np.isfinite(objective)
-        return objective, ok
+        objective, g = f[:, 0, 0], g[:, :, 0]
+        ok = self.feasible(g) & np.isfinite(objective)
+        with np.errstate(invalid="ignore"):
+            violation = np.sum(np.maximum(self.lower - g, 0) + np.maximum(g - self.upper, 0), axis=1)
+        violation = np.where(np.isfinite(objective) & np.isfinite(violation), violation, np.inf)
+        return objective, ok, violation
 
     def best(self, objective: np.ndarray, ok: np.ndarray, count: int = 1) -> np.ndarray:
         """Indices of the ``count`` best feasible values in the objective's sense."""
@@ -112,28 +124,49 @@ class ProblemModel:
         order = np.argsort(score, kind="stable")
         return order[: min(count, int(ok.sum()))]
 
-    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray, bool]:
-        """The NLP (x, f, g) with bounds on g, and whether it is in epigraph form: a region minimum
-        maximised becomes max t subject to the local index >= t at every node."""
+    @property
+    def extremes(self) -> tuple[str, ...]:
+        """The quantities that are region minima or maxima: the NLP replaces each by a variable t
+        bounded by the local index at every node (t <= the index for a minimum, t >= it for a
+        maximum), exact where the objective and constraints push t towards the extreme (a minimum
+        maximised or bounded below, a maximum minimised or bounded above)."""
+        return tuple(n for n, q in self.problem.quantities.items() if q.index.reduce in ("min", "max"))
+
+    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
+        """The NLP in (w, t for each of :attr:`extremes`) with the bounds on its constraints."""
         prob = self.problem
-        name = prob.objective.quantity
-        epigraph = (
-            name is not None and prob.quantities[name].index.reduce == "min" and prob.objective.sense == "max"
-        )
         w = ca.MX.sym("w", len(prob.variables))
-        if not epigraph:
+        if not self.extremes:
             f, g = self.function(resolution)(w)[:2]
-            return {"x": w, "f": self.sign * f, "g": g}, self.lower, self.upper, False
-        t = ca.MX.sym("t")
+            return {"x": w, "f": self.sign * f, "g": g}, self.nlp_lower, self.nlp_upper
         design = self.design(w)
-        _, g = self.expressions(w, self.quantities(design, resolution))
-        quantity = prob.quantities[name]
-        nodes, _, _ = node_values(
-            self.mech, quantity.index, quantity.region, self.branch, design, resolution=resolution, epigraph=t
-        )
-        lower = np.concatenate([self.lower, np.zeros(nodes.numel())])
-        upper = np.concatenate([self.upper, np.full(nodes.numel(), np.inf)])
-        return {"x": ca.vertcat(w, t), "f": -t, "g": ca.vertcat(g, ca.vec(nodes))}, lower, upper, True
+        t = {name: ca.MX.sym(f"t_{name}") for name in self.extremes}
+        values = self.quantities(design, resolution)
+        f, g = self.expressions(w, {**values, **t})
+        rows, lower, upper = [g], [self.nlp_lower], [self.nlp_upper]
+        for name, bound in t.items():
+            quantity = prob.quantities[name]
+            nodes, _, _ = node_values(
+                self.mech, quantity.index, quantity.region, self.branch, design, resolution=resolution, epigraph=bound
+            )
+            rows.append(ca.vec(nodes))
+            lower.append(np.zeros(nodes.numel()))
+            upper.append(np.full(nodes.numel(), np.inf))
+        nlp = {"x": ca.vertcat(w, *t.values()), "f": self.sign * f, "g": ca.vertcat(*rows)}
+        return nlp, np.concatenate(lower), np.concatenate(upper)
+
+    def start(self, point: np.ndarray, resolution: int) -> list[float]:
+        """A starting point of the NLP: the variables and each extreme a little inside its bound."""
+        if not self.extremes:
+            return list(point)
+        _, _, *values = evaluate(self.function(resolution), np.atleast_2d(point))
+        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        starts = []
+        for name in self.extremes:
+            value = named[name]
+            inside = -1.0 if self.problem.quantities[name].index.reduce == "min" else 1.0
+            starts.append(value + inside * EPIGRAPH_SLACK * max(abs(value), 1.0))
+        return [*point, *starts]
 
     def candidate(self, point: np.ndarray, objective: float, resolution: int) -> Candidate:
         """A candidate at ``point`` with its objective verified at twice the resolution (4x the

@@ -70,12 +70,14 @@ class Terms(Mapping[str, Any]):
 
 @dataclass(frozen=True)
 class Constraint:
-    """A named constraint lower <= expression(terms) <= upper."""
+    """A named constraint lower <= expression(terms) <= upper. The optimiser holds it ``margin`` inside
+    its bounds at its quadrature, so that it holds between the nodes too; checks use the bounds."""
 
     name: str
     expression: Callable[[Terms], Any]
     lower: float = 0.0
     upper: float = math.inf
+    margin: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -40,14 +40,18 @@ r, R_b = sp.symbols("r R", positive=True)
 alpha, beta = sp.symbols("alpha beta", real=True)
 l_min, l_max, l0_min, l0_max = sp.symbols("l_min l_max l0_min l0_max", positive=True)
 theta_u_max, theta_s_max, D = sp.symbols("theta_u_max theta_s_max D", positive=True)
+payload, payload_height, gravity = sp.symbols("payload payload_height g", nonnegative=True)
+task_tilt, task_height = sp.symbols("task_tilt task_height", positive=True)
 l0, theta1, theta2 = sp.symbols("l0 theta1 theta2", real=True)
 l1, l2, l0_leg = sp.symbols("l1 l2 l0_leg", real=True)
 sigma, root = sp.symbols("sigma t", real=True)
 
 DESIGN = Port(
     "design",
-    (r, R_b, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D),
-    "r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]",
+    (r, R_b, alpha, beta, l_min, l_max, l0_min, l0_max, theta_u_max, theta_s_max, D, payload, payload_height,
+     gravity, task_tilt, task_height),
+    "r, R [m]; alpha, beta [rad]; l_min, l_max, l0_min, l0_max [m]; theta_u_max, theta_s_max [rad]; D [m]; "
+    "payload [kg], payload_height [m], g [m/s^2]; task_tilt [rad], task_height [m]",
 )
 POSE = Port("x", (l0, theta1, theta2), "l0 [m], theta1, theta2 [rad]")
 JOINTS = Port("q", (l1, l2, l0_leg), "UPS leg lengths l1, l2 and the PU leg's stroke l0 [m]")
@@ -176,6 +180,14 @@ def forward_from_root() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     return x, sp.Matrix([l1, l2, l0_leg]), reach
 
 
+def load_wrench() -> sp.Matrix:
+    """The wrench at U0 of a payload of mass ``payload`` whose centre of mass lies ``payload_height``
+    above U0 along the platform normal z_p: F = (0, 0, -m g), M = (h z_p) x F."""
+    force = sp.Matrix([0, 0, -payload * gravity])
+    moment = (payload_height * joints_in_space()["z_p"]).cross(force)
+    return force.col_join(moment)
+
+
 def statics() -> tuple[sp.Matrix, sp.Matrix]:
     """The 6 x 6 wrench matrix W with (F, M) = W (f1, f2, f0, f_x, f_y, m_c), physical and as printed.
 
@@ -256,11 +268,12 @@ def module() -> ModuleSpec:
     physical, printed = statics()
     spec.add(
         "statics",
-        (POSE, DESIGN),
+        (JOINTS, POSE, DESIGN),
         (
             Output("W", physical, "(F, M) at U0 = W (f1, f2, f0, f_x, f_y, m_c) [-, m]"),
             Output("W_printed", printed, "eq. 8 as printed: normalised moment axes, m_c about Z [-]"),
+            Output("w_load", load_wrench(), "the payload's wrench (F, M) at U0 [N, N m]"),
         ),
-        "Wrench matrices of the statics (Zhao eq. 8): physical, and as printed.",
+        "Wrench matrices of the statics (Zhao eq. 8): physical, and as printed; the payload's wrench.",
     )
     return spec

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, ClassVar
 
+import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
@@ -22,6 +23,7 @@ from pkm.errors import PoseError
 from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
 from pkm.mechanism import Mechanism
 from pkm.models.ups_pu import workspace
+from pkm.regions import Cylinder, Mapped
 
 DEG = math.pi / 180
 INF = math.inf
@@ -50,6 +52,15 @@ PARAMETERS = (
     _angle("theta_s_max", 60 * DEG, 0.0, math.pi, "largest misalignment of a spherical joint (section 5.3: 60 deg)"),
     Parameter("D", 0.005, 0.0, INF, "m", "diameter of the legs, the least distance between two legs "
               "(section 5.3: 5 mm)", closed_lower=True),
+    Parameter("payload", 50.0, 0.0, INF, "kg", "mass carried by the platform (pkm's choice: Zhao states no load)",
+              closed_lower=True, required=False),
+    Parameter("payload_height", 0.2, -INF, INF, "m", "height of the payload's centre of mass above U0 along the "
+              "platform normal (pkm's choice)", required=False),
+    Parameter("g", 9.81, 0.0, INF, "m/s^2", "gravitational acceleration along -Z", closed_lower=True, required=False),
+    Parameter("task_tilt", 60 * DEG, 0.0, math.pi / 2, "rad", "radius gamma_u of the prescribed task cylinder: the "
+              "largest tilt of the platform normal (section 6.2: 60 deg)", required=False),
+    Parameter("task_height", 0.1, 0.0, INF, "m", "height h of the task cylinder in l0, from l0_min (section 6.2: "
+              "100 mm)", required=False),
 )
 
 CONDITIONS = (
@@ -59,6 +70,14 @@ CONDITIONS = (
         "alpha != beta (two distinct UPS legs)", lambda d: abs(math.remainder(d["alpha"] - d["beta"], 2 * math.pi))
     ),
 )
+
+
+def actuator_forces(statics: ca.Function) -> ca.Function:
+    """``actuator_forces(q, x, design) -> f_a``: the forces (f1, f2, f0) that hold the payload."""
+    q, x, d = (ca.SX.sym(statics.name_in(i), statics.size_in(i)) for i in range(3))
+    W, _, w_load = statics(q, x, d)
+    forces = ca.solve(W, w_load)
+    return ca.Function("actuator_forces", [q, x, d], [forces[:3]], ["q", "x", "design"], ["f_a"])
 
 
 @dataclass(frozen=True)
@@ -92,7 +111,15 @@ class UpsPu(Mechanism):
     actuator_names = ("l1", "l2", "l0_leg")
     actuator_units = ("m", "m", "m")
     forward = PolynomialRoots()
-    regions: ClassVar[dict[str, Any]] = {}
+    regions: ClassVar[dict[str, Any]] = {
+        "task": Mapped(
+            "task",
+            "the prescribed cylinder of Zhao section 6: tilt gamma <= task_tilt at every l0 in [l0_min, l0_min + "
+            "task_height], drawn in (l0, gamma cos phi, gamma sin phi) and mapped to the pose by eq. 15",
+            Cylinder("task_tilt_cylinder", "the task cylinder in tilt coordinates", function="task_cylinder"),
+            "tilt_to_pose",
+        )
+    }
 
     @cached_property
     def functions(self) -> FunctionTable:
@@ -103,7 +130,10 @@ class UpsPu(Mechanism):
             parameters=names,
             pose=self.pose_names,
             actuators=self.actuator_names,
-            extra=lambda generated: workspace.functions(generated, names),
+            extra=lambda generated: {
+                **workspace.functions(generated, names),
+                "actuator_forces": actuator_forces(generated["statics"]),
+            },
         )
 
     def workspace_margins(self, pose: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
@@ -138,7 +168,8 @@ class UpsPu(Mechanism):
         if w.shape[-1:] != (6,) or w.ndim > 2 or not np.all(np.isfinite(w)):
             raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
         w = np.broadcast_to(w, (len(x), 6))
-        W, W_printed = evaluate(self.functions["statics"], x, self.design_vector(design))
+        d = self.design_vector(design)
+        W, W_printed, _ = evaluate(self.functions["statics"], self.inverse_kinematics(x, d), x, d)
         matrix = W_printed if printed else W
         forces = np.full((len(x), 6), np.nan)
         with np.errstate(invalid="ignore"):

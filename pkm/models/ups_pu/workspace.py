@@ -1,4 +1,5 @@
-"""The workspace of the 2-UPS-PU under the four mechanical constraints of Zhao section 5.
+"""The workspace of the 2-UPS-PU under the four mechanical constraints of Zhao section 5, and the
+prescribed task cylinder of section 6.
 
 Each constraint is a margin, >= 0 where it holds, smooth where it can be (for IPOPT) and a boolean mask
 when compared with 0 (for sampling), all in one CasADi function ``workspace_margins(q, x, design)``
@@ -15,6 +16,11 @@ composed from the generated ``first_order`` and ``joint_positions``:
 * link interference (eq. 13): the least distance between the segments U1S1, U2S2 and OU0, pairwise,
   less the leg diameter D (closest points of two segments, clamped to the segments; continuous and
   piecewise smooth).
+
+The task cylinder lives in (l0, gamma cos phi, gamma sin phi), phi and gamma the polar angle and tilt
+of the platform normal (eq. 14): ``task_cylinder(design)`` places it (axis along l0 from l0_min,
+radius task_tilt, height task_height) and ``tilt_to_pose`` maps its points to (l0, theta1, theta2)
+by eq. 15.
 """
 
 from __future__ import annotations
@@ -37,6 +43,7 @@ MARGINS = (
 )
 PARALLEL = 1e-12  # [m^4] below this, two segments count as parallel
 DEG = math.pi / 180
+SMALL_TILT = 1e-6  # [rad] below this sin(gamma) / gamma is its Taylor polynomial
 
 
 def segment_distance(p1: ca.SX, q1: ca.SX, p2: ca.SX, q2: ca.SX) -> ca.SX:
@@ -81,10 +88,25 @@ def functions(generated: Mapping[str, ca.Function], parameters: Sequence[str]) -
         segment_distance(u1, s1, origin, u0) - diameter,
         segment_distance(u2, s2, origin, u0) - diameter,
     )
+    y = ca.SX.sym("y", 3)
+    gamma = ca.sqrt(y[1] ** 2 + y[2] ** 2)
+    # sin(gamma) / gamma, continued at gamma = 0 (the cylinder's axis holds nodes of every extreme)
+    sinc = ca.if_else(gamma > SMALL_TILT, ca.sin(gamma) / gamma, 1 - gamma**2 / 6)
+    theta2 = ca.asin(sinc * y[1])
+    theta1 = -ca.asin(sinc * y[2] / ca.cos(theta2))
+    height = value["task_height"]
     return {
         "workspace_margins": ca.Function(
             "workspace_margins", [q, x, d], [margins], ["q", "x", "design"], ["margins"]
-        )
+        ),
+        "tilt_to_pose": ca.Function("tilt_to_pose", [y, d], [ca.vertcat(y[0], theta1, theta2)], ["y", "design"], ["x"]),
+        "task_cylinder": ca.Function(
+            "task_cylinder",
+            [d],
+            [ca.vertcat(l0_min + height / 2, 0, 0), ca.vertcat(value["task_tilt"], height / 2)],
+            ["design"],
+            ["centre", "size"],
+        ),
     }
 
 
