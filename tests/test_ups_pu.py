@@ -183,3 +183,39 @@ def test_ray_search_area_agrees_with_sampling_where_the_section_is_star_shaped(m
         assert cut.reentrant_rays == 0
         assert cut.sampled_area == pytest.approx(cut.ray_area, rel=1.5e-2)
         assert cut.mask.any()
+
+
+@pytest.fixture(scope="module")
+def synthesis():
+    return pkm.synthesize("ups_pu.min_size_force_task", resolution=2, starts=1, baseline_resolution=60)
+
+
+def test_synthesis_optimum_is_feasible_on_dense_sampling_and_beats_monte_carlo(synthesis):
+    from pkm.models.ups_pu.problems import TASK_MARGIN_MIN
+    from pkm.regions import sampled_check
+
+    mech = pkm.load("ups_pu")
+    design = np.array(list(synthesis.design.values()))
+    dense = sampled_check(mech, TASK_MARGIN_MIN, mech.regions["task"], design, branch=mech.working_mode(None),
+                          resolution=30)
+    assert dense.points > 10_000
+    assert float(dense) >= 0
+    assert synthesis.design["l_max"] == pytest.approx(1.8 * synthesis.design["l_min"])
+    assert synthesis.design["alpha"] == pytest.approx(math.pi / 2)
+    monte_carlo = synthesis.baselines["monte_carlo"].best
+    assert monte_carlo.feasible
+    assert synthesis.verified_objective < monte_carlo.verified_objective
+
+
+def test_table1_is_evaluated_on_the_same_model_and_violates_the_leg_strokes(synthesis):
+    """Table 1's l_{1,2 min} = 396 mm is longer than its legs become over the 60 deg cylinder (the
+    paper's own stroke rule takes l_min as the least length over the task): pkm reports it infeasible,
+    and its objective is far above the optimum's."""
+    table1 = synthesis.baselines["table1"].best
+    assert not table1.feasible
+    mech = pkm.load("ups_pu")
+    d = np.array(list(table1.design.values()))
+    points, _ = mech.regions["task"].quadrature(mech.functions, d, 3, "min")
+    margins = mech.workspace_margins(points, d)
+    assert margins["l1_min"].min() < 0
+    assert table1.objective > 10 * synthesis.objective
