@@ -116,7 +116,9 @@ def test_parametrised_global_index_converges_with_resolution(name, region, index
 @pytest.mark.parametrize("name", sorted(registry.problems()))
 def test_every_problem_beats_or_equals_its_baselines(name):
     problem = registry.problem(name)
-    result = pkm.synthesize(problem, resolution=3, baseline_resolution=9, starts=1)
+    # a region extreme over a coarse quadrature is first-order accurate, a mean far better
+    extreme = any(q.index.reduce in ("min", "max") for q in problem.quantities.values())
+    result = pkm.synthesize(problem, resolution=2 if extreme else 3, baseline_resolution=9, starts=1)
     assert result.status == "Solve_Succeeded"
     assert result.optimum.feasible
     assert set(result.variables) == set(problem.variable_names)
@@ -125,6 +127,4 @@ def test_every_problem_beats_or_equals_its_baselines(name):
         assert base.evaluations > 0
         if base.best.feasible:
             assert sign * result.objective <= sign * base.best.objective + 1e-9, base.name
-    # a region extreme over a coarse quadrature is first-order accurate, a mean far better
-    extreme = any(q.index.reduce in ("min", "max") for q in problem.quantities.values())
     assert result.verified_objective == pytest.approx(result.objective, rel=0.15 if extreme else 2e-2)

@@ -10,12 +10,17 @@ import pytest
 from pkm.cli import main
 
 
+def reproduce_quick(factory, key: str):
+    """``pkm reproduce KEY --quick`` into a fresh folder: the report folder and its report.json."""
+    out = factory.mktemp("out")
+    assert main(["reproduce", key, "--out", str(out), "--quick"]) == 0
+    folder = out / key
+    return folder, json.loads((folder / "report.json").read_text())
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    out = tmp_path_factory.mktemp("out")
-    assert main(["reproduce", "gao1998", "--out", str(out), "--quick"]) == 0
-    folder = out / "gao1998"
-    return folder, json.loads((folder / "report.json").read_text())
+    return reproduce_quick(tmp_path_factory, "gao1998")
 
 
 def test_writes_report_and_figures_and_nothing_half_done(report):
@@ -58,10 +63,7 @@ def test_synthesis_beyond_the_paper_beats_its_baseline(report):
 
 @pytest.fixture(scope="module")
 def lara(tmp_path_factory):
-    out = tmp_path_factory.mktemp("out")
-    assert main(["reproduce", "lara_molina2016", "--out", str(out), "--quick"]) == 0
-    folder = out / "lara_molina2016"
-    return folder, json.loads((folder / "report.json").read_text())
+    return reproduce_quick(tmp_path_factory, "lara_molina2016")
 
 
 def test_lara_molina_report_has_its_figures_and_schema(lara):
@@ -102,10 +104,7 @@ def test_lara_molina_syntheses_beat_their_baselines(lara):
 
 @pytest.fixture(scope="module")
 def wu(tmp_path_factory):
-    out = tmp_path_factory.mktemp("out")
-    assert main(["reproduce", "wu2008", "--out", str(out), "--quick"]) == 0
-    folder = out / "wu2008"
-    return folder, json.loads((folder / "report.json").read_text())
+    return reproduce_quick(tmp_path_factory, "wu2008")
 
 
 def test_wu_report_has_its_figures_and_table1(wu):
@@ -148,3 +147,32 @@ def test_wu_synthesis_beats_the_papers_design(wu):
     assert (paper["l"], paper["d1"]) == pytest.approx((0.6164, 0.357), abs=1e-4)  # Wu's Table 1
     assert 10 <= run["two_step_theta_1s_deg"] <= 44.9
     assert set(run["baselines"]) == {"grid", "two_step"}
+
+
+@pytest.fixture(scope="module")
+def zhao(tmp_path_factory):
+    return reproduce_quick(tmp_path_factory, "zhao2008")
+
+
+def test_zhao_report_checks_the_papers_equations_honestly(zhao):
+    folder, data = zhao
+    for fig in data["figures"]:
+        assert (folder / fig).stat().st_size > 1000
+    status = {c["id"]: c["status"] for c in data["claims"]}
+    assert status["eq6_corrected"] == "match"
+    assert status["eq6_as_printed"] == "differs"
+    assert status["eq8_physical"] == "match"
+    assert status["eq8_as_printed"] == "differs"
+    assert status["eq9_sign_at_home"] == "differs"
+    assert status["stroke_rule_section_5.3"] == "differs"
+    assert status["stroke_rule_table1"] == "match"
+    for c in data["claims"]:
+        assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
+
+
+def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
+    _, data = zhao
+    run = data["beyond_paper"]["syntheses"][0]
+    assert run["dense_margin"] >= 0
+    assert run["objective"] < run["monte_carlo_objective"]
+    assert run["objective"] < run["table1_objective"]

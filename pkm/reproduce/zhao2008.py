@@ -1,0 +1,302 @@
+"""Zhao, Tang, Zhao 2008: the 2-UPS-PU parallel manipulator. Checks eq. 6 against the inverse
+kinematics, eq. 8 against virtual work, the sign of eq. 9, the convexity of the workspace, the stroke
+rule of eq. 10 in the paper's examples, Table 1's leg lengths and whether Table 1 is optimal for the
+paper's own objective; draws the workspace sections with each constraint's boundary (Figs. 5-6), the
+determinant map (Fig. 3) and the force map; runs pkm's IPOPT synthesis beyond the paper. Lengths in
+mm where the paper gives them, everything else SI.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from pkm import io, registry
+from pkm.batch import evaluate
+from pkm.mechanism import Mechanism
+from pkm.models.ups_pu.problems import TASK_MARGIN_MIN
+from pkm.models.ups_pu.workspace import MARGINS, section
+from pkm.progress import Progress
+from pkm.regions import sampled_check
+from pkm.reproduce.report import claim, synthesis_record
+from pkm.synthesis import synthesize
+
+TITLE = "Zhao, Tang, Zhao 2008: dimensional synthesis and analysis of the 2-UPS-PU parallel manipulator"
+DEG = math.pi / 180
+PROBLEM = "ups_pu.min_size_force_task"
+FIG3 = {"r": 0.150, "R": 0.200, "alpha": 90 * DEG, "beta": 30 * DEG, "l0": 0.300}
+EXAMPLE_53 = {"r": 0.100, "R": 0.120, "alpha": 90 * DEG, "beta": 25 * DEG, "D": 0.005, "l_min": 0.320,
+              "l_max": 0.578, "l0_min": 0.320, "l0_max": 0.570, "theta_u_max": 90 * DEG, "theta_s_max": 60 * DEG}
+TABLE1_LEGS = {"l_min": 396.0, "l_max": 712.0}
+STROKE_LIMIT = 0.8  # eq. 10
+
+
+def _settings(quick: bool) -> dict[str, int]:
+    if quick:
+        return {"section_resolution": 80, "rays": 120, "synthesis_resolution": 2, "baseline_resolution": 60,
+                "starts": 1}
+    return {"section_resolution": 240, "rays": 360, "synthesis_resolution": 3, "baseline_resolution": 400,
+            "starts": 3}
+
+
+def _eq6(m: Mechanism, rng: np.random.Generator) -> dict[str, float]:
+    """Eq. 6 at alpha = 90 deg, as printed and with l1 and l2 swapped back, against the inverse kinematics."""
+    d = dict(m.design())
+    x = np.column_stack([rng.uniform(0.45, 0.65, 50), rng.uniform(-0.6, 0.6, 50), rng.uniform(-0.6, 0.6, 50)])
+    q = m.inverse_kinematics(x)
+    errors = {"as_printed": 0.0, "corrected": 0.0}
+    for (l1, l2, l0), pose in zip(q, x, strict=True):
+        for key, (first, second) in (("as_printed", (l2, l1)), ("corrected", (l1, l2))):
+            r, R, b = d["r"], d["R"], d["beta"]
+            s = (first**2 - r**2 - R**2 - l0**2) / (2 * r * math.hypot(l0, R))
+            if abs(s) > 1:
+                errors[key] = math.inf
+                continue
+            t1 = math.asin(s) + math.atan(R / l0)
+            a = (r**2 + R**2 + l0**2 - second**2) / (2 * r)
+            bb = l0 * math.sin(b) * math.sin(t1) - R * math.sin(b) ** 2 * math.cos(t1)
+            c = l0 * math.cos(b) * math.cos(t1) + R * math.cos(b) * math.sin(b) * math.sin(t1)
+            dd = R * math.cos(b) ** 2
+            u = (a + bb) / math.hypot(c, dd)
+            if abs(u) > 1:
+                errors[key] = math.inf
+                continue
+            t2 = math.asin(u) - math.atan(dd / c)
+            errors[key] = max(errors[key], abs(t1 - pose[1]), abs(t2 - pose[2]))
+    return errors
+
+
+def _eq8(m: Mechanism, rng: np.random.Generator) -> dict[str, float]:
+    """Largest relative error of the actuator forces of eq. 8 (physical and as printed) against virtual
+    work, J^T f = the wrench's generalised force."""
+    x = np.column_stack([rng.uniform(0.45, 0.65, 40), rng.uniform(-0.6, 0.6, 40), rng.uniform(-0.6, 0.6, 40)])
+    wrench = rng.normal(size=(40, 6)) * [100, 100, 1000, 10, 10, 10]
+    J = m.jacobian(x)
+    t1 = x[:, 1]
+    axis2 = np.stack([0 * t1, np.cos(t1), np.sin(t1)], axis=1)
+    generalised = np.stack([wrench[:, 2], wrench[:, 3], np.einsum("ni,ni->n", wrench[:, 3:], axis2)], axis=1)
+    out = {}
+    for key, printed in (("physical", False), ("as_printed", True)):
+        forces = m.statics(x, wrench, printed=printed).actuators
+        residual = np.einsum("nij,ni->nj", J, forces) - generalised
+        out[key] = float(np.nanmax(np.abs(residual)) / np.abs(generalised).max())
+    return out
+
+
+def _fig3(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, float], str]:
+    """The determinant of J over (theta1, theta2) for Fig. 3's design at l0 = 300 mm."""
+    design = m.design({**m.design(), **{k: v for k, v in FIG3.items() if k != "l0"}})
+    axis = np.linspace(-math.pi / 2, math.pi / 2, resolution)
+    T1, T2 = np.meshgrid(axis, axis, indexing="ij")
+    x = np.stack([np.full(T1.size, FIG3["l0"]), T1.ravel(), T2.ravel()], axis=1)
+    det = np.linalg.det(m.jacobian(x, design)).reshape(T1.shape)
+    home = float(np.linalg.det(m.jacobian([FIG3["l0"], 0.0, 0.0], design)))
+    fig = Figure(figsize=(6, 5), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    image = ax.contourf(np.degrees(T1), np.degrees(T2), det, levels=20, cmap="RdBu_r")
+    ax.contour(np.degrees(T1), np.degrees(T2), det, levels=[0.0], colors="k")
+    ax.set_xlabel("theta1 [deg]")
+    ax.set_ylabel("theta2 [deg]")
+    ax.set_title("det J (Fig. 3: r = 150, R = 200 mm, beta = 30 deg, l0 = 300 mm); black: det J = 0")
+    fig.colorbar(image, ax=ax, label="det J [m^2/rad^2]")
+    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    return {"det_at_home": home, "positive_fraction": float(np.mean(det > 0))}, path.name
+
+
+def _sections(m: Mechanism, path: Path, s: dict[str, int]) -> tuple[dict[str, Any], str]:
+    """Fig. 6: the workspace of section 5.3's example at l0 = 350, 450, 500 mm with each constraint's
+    boundary; areas by sampling and by the ray search; convexity against the convex hull."""
+    from matplotlib.path import Path as PolygonPath
+
+    design = m.design({**m.design(), **EXAMPLE_53}).vector()
+    fig = Figure(figsize=(15, 5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 3)
+    out: dict[str, Any] = {}
+    for ax, l0 in zip(axes, (0.350, 0.450, 0.500), strict=True):
+        cut = section(m, design, l0, resolution=s["section_resolution"], rays=s["rays"])
+        inside = cut.grid[cut.mask.ravel()]
+        cell = (math.pi / s["section_resolution"]) ** 2
+        hull = PolygonPath(_hull(inside)).contains_points(cut.grid).sum() * cell if len(inside) > 2 else 0.0
+        out[f"l0_{round(l0 * 1e3)}"] = {
+            "sampled_area_rad2": cut.sampled_area,
+            "ray_area_rad2": cut.ray_area,
+            "hull_area_rad2": float(hull),
+            "convexity": cut.sampled_area / hull if hull else math.nan,
+            "reentrant_rays": cut.reentrant_rays,
+        }
+        margins = m.workspace_margins(np.column_stack([np.full(len(cut.grid), l0), cut.grid]), design)
+        n = s["section_resolution"]
+        G1, G2 = (np.degrees(cut.grid[:, k]).reshape(n, n) for k in (0, 1))
+        ax.contourf(G1, G2, cut.mask.astype(float), levels=[0.5, 1.5], colors=["#cde"])
+        shown = [name for name in MARGINS if not name.startswith("l0")]
+        for k, name in enumerate(shown):
+            values = margins[name].reshape(n, n)
+            if values.min() < 0 < values.max():
+                colour = f"C{k % 10}" if k < 10 else "k"
+                ax.contour(G1, G2, values, levels=[0.0], colors=colour, linestyles="-" if k < 10 else "--")
+                ax.plot([], [], color=colour, label=name)
+        ax.plot(*np.degrees(cut.boundary).T, "r.", markersize=2, label="ray search")
+        ax.set_title(f"l0 = {l0 * 1e3:.0f} mm")
+        ax.set_xlabel("theta1 [deg]")
+        ax.set_ylabel("theta2 [deg]")
+    for ax in axes:
+        ax.legend(fontsize=6, loc="lower left")
+    fig.suptitle("Workspace sections of section 5.3's example with each constraint's boundary (margin = 0)")
+    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    return out, path.name
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """Convex hull (counter-clockwise) of 2-D points by the monotone chain."""
+    pts = sorted(map(tuple, np.round(points, 12)))
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _table1_legs(m: Mechanism, resolution: int) -> dict[str, float]:
+    """The least and greatest UPS leg length over Table 1's task cylinder [mm] (the paper's step 5 takes
+    l_min as the least length over the cylinder and l_max = 1.8 l_min)."""
+    d = m.design().vector()
+    points, _ = m.regions["task"].quadrature(m.functions, d, resolution, "min")
+    q = m.inverse_kinematics(points, d)[:, :2]
+    return {"l_min": float(q.min() * 1e3), "l_max": float(q.max() * 1e3)}
+
+
+def _force_map(m: Mechanism, design: dict[str, float], path: Path) -> str:
+    """The largest actuator force holding the payload over the top and bottom of the task cylinder."""
+    d = np.array(list(design.values()))
+    fig = Figure(figsize=(10, 4.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 2)
+    phi = np.linspace(0, 2 * math.pi, 121)
+    gamma = np.linspace(0, design["task_tilt"], 31)
+    P, G = np.meshgrid(phi, gamma, indexing="ij")
+    for ax, l0 in zip(axes, (design["l0_min"], design["l0_min"] + design["task_height"]), strict=True):
+        y = np.stack([np.full(P.size, l0), (G * np.cos(P)).ravel(), (G * np.sin(P)).ravel()], axis=1)
+        (x,) = evaluate(m.functions["tilt_to_pose"], y, d)
+        x = x[:, :, 0]
+        (f,) = evaluate(m.functions["actuator_forces"], m.inverse_kinematics(x, d), x, d)
+        force = np.abs(f[:, :, 0]).max(axis=1).reshape(P.shape)
+        image = ax.contourf(np.degrees(G * np.cos(P)), np.degrees(G * np.sin(P)), force, levels=20)
+        ax.set_aspect("equal")
+        ax.set_title(f"l0 = {l0 * 1e3:.0f} mm")
+        ax.set_xlabel("gamma cos(phi) [deg]")
+        ax.set_ylabel("gamma sin(phi) [deg]")
+        fig.colorbar(image, ax=ax, label="largest |actuator force| [N]")
+    fig.suptitle("pkm's design: actuator forces over the task cylinder (payload at its height above U0)")
+    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    return path.name
+
+
+def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
+    """Compute every claim and figure into ``folder``; returns the report dictionary."""
+    m = registry.mechanism("ups_pu")
+    s = _settings(quick)
+    rng = np.random.default_rng(2008)
+    bar = Progress(5, "zhao2008")
+    eq6 = _eq6(m, rng)
+    eq8 = _eq8(m, rng)
+    fig3, fig3_name = _fig3(m, folder / "determinant_fig3.png", 2 * s["section_resolution"] // 3)
+    bar.advance()
+    sections, sections_name = _sections(m, folder / "workspace_sections_fig6.png", s)
+    bar.advance()
+    legs = _table1_legs(m, 8)
+    result = synthesize(
+        registry.problem(PROBLEM),
+        resolution=s["synthesis_resolution"],
+        baseline_resolution=s["baseline_resolution"],
+        starts=s["starts"],
+    )
+    bar.advance()
+    record = synthesis_record(result)
+    table1 = result.baselines["table1"].best
+    monte_carlo = result.baselines["monte_carlo"]
+    dense = sampled_check(m, TASK_MARGIN_MIN, m.regions["task"], np.array(list(result.design.values())),
+                          branch=m.working_mode(None), resolution=30)
+    force_name = _force_map(m, result.design, folder / "actuator_forces.png")
+    bar.advance()
+    convexity = min(v["convexity"] for v in sections.values())
+    strokes = {
+        "section_5.3_legs": (EXAMPLE_53["l_max"] - EXAMPLE_53["l_min"]) / EXAMPLE_53["l_min"],
+        "section_5.3_l0": (EXAMPLE_53["l0_max"] - EXAMPLE_53["l0_min"]) / EXAMPLE_53["l0_min"],
+        "table1_legs": (TABLE1_LEGS["l_max"] - TABLE1_LEGS["l_min"]) / TABLE1_LEGS["l_min"],
+        "table1_l0": (650.0 - 450.0) / 450.0,
+    }
+    claims = [
+        claim("eq6_as_printed", "eq. 6 (alpha = 90 deg) as printed recovers theta1, theta2 from the leg lengths",
+              0.0, eq6["as_printed"], "rad", "match" if eq6["as_printed"] < 1e-9 else "differs",
+              "as printed theta1 reads l2 and its 'a' reads l1: the legs are swapped"),
+        claim("eq6_corrected", "eq. 6 with l1 and l2 swapped back against the inverse kinematics (eq. 4)",
+              0.0, eq6["corrected"], "rad", "match" if eq6["corrected"] < 1e-9 else "differs",
+              "largest angle error over 50 random poses"),
+        claim("eq8_physical", "actuator forces of the statics against virtual work (J^T f = generalised force)",
+              0.0, eq8["physical"], "-", "match" if eq8["physical"] < 1e-9 else "differs",
+              "pkm's wrench matrix: moments with the lever arm, the U joint's torque about X x Rx(theta1) Y"),
+        claim("eq8_as_printed", "eq. 8 as printed (unit moment axes, torque about Z) against virtual work",
+              0.0, eq8["as_printed"], "-", "match" if eq8["as_printed"] < 1e-9 else "differs",
+              "relative to the largest generalised force"),
+        claim("eq9_sign_at_home", "|q| > 0 at theta1 = theta2 = 0 for Fig. 3's design (eq. 9)", "> 0",
+              fig3["det_at_home"], "m^2/rad^2", "match" if fig3["det_at_home"] > 0 else "differs",
+              "pkm's workspace keeps the determinant's home sign instead; the paper's [q] columns are (theta1, "
+              "theta2, l0), a cyclic reordering of pkm's, so the determinants are equal"),
+        claim("workspace_convex", "the actual workspace is convex (section 6, Fig. 5)", 1.0, convexity, "-",
+              "match" if convexity > 0.99 else "differs",
+              "least ratio of a section's sampled area to the area of its convex hull, l0 = 350, 450, 500 mm"),
+        claim("stroke_rule_section_5.3", "eq. 10 for section 5.3's example: (l_max - l_min) / l_min <= 0.8",
+              STROKE_LIMIT, strokes["section_5.3_legs"], "-",
+              "match" if strokes["section_5.3_legs"] <= STROKE_LIMIT else "differs",
+              "l_min = 320, l_max = 578 mm"),
+        claim("stroke_rule_table1", "eq. 10 for Table 1's legs", STROKE_LIMIT, strokes["table1_legs"], "-",
+              "match" if strokes["table1_legs"] <= STROKE_LIMIT else "differs", "l_min = 396, l_max = 712 mm"),
+        claim("table1_leg_lengths", "Table 1's l_{1,2 min} and l_{1,2 max} [mm] against the legs over its task",
+              TABLE1_LEGS, legs, "mm", "differs" if legs["l_min"] < TABLE1_LEGS["l_min"] else "match",
+              "least and greatest leg length over the cylinder (tilt 60 deg, h = 100 mm above l0min = 450)"),
+        claim("table1_optimal", "Table 1 is optimal for pi R^2 l0min F with the task cylinder in the workspace",
+              None, {"table1_objective": table1.objective, "table1_feasible": table1.feasible,
+                     "pkm_objective": result.objective, "pkm_verified": result.verified_objective},
+              "m^3 N", "differs" if (not table1.feasible or result.objective < table1.objective) else "match",
+              "same model, pkm's payload (docs/papers/zhao2008.md); Table 1 violates its leg strokes over the "
+              "cylinder"),
+    ]
+    bar.advance()
+    bar.close()
+    text = (
+        f"IPOPT minimises pi R^2 l0min F over beta, r, R, l0min, l_min (alpha = 90 deg, l_max = 1.8 l_min): "
+        f"{', '.join(f'{k} = {v:.4g}' for k, v in result.variables.items())} with {result.objective:.4g} m^3 N "
+        f"(verified {result.verified_objective:.4g}; its cylinder's least margin on a dense grid "
+        f"{float(dense):.3g} over {dense.points} points), in {result.optimizer['wall_time_s']:.1f} s and "
+        f"{result.optimizer['evaluations']} evaluations. The paper's Monte Carlo search on the same model "
+        f"({monte_carlo.evaluations} designs, {monte_carlo.wall_time_s:.1f} s) reaches "
+        f"{monte_carlo.best.objective:.4g}; Table 1 has {table1.objective:.4g} and is "
+        f"{'feasible' if table1.feasible else 'infeasible'}."
+    )
+    return {
+        "paper": "zhao2008",
+        "title": TITLE,
+        "summary": "Lengths in metres unless a claim says mm. The synthesis allows 90 deg at the spherical joints "
+        "(section 6 states no joint limits) and holds a payload of 50 kg 0.2 m above U0 (the paper states none).",
+        "settings": {**s, "quick": quick, "margins": list(MARGINS)},
+        "claims": claims,
+        "beyond_paper": {"syntheses": [{**record, "dense_margin": float(dense), "text": text}], "text": text},
+        "figures": [fig3_name, sections_name, force_name],
+        "sections": sections,
+    }
