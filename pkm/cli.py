@@ -16,6 +16,7 @@ import numpy as np
 
 from pkm import io, registry
 from pkm.design import Design, parse_design
+from pkm.design_space import parameter_plane
 from pkm.errors import ComputationError, PkmError, UnknownNameError
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
@@ -151,12 +152,15 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     from pkm.atlas import compute_atlas, default_modes
 
     m = registry.mechanism(args.mechanism)
-    if not m.design_spaces:
-        raise PkmError(f"the {m.name} has no normalised design space to draw an atlas in")
-    name = args.space or next(iter(m.design_spaces))
-    if name not in m.design_spaces:
-        raise UnknownNameError(f"{m.name} design space", name, sorted(m.design_spaces))
-    space = m.design_spaces[name]
+    if args.axes:
+        space = parameter_plane(m.parameters, _axes(args.axes))
+    else:
+        if not m.design_spaces:
+            raise PkmError(f"the {m.name} has no design space to draw an atlas in: give --axes")
+        name = args.space or next(iter(m.design_spaces))
+        if name not in m.design_spaces:
+            raise UnknownNameError(f"{m.name} design space", name, sorted(m.design_spaces))
+        space = m.design_spaces[name]
     index = m.global_spec(args.index)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
     inside = int(space.chart_grid(args.resolution)[2].sum()) if args.resolution >= 3 else 1
@@ -189,6 +193,21 @@ def cmd_atlas(args: argparse.Namespace) -> None:
         ]
     )
     _emit(args, data, text)
+
+
+def _axes(text: str) -> list[tuple[str, float, float]]:
+    """``"R=0.1:0.3,beta=0.2:1.2"`` -> [("R", 0.1, 0.3), ("beta", 0.2, 1.2)]."""
+    out = []
+    for item in filter(None, (t.strip() for t in text.split(","))):
+        name, sep, bounds = item.partition("=")
+        lower, colon, upper = bounds.partition(":")
+        try:
+            if not (sep and colon):
+                raise ValueError
+            out.append((name.strip(), float(lower), float(upper)))
+        except ValueError:
+            raise PkmError(f"--axes item {item!r} is not of the form name=lower:upper") from None
+    return out
 
 
 def _named(values: dict[str, float]) -> str:
@@ -262,7 +281,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("atlas", cmd_atlas, "a global index over a normalised design space (npz and figure)")
     p.add_argument("mechanism")
     p.add_argument("index")
-    p.add_argument("--space", help="normalised design space (default: the mechanism's first)")
+    p.add_argument("--space", help="design space (default: the mechanism's first)")
+    p.add_argument("--axes", help="two design parameters with bounds instead: name=lower:upper,name=lower:upper")
     p.add_argument("--region", default="reachable")
     p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
     p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")

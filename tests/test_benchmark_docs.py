@@ -16,3 +16,10 @@ def test_before_after_table_is_quoted_from_the_committed_runs():
     before = json.loads((RUNS / "core_before.json").read_text())
     after = json.loads((RUNS / "core_after.json").read_text())
     assert table(before, after) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_ups_pu_tables_are_quoted_from_the_committed_run():
+    from bench.ups_pu import markdown
+
+    report = json.loads((RUNS / "ups_pu.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()

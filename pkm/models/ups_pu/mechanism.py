@@ -19,6 +19,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.design import Condition, Parameter
+from pkm.design_space import DesignSpace, parameter_plane
 from pkm.errors import PoseError
 from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
 from pkm.mechanism import Mechanism
@@ -111,6 +112,10 @@ class UpsPu(Mechanism):
     actuator_names = ("l1", "l2", "l0_leg")
     actuator_units = ("m", "m", "m")
     forward = PolynomialRoots()
+    design_spaces: ClassVar[dict[str, DesignSpace]] = {
+        "radius_beta": parameter_plane(PARAMETERS, (("R", 0.08, 0.30), ("beta", 10 * DEG, 80 * DEG)),
+                                       name="radius_beta"),
+    }
     regions: ClassVar[dict[str, Any]] = {
         "task": Mapped(
             "task",
