@@ -219,3 +219,36 @@ def test_table1_is_evaluated_on_the_same_model_and_violates_the_leg_strokes(synt
     margins = mech.workspace_margins(points, d)
     assert margins["l1_min"].min() < 0
     assert table1.objective > 10 * synthesis.objective
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["eval", "ups_pu", "--pose", "0.5,0,0", "--design", "D=-0.001"], "D = -0.001"),
+        (["eval", "ups_pu", "--pose", "0.5,0,0", "--design", "alpha=4"], "alpha"),
+        (["eval", "ups_pu", "--pose", "0.5,0,0", "--design", "beta=1.5707963267948966"], "alpha != beta"),
+        (["index", "ups_pu", "gci", "--region", "task", "--design", "task_tilt=1.7"], "task_tilt"),
+        (["atlas", "ups_pu", "gci", "--region", "task", "--axes", "R=0.3:0.1,beta=0.2:1"], "lower < upper"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(capfd, argv, message):
+    from pkm.cli import main
+
+    assert main(argv) == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert message in err[0]
+
+
+def test_atlas_over_two_design_parameters_of_the_users_choice(tmp_path):
+    from pkm.atlas import compute_atlas
+    from pkm.design_space import parameter_plane
+
+    mech = pkm.load("ups_pu")
+    space = parameter_plane(mech.parameters, (("r", 0.08, 0.16), ("R", 0.12, 0.24)))
+    atlas = compute_atlas(mech, mech.global_spec("gci"), space=space, region="task", resolution=5, pose_resolution=2)
+    assert atlas.inside[1:-1, 1:-1].all()  # the chart grid leaves out the plane's edges
+    best = atlas.best()
+    design = space.designs(mech.parameters, [best.u, best.v])
+    assert mech.global_index("gci", design, region="task", resolution=2) == pytest.approx(best.value, rel=1e-12)
+    assert atlas.plot(tmp_path / "atlas.png").stat().st_size > 1000
