@@ -160,7 +160,7 @@ class UpsPu(Mechanism):
         return np.array([[d["l0_min"], d["l0_max"]], [-math.pi / 2, math.pi / 2], [-math.pi / 2, math.pi / 2]])
 
     def statics(
-        self, pose: Any, wrench: Any, design: DesignLike = None, *, printed: bool = False
+        self, pose: Any, wrench: Any, design: DesignLike = None, *, mode: str | None = None, printed: bool = False
     ) -> Statics:
         """Actuator and constraint forces that balance the wrench (F, M) at U0 (Zhao eq. 8).
 
@@ -174,7 +174,8 @@ class UpsPu(Mechanism):
             raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
         w = np.broadcast_to(w, (len(x), 6))
         d = self.design_vector(design)
-        W, W_printed, _ = evaluate(self.functions["statics"], self.inverse_kinematics(x, d), x, d)
+        q = self.inverse_kinematics(x, d, mode=mode)
+        W, W_printed, _ = evaluate(self.functions["statics"], q, x, d)
         matrix = W_printed if printed else W
         forces = np.full((len(x), 6), np.nan)
         with np.errstate(invalid="ignore"):
