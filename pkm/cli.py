@@ -240,7 +240,8 @@ def cmd_synth(args: argparse.Namespace) -> None:
     for base in result.baselines.values():
         lines.append(
             f"baseline {base.name} ({base.evaluations} evaluations, {base.wall_time_s:.2f} s): "
-            f"{base.best.objective:.6g}, verified {base.best.verified_objective:.6g} at {_named(base.best.variables)}"
+            f"{base.best.objective:.6g}, verified {base.best.verified_objective:.6g}"
+            f"{'' if base.best.feasible else ' (infeasible)'} at {_named(base.best.variables)}"
         )
     _emit(args, data, "\n".join(lines))
 

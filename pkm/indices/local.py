@@ -35,7 +35,8 @@ class LocalIndex:
     """A local index: key, meaning, unit, documented range, its value where the pose is singular, the
     generated function (``source``) and outputs (``arguments``) it is computed from, and its formula
     on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a smooth g with g >= 0 exactly
-    where the index is >= t (value - t otherwise)."""
+    where the index is >= t (value - t otherwise), and ``epigraph_upper`` one with g >= 0 exactly where
+    it is <= t (t - value otherwise)."""
 
     name: str
     doc: str
@@ -47,6 +48,7 @@ class LocalIndex:
     source: str = "first_order"
     arguments: tuple[str, ...] = ("J", "J_f")
     epigraph: Callable[..., ca.SX] | None = None
+    epigraph_upper: Callable[..., ca.SX] | None = None
 
 
 def _check_square(A: ca.SX) -> int:
@@ -217,6 +219,7 @@ ACTUATOR_FORCE = LocalIndex(
     "actuator_force",
     "largest actuator force (absolute) that holds the mechanism's load, from its generated actuator_forces",
     "N", 0.0, np.inf, np.inf, lambda f: ca.mmax(ca.fabs(f)), "actuator_forces", ("f_a",),
+    epigraph_upper=lambda f, t: ca.vertcat(t - f, t + f),
 )
 WORKSPACE_MARGIN = LocalIndex(
     "workspace_margin",
@@ -250,12 +253,18 @@ def local_function(spec: LocalIndex, n: int, shapes: tuple[tuple[int, int], ...]
 
 
 @cache
-def epigraph_function(spec: LocalIndex, shapes: tuple[tuple[int, int], ...]) -> ca.Function:
+def epigraph_function(spec: LocalIndex, shapes: tuple[tuple[int, int], ...], upper: bool = False) -> ca.Function:
     """CasADi function ``(*arguments, t) -> g`` on arguments of the given shapes: g >= 0 if and only
-    if the local index is >= t (the index's own ``epigraph`` where it has one, else value - t)."""
+    if the local index is >= t, or with ``upper`` <= t (the index's own smooth form where it has one,
+    else value - t or t - value)."""
     args = [ca.SX.sym(a, *shape) for a, shape in zip(spec.arguments, shapes, strict=True)]
     t = ca.SX.sym("t")
-    g = spec.epigraph(*args, t) if spec.epigraph is not None else local_function(spec, 0, shapes)(*args) - t
+    own = spec.epigraph_upper if upper else spec.epigraph
+    if own is not None:
+        g = own(*args, t)
+    else:
+        value = local_function(spec, 0, shapes)(*args)
+        g = t - value if upper else value - t
     return ca.Function(f"{spec.name}_epigraph", [*args, t], [g], [*spec.arguments, "t"], ["margin"])
 
 

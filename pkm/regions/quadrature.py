@@ -47,12 +47,10 @@ def node_values(
     n = points.size2()
     fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
     outputs = fn(points, ca.DM(branch.signs), design)
-    if epigraph is not None and spec.reduce == "max":
-        return epigraph - outputs[3], weights, outputs[2]
     if epigraph is not None:
         matrices = outputs[4:]
         shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
-        g = epigraph_function(spec.local, shapes).map(n)(*matrices, epigraph)
+        g = epigraph_function(spec.local, shapes, spec.reduce == "max").map(n)(*matrices, epigraph)
         return g, weights, outputs[2]
     return outputs[3], weights, outputs[2]
 

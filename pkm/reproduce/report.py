@@ -37,6 +37,7 @@ def synthesis_record(result: Any) -> dict[str, Any]:
             "variables": b.best.variables,
             "objective": b.best.objective,
             "verified_objective": b.best.verified_objective,
+            "feasible": b.best.feasible,
             "wall_time_s": b.wall_time_s,
             "evaluations": b.evaluations,
             "doc": b.doc,

@@ -216,10 +216,14 @@ def synthesize(
         stats = solver.stats()
         calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
         evaluations += calls
-        w = np.asarray(sol["x"]).ravel()[: len(problem.variables)]
+        x = np.asarray(sol["x"]).ravel()
+        w = x[: len(problem.variables)]
         value = model.sign * float(sol["f"])
-        runs.append(Run(_named(problem, points[index]), stats["return_status"], bool(stats["success"]),
-                        int(stats["iter_count"]), calls, value, _named(problem, w)))
+        status, success = stats["return_status"], bool(stats["success"])
+        if success and not model.tight(w, x[len(problem.variables) :], res):
+            status, success = "Epigraph_Not_Tight", False
+        runs.append(Run(_named(problem, points[index]), status, success, int(stats["iter_count"]), calls, value,
+                        _named(problem, w)))
     opt_time = time.perf_counter() - t0
     good = [r for r in runs if r.success]
     if not good:

@@ -15,9 +15,11 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
+from pkm.errors import PkmError
 from pkm.regions import node_values, quadrature_value, sampled_check
 from pkm.synthesis.problem import Problem, Terms
 
+TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
 EPIGRAPH_SLACK = 1e-3  # an extreme's variable starts this far (relative) inside its node bounds
 SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
 
@@ -49,6 +51,9 @@ class ProblemModel:
         self.upper = np.array([c.upper for c in problem.constraints], dtype=float)
         margin = np.array([c.margin for c in problem.constraints], dtype=float)
         self.nlp_lower, self.nlp_upper = self.lower + margin, self.upper - margin
+        for c, lo, hi in zip(problem.constraints, self.nlp_lower, self.nlp_upper, strict=True):
+            if not (c.margin >= 0 and lo <= hi):
+                raise PkmError(f"constraint {c.name!r}: margin {c.margin:g} violates 0 <= margin <= half its range")
 
     @property
     def sign(self) -> float:
@@ -154,6 +159,18 @@ class ProblemModel:
             upper.append(np.full(nodes.numel(), np.inf))
         nlp = {"x": ca.vertcat(w, *t.values()), "f": self.sign * f, "g": ca.vertcat(*rows)}
         return nlp, np.concatenate(lower), np.concatenate(upper)
+
+    def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int) -> bool:
+        """Whether every extreme's variable equals its quantity at w: the problem uses each extreme in
+        the direction its epigraph represents (otherwise the optimiser moved t away from it)."""
+        if not self.extremes:
+            return True
+        _, _, *values = evaluate(self.function(resolution), np.atleast_2d(w))
+        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        return all(
+            abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
+            for name, t in zip(self.extremes, bounds, strict=True)
+        )
 
     def start(self, point: np.ndarray, resolution: int) -> list[float]:
         """A starting point of the NLP: the variables and each extreme a little inside its bound."""

@@ -68,16 +68,18 @@ CONDITIONS = (
     Condition("l_min < l_max (the UPS legs have a stroke)", lambda d: d["l_max"] - d["l_min"]),
     Condition("l0_min < l0_max (the PU leg has a stroke)", lambda d: d["l0_max"] - d["l0_min"]),
     Condition(
-        "alpha != beta (two distinct UPS legs)", lambda d: abs(math.remainder(d["alpha"] - d["beta"], 2 * math.pi))
+        "sin(beta - alpha) != 0 (the UPS legs neither coincide nor stand opposite: det J = 0 everywhere)",
+        lambda d: abs(math.sin(d["beta"] - d["alpha"])) - 1e-9,
     ),
 )
 
 
 def actuator_forces(statics: ca.Function) -> ca.Function:
-    """``actuator_forces(q, x, design) -> f_a``: the forces (f1, f2, f0) that hold the payload."""
+    """``actuator_forces(q, x, design) -> f_a``: the forces (f1, f2, f0) that hold the payload, whose
+    resultant with the constraint forces cancels the payload's wrench: W f = -w_load."""
     q, x, d = (ca.SX.sym(statics.name_in(i), statics.size_in(i)) for i in range(3))
     W, _, w_load = statics(q, x, d)
-    forces = ca.solve(W, w_load)
+    forces = ca.solve(W, -w_load)
     return ca.Function("actuator_forces", [q, x, d], [forces[:3]], ["q", "x", "design"], ["f_a"])
 
 
@@ -162,7 +164,8 @@ class UpsPu(Mechanism):
     def statics(
         self, pose: Any, wrench: Any, design: DesignLike = None, *, mode: str | None = None, printed: bool = False
     ) -> Statics:
-        """Actuator and constraint forces that balance the wrench (F, M) at U0 (Zhao eq. 8).
+        """Actuator and constraint forces whose resultant at U0 is the wrench (F, M) (Zhao eq. 8: W f =
+        wrench); pass the negative of an external load for the forces that hold it.
 
         ``printed`` uses eq. 8 as printed (unit moment axes, the constraint torque about Z) instead of
         the physical wrench matrix; see docs/papers/zhao2008.md. A wrench (6,) is shared by the poses.

@@ -166,3 +166,19 @@ def section(mech: Any, design: np.ndarray, l0: float, *, resolution: int = 200, 
     return Section(
         l0, float(mask.sum() * cell), float(ray_area), boundary, grid[:, 1:], mask.reshape(T1.shape), reentrant
     )
+
+
+def volume(mech: Any, design: np.ndarray, *, planes: int = 10, resolution: int = 200, rays: int = 360,
+           step: float = 0.25 * DEG) -> dict[str, Any]:
+    """The workspace volume [m rad^2] over the l0 stroke by the midpoint rule over ``planes`` sections
+    (:func:`section`): by dense sampling and by the ray search, with the sections themselves."""
+    d = mech.design_dict(design)
+    height = (d["l0_max"] - d["l0_min"]) / planes
+    levels = d["l0_min"] + height * (np.arange(planes) + 0.5)
+    cuts = [section(mech, design, float(l0), resolution=resolution, rays=rays, step=step) for l0 in levels]
+    return {
+        "sampled": float(sum(c.sampled_area for c in cuts) * height),
+        "ray_search": float(sum(c.ray_area for c in cuts) * height),
+        "reentrant_rays": int(sum(c.reentrant_rays for c in cuts)),
+        "sections": cuts,
+    }
