@@ -252,3 +252,15 @@ def test_atlas_over_two_design_parameters_of_the_users_choice(tmp_path):
     design = space.designs(mech.parameters, [best.u, best.v])
     assert mech.global_index("gci", design, region="task", resolution=2) == pytest.approx(best.value, rel=1e-12)
     assert atlas.plot(tmp_path / "atlas.png").stat().st_size > 1000
+
+
+def test_a_base_no_wider_than_the_platform_still_assembles(mech):
+    """R <= r breaks nothing in this geometry (U0 stays above the base, so no leg shrinks to zero): such a
+    design is valid, and IK and FK still invert each other."""
+    design = mech.design({**mech.design(), "r": 0.2, "R": 0.15})
+    x = np.array([[0.5, 0.3, -0.2], [0.6, -0.4, 0.1]])
+    q = mech.inverse_kinematics(x, design)
+    assert np.all(q > 0.3)
+    poses = np.stack([mech.forward_kinematics(q, design, assembly=a) for a in mech.assemblies])
+    distance = np.linalg.norm(poses - x, axis=2)
+    assert np.nanmin(np.where(np.isnan(distance), np.inf, distance), axis=0).max() < 1e-9
