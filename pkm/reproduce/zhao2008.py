@@ -38,10 +38,10 @@ STROKE_LIMIT = 0.8  # eq. 10
 
 def _settings(quick: bool) -> dict[str, int]:
     if quick:
-        return {"section_resolution": 80, "rays": 120, "synthesis_resolution": 2, "baseline_resolution": 60,
-                "starts": 1}
-    return {"section_resolution": 240, "rays": 360, "synthesis_resolution": 3, "baseline_resolution": 400,
-            "starts": 3}
+        return {"section_resolution": 60, "rays": 120, "planes": 5, "synthesis_resolution": 2,
+                "baseline_resolution": 60, "starts": 1}
+    return {"section_resolution": 240, "rays": 360, "planes": 10, "synthesis_resolution": 3,
+            "baseline_resolution": 400, "starts": 3}
 
 
 def _eq6(m: Mechanism, rng: np.random.Generator) -> dict[str, float]:
@@ -181,12 +181,12 @@ def _table1_legs(m: Mechanism) -> dict[str, float]:
 
 
 def _convexity(m: Mechanism, s: dict[str, int]) -> dict[str, Any]:
-    """Every section of section 5.3's example over its l0 stroke (10 planes): the ratio of the sampled
-    area to its convex hull's and the rays along which the workspace re-enters (not star-shaped)."""
+    """Every section of section 5.3's example over its l0 stroke (``planes`` of them): the ratio of the
+    sampled area to its convex hull's and the rays along which the workspace re-enters (not star-shaped)."""
     from matplotlib.path import Path as PolygonPath
 
     design = m.design({**m.design(), **EXAMPLE_53}).vector()
-    result = volume(m, design, planes=10, resolution=s["section_resolution"], rays=s["rays"])
+    result = volume(m, design, planes=s["planes"], resolution=s["section_resolution"], rays=s["rays"])
     planes = []
     for cut in result["sections"]:
         inside = cut.grid[cut.mask.ravel()]
@@ -279,7 +279,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         claim("workspace_convex", "the actual workspace is convex (section 6, Fig. 5)", 1.0,
               {"least_hull_ratio": convexity, "planes_with_reentrant_rays": reentrant}, "-",
               "match" if convexity > 0.99 and not reentrant else "differs",
-              "section 5.3's example over 10 l0 planes in (theta1, theta2): the least ratio of a section's "
+              f"section 5.3's example over {s['planes']} l0 planes in (theta1, theta2): the least ratio of a section's "
               "sampled area to its convex hull's, and the planes where a ray of the ray search re-enters the "
               "workspace (where its star-shape assumption fails)"),
         claim("stroke_rule_section_5.3", "eq. 10 for section 5.3's example: (l_max - l_min) / l_min <= 0.8",
