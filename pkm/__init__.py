@@ -1,9 +1,9 @@
 """pkm: design of parallel kinematic machines.
 
 >>> import pkm
->>> m = pkm.load("five_bar")
->>> m.inverse_kinematics([0.0, 1.5], {"r1": 1.2, "r2": 1.0, "r3": 0.8}, mode="out_out").shape
-(2,)
+>>> m = pkm.load(pkm.mechanisms()[0])
+>>> m.inverse_kinematics(m.workspace_box(m.design().vector()).mean(axis=1)).shape == (m.n_act,)
+True
 """
 
 from __future__ import annotations

@@ -5,7 +5,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
+import casadi as ca
 import numpy as np
 
 from pkm.errors import DesignError
@@ -78,6 +80,16 @@ class Design(Mapping[str, float]):
     def vector(self) -> np.ndarray:
         """Values in the mechanism's parameter order."""
         return np.array([self._values[n] for n in self._names])
+
+
+def stack_design(values: Sequence[Any]) -> Any:
+    """Design vectors from per-parameter values in parameter order (floats, arrays or CasADi): a CasADi
+    column where any value is symbolic, else a numpy array (..., n_p) of the values broadcast together."""
+    if any(isinstance(v, ca.MX | ca.SX) for v in values):
+        return ca.vertcat(*values)
+    arrays = [np.asarray(v, dtype=float) for v in values]
+    shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    return np.stack([np.broadcast_to(a, shape) for a in arrays], axis=-1)
 
 
 def parse_design(text: str) -> dict[str, float]:

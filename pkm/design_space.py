@@ -14,7 +14,7 @@ import casadi as ca
 import numpy as np
 from matplotlib.path import Path as PolygonPath
 
-from pkm.design import Condition, Parameter
+from pkm.design import Condition, Parameter, stack_design
 from pkm.errors import DesignError
 
 CLOSED = 1e-12
@@ -87,15 +87,10 @@ class DesignSpace:
         for p in parameters:
             if p.name not in values and p.name not in self.base and p.default_from is not None:
                 fixed[p.name] = p.default_from[1] * fixed[p.default_from[0]]
-        if any(isinstance(v, ca.MX | ca.SX) for v in values.values()):
-            return ca.vertcat(*[values.get(p.name, fixed[p.name]) for p in parameters])
-        if check:
+        symbolic = any(isinstance(v, ca.MX | ca.SX) for v in values.values())
+        if check and not symbolic:
             self.check(c)
-        arrays = {n: np.asarray(v, dtype=float) for n, v in values.items()}
-        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
-        return np.stack(
-            [np.broadcast_to(arrays.get(p.name, fixed[p.name]), shape) for p in parameters], axis=-1
-        )
+        return stack_design([values.get(p.name, fixed[p.name]) for p in parameters])
 
     def normalised(self, design: Sequence[float]) -> dict[str, float]:
         """The normalised coordinates of an SI design vector, by name."""

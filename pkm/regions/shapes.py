@@ -91,31 +91,31 @@ def square_rim(count: int) -> np.ndarray:
 EXTREMES = ("min", "max")
 
 
+def _with_centre_and_rim(nodes: np.ndarray, weights: np.ndarray, rim: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A 2-D rule with the centre first and the rim last, both with zero weight."""
+    return (
+        np.concatenate([np.zeros((1, 2)), nodes, rim]),
+        np.concatenate([[0.0], weights, np.zeros(len(rim))]),
+    )
+
+
 def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
     """The unit disc's nodes and weights; for an extreme also its centre and a rim of ``4 resolution``
     points, with zero weight."""
     nodes, weights = disc_quadrature(resolution)
     if reduce not in EXTREMES:
         return nodes, weights
-    rim = ring(4 * resolution)
-    return (
-        np.concatenate([np.zeros((1, 2)), nodes, rim]),
-        np.concatenate([[0.0], weights, np.zeros(len(rim))]),
-    )
+    return _with_centre_and_rim(nodes, weights, ring(4 * resolution))
 
 
 def square_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
-    """[-1, 1]^2 by Gauss-Legendre with ``2 resolution`` points per axis; for a minimum also its
-    centre and :func:`square_rim` with ``8 resolution`` points (for an extreme), with zero weight."""
+    """[-1, 1]^2 by Gauss-Legendre with ``2 resolution`` points per axis; for an extreme also its
+    centre and :func:`square_rim` with ``8 resolution`` points, with zero weight."""
     t, w = gauss_legendre(2 * resolution)
     nodes, weights = product((t[:, None], w), (t[:, None], w))
     if reduce not in EXTREMES:
         return nodes, weights
-    rim = square_rim(8 * resolution)
-    return (
-        np.concatenate([np.zeros((1, 2)), nodes, rim]),
-        np.concatenate([[0.0], weights, np.zeros(len(rim))]),
-    )
+    return _with_centre_and_rim(nodes, weights, square_rim(8 * resolution))
 
 
 def product(*rules: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:

@@ -62,8 +62,7 @@ class ProblemModel:
 
     def design(self, w: Any) -> Any:
         """The design vector of the variables (a CasADi column)."""
-        out = self.problem.design([w[k] for k in range(w.numel())])
-        return ca.vertcat(*out) if isinstance(out, list | tuple) else out
+        return self.problem.design([w[k] for k in range(w.numel())])
 
     def terms(self, w: Any, design: Any, quantities: dict[str, Any]) -> Terms:
         names = self.mech.parameter_names()

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from pkm import registry
+from pkm.design import stack_design
 from pkm.models.slider_gantry.wu2008 import DEG, asin, required_stroke, sqrt, two_step_angles, two_step_points
 from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
@@ -35,8 +36,8 @@ SCALED_INERTIAS = ("I12", "I22", "I4", "I5")
 HALF_LENGTH_OFFSETS = ("s12", "s22", "s4", "s5")
 
 
-def task_design(mech: Any, length: Any, d1: Any) -> list[Any]:
-    """The design vector (parameter order) of (l, d1) for Wu's task rectangle: floats, arrays or CasADi."""
+def task_design(mech: Any, length: Any, d1: Any) -> Any:
+    """The design vector of (l, d1) for Wu's task rectangle (:func:`pkm.design.stack_design`)."""
     base = dict(mech.design())
     b, h = WIDTH, HEIGHT
     values = {
@@ -57,11 +58,7 @@ def task_design(mech: Any, length: Any, d1: Any) -> list[Any]:
     for name in HALF_LENGTH_OFFSETS:
         if name in base:
             values[name] = length / 2
-    names = mech.parameter_names()
-    if isinstance(length, np.ndarray) or isinstance(d1, np.ndarray):
-        shape = np.broadcast_shapes(np.shape(length), np.shape(d1))
-        return np.stack([np.broadcast_to(np.asarray(values[n], dtype=float), shape) for n in names], axis=-1)
-    return [values[n] for n in names]
+    return stack_design([values[n] for n in mech.parameter_names()])
 
 
 def _family() -> np.ndarray:

@@ -22,6 +22,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import registry
+from pkm.design import stack_design
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.models.ups_pu.workspace import MARGINS, tilt_to_angles
 from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
@@ -48,18 +49,14 @@ TASK_MARGIN_MIN = GlobalIndex("task_margin_min", TASK_MARGIN, "region minimum of
 
 
 def design_map(mech, values):
-    """The design vector of (beta, r, R, l0_min, l_min): numpy (..., n_p) or a CasADi list."""
+    """The design vector of (beta, r, R, l0_min, l_min) (:func:`pkm.design.stack_design`)."""
     beta, r, R, l0_min, l_min = values
     base = dict(mech.design())
     given = {
         "alpha": 90 * DEG, "beta": beta, "r": r, "R": R, "l0_min": l0_min, "l_min": l_min,
         "l_max": STROKE_RATIO * l_min, "l0_max": l0_min + base["task_height"], "theta_s_max": SPHERICAL_LIMIT,
     }
-    out = [given.get(name, base[name]) for name in mech.parameter_names()]
-    if any(isinstance(v, np.ndarray) for v in values):
-        shape = np.broadcast_shapes(*(np.shape(v) for v in values))
-        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), shape) for v in out], axis=-1)
-    return out
+    return stack_design([given.get(name, base[name]) for name in mech.parameter_names()])
 
 
 def shortest_leg_on_rim(mech, beta: float, r: float, R: float, l0_min: float) -> float:
