@@ -2,4 +2,4 @@
 # ruff: noqa
 """CasADi functions generated from symbolic/ (one module per mechanism)."""
 
-MECHANISMS = ("five_bar", "slider_gantry", "slider_gantry_symmetric", "ups_pu", )
+MECHANISMS = ("five_bar", "passive_leg", "slider_gantry", "slider_gantry_symmetric", "ups_pu", )

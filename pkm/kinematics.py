@@ -272,6 +272,26 @@ class Rootfinder:
         return x, q, ok & np.all(np.isfinite(z), axis=1)
 
 
+POLISH_LIMIT = 1e-6
+
+
+def _polish(c: np.ndarray, roots: np.ndarray, steps: int = 2) -> np.ndarray:
+    """Newton steps on each row's polynomial (coefficients c (N, degree + 1), highest first) from its
+    real roots (N, k): the companion matrix's eigenvalues carry errors of the matrix's norm. A step
+    larger than POLISH_LIMIT (relative) is not taken: near a double root Newton would wander."""
+    for _ in range(steps):
+        value = np.zeros_like(roots)
+        slope = np.zeros_like(roots)
+        for k in range(c.shape[1]):
+            slope = slope * roots + value
+            value = value * roots + c[:, k : k + 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(slope != 0, value / slope, 0.0)
+        small = np.isfinite(step) & (np.abs(step) <= POLISH_LIMIT * np.maximum(1.0, np.abs(roots)))
+        roots = roots - np.where(small, step, 0.0)
+    return roots
+
+
 @dataclass(frozen=True)
 class PolynomialRoots:
     """Forward kinematics through the real roots of an emitted univariate polynomial.
@@ -307,7 +327,7 @@ class PolynomialRoots:
             companion[:, np.arange(1, d), np.arange(d - 1)] = 1.0
             values[rows, :d] = np.linalg.eigvals(companion)
         real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * np.maximum(1.0, np.abs(values))
-        return np.sort(np.where(real, values.real, np.nan), axis=1)
+        return np.sort(_polish(c, np.where(real, values.real, np.nan)), axis=1)
 
     def solve(self, functions, q_a, branch, design):
         k = int(branch.signs[0])

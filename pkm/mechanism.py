@@ -271,6 +271,8 @@ class Mechanism:
         """The global index by name, if this mechanism can evaluate its local index."""
         spec = registry.global_index(name)
         self.local_spec(spec.local.name)
+        if spec.per is not None:
+            self.functions.require(spec.per, f"the global index {name}")
         return spec
 
     def local_indices(self) -> tuple[str, ...]:
@@ -279,7 +281,10 @@ class Mechanism:
 
     def global_indices(self) -> tuple[str, ...]:
         """Names of the global indices this mechanism can evaluate."""
-        return tuple(i.name for i in registry.global_indices() if self._has(i.local))
+        return tuple(
+            i.name for i in registry.global_indices()
+            if self._has(i.local) and (i.per is None or i.per in self.functions)
+        )
 
     def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """A local index at each pose (N,); NaN where out of reach, its limit at singular poses."""

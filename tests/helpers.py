@@ -72,7 +72,8 @@ def port_inputs(
     """The inputs of the generated functions by the names of the port convention (pkm.kinematics) at
     poses x (N, n_out) of a working mode, with the assembly signs (N, k) of each pose; ``root`` (the
     variable of a forward-kinematics polynomial) runs over [-0.9, 0.9], ``y`` (the coordinates of a
-    mapped region) takes the poses' values."""
+    mapped region) takes the poses' values and ``a`` (the abscissa of a domain between curves) their
+    first coordinate."""
     branch = mech.working_mode(mode)
     q = mech.inverse_kinematics(x, design, mode=branch.name, passive=True)
     return {
@@ -83,6 +84,7 @@ def port_inputs(
         "assembly": np.asarray(assembly, dtype=float),
         "root": np.linspace(-0.9, 0.9, len(x))[:, None],
         "y": x,
+        "a": x[:, :1],
         "design": mech.design_vector(design),
     }
 

@@ -18,18 +18,21 @@ from pkm.indices import local
 from pkm.indices.local import LocalIndex
 
 REDUCTIONS = ("mean", "std", "min", "max", "measure")
+EXTREMES_REDUCE = ("min", "max")
 SENSES = ("max", "min")
 
 
 @dataclass(frozen=True)
 class GlobalIndex:
-    """A global index: its key, local index, meaning, reduction and sense."""
+    """A global index: its key, local index, meaning, reduction and sense; with ``per`` the reduction
+    is divided by the mechanism's function of that name (design -> a size, e.g. a footprint area)."""
 
     name: str
     local: LocalIndex
     doc: str
     reduce: str = "mean"
     sense: str = "max"
+    per: str | None = None
 
     def __post_init__(self) -> None:
         if self.reduce not in REDUCTIONS or self.sense not in SENSES:
@@ -37,6 +40,8 @@ class GlobalIndex:
 
     @property
     def unit(self) -> str:
+        if self.per is not None:
+            return f"{'pose units^n' if self.reduce == 'measure' else self.local.unit} per {self.per}"
         return "pose units^n" if self.reduce == "measure" else self.local.unit
 
     def better(self, a: float, b: float) -> bool:
@@ -66,14 +71,21 @@ def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str, valid:
     return mean
 
 
-def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float, reduce: str) -> float:
-    """The reduction of sampled values (n,) over the kept points, each of measure ``cell``."""
+def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float | np.ndarray, reduce: str) -> float:
+    """The reduction of sampled values (n,) over the kept points, each of measure ``cell`` (one for all,
+    or one per point)."""
+    cells = np.broadcast_to(np.asarray(cell, dtype=float), np.shape(values))
     if reduce == "measure":
-        return float(keep.sum() * cell)
+        return float(cells[keep].sum())
     if not keep.any():
         return float("nan")
-    kept = values[keep]
-    return float({"min": np.min, "max": np.max, "std": np.std}.get(reduce, np.mean)(kept))
+    kept, w = values[keep], cells[keep]
+    if reduce in EXTREMES_REDUCE:
+        return float(np.min(kept) if reduce == "min" else np.max(kept))
+    mean = float(np.average(kept, weights=w))
+    if reduce == "std":
+        return float(np.sqrt(np.average((kept - mean) ** 2, weights=w)))
+    return mean
 
 
 GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
@@ -82,6 +94,8 @@ GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
     GlobalIndex("gamma_max", local.VELOCITY_MAX, "global maximum velocity index (Gao eqs. 23, 25)"),
     GlobalIndex("gamma_min", local.VELOCITY_MIN, "global minimum velocity index (Gao eqs. 24, 25)"),
     GlobalIndex("manipulability", local.MANIPULABILITY, "region mean of the manipulability |det J_f|"),
+    GlobalIndex("jacobian_determinant", local.JACOBIAN_DETERMINANT, "region mean of |det J| (J: output to actuator "
+                "rates)", sense="min"),
     GlobalIndex(
         "dynamic_dexterity", local.DYNAMIC_DEXTERITY,
         "global dynamic dexterity: region mean of 1/kappa_2(M_w) (Lara-Molina eq. 36)",
@@ -110,5 +124,11 @@ GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
         "area (2-D) or volume (3-D) of the region's poses that the working mode reaches (over the sampled "
         "workspace: also at least the singularity margin from singularity)",
         "measure",
+    ),
+    GlobalIndex(
+        "space_utilization", local.INVERSE_CONDITION_F,
+        "area (2-D) or volume (3-D) of the region's reached poses per the mechanism's footprint (its function "
+        "footprint: design -> the size the mechanism occupies)",
+        "measure", per="footprint",
     ),
 )

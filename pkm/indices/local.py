@@ -193,6 +193,11 @@ MANIPULABILITY = LocalIndex(
     "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
     "-", 0.0, np.inf, 0.0, _manipulability,
 )
+JACOBIAN_DETERMINANT = LocalIndex(
+    "jacobian_determinant",
+    "|det J| = 1 / |det J_f|: volume of the actuator rates of unit output velocities",
+    "-", 0.0, np.inf, np.inf, lambda J, _J_f: ca.fabs(ca.det(J)),
+)
 VELOCITY_RATIO = LocalIndex(
     "velocity_ratio",
     "k_v = |x_dot / q1_dot| at the other outputs' rates 0 = 1 / |J_11|: speed of the first output per unit "
@@ -234,6 +239,7 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     VELOCITY_MAX,
     VELOCITY_MIN,
     MANIPULABILITY,
+    JACOBIAN_DETERMINANT,
     VELOCITY_RATIO,
     DYNAMIC_DEXTERITY,
     KAPPA_D,

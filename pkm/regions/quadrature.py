@@ -10,6 +10,7 @@ smooth epigraph form (:func:`node_values` with ``epigraph``).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from functools import lru_cache
 from typing import Any
 
@@ -17,9 +18,11 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.indices import GlobalIndex, epigraph_function, reduce_nodes, reduce_samples
+from pkm.errors import PkmError
+from pkm.indices import GlobalIndex, LocalIndex, epigraph_function, reduce_nodes, reduce_samples
+from pkm.indices.local import WORKSPACE_MARGIN
 from pkm.regions.pipeline import pipeline
-from pkm.regions.sampled import sample_values
+from pkm.regions.sampled import per_design, sample_values
 from pkm.regions.shapes import check_resolution
 from pkm.regions.value import GlobalValue
 
@@ -41,12 +44,20 @@ def node_values(
 
     With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
     the local index is at least t at every node (:func:`pkm.indices.epigraph_function`), or at most t
-    for a region maximum.
+    for a region maximum. On a region with a guard (:func:`guard_index`) a node counts as reached only
+    where the guard's margins hold.
     """
     points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
     n = points.size2()
-    fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
+    guard = guard_index(region)
+    if guard is not None and epigraph is not None:
+        raise PkmError(f"region {region.name} is guarded: its extremes have no epigraph form")
+    locals_ = (spec.local,) if guard is None else (spec.local, guard)
+    fn = pipeline(mech, locals_, matrices=epigraph is not None).map(n)
     outputs = fn(points, ca.DM(branch.signs), design)
+    if guard is not None:
+        inside = outputs[4] >= 0
+        return ca.if_else(inside, outputs[3], np.nan), weights, outputs[2] * inside
     if epigraph is not None:
         matrices = outputs[4:]
         shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
@@ -62,7 +73,20 @@ def quadrature_value(
     values, weights, valid = node_values(
         mech, spec, region, branch, design, resolution=check_resolution(resolution, 1)
     )
-    return reduce_nodes(values, weights, spec.reduce, valid)
+    value = reduce_nodes(values, weights, spec.reduce, valid)
+    if region.guard is not None:
+        value = ca.if_else(ca.mmin(valid) > 0, value, np.nan)
+    if spec.per is not None:
+        value = value / mech.functions.require(spec.per, f"the global index {spec.name}")(design)
+    return value
+
+
+def guard_index(region: Any) -> LocalIndex | None:
+    """The least of the region's guard margins as a local index (None for a region without a guard)."""
+    if region.guard is None:
+        return None
+    return replace(WORKSPACE_MARGIN, name=f"{region.guard}_min", source=region.guard,
+                   doc=f"least of the margins {region.guard} that the region {region.name} needs at every node")
 
 
 @lru_cache(maxsize=64)
@@ -134,5 +158,10 @@ def sampled_check(
     x, cell = region.sample(mech.functions, design, resolution, spec.reduce)
     d = np.broadcast_to(design, (len(x), len(design)))
     value, keep = sample_values(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
-    result = reduce_samples(value, keep, cell, spec.reduce)
+    guard = guard_index(region)
+    if guard is not None:
+        margin, inside = sample_values(mech, replace(spec, local=guard), x, d, signs=np.array(branch.signs),
+                                       margin=0.0)
+        keep &= inside & (margin >= 0)
+    result = reduce_samples(value, keep, cell, spec.reduce) / per_design(mech, spec, design)
     return GlobalValue(result, points=int(keep.sum()), region=region.name, resolution=resolution)

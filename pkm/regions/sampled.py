@@ -61,6 +61,13 @@ def sample_values(
     return value, keep
 
 
+def per_design(mech: Any, spec: GlobalIndex, design: np.ndarray) -> float:
+    """The size an index's reduction is divided by (its ``per`` function of the design), else 1."""
+    if spec.per is None:
+        return 1.0
+    return float(mech.functions.require(spec.per, f"the global index {spec.name}")(np.asarray(design, dtype=float)))
+
+
 def sampled_global(
     mech: Any,
     spec: GlobalIndex,
@@ -85,9 +92,10 @@ def sampled_global(
             signs=signs, margin=margin,
         )
         value, keep = value.reshape(len(chunk), -1), keep.reshape(len(chunk), -1)
-        for row, mask, (_, cell) in zip(value, keep, grids, strict=True):
-            full = reduce_samples(row, mask, cell, spec.reduce)
-            half = reduce_samples(row[coarse], mask[coarse], cell * 2**mech.n_out, spec.reduce)
+        for row, mask, (_, cell), d in zip(value, keep, grids, chunk, strict=True):
+            size = per_design(mech, spec, d)
+            full = reduce_samples(row, mask, cell, spec.reduce) / size
+            half = reduce_samples(row[coarse], mask[coarse], cell * 2**mech.n_out, spec.reduce) / size
             out.append(
                 GlobalValue(full, points=int(mask.sum()), region="reachable", resolution=resolution,
                             accuracy=abs(full - half))

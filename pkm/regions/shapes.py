@@ -9,6 +9,10 @@ global index built on them is differentiable in the design.
 
 Protocol, shared by every shape:
 
+* ``guard``: the name of a mechanism function (q, x, design) -> margins that must all hold (>= 0) at
+  every node; where one does not, an index over the region is undefined (NaN) rather than an integral
+  across a singularity or a joint limit;
+
 * ``quadrature(functions, design, resolution, reduce) -> (points, weights)``: points d x n and
   weights 1 x n, CasADi when the design is CasADi, numpy (n, d) and (n,) when it is numeric. For an
   extreme (``reduce="min"`` or ``"max"``) the nodes include the centre and the boundary, with zero weight;
@@ -161,6 +165,7 @@ class PlacedRegion:
     doc: str
     function: str | None = None
     fixed: tuple[tuple[float, ...], tuple[float, ...]] | None = None
+    guard: str | None = None
 
     dimension = 2
 
@@ -329,6 +334,7 @@ class MappedSquare:
     doc: str
     bounds: str
     curves: str
+    guard: str | None = None
 
     dimension = 2
 
@@ -374,14 +380,17 @@ class MappedSquare:
 
 @dataclass(frozen=True)
 class Mapped:
-    """A placed shape in other coordinates, mapped into the pose by the generated function ``to_pose``
+    """A shape in other coordinates, mapped into the pose by the generated function ``to_pose``
     ((y, design) -> x). Weights and measures stay those of the shape's own coordinates (a task region
-    stated in the coordinates a designer specifies it in)."""
+    stated in the coordinates a designer specifies it in), or with ``element`` (the generated function
+    (y, design) -> |det dx/dy|) they are the pose's own."""
 
     name: str
     doc: str
-    inner: PlacedRegion
+    inner: PlacedRegion | MappedSquare
     to_pose: str
+    element: str | None = None
+    guard: str | None = None
 
     @property
     def dimension(self) -> int:
@@ -395,11 +404,21 @@ class Mapped:
         d = ca.DM(design) if numeric else design
         points, weights = self.inner.quadrature(functions, d, resolution, reduce)
         mapped = functions[self.to_pose].map(points.size2())(points, d)
+        if self.element is not None:
+            weights = weights * functions[self.element].map(points.size2())(points, d)
         if numeric:
             return _as_numpy(ca.DM(mapped), ca.DM(weights))
         return mapped, weights
 
-    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+    def sample(
+        self, functions: Any, design: Any, resolution: int, reduce: str = "mean"
+    ) -> tuple[np.ndarray, float | np.ndarray]:
+        """The inner shape's samples mapped to the pose, with the cell measure of each (scaled by the
+        area element where there is one)."""
         points, cell = self.inner.sample(functions, design, resolution, reduce)
-        (mapped,) = evaluate(functions[self.to_pose], points, np.asarray(design, dtype=float))
+        d = np.asarray(design, dtype=float)
+        (mapped,) = evaluate(functions[self.to_pose], points, d)
+        if self.element is not None:
+            (element,) = evaluate(functions[self.element], points, d)
+            cell = cell * np.abs(element[:, 0, 0])
         return mapped[:, :, 0], cell

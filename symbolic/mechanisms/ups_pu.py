@@ -35,6 +35,7 @@ import sympy as sp
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.kinematics import InverseKinematics, add_kinematics
 from symbolic.loops import LoopClosure
+from symbolic.polynomials import combine, multiply, subtract
 
 r, R_b = sp.symbols("r R", positive=True)
 alpha, beta = sp.symbols("alpha beta", real=True)
@@ -118,19 +119,6 @@ def _linear_in_theta1(leg: sp.Expr, length: sp.Expr) -> tuple[sp.Expr, sp.Expr, 
     return poly.coeff_monomial(c1), poly.coeff_monomial(s1), -poly.coeff_monomial(1)
 
 
-def _multiply(p: list[sp.Expr], q: list[sp.Expr]) -> list[sp.Expr]:
-    """Coefficients (highest degree first) of the product of two polynomials."""
-    out = [sp.Integer(0)] * (len(p) + len(q) - 1)
-    for i, a in enumerate(p):
-        for j, b in enumerate(q):
-            out[i + j] += a * b
-    return out
-
-
-def _subtract(p: list[sp.Expr], q: list[sp.Expr]) -> list[sp.Expr]:
-    return [a - b for a, b in zip(p, q, strict=True)]
-
-
 def _in_t(expr: sp.Expr) -> list[sp.Expr]:
     """An expression linear in (cos theta2, sin theta2, 1) times (1 + t^2), as a quadratic in
     t = tan(theta2 / 2) (highest degree first)."""
@@ -154,11 +142,10 @@ def forward_polynomial() -> tuple[sp.Matrix, tuple[sp.Expr, ...]]:
     a1, b1, c1 = _linear_in_theta1(sp.expand(squared_length(alpha)).subs(at_l0), l1)
     a2, b2, c2 = _linear_in_theta1(sp.expand(squared_length(beta)).subs(at_l0), l2)
     A1, B1, C1, A2, B2, C2 = (_in_t(e) for e in (a1, b1, c1, a2, b2, c2))
-    det = _subtract(_multiply(A1, B2), _multiply(A2, B1))
-    cos2 = _subtract(_multiply(C1, B2), _multiply(C2, B1))
-    sin2 = _subtract(_multiply(A1, C2), _multiply(A2, C1))
-    residual = _subtract([a + b for a, b in zip(_multiply(cos2, cos2), _multiply(sin2, sin2), strict=True)],
-                         _multiply(det, det))
+    det = subtract(multiply(A1, B2), multiply(A2, B1))
+    cos2 = subtract(multiply(C1, B2), multiply(C2, B1))
+    sin2 = subtract(multiply(A1, C2), multiply(A2, C1))
+    residual = subtract(combine(multiply(cos2, cos2), multiply(sin2, sin2)), multiply(det, det))
     return sp.Matrix(residual), (a1, b1, c1, a2, b2, c2)
 
 

@@ -1,0 +1,207 @@
+"""The planar 2-DOF manipulator with two revolute-actuated RRR legs and a passive RP constraining leg
+of Nam and Park 2006: the platform's centre C = (x_c, y_c) moves in the plane and its angle follows,
+x_c cos(theta) + y_c sin(theta) = 0 (eq. 1).
+
+See ``symbolic/mechanisms/passive_leg.py`` for the equations and docs/papers/nam2006.md for the mapping
+to the paper. Working modes are the signs of eq. 6 for the two legs; the forward kinematics is the
+degree-6 polynomial in the passive leg's length l_c (eq. 11 as derived): assembly mode ``root<k>`` is
+its k-th real root in ascending order.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any, ClassVar
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.design import Condition, Parameter
+from pkm.design_space import DesignSpace
+from pkm.errors import PoseError
+from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
+from pkm.mechanism import Mechanism
+from pkm.models.passive_leg.spaces import NAM2006
+from pkm.regions import Mapped, MappedSquare
+
+DEG = math.pi / 180
+INF = math.inf
+MAX_ASSEMBLIES = 6
+MARGINS = ("angle_b1", "angle_b2", "type2")
+
+PARAMETERS = (
+    Parameter("R", 1.0, 0.0, INF, "m", "half-distance between the base revolutes B1, B2 (Nam section 6.2: R = 1)"),
+    Parameter("r", 1.2, 0.0, INF, "m", "half-width of the platform, |C b_i| (Fig. 8c: r = 1.2)"),
+    Parameter("l_a", 1.4, 0.0, INF, "m", "lower (actuated) links |B_i d_i| (l_b - l_a = R - r: 1.4)"),
+    Parameter("l_b", 1.2, 0.0, INF, "m", "upper links |d_i b_i| (Fig. 8c: l_b = 1.2)"),
+    Parameter("theta_max", 85 * DEG, 0.0, math.pi / 2 + 1e-12, "rad",
+              "largest platform angle |theta| of the workspace region, the phi of eq. 28 'in the vicinity of "
+              "pi/2' (pkm's choice: 85 deg)", required=False),
+)
+
+CONDITIONS = (
+    Condition("l_a + l_b > max(r, R - r) (eq. 14: the outer boundary l_CM is real at every theta)",
+              lambda d: d["l_a"] + d["l_b"] - max(d["r"], d["R"] - d["r"])),
+)
+
+WORKING_MODES = (
+    Branch("out_out", (1.0, -1.0), "both elbows outward: d1 right of the line B1 b1, d2 left of B2 b2 (Fig. 1: "
+           "eq. 6 with + for leg 1 and - for leg 2; the branch of eq. 25 and of section 4's joint ranges)",
+           aliases=("fig1",)),
+    Branch("out_in", (1.0, 1.0), "elbow d1 outward, d2 inward (eq. 6 with + for both legs)"),
+    Branch("in_out", (-1.0, -1.0), "elbow d1 inward, d2 outward (eq. 6 with - for both legs)"),
+    Branch("in_in", (-1.0, 1.0), "both elbows inward (eq. 6 with - for leg 1 and + for leg 2)"),
+)
+
+
+def region_margins(generated: FunctionTable) -> ca.Function:
+    """``region_margins(q, x, design) -> margins``: the sines of section 4's joint angles b_i (>= 0
+    inside [0, pi]) and -2 l_c det J_x / (l_a + l_b)^3 (> 0 away from the type-2 singularity on Fig. 1's
+    branch). The angles d_i keep their sign on a working mode: they leave (0, pi) only where a leg is
+    stretched or folded, where the inverse kinematics ends (its reach)."""
+    angles, jac = generated["joint_angles"], generated["paper_first_order"]
+    q, x, d = (ca.SX.sym(angles.name_in(i), angles.size_in(i)) for i in range(3))
+    sines, _ = angles(q, x, d)
+    _, _, det_jx, _, _ = jac(q, x, d)
+    margins = ca.vertcat(sines[2:], det_jx / (d[2] + d[3]) ** 3)
+    return ca.Function("region_margins", [q, x, d], [margins], ["q", "x", "design"], ["margins"])
+
+
+@dataclass(frozen=True)
+class ForwardSolutions:
+    """Every real solution of the forward kinematics of a batch of actuator angles.
+
+    Attributes
+    ----------
+    l_c : numpy.ndarray, shape (N, 6)
+        Real roots of the polynomial of eq. 11 (as derived), ascending, NaN-padded [m].
+    pose : numpy.ndarray, shape (N, 6, 2)
+        (x_c, y_c) of each root [m].
+    theta : numpy.ndarray, shape (N, 6)
+        Platform angle of each root [rad].
+    modes : numpy.ndarray of str, shape (N, 6)
+        The working mode of each configuration ('' where there is no root).
+    count : numpy.ndarray of int, shape (N,)
+        Number of real solutions.
+    """
+
+    l_c: np.ndarray
+    pose: np.ndarray
+    theta: np.ndarray
+    modes: np.ndarray
+    count: np.ndarray
+
+
+class PassiveLeg(Mechanism):
+    name = "passive_leg"
+    doc = "planar 2-DOF manipulator with revolute actuators and a passive constraining leg (Nam 2006): pose (x_c, y_c)"
+    parameters = PARAMETERS
+    conditions = CONDITIONS
+    working_modes = WORKING_MODES
+    assembly_modes = tuple(
+        Branch(f"root{k}", (float(k),), f"the {k + 1}-th real root l_c of the forward polynomial (eq. 11)")
+        for k in range(MAX_ASSEMBLIES)
+    )
+    pose_names = ("x_c", "y_c")
+    pose_units = ("m", "m")
+    actuator_names = ("phi1", "phi2")
+    actuator_units = ("rad", "rad")
+    forward = PolynomialRoots()
+    design_spaces: ClassVar[dict[str, DesignSpace]] = {"nam2006": NAM2006}
+    regions: ClassVar[dict[str, Any]] = {
+        "workspace": Mapped(
+            "workspace",
+            "the workspace of section 4 in (theta, l_c): |theta| <= theta_max, l_c from the inner boundary "
+            "(the x axis where l_cm is not real) to l_CM(theta) (eqs. 12-13 as derived), measured in the plane "
+            "of (x_c, y_c) (dW = l_c dtheta dl_c); indices are undefined where a joint range of section 4, the "
+            "reach or the sign of det J_x fails at a node",
+            MappedSquare("polar", "theta in the workspace range, l_c between the boundaries",
+                         "workspace_range", "workspace_curves"),
+            "polar_to_pose",
+            element="polar_area",
+            guard="region_margins",
+        ),
+        "workspace_eq28": Mapped(
+            "workspace_eq28",
+            "the same region measured as eq. 28 prints it, dW = dtheta dl_c (W = integral of l_CM dtheta)",
+            MappedSquare("polar", "theta in the workspace range, l_c between the boundaries",
+                         "workspace_range", "workspace_curves"),
+            "polar_to_pose",
+            guard="region_margins",
+        ),
+    }
+
+    @cached_property
+    def functions(self) -> FunctionTable:
+        """The generated functions and the workspace margins composed from them."""
+        return GeneratedFunctions(
+            self.name,
+            parameters=self.parameter_names(),
+            pose=self.pose_names,
+            actuators=self.actuator_names,
+            extra=lambda generated: {"region_margins": region_margins(generated)},
+        )
+
+    def workspace_box(self, design: np.ndarray) -> np.ndarray:
+        """x_c within +-(l_a + l_b), y_c from 0 to l_a + l_b: the passive leg is never longer than l_CM(theta)
+        <= l_a + l_b."""
+        d = self.design_dict(design)
+        reach = d["l_a"] + d["l_b"]
+        return np.array([[-reach, reach], [0.0, reach]])
+
+    def region_margins(self, pose: Any, design: DesignLike = None, *, mode: str | None = None
+                          ) -> dict[str, np.ndarray]:
+        """Margins by name (:data:`MARGINS`), each (N,) or a float, >= 0 inside the workspace of section 4:
+        the sines of the joint angles b_i = d_i b_i C (in [0, pi) on Fig. 1's branch) and the type-2
+        measure -2 l_c det J_x / (l_a + l_b)^3."""
+        x, single = as_batch(pose, self.n_out, "pose")
+        d = self.design_vector(design)
+        q = self.inverse_kinematics(x, d, mode=mode, passive=True)
+        (margins,) = evaluate(self.functions["region_margins"], q, x, d)
+        return {name: unbatch(margins[:, k, 0], single) for k, name in enumerate(MARGINS)}
+
+    def singularity_measures(self, pose: Any, design: DesignLike = None, *, mode: str | None = None
+                             ) -> dict[str, np.ndarray]:
+        """det J_q (eq. 19: zero on type-1, inverse singularities) and det J_x (eq. 20: zero on type-2,
+        forward singularities) at poses, each (N,) or a float; both zero on architecture singularities."""
+        x, single = as_batch(pose, self.n_out, "pose")
+        d = self.design_vector(design)
+        q = self.inverse_kinematics(x, d, mode=mode, passive=True)
+        J_q, J_x, _, _, _ = evaluate(self.functions["paper_first_order"], q, x, d)
+        return {"det_J_q": unbatch(np.linalg.det(J_q), single), "det_J_x": unbatch(np.linalg.det(J_x), single)}
+
+    def workspace_boundary(self, theta: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
+        """l_CM(theta), l_cm(theta) of eqs. 12-13 (as derived and as printed) and the radicands of eqs.
+        14-15, by name, each (N,) or a float; NaN where a boundary is not real."""
+        t = np.asarray(theta, dtype=float)
+        if not np.all(np.isfinite(t)) or np.any(np.abs(t) >= math.pi / 2):
+            raise PoseError("theta must be finite and within (-pi/2, pi/2) (section 4)")
+        d = self.design_vector(design)
+        fn = self.functions["workspace_boundary"]
+        values = {fn.name_out(k): v[:, 0, 0] for k, v in enumerate(evaluate(fn, np.atleast_1d(t)[:, None], d))}
+        for key, radicand in (("l_CM", "eq14"), ("l_cm", "eq15")):
+            for name in (key, f"{key}_printed"):
+                values[name] = np.where(values[radicand] >= 0, values[name], np.nan)
+        return {k: unbatch(v, t.ndim == 0) for k, v in values.items()}
+
+    def forward_solutions(self, q: Any, design: DesignLike = None) -> ForwardSolutions:
+        """Every real root l_c of eq. 11 for actuator angles (N, 2) or (2,), with its pose and working mode."""
+        qa, _ = as_batch(q, self.n_act, "actuated joints")
+        d = self.design_vector(design)
+        roots = self.forward.roots(self.functions, qa, d)
+        n, k = roots.shape
+        flat_root = roots.reshape(-1, 1)
+        qa_rep = np.repeat(qa, k, axis=0)
+        x, q_all, _ = evaluate(self.functions["forward_from_root"], np.nan_to_num(flat_root), qa_rep, d)
+        _, signs = evaluate(self.functions["joint_angles"], q_all[:, :, 0], x[:, :, 0], d)
+        by_signs = {tuple(b.signs): b.name for b in self.working_modes}
+        found = np.isfinite(flat_root[:, 0])
+        modes = np.array([by_signs.get(tuple(s), "") if ok else "" for s, ok in zip(signs[:, :, 0], found,
+                                                                                      strict=True)])
+        pose = np.where(found[:, None], x[:, :, 0], np.nan)
+        theta = np.where(found, q_all[:, 2, 0], np.nan)
+        return ForwardSolutions(roots, pose.reshape(n, k, 2), theta.reshape(n, k), modes.reshape(n, k),
+                                np.isfinite(roots).sum(axis=1))
