@@ -1,5 +1,5 @@
-"""`pkm reproduce gao1998`, `lara_molina2016` and `wu2008` at low resolution: report files, claim schema, honest
-statuses."""
+"""`pkm reproduce gao1998`, `lara_molina2016`, `wu2008`, `zhao2008` and `nam2006` at low resolution: report
+files, claim schema, honest statuses."""
 
 from __future__ import annotations
 
@@ -176,3 +176,33 @@ def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
     assert run["dense_margin"] >= 0
     assert run["objective"] < run["monte_carlo_objective"]
     assert run["objective"] < run["table1_objective"]
+
+
+@pytest.fixture(scope="module")
+def nam(tmp_path_factory):
+    return reproduce_quick(tmp_path_factory, "nam2006")
+
+
+def test_nam_report_checks_every_printed_equation_against_the_derivation(nam):
+    folder, data = nam
+    for fig in data["figures"]:
+        assert (folder / fig).stat().st_size > 1000
+    status = {c["id"]: c["status"] for c in data["claims"]}
+    for derived in ("eq6_corrected", "eq12_derived", "eq13_derived", "eq14_condition", "eq15_condition",
+                    "eq20_jacobian", "fk_at_most_six"):
+        assert status[derived] == "match", derived
+    for printed in ("eq6_as_printed", "eq9_as_printed", "eq11_as_printed", "eq12_as_printed", "eq24_as_printed"):
+        assert status[printed] == "differs", printed
+    assert status["singularity_free"] == "differs"
+    assert status["trend_manipulability"] == "differs"
+    assert status["trend_space_utilization"] == "match"
+    for c in data["claims"]:
+        assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
+
+
+def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
+    _, data = nam
+    run = data["beyond_paper"]["syntheses"][0]
+    assert run["status"] == "Solve_Succeeded"
+    assert run["verified_objective"] == pytest.approx(run["objective"], rel=1e-2)
+    assert run["objective"] >= run["grid_objective"] - 1e-9

@@ -171,7 +171,11 @@ class PassiveLeg(Mechanism):
         d = self.design_vector(design)
         q = self.inverse_kinematics(x, d, mode=mode, passive=True)
         J_q, J_x, _, _, _ = evaluate(self.functions["paper_first_order"], q, x, d)
-        return {"det_J_q": unbatch(np.linalg.det(J_q), single), "det_J_x": unbatch(np.linalg.det(J_x), single)}
+        reached = np.all(np.isfinite(q), axis=1)
+        dets = {"det_J_q": np.full(len(x), np.nan), "det_J_x": np.full(len(x), np.nan)}
+        dets["det_J_q"][reached] = np.linalg.det(J_q[reached])
+        dets["det_J_x"][reached] = np.linalg.det(J_x[reached])
+        return {k: unbatch(v, single) for k, v in dets.items()}
 
     def workspace_boundary(self, theta: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
         """l_CM(theta), l_cm(theta) of eqs. 12-13 (as derived and as printed) and the radicands of eqs.
