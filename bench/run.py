@@ -28,7 +28,7 @@ from typing import Any
 import casadi
 import numpy as np
 
-from bench import dynamics, gantry, throughput, ups_pu
+from bench import dynamics, gantry, passive_leg, throughput, ups_pu
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
 
@@ -203,6 +203,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--no-gantry", action="store_true", help="skip the slider gantry inverse dynamics benchmark")
     parser.add_argument("--no-synthesis", action="store_true", help="skip the synthesis benchmark")
     parser.add_argument("--no-ups-pu", action="store_true", help="skip the 2-UPS-PU benchmarks (bench.ups_pu)")
+    parser.add_argument(
+        "--no-passive-leg", action="store_true", help="skip the passive-leg manipulator benchmarks (bench.passive_leg)"
+    )
     args = parser.parse_args(argv)
     report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
     report["machine"] = machine()
@@ -213,9 +216,13 @@ def main(argv: list[str] | None = None) -> int:
     report["synthesis"] = {"skipped": "--no-synthesis"} if args.no_synthesis else synthesis_bench()
     if not args.no_ups_pu:
         report["ups_pu"] = ups_pu.run(n, 3, log)
+    if not args.no_passive_leg:
+        report["passive_leg"] = passive_leg.run(n, n // 10, 3, log)
     print(markdown(report))
     if "ups_pu" in report:
         print("\n## 2-UPS-PU (Zhao 2008)\n\n" + ups_pu.markdown(report["ups_pu"]))
+    if "passive_leg" in report:
+        print("\n## passive_leg (Nam 2006)\n\n" + passive_leg.markdown(report["passive_leg"]))
     if args.json:
         path = Path(args.json)
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -146,8 +146,9 @@ class Atlas:
 
 
 def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
-    """The working modes whose global indices differ over ``region``: ``mech.distinct_modes[region]``
-    where the mechanism's symmetry makes some modes equal, else all working modes."""
+    """The working modes an atlas draws over ``region`` by default: ``mech.distinct_modes[region]`` where
+    the mechanism's symmetry makes some modes equal or the region is defined on some modes only, else all
+    working modes."""
     return tuple(mech.distinct_modes.get(region, mech.modes))
 
 

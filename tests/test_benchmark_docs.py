@@ -23,3 +23,10 @@ def test_ups_pu_tables_are_quoted_from_the_committed_run():
 
     report = json.loads((RUNS / "ups_pu.json").read_text())
     assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_passive_leg_tables_are_quoted_from_the_committed_run():
+    from bench.passive_leg import markdown
+
+    report = json.loads((RUNS / "passive_leg.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()

@@ -31,6 +31,7 @@ DEG = math.pi / 180
 INF = math.inf
 MAX_ASSEMBLIES = 6
 MARGINS = ("angle_b1", "angle_b2", "type2")
+CLOSURE_TOLERANCE = 1e-9  # of forward_from_root's reach, relative to (l_a + l_b)^2
 
 PARAMETERS = (
     Parameter("R", 1.0, 0.0, INF, "m", "half-distance between the base revolutes B1, B2 (Nam section 6.2: R = 1)"),
@@ -86,6 +87,9 @@ class ForwardSolutions:
         The working mode of each configuration ('' where there is no root).
     count : numpy.ndarray of int, shape (N,)
         Number of real solutions.
+    residual : numpy.ndarray, shape (N, 6)
+        Largest residual of eqs. 2-3 at each solution [m^2]: near a double root (a forward singularity)
+        a root is accurate to about the square root of the rounding only.
     """
 
     l_c: np.ndarray
@@ -93,6 +97,7 @@ class ForwardSolutions:
     theta: np.ndarray
     modes: np.ndarray
     count: np.ndarray
+    residual: np.ndarray
 
 
 class PassiveLeg(Mechanism):
@@ -111,6 +116,10 @@ class PassiveLeg(Mechanism):
     actuator_units = ("rad", "rad")
     forward = PolynomialRoots()
     design_spaces: ClassVar[dict[str, DesignSpace]] = {"nam2006": NAM2006}
+    distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {
+        "workspace": ("out_out",),
+        "workspace_eq28": ("out_out",),
+    }
     regions: ClassVar[dict[str, Any]] = {
         "workspace": Mapped(
             "workspace",
@@ -199,7 +208,9 @@ class PassiveLeg(Mechanism):
         n, k = roots.shape
         flat_root = roots.reshape(-1, 1)
         qa_rep = np.repeat(qa, k, axis=0)
-        x, q_all, _ = evaluate(self.functions["forward_from_root"], np.nan_to_num(flat_root), qa_rep, d)
+        x, q_all, reach = evaluate(self.functions["forward_from_root"], np.nan_to_num(flat_root), qa_rep, d)
+        tolerance = CLOSURE_TOLERANCE * (d[2] + d[3]) ** 2
+        residual = np.where(np.isfinite(flat_root[:, 0]), np.max(tolerance - reach[:, :, 0], axis=1), np.nan)
         _, signs = evaluate(self.functions["joint_angles"], q_all[:, :, 0], x[:, :, 0], d)
         by_signs = {tuple(b.signs): b.name for b in self.working_modes}
         found = np.isfinite(flat_root[:, 0])
@@ -208,4 +219,4 @@ class PassiveLeg(Mechanism):
         pose = np.where(found[:, None], x[:, :, 0], np.nan)
         theta = np.where(found, q_all[:, 2, 0], np.nan)
         return ForwardSolutions(roots, pose.reshape(n, k, 2), theta.reshape(n, k), modes.reshape(n, k),
-                                np.isfinite(roots).sum(axis=1))
+                                np.isfinite(roots).sum(axis=1), residual.reshape(n, k))
