@@ -1,12 +1,12 @@
-# Generated from symbolic/mechanisms/passive_leg.py (source sha256 0eea2de091608cde).
+# Generated from symbolic/mechanisms/passive_leg.py (source sha256 c205e10a0e40db1b).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-DOF manipulator with a passive constraining leg."""
 
 import casadi as ca
 
-SOURCE_HASH = "0eea2de091608cde"
-FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "paper_inverse", "paper_forward", "paper_first_order", "joint_angles", "joint_positions", "workspace_boundary", "workspace_range", "workspace_curves", "polar_to_pose", "polar_area", "footprint", )
+SOURCE_HASH = "c205e10a0e40db1b"
+FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "paper_inverse", "paper_forward", "paper_first_order", "joint_angles", "joint_positions", "workspace_boundary", "workspace_range_negative", "workspace_range_positive", "workspace_curves", "polar_to_pose", "polar_area", "footprint", )
 PARAMETERS = ("R", "r", "l_a", "l_b", "theta_max", )
 POSE = ("x_c", "y_c", )
 ACTUATORS = ("phi1", "phi2", )
@@ -717,14 +717,14 @@ def workspace_boundary():
     return ca.Function("workspace_boundary", [a, design], [l_CM, l_cm, l_CM_printed, l_cm_printed, eq14, eq15], ["a", "design"], ["l_CM", "l_cm", "l_CM_printed", "l_cm_printed", "eq14", "eq15"])
 
 
-def workspace_range():
-    """The workspace's theta range: theta_max, or less where l_CM <= 0.
+def workspace_range_negative():
+    """The workspace's theta range below 0 (the boundaries have a kink at theta = 0).
 
     Inputs:
         design (5): [R, r, l_a, l_b, theta_max] R, r, l_a, l_b [m]; theta_max [rad]
     Outputs:
-        lo (1x1, column-major): theta_lo [rad]
-        hi (1x1, column-major): theta_hi [rad]
+        lo (1x1, column-major): -theta_hi [rad]
+        hi (1x1, column-major): 0 [rad]
     """
     design = ca.SX.sym("design", 5)
     design_0 = design[0]
@@ -732,11 +732,31 @@ def workspace_range():
     design_2 = design[2]
     design_3 = design[3]
     design_4 = design[4]
-    # 1 common subexpressions, 13 operations
-    _t0 = ca.acos(ca.fmax(ca.cos(design_4), (1/2)*(design_0**2 + design_1**2 - (design_2 + design_3)**2)/(design_0*design_1)))
-    lo = ca.reshape(ca.vertcat(-_t0), 1, 1)
-    hi = ca.reshape(ca.vertcat(_t0), 1, 1)
-    return ca.Function("workspace_range", [design], [lo, hi], ["design"], ["lo", "hi"])
+    # 0 common subexpressions, 13 operations
+    lo = ca.reshape(ca.vertcat(-ca.acos(ca.fmax(ca.cos(design_4), (1/2)*(design_0**2 + design_1**2 - (design_2 + design_3)**2)/(design_0*design_1)))), 1, 1)
+    hi = ca.reshape(ca.vertcat(0), 1, 1)
+    return ca.Function("workspace_range_negative", [design], [lo, hi], ["design"], ["lo", "hi"])
+
+
+def workspace_range_positive():
+    """The workspace's theta range above 0.
+
+    Inputs:
+        design (5): [R, r, l_a, l_b, theta_max] R, r, l_a, l_b [m]; theta_max [rad]
+    Outputs:
+        lo (1x1, column-major): 0 [rad]
+        hi (1x1, column-major): theta_hi [rad]: theta_max, or less where l_CM <= 0
+    """
+    design = ca.SX.sym("design", 5)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    # 0 common subexpressions, 12 operations
+    lo = ca.reshape(ca.vertcat(0), 1, 1)
+    hi = ca.reshape(ca.vertcat(ca.acos(ca.fmax(ca.cos(design_4), (1/2)*(design_0**2 + design_1**2 - (design_2 + design_3)**2)/(design_0*design_1)))), 1, 1)
+    return ca.Function("workspace_range_positive", [design], [lo, hi], ["design"], ["lo", "hi"])
 
 
 def workspace_curves():

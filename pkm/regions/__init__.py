@@ -1,7 +1,8 @@
 """Regions over which global indices are taken (DESIGN.md section 5).
 
 * :mod:`pkm.regions.shapes`: parametrised regions, small shape classes with one protocol (disc,
-  rectangle, box, cylinder, a domain between curves, a shape mapped from other coordinates), each
+  rectangle, box, cylinder, a domain between curves, a shape mapped from other coordinates, shapes side
+  by side), each
   with a fixed quadrature mapped into the region that the design places;
 * :mod:`pkm.regions.sampled`: the sampled reachable workspace, an n-D grid with a mask;
 * :mod:`pkm.regions.pipeline`: the one fused graph pose -> IK -> first order (and inertia) -> local index;
@@ -29,7 +30,7 @@ from pkm.regions.sampled import (
     check_margin,
     sampled_global,
 )
-from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, PlacedRegion, Rectangle, grid
+from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, PlacedRegion, Rectangle, Union, grid
 from pkm.regions.value import GlobalValue
 
 __all__ = [
@@ -46,6 +47,7 @@ __all__ = [
     "PlacedRegion",
     "Rectangle",
     "SampledWorkspace",
+    "Union",
     "check_margin",
     "evaluate_at",
     "global_value",

@@ -328,6 +328,9 @@ class MappedSquare:
     (a_lo, a_hi)); at each a the second runs from lower(a) to upper(a) (the generated function
     ``curves``: (a, design) -> (lower, upper)). The unit square (u, v) maps to a = a_lo + (a_hi - a_lo)
     u, b = lower(a) + (upper(a) - lower(a)) v with the area element (a_hi - a_lo)(upper(a) - lower(a)).
+    With ``grading`` p > 1, b = lower + (upper - lower)(1 - (1 - v)^p) instead (element times
+    p (1 - v)^(p - 1)): nodes crowd towards the upper curve, and an integrand that behaves like the square
+    root of the distance to it (p = 2) becomes smooth in v.
     """
 
     name: str
@@ -335,6 +338,7 @@ class MappedSquare:
     bounds: str
     curves: str
     guard: str | None = None
+    grading: int = 1
 
     dimension = 2
 
@@ -347,11 +351,13 @@ class MappedSquare:
 
     def _map(self, functions: Any, design: Any, nodes: np.ndarray):
         lo, hi = functions[self.bounds](design)
-        u, v = ca.DM(nodes[:, 0]).T, ca.DM(nodes[:, 1]).T
+        u = ca.DM(nodes[:, 0]).T
+        v = ca.DM(1 - (1 - nodes[:, 1]) ** self.grading).T
+        slope = ca.DM(self.grading * (1 - nodes[:, 1]) ** (self.grading - 1)).T
         a = lo + (hi - lo) * u
         lower, upper = functions[self.curves].map(len(nodes))(a, design)
         b = lower + (upper - lower) * v
-        return ca.vertcat(a, b), (hi - lo) * (upper - lower)
+        return ca.vertcat(a, b), (hi - lo) * (upper - lower) * slope
 
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
         nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
@@ -387,7 +393,7 @@ class Mapped:
 
     name: str
     doc: str
-    inner: PlacedRegion | MappedSquare
+    inner: PlacedRegion | MappedSquare | Union
     to_pose: str
     element: str | None = None
     guard: str | None = None
@@ -422,3 +428,36 @@ class Mapped:
             (element,) = evaluate(functions[self.element], points, d)
             cell = cell * np.abs(element[:, 0, 0])
         return mapped[:, :, 0], cell
+
+
+@dataclass(frozen=True)
+class Union:
+    """Shapes side by side (disjoint but for their common boundaries), one region: the nodes and weights of
+    every part, so that each part's rule stays smooth where the region's boundary has a kink."""
+
+    name: str
+    doc: str
+    parts: tuple[Any, ...]
+    guard: str | None = None
+
+    @property
+    def dimension(self) -> int:
+        return self.parts[0].dimension
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:
+        return sum(p.node_count(resolution, reduce) for p in self.parts)
+
+    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+        rules = [p.quadrature(functions, design, resolution, reduce) for p in self.parts]
+        if _numeric(design):
+            return np.concatenate([r[0] for r in rules]), np.concatenate([r[1] for r in rules])
+        return ca.horzcat(*(r[0] for r in rules)), ca.horzcat(*(r[1] for r in rules))
+
+    def sample(
+        self, functions: Any, design: Any, resolution: int, reduce: str = "mean"
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Every part's samples, with the cell measure of each point."""
+        samples = [p.sample(functions, design, resolution, reduce) for p in self.parts]
+        points = np.concatenate([s[0] for s in samples])
+        cells = np.concatenate([np.broadcast_to(np.asarray(s[1], dtype=float), (len(s[0]),)) for s in samples])
+        return points, cells

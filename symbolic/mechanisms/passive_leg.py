@@ -390,10 +390,15 @@ def module() -> ModuleSpec:
         "l_CM, l_cm of eqs. 12-13 as derived and as printed, and the radicands of eqs. 14-15.",
     )
     lower, upper = region_curves()
-    spec.add("workspace_range", (DESIGN,), (
-        Output("lo", region_range()[0:1, :], "theta_lo [rad]"),
-        Output("hi", region_range()[1:2, :], "theta_hi [rad]"),
-    ), "The workspace's theta range: theta_max, or less where l_CM <= 0.")
+    zero = sp.Matrix([0])
+    spec.add("workspace_range_negative", (DESIGN,), (
+        Output("lo", region_range()[0:1, :], "-theta_hi [rad]"),
+        Output("hi", zero, "0 [rad]"),
+    ), "The workspace's theta range below 0 (the boundaries have a kink at theta = 0).")
+    spec.add("workspace_range_positive", (DESIGN,), (
+        Output("lo", zero, "0 [rad]"),
+        Output("hi", region_range()[1:2, :], "theta_hi [rad]: theta_max, or less where l_CM <= 0"),
+    ), "The workspace's theta range above 0.")
     spec.add("workspace_curves", (ANGLE, DESIGN), (
         Output("lower", sp.Matrix([lower]), "inner boundary l_c [m]"),
         Output("upper", sp.Matrix([upper]), "outer boundary l_CM [m]"),

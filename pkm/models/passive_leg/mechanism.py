@@ -25,7 +25,7 @@ from pkm.errors import PoseError
 from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
 from pkm.mechanism import Mechanism
 from pkm.models.passive_leg.spaces import NAM2006
-from pkm.regions import Mapped, MappedSquare
+from pkm.regions import Mapped, MappedSquare, Union
 
 DEG = math.pi / 180
 INF = math.inf
@@ -71,6 +71,41 @@ def region_margins(generated: FunctionTable) -> ca.Function:
     return ca.Function("region_margins", [q, x, d], [margins], ["q", "x", "design"], ["margins"])
 
 
+NEWTON_STEPS = 2
+NEWTON_LIMIT = 1e-4  # a Newton step longer than this (relative to l_a + l_b) is not taken: a near-double root
+
+
+def forward_refined(generated: FunctionTable) -> ca.Function:
+    """``forward_refined(root, q_a, design) -> (x, q, reach)``: ``forward_from_root`` followed by Newton
+    steps on eqs. 2-3 in (l_c, theta). theta from the linear pair of eq. 8 divides by B2 C1 - B1 C2,
+    which is small where two assemblies nearly meet; the steps restore the loop closure there. A step
+    that is long or not finite (at a double root) is not taken."""
+    back, paper = generated["forward_from_root"], generated["paper_forward"]
+    root, qa, d = (ca.SX.sym(back.name_in(i), back.size_in(i)) for i in range(3))
+    _, q0, _ = back(root, qa, d)
+    z = ca.SX.sym("z", 2)
+    residual = paper(ca.vertcat(qa, z[1], 0, 0, z[0]), d)[0]
+    moved = z - ca.solve(ca.jacobian(residual, z), residual)
+    small = ca.norm_inf(moved - z) <= NEWTON_LIMIT * (d[2] + d[3])
+    newton = ca.Function("newton", [z, qa, d], [ca.if_else(small, moved, z)])
+    step = ca.vertcat(q0[5], q0[2])
+    for _ in range(NEWTON_STEPS):
+        step = newton(step, qa, d)
+    l_c, theta = step[0], step[1]
+    centre = l_c * ca.vertcat(-ca.sin(theta), ca.cos(theta))
+    u = ca.vertcat(ca.cos(theta), ca.sin(theta))
+    psi = []
+    for k, side in enumerate((1, -1)):
+        elbow = ca.vertcat(side * d[0], 0) + d[2] * ca.vertcat(ca.cos(qa[k]), ca.sin(qa[k]))
+        upper = centre + side * d[1] * u - elbow
+        psi.append(ca.atan2(upper[1], upper[0]))
+    q = ca.vertcat(qa, theta, psi[0], psi[1], l_c)
+    closure = paper(q, d)[0]
+    reach = CLOSURE_TOLERANCE * (d[2] + d[3]) ** 2 - ca.fabs(closure)
+    return ca.Function("forward_refined", [root, qa, d], [centre, q, reach], ["root", "q_a", "design"],
+                       ["x", "q", "reach"])
+
+
 @dataclass(frozen=True)
 class ForwardSolutions:
     """Every real solution of the forward kinematics of a batch of actuator angles.
@@ -78,7 +113,9 @@ class ForwardSolutions:
     Attributes
     ----------
     l_c : numpy.ndarray, shape (N, 6)
-        Real roots of the polynomial of eq. 11 (as derived), ascending, NaN-padded [m].
+        Real roots of the polynomial of eq. 11 (as derived), ascending, NaN-padded, each refined on the
+        loop equations [m]. A root with y_c < 0 (|theta| > pi/2) is an assembly outside the paper's
+        domain (section 4).
     pose : numpy.ndarray, shape (N, 6, 2)
         (x_c, y_c) of each root [m].
     theta : numpy.ndarray, shape (N, 6)
@@ -100,6 +137,16 @@ class ForwardSolutions:
     residual: np.ndarray
 
 
+POLAR = Union(
+    "polar",
+    "theta in the workspace range, l_c between the boundaries, in two halves split at the kink theta = 0, the "
+    "nodes graded towards l_CM (where a leg stretches and the indices behave like a square root)",
+    tuple(MappedSquare(f"polar_{side}", f"theta {sign} 0", f"workspace_range_{side}", "workspace_curves",
+                       grading=2)
+          for side, sign in (("negative", "<="), ("positive", ">="))),
+)
+
+
 class PassiveLeg(Mechanism):
     name = "passive_leg"
     doc = "planar 2-DOF manipulator with revolute actuators and a passive constraining leg (Nam 2006): pose (x_c, y_c)"
@@ -114,7 +161,7 @@ class PassiveLeg(Mechanism):
     pose_units = ("m", "m")
     actuator_names = ("phi1", "phi2")
     actuator_units = ("rad", "rad")
-    forward = PolynomialRoots()
+    forward = PolynomialRoots(back="forward_refined")
     design_spaces: ClassVar[dict[str, DesignSpace]] = {"nam2006": NAM2006}
     distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {
         "workspace": ("out_out",),
@@ -125,10 +172,9 @@ class PassiveLeg(Mechanism):
             "workspace",
             "the workspace of section 4 in (theta, l_c): |theta| <= theta_max, l_c from the inner boundary "
             "(the x axis where l_cm is not real) to l_CM(theta) (eqs. 12-13 as derived), measured in the plane "
-            "of (x_c, y_c) (dW = l_c dtheta dl_c); indices are undefined where a joint range of section 4, the "
-            "reach or the sign of det J_x fails at a node",
-            MappedSquare("polar", "theta in the workspace range, l_c between the boundaries",
-                         "workspace_range", "workspace_curves"),
+            "of (x_c, y_c) (dW = l_c dtheta dl_c); indices are undefined where the reach, a joint range of "
+            "section 4 or the sign of det J_x fails at a node",
+            POLAR,
             "polar_to_pose",
             element="polar_area",
             guard="region_margins",
@@ -136,8 +182,7 @@ class PassiveLeg(Mechanism):
         "workspace_eq28": Mapped(
             "workspace_eq28",
             "the same region measured as eq. 28 prints it, dW = dtheta dl_c (W = integral of l_CM dtheta)",
-            MappedSquare("polar", "theta in the workspace range, l_c between the boundaries",
-                         "workspace_range", "workspace_curves"),
+            POLAR,
             "polar_to_pose",
             guard="region_margins",
         ),
@@ -151,7 +196,10 @@ class PassiveLeg(Mechanism):
             parameters=self.parameter_names(),
             pose=self.pose_names,
             actuators=self.actuator_names,
-            extra=lambda generated: {"region_margins": region_margins(generated)},
+            extra=lambda generated: {
+                "region_margins": region_margins(generated),
+                "forward_refined": forward_refined(generated),
+            },
         )
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
@@ -201,22 +249,26 @@ class PassiveLeg(Mechanism):
         return {k: unbatch(v, t.ndim == 0) for k, v in values.items()}
 
     def forward_solutions(self, q: Any, design: DesignLike = None) -> ForwardSolutions:
-        """Every real root l_c of eq. 11 for actuator angles (N, 2) or (2,), with its pose and working mode."""
-        qa, _ = as_batch(q, self.n_act, "actuated joints")
+        """Every real root l_c of eq. 11 for actuator angles (N, 2) or (2,), with its pose, working mode
+        and loop residual; the leading axis is dropped for a single configuration."""
+        qa, single = as_batch(q, self.n_act, "actuated joints")
         d = self.design_vector(design)
         roots = self.forward.roots(self.functions, qa, d)
         n, k = roots.shape
-        flat_root = roots.reshape(-1, 1)
-        qa_rep = np.repeat(qa, k, axis=0)
-        x, q_all, reach = evaluate(self.functions["forward_from_root"], np.nan_to_num(flat_root), qa_rep, d)
-        tolerance = CLOSURE_TOLERANCE * (d[2] + d[3]) ** 2
-        residual = np.where(np.isfinite(flat_root[:, 0]), np.max(tolerance - reach[:, :, 0], axis=1), np.nan)
+        found = np.isfinite(roots.ravel())
+        x, q_all, reach = evaluate(self.functions["forward_refined"], np.nan_to_num(roots.reshape(-1, 1)),
+                                   np.repeat(qa, k, axis=0), d)
         _, signs = evaluate(self.functions["joint_angles"], q_all[:, :, 0], x[:, :, 0], d)
         by_signs = {tuple(b.signs): b.name for b in self.working_modes}
-        found = np.isfinite(flat_root[:, 0])
         modes = np.array([by_signs.get(tuple(s), "") if ok else "" for s, ok in zip(signs[:, :, 0], found,
                                                                                       strict=True)])
+        tolerance = CLOSURE_TOLERANCE * (d[2] + d[3]) ** 2
+        residual = np.where(found, np.max(tolerance - reach[:, :, 0], axis=1), np.nan)
         pose = np.where(found[:, None], x[:, :, 0], np.nan)
-        theta = np.where(found, q_all[:, 2, 0], np.nan)
-        return ForwardSolutions(roots, pose.reshape(n, k, 2), theta.reshape(n, k), modes.reshape(n, k),
-                                np.isfinite(roots).sum(axis=1), residual.reshape(n, k))
+        q_all = np.where(found[:, None], q_all[:, :, 0], np.nan)
+        out = ForwardSolutions(q_all[:, 5].reshape(n, k), pose.reshape(n, k, 2), q_all[:, 2].reshape(n, k),
+                               modes.reshape(n, k), found.reshape(n, k).sum(axis=1), residual.reshape(n, k))
+        if not single:
+            return out
+        return ForwardSolutions(*(getattr(out, f)[0] for f in ("l_c", "pose", "theta", "modes", "count",
+                                                                 "residual")))
