@@ -142,10 +142,22 @@ def cmd_index(args: argparse.Namespace) -> None:
         "accuracy": value.accuracy,
     }
     text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}"
+    if np.isnan(float(value)):
+        data["undefined"] = _undefined(m, args.region)
+        text += f" (undefined: {data['undefined']})"
     if grad is not None:
         data["gradient"] = grad
         text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
     _emit(args, data, text)
+
+
+def _undefined(m: Any, region: str) -> str:
+    """Why an index over a region can be NaN."""
+    guard = getattr(m.region(region), "guard", None)
+    reasons = ["a node of the region is out of reach in this mode"]
+    if guard is not None:
+        reasons.append(f"or fails a margin of {guard} (a singularity or a joint limit inside the region)")
+    return " ".join(reasons)
 
 
 def cmd_atlas(args: argparse.Namespace) -> None:

@@ -52,6 +52,17 @@ def test_index_with_gradient_on_the_miw(capsys):
     assert data["points"] == 4 * 8**2
 
 
+def test_index_over_a_region_holding_a_singularity_says_why_it_is_undefined(capsys):
+    """A folded leg inside the passive leg's workspace region (r < R): the index is NaN with the reason."""
+    assert main(["index", "passive_leg", "gci", "--region", "workspace", "--resolution", "4",
+                 "--design", "R=1,r=0.8,l_a=1.0,l_b=1.2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["value"] is None or data["value"] != data["value"]
+    assert "region_margins" in data["undefined"]
+    assert main(["index", "passive_leg", "gci", "--region", "workspace", "--resolution", "4", "--json"]) == 0
+    assert "undefined" not in json.loads(capsys.readouterr().out)
+
+
 def test_synth_writes_its_result_and_beats_the_grid(tmp_path, capsys):
     args = ["synth", "five_bar.max_gci_miw", "--resolution", "5", "--out", str(tmp_path), "--json"]
     assert main([*args, "--max-iter", "100", "--tol", "1e-9"]) == 0
