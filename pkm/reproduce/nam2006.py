@@ -142,6 +142,24 @@ def _last_along_ray(holds, theta: float, length: float, steps: int = 60) -> floa
     return float(lo)
 
 
+def _workspace_area(m: Mechanism, resolution: int) -> dict[str, float]:
+    """The area inside eq. 12's boundary by the region's quadrature, and of the poses of a grid over the
+    workspace box that mode out_out reaches within section 4's limits and |theta| <= theta_max."""
+    d = _design(m, 1.2, 1.2)
+    box = m.workspace_box(d)
+    xs = np.linspace(*box[0], resolution + 1)
+    ys = np.linspace(*box[1], resolution // 2 + 1)
+    X, Y = np.meshgrid((xs[1:] + xs[:-1]) / 2, (ys[1:] + ys[:-1]) / 2, indexing="ij")
+    poses = np.column_stack([X.ravel(), Y.ravel()])
+    margins = m.region_margins(poses, d, mode=nam2006.MODE)
+    with np.errstate(invalid="ignore"):
+        inside = np.all([v >= 0 for v in margins.values()], axis=0)
+    inside &= np.abs(np.arctan2(-poses[:, 0], poses[:, 1])) <= d[4]
+    cell = (xs[1] - xs[0]) * (ys[1] - ys[0])
+    quadrature = float(m.global_index("region_measure", d, region="workspace"))
+    return {"quadrature": quadrature, "sampled": float(inside.sum() * cell), "grid": int(inside.size)}
+
+
 def _existence(m: Mechanism, rng: np.random.Generator) -> dict[str, int]:
     """Eqs. 14-15: where each radicand keeps its sign over theta in (-pi/2, pi/2) against the stated
     conditions, for random designs (R = 1)."""
@@ -189,6 +207,33 @@ def _trend(atlas: dict[str, Any], k: int | None) -> dict[str, float]:
         "increasing_in_r_l_b_above_1.2": float(np.mean(rows_high[np.isfinite(rows_high)] > 0)),
         "admissible_fraction": float(np.mean(np.isfinite(z))),
     }
+
+
+STATEMENTS = {
+    "gci_flat_in_r_rising_in_l_b": lambda t: t[0]["spread_over_r_from_1.2"] < 0.05 and t[0]["increasing_in_l_b"] > 0.9,
+    "manipulability_flat_in_r_rising_in_l_b": lambda t: (t[1]["spread_over_r_from_1.2"] < 0.05
+                                                       and t[1]["increasing_in_l_b"] > 0.99),
+    "manipulability_rising_in_l_b": lambda t: t[1]["increasing_in_l_b"] > 0.99,
+    "space_utilization_rising_in_l_b": lambda t: t[2]["increasing_in_l_b"] > 0.9,
+    "space_utilization_crossover_at_l_b_1.2": lambda t: (t[2]["increasing_in_r_l_b_below_1.2"] > 0.5
+                                                       and t[2]["increasing_in_r_l_b_above_1.2"] < 0.5),
+    "composed_rising_in_l_b": lambda t: t["composed"]["increasing_in_l_b"] > 0.9,
+    "composed_flat_in_r": lambda t: t["composed"]["spread_over_r_from_1.2"] < 0.05,
+}
+
+
+def _statements(m: Mechanism, trends: dict[str, Any]) -> dict[str, dict[str, bool]]:
+    """Which statement of section 6 each reading reproduces, and eta_3's scale independence (the same
+    design at R = 1 and R = 2)."""
+    out = {key: {name: bool(test(t)) for name, t in trends.items()} for key, test in STATEMENTS.items()}
+    design = _design(m, 1.2, 1.2)
+    doubled = design.copy()
+    doubled[:4] *= 2
+    out["space_utilization_scale_free"] = {}
+    for name, reading in nam2006.READINGS.items():
+        pair = [float(m.global_index("space_utilization", d, region=reading.region)) for d in (design, doubled)]
+        out["space_utilization_scale_free"][name] = bool(abs(pair[1] - pair[0]) <= 1e-9 * abs(pair[0]))
+    return out
 
 
 def _draw_atlases(atlas: dict[str, Any], path: Path, title: str) -> str:
@@ -284,6 +329,12 @@ def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     return {"phi1_max_on_outer_boundary_theta_ge_0": float(np.mean(at_outer[positive]))}, path.name
 
 
+def _by(readings: dict[str, dict[str, bool]], statement: str) -> str:
+    """The readings that reproduce a statement, for a claim's note."""
+    names = [name for name, ok in readings[statement].items() if ok]
+    return ", ".join(names) if names else "no reading"
+
+
 def _status(ok: bool) -> str:
     return "match" if ok else "differs"
 
@@ -298,8 +349,9 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     counts = _forward_counts(m, rng, s["poses"])
     bounds = _boundaries(m)
     existence = _existence(m, rng)
+    area = _workspace_area(m, s["fig8"] * 2)
     bar.advance()
-    atlases = {r.name: _atlas(m, s, r) for r in (nam2006.SUPPORTED, nam2006.LITERAL)}
+    atlases = {name: _atlas(m, s, r) for name, r in nam2006.READINGS.items()}
     trends = {name: {k: _trend(a, k) for k in range(3)} | {"composed": _trend(a, None)}
               for name, a in atlases.items()}
     figures = [_draw_atlases(atlases["supported"], folder / "atlases_figs4-7.png", "supported reading"),
@@ -316,6 +368,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     eq25 = _eq25_violations(m)
     admissible = float(np.mean(np.isfinite(atlases["supported"]["composed"])))
     t, tl = trends["supported"], trends["literal"]
+    readings = _statements(m, trends)
     claims = [
         claim("eq6_as_printed", "eq. 6 as printed (r_i - alpha_i in the denominator) gives the actuator angles", 0.0,
               eqs["eq6_printed"], "rad", _status(eqs["eq6_printed"] < ROUND_OFF), "largest angle error, four modes"),
@@ -340,6 +393,11 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
               "along rays", 0.0, bounds["l_cm_error"], "m", _status(bounds["l_cm_error"] < 1e-6),
               f"R = 1, r = 0.5, l_a = 1.2, l_b = 0.9 (l_b - l_a < R - r), {bounds['inner_thetas']} angles where l_cm "
               f"is real; printed/derived = {bounds['l_cm_printed_ratio']:.3f}"),
+        claim("workspace_area", "the workspace inside eq. 12's boundary (section 4): its area by the region's "
+              "quadrature against the sampled workspace", None, area, "m^2",
+              _status(abs(area["sampled"] - area["quadrature"]) <= 1e-2 * area["quadrature"]),
+              "r = l_b = 1.2; sampled: grid cells whose centre mode out_out reaches within the joint ranges of "
+              "section 4 and |theta| <= theta_max"),
         claim("eq14_condition", "eq. 14 holds for every theta iff l_a + l_b > max(r, R - r)", 0,
               existence["eq14_disagreements"], "designs", _status(existence["eq14_disagreements"] == 0),
               f"of {existence['designs']} random designs; l_CM > 0 needs more: (l_a + l_b)^2 > R^2 + r^2 - 2 r R "
@@ -366,20 +424,24 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
               "at Fig. 8's designs and pkm's optimum"),
         claim("trend_gci", "GCI: little variation for r > 1.2, increases with l_b (Fig. 4)", None,
               t[0], "-", _status(t[0]["spread_over_r_from_1.2"] < 0.05 and t[0]["increasing_in_l_b"] > 0.9),
-              "supported reading, admissible designs"),
+              f"supported reading, admissible designs; reproduced by {_by(readings, 'gci_flat_in_r_rising_in_l_b')}"),
         claim("trend_manipulability", "manipulability: little variation with r, increases monotonically with l_b "
               "(Fig. 5)", None, {"supported": t[1], "literal": tl[1]}, "-",
               _status(t[1]["spread_over_r_from_1.2"] < 0.05 and t[1]["increasing_in_l_b"] > 0.99),
               "|det J_f| increases with l_b but grows with r (the mechanism grows with r at fixed R); the literal "
-              "|det J| decreases with l_b"),
+              f"|det J| decreases with l_b; rising in l_b in {_by(readings, 'manipulability_rising_in_l_b')}"),
         claim("trend_space_utilization", "space utilisation increases with l_b; with r for l_b < 1.2, against r for "
               "l_b > 1.2 (Fig. 6)", None, {"supported": t[2], "literal": tl[2]}, "-",
               _status(t[2]["increasing_in_l_b"] > 0.9 and t[2]["increasing_in_r_l_b_below_1.2"] > 0.5
                       and t[2]["increasing_in_r_l_b_above_1.2"] < 0.5),
-              "measured in the plane (dW = l_c dtheta dl_c); eq. 28's dtheta dl_c decreases with r at every l_b"),
+              "measured in the plane (dW = l_c dtheta dl_c); eq. 28's dtheta dl_c decreases with r at every l_b; "
+              f"crossover reproduced by {_by(readings, 'space_utilization_crossover_at_l_b_1.2')}, scale-free in "
+              f"{_by(readings, 'space_utilization_scale_free')}"),
         claim("trend_composed", "composed index increases with l_b, r has little effect (Fig. 7)", None,
               t["composed"], "-",
-              _status(t["composed"]["increasing_in_l_b"] > 0.9 and t["composed"]["spread_over_r_from_1.2"] < 0.05)),
+              _status(t["composed"]["increasing_in_l_b"] > 0.9 and t["composed"]["spread_over_r_from_1.2"] < 0.05),
+              f"rising in l_b in {_by(readings, 'composed_rising_in_l_b')}; flat in r in "
+              f"{_by(readings, 'composed_flat_in_r')}"),
         claim("fig8_inverse_kappa_outer", "1/kappa is greater nearer the outer boundary (Fig. 8)", None,
               {k: [v["mean_inverse_kappa_inner_band"], v["mean_inverse_kappa_outer_band"]] for k, v in fig8.items()},
               "-", _status(all(v["mean_inverse_kappa_outer_band"] > v["mean_inverse_kappa_inner_band"]
@@ -420,6 +482,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         "beyond_paper": {"syntheses": [{**record, "text": text}], "text": text},
         "figures": figures,
         "extremes": {name: a["bounds"] for name, a in atlases.items()},
+        "readings": readings,
         "trends": trends,
         "fig8": fig8,
     }

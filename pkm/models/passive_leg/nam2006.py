@@ -14,7 +14,8 @@ The text leaves four choices open; a :class:`Reading` fixes them:
   space (``range``) or eta / max (``max``).
 
 ``SUPPORTED`` is the reading the paper's statements support (docs/papers/nam2006.md shows which
-statement each reading reproduces); ``LITERAL`` the equations as printed. Extremes are taken over the
+statement each reading reproduces); ``LITERAL`` the equations as printed; ``KAPPA_2`` and
+``MAX_NORMALISED`` change one choice of ``SUPPORTED`` each. Extremes are taken over the
 admissible designs of a grid over the design space (those whose indices are defined: no singularity, joint
 limit or unreached pose inside the region).
 """
@@ -52,7 +53,9 @@ class Reading:
 
 SUPPORTED = Reading("supported", "workspace", "gci", "manipulability", "range")
 LITERAL = Reading("literal", "workspace_eq28", "gci", "jacobian_determinant", "range")
-READINGS = {r.name: r for r in (SUPPORTED, LITERAL)}
+KAPPA_2 = Reading("kappa_2", "workspace", "gci_2", "manipulability", "range")
+MAX_NORMALISED = Reading("max_normalised", "workspace", "gci", "manipulability", "max")
+READINGS = {r.name: r for r in (SUPPORTED, LITERAL, KAPPA_2, MAX_NORMALISED)}
 
 
 def reading(name: str | Reading) -> Reading:
