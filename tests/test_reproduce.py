@@ -198,9 +198,11 @@ def test_nam_report_checks_every_printed_equation_against_the_derivation(nam):
     assert status["trend_space_utilization"] == "match"
     assert status["workspace_area"] == "match"
     crossover = data["readings"]["space_utilization_crossover_at_l_b_1.2"]
-    assert crossover["supported"] and not crossover["literal"]
+    assert crossover["supported"]
+    assert not crossover["literal"]
     scale_free = data["readings"]["space_utilization_scale_free"]
-    assert scale_free["supported"] and not scale_free["literal"]
+    assert scale_free["supported"]
+    assert not scale_free["literal"]
     for c in data["claims"]:
         assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
 
