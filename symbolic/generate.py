@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import multiprocessing
+import os
 import platform
 import sys
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import sympy as sp
@@ -28,12 +31,22 @@ def sources(spec: codegen.ModuleSpec) -> list[Path]:
     return sorted({*shared, Path(spec.source)}, key=Path.as_posix)
 
 
+def derive(name: str) -> tuple[codegen.ModuleSpec, str]:
+    """One registered mechanism's module and the hash of its sources."""
+    spec = MECHANISMS[name]()
+    return spec, codegen.source_hash(ROOT, sources(spec))
+
+
 def write(out: Path) -> None:
-    """Derive every registered mechanism and write the generated tree into ``out``."""
-    modules = []
-    for name in sorted(MECHANISMS):
-        spec = MECHANISMS[name]()
-        modules.append((spec, codegen.source_hash(ROOT, sources(spec))))
+    """Derive every registered mechanism (in parallel processes, one per core: each derivation is
+    independent and deterministic) and write the generated tree into ``out``."""
+    names = sorted(MECHANISMS)
+    workers = min(len(names), os.cpu_count() or 1)
+    if workers > 1:
+        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+            modules = list(pool.map(derive, names))
+    else:
+        modules = [derive(name) for name in names]
     tools = {"python": platform.python_version(), "sympy": sp.__version__}
     codegen.write_tree(out, modules, tools)
 
