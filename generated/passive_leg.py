@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/passive_leg.py (source sha256 12fb17c4dee7009f).
+# Generated from symbolic/mechanisms/passive_leg.py (source sha256 0c10aa2318133609).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-DOF manipulator with a passive constraining leg."""
 
 import casadi as ca
 
-SOURCE_HASH = "12fb17c4dee7009f"
+SOURCE_HASH = "0c10aa2318133609"
 FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "paper_inverse", "paper_forward", "paper_first_order", "joint_angles", "joint_positions", "workspace_boundary", "workspace_range_negative", "workspace_range_positive", "workspace_curves", "polar_to_pose", "polar_area", "footprint", )
 PARAMETERS = ("R", "r", "l_a", "l_b", "theta_max", )
 POSE = ("x_c", "y_c", )
@@ -777,18 +777,19 @@ def workspace_curves():
     design_2 = design[2]
     design_3 = design[3]
     design_4 = design[4]
-    # 9 common subexpressions, 36 operations
-    _t0 = ca.sin(a_0)
-    _t1 = design_0*ca.fabs(_t0)
-    _t2 = (design_2 + design_3)**2
-    _t3 = 1e-30*_t2
-    _t4 = 2*design_1
-    _t5 = design_0*ca.cos(a_0)
-    _t6 = design_0**2
-    _t7 = _t0**2*_t6 - _t6
-    _t8 = _t5*(_t4 + 2*design_3) + _t7 + design_2**2 - (design_3 + design_1)**2
-    lower = ca.reshape(ca.vertcat(ca.if_else((_t8 > 0), _t1 + ca.sqrt(ca.fmax(_t3, _t8)), 0)), 1, 1)
-    upper = ca.reshape(ca.vertcat(-_t1 + ca.sqrt(ca.fmax(_t3, _t2 + _t4*_t5 + _t7 - design_1**2))), 1, 1)
+    # 10 common subexpressions, 40 operations
+    _t0 = 0.001*design_2 + 0.001*design_3
+    _t1 = ca.sin(a_0)
+    _t2 = design_0*ca.fabs(_t1)
+    _t3 = (design_2 + design_3)**2
+    _t4 = 1e-30*_t3
+    _t5 = 2*design_1
+    _t6 = design_0*ca.cos(a_0)
+    _t7 = design_0**2
+    _t8 = _t1**2*_t7 - _t7
+    _t9 = _t6*(_t5 + 2*design_3) + _t8 + design_2**2 - (design_3 + design_1)**2
+    lower = ca.reshape(ca.vertcat(ca.if_else((_t9 > 0), ca.fmax(_t0, _t2 + ca.sqrt(ca.fmax(_t4, _t9))), _t0)), 1, 1)
+    upper = ca.reshape(ca.vertcat(-_t2 + ca.sqrt(ca.fmax(_t4, _t3 + _t5*_t6 + _t8 - design_1**2))), 1, 1)
     return ca.Function("workspace_curves", [a, design], [lower, upper], ["a", "design"], ["lower", "upper"])
 
 

@@ -147,9 +147,10 @@ class Atlas:
 
 def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
     """The working modes an atlas draws over ``region`` by default: ``mech.distinct_modes[region]`` where
-    the mechanism's symmetry makes some modes equal or the region is defined on some modes only, else all
-    working modes."""
-    return tuple(mech.distinct_modes.get(region, mech.modes))
+    the mechanism's symmetry makes some modes equal, the modes the region is defined on where it says,
+    else all working modes."""
+    defined = getattr(mech.region(region), "modes", None)
+    return tuple(mech.distinct_modes.get(region, defined or mech.modes))
 
 
 def compute_atlas(
@@ -201,6 +202,10 @@ def compute_atlas(
     modes = tuple(mech.working_mode(m).name for m in modes)
     if not modes or len(set(modes)) != len(modes):
         raise PkmError(f"modes = {modes} violates: at least one working mode, none repeated")
+    defined = getattr(where, "modes", None)
+    if defined and not set(modes) <= set(defined):
+        raise PkmError(f"region {region} is defined on working mode {', '.join(defined)} only, not on "
+                       f"{', '.join(m for m in modes if m not in defined)}")
     resolution = check_integer("resolution", resolution, 3)
     sampled = isinstance(where, regions.SampledWorkspace)
     if pose_resolution is None:

@@ -298,11 +298,14 @@ class PolynomialRoots:
 
     ``polynomial(q_a, design) -> c`` gives the coefficients (highest degree first); ``back(root, q_a,
     design) -> (x, q, reach)`` recovers the pose and the joints from one root. Assembly mode k (its
-    ``signs[0]``, counted from 0) is the k-th real root in ascending order: NaN where fewer exist.
+    ``signs[0]``, counted from 0) is the k-th real root in ascending order: NaN where fewer exist. With
+    ``scale`` (a function design -> a typical size of the roots, for a root with a unit) the roots are
+    found in the dimensionless variable root / scale, so that the tolerances hold at any scale.
     """
 
     polynomial: str = "forward_polynomial"
     back: str = "forward_from_root"
+    scale: str | None = None
 
     def roots(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
         """Real roots (N, degree), ascending, NaN-padded; by the eigenvalues of the companion matrices.
@@ -313,6 +316,8 @@ class PolynomialRoots:
         (c,) = evaluate(functions[self.polynomial], q_a, design)
         c = c.reshape(len(q_a), -1)
         degree = c.shape[1] - 1
+        size = 1.0 if self.scale is None else float(functions[self.scale](np.asarray(design, dtype=float)))
+        c = c * size ** np.arange(degree, -1, -1)
         scale = np.max(np.abs(c), axis=1, keepdims=True)
         leading = np.argmax(np.abs(c) > IMAGINARY_TOLERANCE**2 * scale, axis=1)
         values = np.full((len(c), degree), np.nan + 0j)
@@ -327,7 +332,7 @@ class PolynomialRoots:
             companion[:, np.arange(1, d), np.arange(d - 1)] = 1.0
             values[rows, :d] = np.linalg.eigvals(companion)
         real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * np.maximum(1.0, np.abs(values))
-        return np.sort(_polish(c, np.where(real, values.real, np.nan)), axis=1)
+        return size * np.sort(_polish(c, np.where(real, values.real, np.nan)), axis=1)
 
     def solve(self, functions, q_a, branch, design):
         k = int(branch.signs[0])

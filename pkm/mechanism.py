@@ -320,8 +320,13 @@ class Mechanism:
         """
         spec = self.global_spec(name)
         d = self.design_vector(design)
-        branch = self.working_mode(mode)
         where = self.region(region)
+        branch = self.working_mode(mode)
+        allowed = getattr(where, "modes", None)
+        if allowed and branch.name not in allowed:
+            raise PkmError(
+                f"region {region} is defined on working mode {', '.join(allowed)} only, not on {branch.name}"
+            )
         if isinstance(where, regions.SampledWorkspace):
             if gradient:
                 raise PkmError(

@@ -17,6 +17,7 @@ import pkm
 from pkm.batch import evaluate
 from pkm.errors import DesignError, PkmError, PoseError
 from pkm.models.passive_leg import nam2006
+from pkm.regions import sampled_check
 
 LENGTHS = ("R", "r", "l_a", "l_b")
 FAMILY = {"R": 1.0, "r": 1.2, "l_a": 1.4, "l_b": 1.2}  # l_b - l_a = R - r (the defaults, Fig. 8c)
@@ -238,7 +239,7 @@ def test_inner_boundary_is_where_the_platform_joint_of_one_leg_reaches_its_range
 
 def test_inner_boundary_of_the_family_is_the_x_axis(mech):
     """With l_b - l_a = R - r the radicand of eq. 15 vanishes at theta = 0 and is negative elsewhere:
-    the region reaches down to l_c = 0."""
+    the region reaches down to the x axis, but for a clearance of 1e-3 (l_a + l_b) around the origin."""
     design = mech.design(FAMILY)
     theta = np.array([-1.0, -0.3, -0.01, 0.01, 0.3, 1.0])
     bound = mech.workspace_boundary(theta, design)
@@ -246,7 +247,7 @@ def test_inner_boundary_of_the_family_is_the_x_axis(mech):
     assert np.all(np.isnan(bound["l_cm"]))
     assert abs(float(mech.workspace_boundary(0.0, design)["eq15"])) < 1e-12
     lower, _ = evaluate(mech.functions["workspace_curves"], theta[:, None], design.vector())
-    np.testing.assert_array_equal(lower[:, 0, 0], 0.0)
+    np.testing.assert_allclose(lower[:, 0, 0], 1e-3 * (design["l_a"] + design["l_b"]), rtol=1e-15)
 
 
 # --- Singularities --------------------------------------------------------------------------------------
@@ -385,12 +386,13 @@ def test_space_utilization_converges_to_the_area_between_the_boundaries_per_the_
     d = mech.design_dict(design)
     R, r, reach = d["R"], d["r"], d["l_a"] + d["l_b"]
     hi = d["theta_max"]
+    lower = 1e-3 * reach  # the family's inner boundary is the x axis; the region keeps clear of the origin
     nodes, weights = np.polynomial.legendre.leggauss(200)
     area = 0.0
     for a, b in ((-hi, 0.0), (0.0, hi)):
         t = (a + b) / 2 + (b - a) / 2 * nodes
         l_CM = -R * np.abs(np.sin(t)) + np.sqrt(reach**2 - (R * np.cos(t) - r) ** 2)
-        area += (b - a) / 2 * np.sum(weights * l_CM**2 / 2)  # lower = 0 for the family
+        area += (b - a) / 2 * np.sum(weights * (l_CM**2 - lower**2) / 2)
     footprint = (r + R) * math.sqrt(reach**2 - (R - r) ** 2)
     expected = area / footprint
     errors = [abs(float(mech.global_index("space_utilization", design, region="workspace", resolution=n))
@@ -490,3 +492,48 @@ def test_printed_equations_against_the_derived_ones(mech, mode):
     np.testing.assert_allclose(det_J_x[:, 0, 0], -2 * l_c * U + 4 * design["r"] * n1 * n2, atol=1e-12 * scale**3)
     np.testing.assert_allclose(eq24[:, 0, 0] - det_J_x[:, 0, 0], -2 * design["r"] * n1 * n2, atol=1e-12 * scale**3)
     assert np.median(np.abs(eq24[:, 0, 0] - det_J_x[:, 0, 0])) > 1e-3 * scale**3
+
+
+@pytest.mark.parametrize("chart", [(1.1, 0.9), (1.15, 0.85), (1.55, 0.7), (1.8, 0.65)])
+def test_a_design_whose_joint_limit_is_crossed_between_nodes_is_excluded_at_every_resolution(mech, chart):
+    """These designs leave the joint range of angle b_i and meet det J_x = 0 in a corner of the region
+    (|theta| near theta_max, l_c small) that the index's own nodes miss at low resolution; the guard's
+    fixed rule with the region's rim sees it, whatever the index's resolution, and so does the check by
+    sampling."""
+    design = chart_design(mech, chart)
+    for resolution in (2, 4, 8):
+        assert np.isnan(mech.global_index("manipulability", design, region="workspace", resolution=resolution))
+    spec = pkm.registry.global_index("manipulability")
+    branch = mech.working_mode("out_out")
+    assert np.isnan(sampled_check(mech, spec, mech.region("workspace"), design, branch=branch, resolution=40))
+    admissible = chart_design(mech, ADMISSIBLE)
+    assert np.isfinite(sampled_check(mech, spec, mech.region("workspace"), admissible, branch=branch,
+                                     resolution=40))
+
+
+def test_the_workspace_region_is_defined_on_fig1s_mode_only(mech):
+    with pytest.raises(PkmError, match="out_out only"):
+        mech.global_index("gci", region="workspace", mode="in_in")
+
+
+def test_space_utilization_is_the_region_measure_per_the_footprint(mech):
+    design = chart_design(mech, ADMISSIBLE)
+    d = mech.design_dict(design)
+    area = mech.global_index("region_measure", design, region="workspace")
+    footprint = (d["r"] + d["R"]) * math.sqrt((d["l_a"] + d["l_b"]) ** 2 - (d["R"] - d["r"]) ** 2)
+    assert float(mech.global_index("space_utilization", design, region="workspace")) == pytest.approx(
+        float(area) / footprint, rel=1e-14)
+
+
+@pytest.mark.parametrize("size", [1e-3, 1e3])
+def test_forward_solutions_do_not_depend_on_the_scale_of_the_design(mech, size):
+    """The near-double root of the test above, the design scaled: the same roots, scaled, every one
+    closing its loops to round-off."""
+    base = {"R": 1.0, "r": 1.41, "l_a": 1.2, "l_b": 1.41}
+    unit = mech.forward_solutions(mech.inverse_kinematics([0.344, 0.686], base, mode="out_in"), base)
+    scaled = {k: v * size for k, v in base.items()}
+    q_a = mech.inverse_kinematics(np.array([0.344, 0.686]) * size, scaled, mode="out_in")
+    fs = mech.forward_solutions(q_a, scaled)
+    assert fs.count == unit.count == 4
+    np.testing.assert_allclose(fs.l_c / size, unit.l_c, rtol=1e-9)
+    assert np.nanmax(fs.residual) <= 1e-13 * (scaled["l_a"] + scaled["l_b"]) ** 2

@@ -18,7 +18,6 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, LocalIndex, epigraph_function, reduce_nodes, reduce_samples
 from pkm.indices.local import WORKSPACE_MARGIN
 from pkm.regions.pipeline import pipeline
@@ -27,6 +26,8 @@ from pkm.regions.shapes import check_resolution
 from pkm.regions.value import GlobalValue
 
 QUADRATURE_RESOLUTION = 8
+GUARD_RESOLUTION = 8
+GUARD_TOLERANCE = 1e-9
 
 
 def node_values(
@@ -44,20 +45,12 @@ def node_values(
 
     With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
     the local index is at least t at every node (:func:`pkm.indices.epigraph_function`), or at most t
-    for a region maximum. On a region with a guard (:func:`guard_index`) a node counts as reached only
-    where the guard's margins hold.
+    for a region maximum.
     """
     points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
     n = points.size2()
-    guard = guard_index(region)
-    if guard is not None and epigraph is not None:
-        raise PkmError(f"region {region.name} is guarded: its extremes have no epigraph form")
-    locals_ = (spec.local,) if guard is None else (spec.local, guard)
-    fn = pipeline(mech, locals_, matrices=epigraph is not None).map(n)
+    fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
     outputs = fn(points, ca.DM(branch.signs), design)
-    if guard is not None:
-        inside = outputs[4] >= 0
-        return ca.if_else(inside, outputs[3], np.nan), weights, outputs[2] * inside
     if epigraph is not None:
         matrices = outputs[4:]
         shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
@@ -75,10 +68,28 @@ def quadrature_value(
     )
     value = reduce_nodes(values, weights, spec.reduce, valid)
     if region.guard is not None:
-        value = ca.if_else(ca.mmin(valid) > 0, value, np.nan)
+        value = ca.if_else(guard_holds(mech, region, branch, design) > 0, value, np.nan)
     if spec.per is not None:
         value = value / mech.functions.require(spec.per, f"the global index {spec.name}")(design)
     return value
+
+
+def guard_holds(mech: Any, region: Any, branch: Any, design: Any) -> Any:
+    """1 where the region's guard holds for the design, else 0 (CasADi in the design, or a float).
+
+    The guard's margins are taken at the nodes of the region's extreme rule at GUARD_RESOLUTION, its
+    interior, centre and rim (inset from edges that a map may collapse), whatever the resolution of the
+    index: every node must be reached and every margin at least -GUARD_TOLERANCE. A margin that
+    vanishes on the boundary (a singular corner of the region) is accepted; one that turns negative
+    anywhere on the boundary or at a node inside is not.
+    """
+    numeric = not isinstance(design, ca.MX | ca.SX)
+    d = ca.DM(design) if numeric else design
+    points, _ = region.quadrature(mech.functions, d, GUARD_RESOLUTION, "min")
+    n = points.size2()
+    _, _, valid, margin = pipeline(mech, (guard_index(region),)).map(n)(points, ca.DM(branch.signs), d)
+    holds = ca.mmin(valid * (margin >= -GUARD_TOLERANCE))
+    return float(holds) if numeric else holds
 
 
 def guard_index(region: Any) -> LocalIndex | None:
@@ -162,6 +173,7 @@ def sampled_check(
     if guard is not None:
         margin, inside = sample_values(mech, replace(spec, local=guard), x, d, signs=np.array(branch.signs),
                                        margin=0.0)
-        keep &= inside & (margin >= 0)
+        if not (guard_holds(mech, region, branch, design) and np.all(inside & (margin >= -GUARD_TOLERANCE))):
+            return GlobalValue(np.nan, points=0, region=region.name, resolution=resolution)
     result = reduce_samples(value, keep, cell, spec.reduce) / per_design(mech, spec, design)
     return GlobalValue(result, points=int(keep.sum()), region=region.name, resolution=resolution)

@@ -9,9 +9,10 @@ global index built on them is differentiable in the design.
 
 Protocol, shared by every shape:
 
-* ``guard``: the name of a mechanism function (q, x, design) -> margins that must all hold (>= 0) at
-  every node; where one does not, an index over the region is undefined (NaN) rather than an integral
-  across a singularity or a joint limit;
+* ``guard``: the name of a mechanism function (q, x, design) -> margins that must all hold (>= 0) over
+  the region (checked at the nodes of its extreme rule at a fixed resolution: interior, centre and rim,
+  see :func:`pkm.regions.quadrature.guard_holds`); where one does not, an index over the region is
+  undefined (NaN) rather than an integral across a singularity or a joint limit;
 
 * ``quadrature(functions, design, resolution, reduce) -> (points, weights)``: points d x n and
   weights 1 x n, CasADi when the design is CasADi, numpy (n, d) and (n,) when it is numeric. For an
@@ -39,6 +40,7 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.errors import PkmError, check_integer
 
+RIM_INSET = 1e-9  # of the span between the curves, for the rim nodes of a MappedSquare
 CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
 
 
@@ -330,7 +332,8 @@ class MappedSquare:
     u, b = lower(a) + (upper(a) - lower(a)) v with the area element (a_hi - a_lo)(upper(a) - lower(a)).
     With ``grading`` p > 1, b = lower + (upper - lower)(1 - (1 - v)^p) instead (element times
     p (1 - v)^(p - 1)): nodes crowd towards the upper curve, and an integrand that behaves like the square
-    root of the distance to it (p = 2) becomes smooth in v.
+    root of the distance to it (p = 2) becomes smooth in v. Rim nodes (of the extreme rules) lie RIM_INSET
+    inside the curves, where a pose on a curve may be out of reach by round-off.
     """
 
     name: str
@@ -352,7 +355,7 @@ class MappedSquare:
     def _map(self, functions: Any, design: Any, nodes: np.ndarray):
         lo, hi = functions[self.bounds](design)
         u = ca.DM(nodes[:, 0]).T
-        v = ca.DM(1 - (1 - nodes[:, 1]) ** self.grading).T
+        v = ca.DM(np.clip(1 - (1 - nodes[:, 1]) ** self.grading, RIM_INSET, 1 - RIM_INSET)).T
         slope = ca.DM(self.grading * (1 - nodes[:, 1]) ** (self.grading - 1)).T
         a = lo + (hi - lo) * u
         lower, upper = functions[self.curves].map(len(nodes))(a, design)
@@ -389,7 +392,8 @@ class Mapped:
     """A shape in other coordinates, mapped into the pose by the generated function ``to_pose``
     ((y, design) -> x). Weights and measures stay those of the shape's own coordinates (a task region
     stated in the coordinates a designer specifies it in), or with ``element`` (the generated function
-    (y, design) -> |det dx/dy|) they are the pose's own."""
+    (y, design) -> |det dx/dy|) they are the pose's own. ``modes``, where given, are the working modes
+    the region is defined on (those whose joint ranges its guard checks)."""
 
     name: str
     doc: str
@@ -397,6 +401,7 @@ class Mapped:
     to_pose: str
     element: str | None = None
     guard: str | None = None
+    modes: tuple[str, ...] | None = None
 
     @property
     def dimension(self) -> int:

@@ -54,6 +54,7 @@ POLAR = Port("y", (w_theta, w_lc), "theta [rad], l_c [m]: the platform's angle a
 ANGLE = Port("a", (w_theta,), "theta [rad]: the abscissa of the workspace region")
 
 FLOOR = sp.Float(1e-30)
+ORIGIN_CLEARANCE = sp.Float(1e-3)
 
 
 def _e(angle: sp.Expr) -> sp.Matrix:
@@ -274,9 +275,12 @@ def boundary(angle: sp.Expr) -> dict[str, sp.Expr]:
 
 def region_curves() -> tuple[sp.Expr, sp.Expr]:
     """The workspace in (theta, l_c) at one theta: from the inner boundary (the x axis where l_cm is
-    not real) to the outer boundary."""
+    not real) to the outer boundary, leaving out l_c < ORIGIN_CLEARANCE (l_a + l_b) around the origin:
+    the architecture singularity of the family l_b - l_a = R - r, where the joint angles b_i and det J_x
+    tend to limits that depend on the direction of approach."""
     b = boundary(w_theta)
-    lower = sp.Piecewise((sp.Max(0, b["l_cm"]), b["eq15"] > 0), (0, True))
+    clearance = ORIGIN_CLEARANCE * (l_a + l_b)
+    lower = sp.Piecewise((sp.Max(clearance, b["l_cm"]), b["eq15"] > 0), (clearance, True))
     return lower, b["l_CM"]
 
 

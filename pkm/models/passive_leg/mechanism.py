@@ -31,7 +31,7 @@ DEG = math.pi / 180
 INF = math.inf
 MAX_ASSEMBLIES = 6
 MARGINS = ("angle_b1", "angle_b2", "type2")
-CLOSURE_TOLERANCE = 1e-9  # of forward_from_root's reach, relative to (l_a + l_b)^2
+CLOSURE_TOLERANCE = 1e-9  # the loop residual forward_refined accepts, relative to (l_a + l_b)^2
 
 PARAMETERS = (
     Parameter("R", 1.0, 0.0, INF, "m", "half-distance between the base revolutes B1, B2 (Nam section 6.2: R = 1)"),
@@ -72,23 +72,49 @@ def region_margins(generated: FunctionTable) -> ca.Function:
 
 
 NEWTON_STEPS = 2
-NEWTON_LIMIT = 1e-4  # a Newton step longer than this (relative to l_a + l_b) is not taken: a near-double root
+NEWTON_LIMIT = 1e-4  # a Newton step longer than this in l_c / (l_a + l_b) or theta [rad] is not taken
+
+
+def leg_reach(generated: FunctionTable) -> ca.Function:
+    """``leg_reach(design) -> l_a + l_b``: the size of the passive leg's length, the forward
+    polynomial's variable."""
+    d = ca.SX.sym("design", generated["forward_polynomial"].size_in(1))
+    return ca.Function("leg_reach", [d], [d[2] + d[3]], ["design"], ["l"])
 
 
 def forward_refined(generated: FunctionTable) -> ca.Function:
-    """``forward_refined(root, q_a, design) -> (x, q, reach)``: ``forward_from_root`` followed by Newton
-    steps on eqs. 2-3 in (l_c, theta). theta from the linear pair of eq. 8 divides by B2 C1 - B1 C2,
-    which is small where two assemblies nearly meet; the steps restore the loop closure there. A step
-    that is long or not finite (at a double root) is not taken."""
+    """``forward_refined(root, q_a, design) -> (x, q, reach)``: the pose and joints of a root l_c of the
+    forward polynomial, theta by the legs one at a time and Newton steps on eqs. 2-3 in (l_c, theta).
+
+    At a root each leg's equation reads a_i + b_i cos(theta) + c_i sin(theta) = 0 (eq. 8) with two
+    solutions; of the four, the one that best closes the other leg is kept. (The linear pair of eq. 8
+    divides by B2 C1 - B1 C2, which is small where two assemblies nearly meet, and loses digits there.)
+    A Newton step that is long or not finite (at a double root) is not taken."""
     back, paper = generated["forward_from_root"], generated["paper_forward"]
     root, qa, d = (ca.SX.sym(back.name_in(i), back.size_in(i)) for i in range(3))
-    _, q0, _ = back(root, qa, d)
+
+    def legs(theta):
+        return paper(ca.vertcat(qa, theta, 0, 0, root), d)[0]
+
+    at_0, at_half, at_pi = legs(0), legs(math.pi / 2), legs(math.pi)
+    candidates = []
+    for i in range(2):
+        a = (at_0[i] + at_pi[i]) / 2
+        b, c = (at_0[i] - at_pi[i]) / 2, at_half[i] - a
+        turn = ca.acos(ca.fmin(1, ca.fmax(-1, -a / ca.sqrt(b**2 + c**2))))
+        candidates += [ca.atan2(c, b) + turn, ca.atan2(c, b) - turn]
+    best, best_error = candidates[0], ca.mmax(ca.fabs(legs(candidates[0])))
+    for theta in candidates[1:]:
+        error = ca.mmax(ca.fabs(legs(theta)))
+        best, best_error = ca.if_else(error < best_error, theta, best), ca.fmin(error, best_error)
+    best = ca.atan2(ca.sin(best), ca.cos(best))
     z = ca.SX.sym("z", 2)
     residual = paper(ca.vertcat(qa, z[1], 0, 0, z[0]), d)[0]
     moved = z - ca.solve(ca.jacobian(residual, z), residual)
-    small = ca.norm_inf(moved - z) <= NEWTON_LIMIT * (d[2] + d[3])
+    step = moved - z
+    small = ca.logic_and(ca.fabs(step[0]) <= NEWTON_LIMIT * (d[2] + d[3]), ca.fabs(step[1]) <= NEWTON_LIMIT)
     newton = ca.Function("newton", [z, qa, d], [ca.if_else(small, moved, z)])
-    step = ca.vertcat(q0[5], q0[2])
+    step = ca.vertcat(root, best)
     for _ in range(NEWTON_STEPS):
         step = newton(step, qa, d)
     l_c, theta = step[0], step[1]
@@ -161,12 +187,8 @@ class PassiveLeg(Mechanism):
     pose_units = ("m", "m")
     actuator_names = ("phi1", "phi2")
     actuator_units = ("rad", "rad")
-    forward = PolynomialRoots(back="forward_refined")
+    forward = PolynomialRoots(back="forward_refined", scale="leg_reach")
     design_spaces: ClassVar[dict[str, DesignSpace]] = {"nam2006": NAM2006}
-    distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {
-        "workspace": ("out_out",),
-        "workspace_eq28": ("out_out",),
-    }
     regions: ClassVar[dict[str, Any]] = {
         "workspace": Mapped(
             "workspace",
@@ -178,6 +200,7 @@ class PassiveLeg(Mechanism):
             "polar_to_pose",
             element="polar_area",
             guard="region_margins",
+            modes=("out_out",),
         ),
         "workspace_eq28": Mapped(
             "workspace_eq28",
@@ -185,6 +208,7 @@ class PassiveLeg(Mechanism):
             POLAR,
             "polar_to_pose",
             guard="region_margins",
+            modes=("out_out",),
         ),
     }
 
@@ -199,6 +223,7 @@ class PassiveLeg(Mechanism):
             extra=lambda generated: {
                 "region_margins": region_margins(generated),
                 "forward_refined": forward_refined(generated),
+                "leg_reach": leg_reach(generated),
             },
         )
 
