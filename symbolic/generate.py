@@ -38,11 +38,12 @@ def derive(name: str) -> tuple[codegen.ModuleSpec, str]:
 
 
 def write(out: Path) -> None:
-    """Derive every registered mechanism (in parallel processes, one per core: each derivation is
-    independent and deterministic) and write the generated tree into ``out``."""
+    """Derive every registered mechanism and write the generated tree into ``out``. On Linux the
+    derivations run in forked processes, one per core (each is independent and deterministic);
+    elsewhere one after the other."""
     names = sorted(MECHANISMS)
     workers = min(len(names), os.cpu_count() or 1)
-    if workers > 1:
+    if workers > 1 and sys.platform == "linux":
         with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
             modules = list(pool.map(derive, names))
     else:

@@ -222,8 +222,8 @@ def test_outer_boundary_is_where_the_reach_ends_and_the_printed_one_is_half_of_i
 
 @pytest.mark.parametrize("theta", [-0.3, -0.1, 0.05, 0.2])
 def test_inner_boundary_is_where_the_platform_joint_of_one_leg_reaches_its_range(mech, theta):
-    """On Fig. 1's mode the angle b_i = d_i b_i C of the leg on the side the platform tilts to reaches 0
-    at l_cm (leg 2 for theta > 0, leg 1 for theta < 0)."""
+    """On Fig. 1's mode the angle b_i = d_i b_i C of the leg on the side the platform tilts to reaches pi
+    at l_cm (its sine, the margin, crosses 0; leg 2 for theta > 0, leg 1 for theta < 0)."""
     design = mech.design(INNER)
     bound = mech.workspace_boundary(theta, design)
     assert float(bound["eq15"]) > 0

@@ -114,7 +114,8 @@ class SynthesisResult:
 def ipopt_options(
     problem: Problem, *, verbose: bool, max_iter: int | None, tol: float | None, print_level: int | None
 ) -> dict[str, Any]:
-    """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given."""
+    """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given; the variables'
+    bounds are kept exactly (no relaxation), so that an optimum on a bound is reported on it."""
     max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0)
     tol = problem.tol if tol is None else float(tol)
     if not tol > 0:
@@ -131,6 +132,7 @@ def ipopt_options(
             "tol": tol,
             "hessian_approximation": problem.hessian,
             "max_iter": max_iter,
+            "bound_relax_factor": 0.0,
         },
     }
 

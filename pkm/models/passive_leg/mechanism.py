@@ -40,7 +40,7 @@ PARAMETERS = (
     Parameter("l_b", 1.2, 0.0, INF, "m", "upper links |d_i b_i| (Fig. 8c: l_b = 1.2)"),
     Parameter("theta_max", 85 * DEG, 0.0, math.pi / 2 + 1e-12, "rad",
               "largest platform angle |theta| of the workspace region, the phi of eq. 28 'in the vicinity of "
-              "pi/2' (pkm's choice: 85 deg)", required=False),
+              "pi/2' (pkm's choice: 85 deg; up to pi/2 inclusive)", required=False),
 )
 
 CONDITIONS = (
