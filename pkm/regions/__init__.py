@@ -15,6 +15,7 @@ or implement the same three methods as :class:`MappedSquare`.
 from pkm.regions.pipeline import Evaluation, evaluate_at, pipeline
 from pkm.regions.quadrature import (
     QUADRATURE_RESOLUTION,
+    admissible,
     global_value,
     node_values,
     parametrised_global,
@@ -48,6 +49,7 @@ __all__ = [
     "Rectangle",
     "SampledWorkspace",
     "Union",
+    "admissible",
     "check_margin",
     "evaluate_at",
     "global_value",

@@ -92,6 +92,23 @@ def guard_holds(mech: Any, region: Any, branch: Any, design: Any) -> Any:
     return float(holds) if numeric else holds
 
 
+@lru_cache(maxsize=32)
+def guard_function(mech: Any, region: Any, branch: Any) -> ca.Function:
+    """CasADi function ``design -> holds`` of :func:`guard_holds` (1 or 0), for batches of designs."""
+    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
+    return ca.Function(f"{region.name}_{branch.name}_guard", [design],
+                       [guard_holds(mech, region, branch, design)], ["design"], ["holds"])
+
+
+def admissible(mech: Any, region: Any, designs: np.ndarray, *, branch: Any) -> np.ndarray:
+    """Whether the region's guard holds for each design (D, n_p): a boolean mask (D,), all True for a
+    region without a guard."""
+    designs = np.atleast_2d(np.asarray(designs, dtype=float))
+    if region.guard is None:
+        return np.ones(len(designs), dtype=bool)
+    return evaluate(guard_function(mech, region, branch), designs)[0][:, 0, 0] > 0
+
+
 def guard_index(region: Any) -> LocalIndex | None:
     """The least of the region's guard margins as a local index (None for a region without a guard)."""
     if region.guard is None:

@@ -245,14 +245,13 @@ def _draw_atlases(atlas: dict[str, Any], path: Path, title: str) -> str:
     panels = [(atlas["hat"][:, :, k], f"normalised {ETA_NAMES[k]}") for k in range(3)]
     panels.append((atlas["composed"], "composed eta (eq. 31)"))
     for ax, (z, label) in zip(fig.subplots(1, 4), panels, strict=True):
-        ax.set_facecolor("0.85")
+        ax.set_facecolor("0.8")
         image = ax.contourf(u, u, z.T, levels=12, cmap="viridis")
-        ax.contourf(u, u, np.isnan(z).T.astype(float), levels=[0.5, 1.5], hatches=["//"], colors="none")
         ax.set_xlabel("r / R")
         ax.set_ylabel("l_b / R")
         ax.set_title(label, fontsize=9)
         fig.colorbar(image, ax=ax)
-    fig.suptitle(f"{title}; hatched: not admissible (a folded leg, a type-2 singularity or a joint limit inside "
+    fig.suptitle(f"{title}; grey: not admissible (a folded leg, a type-2 singularity or a joint limit inside "
                  "the region)", fontsize=9)
     io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
     return path.name

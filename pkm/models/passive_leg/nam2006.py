@@ -22,14 +22,14 @@ limit or unreached pose inside the region).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 
 import numpy as np
 
 from pkm import registry
 from pkm.errors import PkmError
-from pkm.regions.quadrature import parametrised_global
+from pkm.regions.quadrature import admissible, parametrised_global
 
 MODE = "out_out"
 EXTREMES_GRID = 31  # chart nodes per axis of the grid whose admissible designs give the extremes
@@ -80,11 +80,13 @@ def etas(mech, designs: np.ndarray, which: str | Reading = SUPPORTED, *, resolut
     branch = mech.working_mode(MODE)
     designs = np.atleast_2d(np.asarray(designs, dtype=float))
     out = np.full((len(designs), 3), np.nan)
-    positive = designs[:, mech.parameter_names().index("l_a")] > 0
-    for k, name in enumerate(r.indices):
-        if positive.any():
-            out[positive, k] = parametrised_global(mech, registry.global_index(name), region, designs[positive],
-                                                   branch=branch, resolution=resolution)
+    kept = np.flatnonzero(designs[:, mech.parameter_names().index("l_a")] > 0)
+    kept = kept[admissible(mech, region, designs[kept], branch=branch)]
+    if kept.size:
+        checked = replace(region, guard=None)  # the guard holds for these designs: checked once, not per index
+        for k, name in enumerate(r.indices):
+            out[kept, k] = parametrised_global(mech, registry.global_index(name), checked, designs[kept],
+                                               branch=branch, resolution=resolution)
     return out
 
 
