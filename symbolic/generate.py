@@ -31,10 +31,10 @@ def sources(spec: codegen.ModuleSpec) -> list[Path]:
     return sorted({*shared, Path(spec.source)}, key=Path.as_posix)
 
 
-def derive(name: str) -> tuple[codegen.ModuleSpec, str]:
-    """One registered mechanism's module and the hash of its sources."""
+def derive(name: str) -> codegen.RenderedModule:
+    """One registered mechanism's module, rendered, with the hash of its sources."""
     spec = MECHANISMS[name]()
-    return spec, codegen.source_hash(ROOT, sources(spec))
+    return codegen.RenderedModule.of(spec, codegen.source_hash(ROOT, sources(spec)))
 
 
 def write(out: Path) -> None:

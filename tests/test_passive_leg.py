@@ -17,7 +17,7 @@ import pkm
 from pkm.batch import evaluate
 from pkm.errors import DesignError, PkmError, PoseError
 from pkm.models.passive_leg import nam2006
-from pkm.regions import sampled_check
+from pkm.regions import quadrature, sampled_check
 
 LENGTHS = ("R", "r", "l_a", "l_b")
 FAMILY = {"R": 1.0, "r": 1.2, "l_a": 1.4, "l_b": 1.2}  # l_b - l_a = R - r (the defaults, Fig. 8c)
@@ -537,3 +537,20 @@ def test_forward_solutions_do_not_depend_on_the_scale_of_the_design(mech, size):
     assert fs.count == unit.count == 4
     np.testing.assert_allclose(fs.l_c / size, unit.l_c, rtol=1e-9)
     assert np.nanmax(fs.residual) <= 1e-13 * (scaled["l_a"] + scaled["l_b"]) ** 2
+
+
+def test_the_guards_rule_admits_what_a_four_times_denser_rule_admits(mech, monkeypatch):
+    """Over a chart grid of the design space, the guard's fixed rule (interior, centre and rim at
+    GUARD_RESOLUTION) and the same rule at four times the resolution accept the same designs."""
+    u = np.linspace(0.5, 2.0, 11)
+    U, V = np.meshgrid(u, u, indexing="ij")
+    designs = nam2006.chart_designs(mech, U.ravel(), V.ravel())
+    designs = designs[designs[:, 2] > 0]
+    region, branch = mech.region("workspace"), mech.working_mode("out_out")
+    coarse = quadrature.admissible(mech, region, designs, branch=branch)
+    monkeypatch.setattr(quadrature, "GUARD_RESOLUTION", 4 * quadrature.GUARD_RESOLUTION)
+    quadrature.guard_function.cache_clear()
+    dense = quadrature.admissible(mech, region, designs, branch=branch)
+    quadrature.guard_function.cache_clear()
+    np.testing.assert_array_equal(coarse, dense)
+    assert 0.3 < coarse.mean() < 0.9

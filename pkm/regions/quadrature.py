@@ -26,7 +26,7 @@ from pkm.regions.shapes import check_resolution
 from pkm.regions.value import GlobalValue
 
 QUADRATURE_RESOLUTION = 8
-GUARD_RESOLUTION = 8
+GUARD_RESOLUTION = 4
 GUARD_TOLERANCE = 1e-9
 
 

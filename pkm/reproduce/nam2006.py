@@ -33,8 +33,8 @@ FK_CONFIGURATIONS = 1000  # random actuator angles per design for the count of f
 
 def _settings(quick: bool) -> dict[str, int]:
     if quick:
-        return {"atlas": 13, "quadrature": 4, "poses": 40, "fig8": 60, "synthesis_resolution": 4,
-                "baseline_resolution": 13, "starts": 1}
+        return {"atlas": 11, "quadrature": 4, "poses": 40, "fig8": 50, "synthesis_resolution": 4,
+                "baseline_resolution": 9, "starts": 1}
     return {"atlas": 31, "quadrature": 8, "poses": 200, "fig8": 160, "synthesis_resolution": 8,
             "baseline_resolution": 61, "starts": 3}
 

@@ -51,7 +51,7 @@ def _max_composed() -> Problem:
         constraints=(Constraint("r >= R (no folded leg inside the region)", lambda t: t["r"] - 1.0),),
         mode=nam2006.MODE,
         resolution=nam2006.RESOLUTION,
-        screening_resolution=9,
+        screening_resolution=5,
         starts=3,
         notes={"reading": reading.name, "extremes_grid": nam2006.EXTREMES_GRID},
     )
