@@ -273,6 +273,8 @@ class Rootfinder:
 
 
 POLISH_LIMIT = 1e-6
+ROOTS_KEPT = 8
+_ROOTS: dict[tuple, tuple[Any, np.ndarray]] = {}
 
 
 def _polish(c: np.ndarray, roots: np.ndarray, steps: int = 2) -> np.ndarray:
@@ -311,8 +313,19 @@ class PolynomialRoots:
         """Real roots (N, degree), ascending, NaN-padded; by the eigenvalues of the companion matrices.
 
         Leading coefficients that vanish (relative to the largest) lower the degree of that row's
-        polynomial instead of sending its roots to infinity.
+        polynomial instead of sending its roots to infinity. The roots of the last few inputs are kept,
+        so that asking for each assembly mode of the same actuator values in turn solves once.
         """
+        q_a, design = np.asarray(q_a, dtype=float), np.asarray(design, dtype=float)
+        key = (id(functions), self, q_a.shape, q_a.tobytes(), design.tobytes())
+        if key not in _ROOTS:
+            if len(_ROOTS) >= ROOTS_KEPT:
+                _ROOTS.pop(next(iter(_ROOTS)))
+            # the table is kept with its roots, so that its id cannot be reused while the entry lives
+            _ROOTS[key] = (functions, self._roots(functions, q_a, design))
+        return _ROOTS[key][1].copy()
+
+    def _roots(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
         (c,) = evaluate(functions[self.polynomial], q_a, design)
         c = c.reshape(len(q_a), -1)
         degree = c.shape[1] - 1
