@@ -14,6 +14,7 @@ from pkm import registry
 from pkm.design import Design, Parameter
 from pkm.errors import ComputationError, DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 from pkm.mechanism import Mechanism
+from pkm.parallel import use_scheduler
 from pkm.synthesis import Problem, SynthesisResult
 from pkm.synthesis import synthesize as _synthesize
 
@@ -31,6 +32,7 @@ __all__ = [
     "load",
     "mechanisms",
     "synthesize",
+    "use_scheduler",
 ]
 
 __version__ = "0.1.0"

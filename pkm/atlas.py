@@ -11,17 +11,20 @@ import json
 import os
 import time
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from pkm import io, regions
+from pkm import io, parallel, regions, registry
 from pkm.design_space import DesignSpace
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.indices import GlobalIndex
 from pkm.mechanism import Mechanism
+from pkm.parallel import ChunkStore, task_key
 
 
 class BestPoint(NamedTuple):
@@ -145,6 +148,49 @@ class Atlas:
         return io.atomic_write(Path(path), lambda tmp: fig.savefig(tmp, format="png", dpi=120))
 
 
+CHUNK = 64
+
+
+class AtlasTask(NamedTuple):
+    """One chunk of a sweep by names and numbers: designs (n, n_p) of a mechanism in one working mode,
+    every index of the sweep."""
+
+    mechanism: str
+    indices: tuple[str, ...]
+    region: str
+    mode: str
+    designs: np.ndarray
+    resolution: int
+    margin: float | None
+
+    def describe(self) -> str:
+        return (f"{self.mechanism} {', '.join(self.indices)} over {self.region} in {self.mode}, "
+                f"{len(self.designs)} designs from {self.designs[0].tolist()}, resolution {self.resolution}")
+
+
+def _chunk(mech: Mechanism, task: AtlasTask) -> dict[str, np.ndarray]:
+    """Every index of a task at its designs: ``values_<index>`` (n,) and ``points_<index>`` (n,)."""
+    where, branch = mech.region(task.region), mech.working_mode(task.mode)
+    out = {}
+    for name in task.indices:
+        spec = mech.global_spec(name)
+        if isinstance(where, regions.SampledWorkspace):
+            result = regions.sampled_global(mech, spec, task.designs, branch, resolution=task.resolution,
+                                            singularity_margin=task.margin)
+            values, points = np.array(result, dtype=float), np.array([g.points for g in result])
+        else:
+            values = regions.parametrised_global(mech, spec, where, task.designs, branch=branch,
+                                                 resolution=task.resolution)
+            points = np.where(np.isfinite(values), where.node_count(task.resolution, spec.reduce), 0)
+        out[f"values_{name}"], out[f"points_{name}"] = values, points
+    return out
+
+
+def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
+    """One task of an atlas in a worker: the mechanism by its name (see :mod:`pkm.parallel`)."""
+    return _chunk(registry.mechanism(task.mechanism), task)
+
+
 def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
     """The working modes an atlas draws over ``region`` by default: ``mech.distinct_modes[region]`` where
     the mechanism's symmetry makes some modes equal, the modes the region is defined on where it says,
@@ -153,9 +199,9 @@ def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
     return tuple(mech.distinct_modes.get(region, defined or mech.modes))
 
 
-def compute_atlas(
+def compute_sweep(
     mech: Mechanism,
-    index: GlobalIndex,
+    indices: tuple[GlobalIndex, ...],
     *,
     space: DesignSpace,
     modes: str | tuple[str, ...] | list[str] | None = None,
@@ -164,14 +210,18 @@ def compute_atlas(
     pose_resolution: int | None = None,
     singularity_margin: float = regions.SINGULARITY_MARGIN,
     progress: Callable[[int], object] | None = None,
-) -> Atlas:
-    """The atlas of a global index over a design space's chart, per working mode.
+    executor: str | Executor | None = None,
+    store: Path | None = None,
+    chunk: int = CHUNK,
+) -> dict[str, Atlas]:
+    """Atlases of several global indices over a design space's chart, per working mode, in one pass:
+    each task evaluates every index at its designs.
 
     Parameters
     ----------
     mech : Mechanism
-    index : GlobalIndex
-        The global index (``pkm.registry.global_index(name)``).
+    indices : tuple of GlobalIndex
+        The global indices (``pkm.registry.global_index(name)``), none repeated.
     space : DesignSpace
         The normalised design space (one of ``mech.design_spaces``); designs are taken at scale 1.
     modes : str or sequence of str, optional
@@ -188,13 +238,27 @@ def compute_atlas(
         Poses with 1/kappa_f below it are left out of the sampled region.
     progress : callable, optional
         Called with the number of designs just finished; the total is ``inside.sum() * len(modes)``.
+    executor : "auto", "serial", "processes" or a concurrent.futures.Executor, optional
+        Where the chunks of designs run (:mod:`pkm.parallel`); by default a Dask cluster when a scheduler
+        is set, else in this process for small atlases and a local process pool for large ones. The
+        values are the same on every executor. A mechanism outside the registry runs in this process.
+    store : path, optional
+        A folder for the finished chunks (:class:`pkm.parallel.ChunkStore`): run again with the same
+        folder, an interrupted atlas computes only the chunks it lacks.
+    chunk : int
+        Designs per task.
 
     Returns
     -------
-    Atlas
+    dict
+        An :class:`Atlas` per index name.
     """
     where = mech.region(region)
-    mech.global_spec(index.name)
+    indices = tuple(indices)
+    if not indices or len({i.name for i in indices}) != len(indices):
+        raise PkmError(f"indices = {[i.name for i in indices]} violates: at least one global index, none repeated")
+    for index in indices:
+        mech.global_spec(index.name)
     if modes is None:
         modes = default_modes(mech, region)
     elif isinstance(modes, str):
@@ -214,33 +278,64 @@ def compute_atlas(
     if sampled:
         regions.check_margin(singularity_margin)
 
+    chunk = check_integer("chunk", chunk, 1)
     start = time.perf_counter()
     u, v, inside = space.chart_grid(resolution)
     U, V = np.meshgrid(u, v, indexing="ij")
     designs = space.designs(mech.parameters, space.from_chart(U[inside], V[inside]))
-    per_design = pose_resolution**mech.n_out if sampled else where.node_count(pose_resolution, index.reduce)
-    values, points = {}, {}
-    for mode in modes:
-        branch = mech.working_mode(mode)
-        values[mode] = np.full(inside.shape, np.nan)
-        points[mode] = np.zeros(inside.shape, dtype=int)
-        if sampled:
-            result = regions.sampled_global(
-                mech, index, designs, branch, resolution=pose_resolution,
-                singularity_margin=singularity_margin, progress=progress,
-            )
-            values[mode][inside] = np.array(result, dtype=float)
-            points[mode][inside] = [g.points for g in result]
-        else:
-            values[mode][inside] = regions.parametrised_global(
-                mech, index, where, designs, branch=branch, resolution=pose_resolution
-            )
-            points[mode][inside] = np.where(np.isfinite(values[mode][inside]), per_design, 0)
-            if progress is not None:
-                progress(len(designs))
-    return Atlas(
-        mechanism=mech, index=index, space=space, region=region, modes=modes, u=u, v=v, inside=inside,
-        values=values, points=points, resolution=resolution, pose_resolution=pose_resolution,
-        singularity_margin=float(singularity_margin) if sampled else None,
-        wall_time=time.perf_counter() - start, evaluations=len(designs) * per_design * len(modes),
-    )
+    per_design = {
+        i.name: pose_resolution**mech.n_out if sampled else where.node_count(pose_resolution, i.reduce) for i in indices
+    }
+    margin = float(singularity_margin) if sampled else None
+    names = tuple(index.name for index in indices)
+    tasks = [
+        AtlasTask(mech.name, names, region, mode, designs[k : k + chunk], pose_resolution, margin)
+        for mode in modes
+        for k in range(0, len(designs), chunk)
+    ]
+    saved = ChunkStore(store) if store is not None else None
+    results: list[dict[str, np.ndarray] | None] = [None] * len(tasks)
+    if saved is not None:
+        results = [saved.load(task_key(*task)) for task in tasks]
+    missing = [k for k, r in enumerate(results) if r is None]
+    registered = mech.name in registry.mechanisms() and registry.mechanism(mech.name) is mech
+
+    def finished(k: int, result: dict[str, np.ndarray]) -> None:
+        task = tasks[missing[k]]
+        if saved is not None:
+            saved.save(task_key(*task), result)
+        if progress is not None:
+            progress(len(task.designs))
+
+    if progress is not None:
+        progress(sum(len(tasks[k].designs) for k in range(len(tasks)) if k not in set(missing)))
+    work = len(designs) * sum(per_design.values()) * len(modes)
+    with parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
+        fn = atlas_chunk if registered else partial(_chunk, mech)
+        computed = parallel.run_tasks(
+            pool, fn, [tasks[k] for k in missing], describe=AtlasTask.describe, done=finished,
+        )
+    for k, result in zip(missing, computed, strict=True):
+        results[k] = result
+    wall = time.perf_counter() - start
+    atlases = {}
+    for index in indices:
+        values, points = {}, {}
+        for mode in modes:
+            rows = [r for task, r in zip(tasks, results, strict=True) if task.mode == mode]
+            values[mode] = np.full(inside.shape, np.nan)
+            points[mode] = np.zeros(inside.shape, dtype=int)
+            values[mode][inside] = np.concatenate([r[f"values_{index.name}"] for r in rows])
+            points[mode][inside] = np.concatenate([r[f"points_{index.name}"] for r in rows])
+        atlases[index.name] = Atlas(
+            mechanism=mech, index=index, space=space, region=region, modes=modes, u=u, v=v, inside=inside,
+            values=values, points=points, resolution=resolution, pose_resolution=pose_resolution,
+            singularity_margin=margin, wall_time=wall, evaluations=len(designs) * per_design[index.name] * len(modes),
+        )
+    return atlases
+
+
+def compute_atlas(mech: Mechanism, index: GlobalIndex, **options: Any) -> Atlas:
+    """The atlas of one global index over a design space's chart, per working mode: :func:`compute_sweep`
+    with one index, the same options."""
+    return compute_sweep(mech, (index,), **options)[index.name]

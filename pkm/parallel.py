@@ -1,0 +1,166 @@
+"""The executor seam: embarrassingly parallel work as tasks of names and numbers (DESIGN.md section 6a).
+
+Atlas chunks, synthesis starts and baseline chunks are submitted to a ``concurrent.futures.Executor``:
+in this process (small jobs), a local process pool (large ones), or a Dask cluster when a scheduler
+address is set (:func:`use_scheduler`, the ``PKM_SCHEDULER`` environment variable or the CLI's
+``--scheduler``). A task carries a mechanism's or problem's name, arrays and options, never a CasADi
+object; each worker loads a mechanism once (the registry caches it), and the results are those of a
+serial run, bit for bit, whatever the chunking: every design is evaluated on its own.
+
+A task that fails is submitted once more; a second failure raises :class:`ComputationError` naming the
+task's inputs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import multiprocessing
+import os
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pkm import io
+from pkm.errors import ComputationError, PkmError
+
+SCHEDULER_VARIABLE = "PKM_SCHEDULER"
+CONNECT_TIMEOUT = "5s"
+LOCAL_POOL_WORK = 20_000_000  # design-pose evaluations from which a local process pool pays for its start
+RETRIES = 1
+EXECUTORS = ("auto", "serial", "processes")
+
+_SETTINGS: dict[str, str | None] = {"scheduler": None}
+
+
+def use_scheduler(address: str | None) -> None:
+    """Send parallel work to the Dask scheduler at ``address`` (``tcp://host:port``); None restores the
+    local default (serial for small jobs, a process pool for large ones, unless ``PKM_SCHEDULER`` is set)."""
+    if address is not None and (not isinstance(address, str) or not address.strip()):
+        raise PkmError(f"scheduler address {address!r} violates: a non-empty string like tcp://host:8786")
+    _SETTINGS["scheduler"] = address
+
+
+def scheduler() -> str | None:
+    """The scheduler address in force: :func:`use_scheduler`'s, else ``PKM_SCHEDULER``, else None."""
+    return _SETTINGS["scheduler"] or os.environ.get(SCHEDULER_VARIABLE) or None
+
+
+class SerialExecutor(Executor):
+    """Runs each task when it is submitted, in this process."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Future:
+        future: Future = Future()
+        try:
+            future.set_result(fn(*args, **kwargs))
+        except Exception as error:
+            future.set_exception(error)
+        return future
+
+
+def _dask_client(address: str) -> Any:
+    try:
+        from distributed import Client
+    except ImportError:
+        raise PkmError(
+            f"a Dask scheduler ({address}) needs the dask extra: pip install 'pkm[dask]' (dask and distributed)"
+        ) from None
+    try:
+        return Client(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as error:
+        raise PkmError(f"cannot reach the Dask scheduler at {address}: {error}") from None
+
+
+@contextmanager
+def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 1) -> Iterator[Executor]:
+    """The executor for a job: ``kind`` an Executor (used as it is), ``"serial"``, ``"processes"``, or
+    ``"auto"``/None: the Dask cluster of :func:`scheduler` if one is set, else serial below
+    LOCAL_POOL_WORK evaluations (``work``) and a local process pool above."""
+    if isinstance(kind, Executor):
+        yield kind
+        return
+    kind = "auto" if kind is None else kind
+    if kind not in EXECUTORS:
+        raise PkmError(f"executor {kind!r} violates: one of {', '.join(EXECUTORS)} or a concurrent.futures.Executor")
+    address = scheduler() if kind == "auto" else None
+    if address:
+        client = _dask_client(address)
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+        return
+    workers = min(os.cpu_count() or 1, max(tasks, 1))
+    if kind == "serial" or (kind == "auto" and (work < LOCAL_POOL_WORK or workers < 2)):
+        yield SerialExecutor()
+        return
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+        yield pool
+
+
+def run_tasks(
+    pool: Executor,
+    fn: Callable[..., Any],
+    tasks: Sequence[Any],
+    *,
+    describe: Callable[[Any], str],
+    done: Callable[[int, Any], None] | None = None,
+) -> list[Any]:
+    """``fn(task)`` for every task on the executor, results in the tasks' order; ``done(k, result)`` as
+    each finishes. A failed task is submitted once more; a second failure raises ComputationError."""
+    results: list[Any] = [None] * len(tasks)
+    pending = {pool.submit(fn, task): (k, 0) for k, task in enumerate(tasks)}
+    while pending:
+        for future in as_completed(list(pending)):
+            k, attempt = pending.pop(future)
+            try:
+                result = future.result()
+            except Exception as error:
+                if attempt < RETRIES:
+                    pending[pool.submit(fn, tasks[k])] = (k, attempt + 1)
+                    continue
+                raise ComputationError(f"task {describe(tasks[k])} failed twice: {error}") from error
+            results[k] = result
+            if done is not None:
+                done(k, result)
+            break
+    return results
+
+
+def task_key(*parts: Any) -> str:
+    """A key for a task's inputs (names, numbers, arrays): the first 20 hex digits of their SHA-256."""
+    digest = hashlib.sha256()
+    for part in parts:
+        if isinstance(part, np.ndarray):
+            digest.update(str(part.shape).encode())
+            digest.update(np.ascontiguousarray(part, dtype=float).tobytes())
+        else:
+            digest.update(repr(part).encode())
+        digest.update(b"\0")
+    return digest.hexdigest()[:20]
+
+
+class ChunkStore:
+    """Results of finished tasks as ``<folder>/<key>.npz``, each written atomically, so that an
+    interrupted job run again with the same folder computes only what is missing."""
+
+    def __init__(self, folder: Path) -> None:
+        self.folder = Path(folder)
+
+    def load(self, key: str) -> dict[str, np.ndarray] | None:
+        path = self.folder / f"{key}.npz"
+        if not path.exists():
+            return None
+        with np.load(path) as data:
+            return {name: data[name] for name in data.files}
+
+    def save(self, key: str, arrays: dict[str, np.ndarray]) -> None:
+        io.atomic_write(self.folder / f"{key}.npz", lambda tmp: _savez(tmp, arrays))
+
+
+def _savez(path: Path, arrays: dict[str, np.ndarray]) -> None:
+    with open(path, "wb") as handle:
+        np.savez(handle, **arrays)
