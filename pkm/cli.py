@@ -7,6 +7,7 @@ computation fails (for instance IPOPT does not converge).
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 from importlib.metadata import version
 from pathlib import Path
@@ -14,11 +15,12 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from pkm import io, registry
+from pkm import io, parallel, registry
 from pkm.design import Design, parse_design
 from pkm.design_space import parameter_plane
 from pkm.errors import ComputationError, PkmError, UnknownNameError
 from pkm.mechanism import Mechanism
+from pkm.parallel import task_key
 from pkm.progress import Progress
 from pkm.reproduce import reproduce
 from pkm.synthesis import synthesize
@@ -160,41 +162,56 @@ def _undefined(m: Any, region: str) -> str:
     return " ".join(reasons)
 
 
-def cmd_atlas(args: argparse.Namespace) -> None:
-    from pkm.atlas import compute_atlas, default_modes
+CHUNKS = ".pkm-chunks"
 
-    m = registry.mechanism(args.mechanism)
+
+def _space(m: Mechanism, args: argparse.Namespace) -> Any:
     if args.axes:
-        space = parameter_plane(m.parameters, _axes(args.axes))
-    else:
-        if not m.design_spaces:
-            raise PkmError(f"the {m.name} has no design space to draw an atlas in: give --axes")
-        name = args.space or next(iter(m.design_spaces))
-        if name not in m.design_spaces:
-            raise UnknownNameError(f"{m.name} design space", name, sorted(m.design_spaces))
-        space = m.design_spaces[name]
-    index = m.global_spec(args.index)
+        return parameter_plane(m.parameters, _axes(args.axes))
+    if not m.design_spaces:
+        raise PkmError(f"the {m.name} has no design space to draw an atlas in: give --axes")
+    name = args.space or next(iter(m.design_spaces))
+    if name not in m.design_spaces:
+        raise UnknownNameError(f"{m.name} design space", name, sorted(m.design_spaces))
+    return m.design_spaces[name]
+
+
+def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path, label: str) -> dict[str, Any]:
+    """The atlases of ``names`` over the command's design space, chunks kept in ``store``."""
+    from pkm.atlas import compute_sweep, default_modes
+
+    space = _space(m, args)
+    indices = tuple(m.global_spec(name) for name in names)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
     inside = int(space.chart_grid(args.resolution)[2].sum()) if args.resolution >= 3 else 1
-    bar = Progress(len(modes) * inside, f"atlas {args.index}")
-    atlas = compute_atlas(
-        m,
-        index,
-        space=space,
-        modes=modes,
-        region=args.region,
-        resolution=args.resolution,
-        pose_resolution=args.pose_resolution,
-        progress=bar.advance,
+    bar = Progress(len(modes) * inside, label)
+    atlases = compute_sweep(
+        m, indices, space=space, modes=modes, region=args.region, resolution=args.resolution,
+        pose_resolution=args.pose_resolution, progress=bar.advance, executor=args.executor, store=store,
     )
     bar.close()
+    return atlases
+
+
+def _run_key(m: Mechanism, args: argparse.Namespace, names: list[str]) -> str:
+    return task_key(m.name, names, args.space, args.axes, args.region, args.modes, args.resolution,
+                    args.pose_resolution)
+
+
+def cmd_atlas(args: argparse.Namespace) -> None:
+    m = registry.mechanism(args.mechanism)
     out = Path(args.out)
+    store = out / CHUNKS / _run_key(m, args, [args.index])
+    atlas = _sweep(m, args, [args.index], store, f"atlas {args.index}")[args.index]
+    index, space = atlas.index, atlas.space
     stem = f"{m.name}_{args.index}_{args.region}"
     npz = out / f"{stem}.npz"
     png = out / f"{stem}.png"
     best = {mode: atlas.best(mode) for mode in atlas.modes}
     atlas.plot(png)
     atlas.save_npz(npz)
+    shutil.rmtree(store)
+    _remove_if_empty(out / CHUNKS)
     u, v = space.chart_axes
     data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense, "best": best}
     text = "\n".join(
@@ -205,6 +222,33 @@ def cmd_atlas(args: argparse.Namespace) -> None:
         ]
     )
     _emit(args, data, text)
+
+
+def cmd_sweep(args: argparse.Namespace) -> None:
+    m = registry.mechanism(args.mechanism)
+    names = [n.strip() for n in args.indices.split(",") if n.strip()]
+    folder = Path(args.out) / f"{m.name}_sweep_{args.region}_{_run_key(m, args, names)[:8]}"
+    atlases = _sweep(m, args, names, folder / "chunks", f"sweep {len(names)} indices")
+    first = next(iter(atlases.values()))
+    figures = {name: str(a.plot(folder / f"{name}.png")) for name, a in atlases.items()}
+    listing = {
+        "mechanism": m.name, "region": args.region, "space": first.space.name, "modes": list(first.modes),
+        "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
+        "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
+        "inside": first.inside.tolist(), "chunks": sorted(p.name for p in (folder / "chunks").glob("*.npz")),
+        "figures": figures, "wall_time_s": first.wall_time,
+        "format": "chunks/<key>.npz hold values_<index> and points_<index> of a block of the inside nodes of "
+                  "one mode in row-major order; every atlas as a whole is in <index>.npz",
+    }
+    for name, a in atlases.items():
+        a.save_npz(folder / f"{name}.npz")
+    io.write_text(folder / "index.json", io.to_json(listing))
+    _emit(args, {"folder": str(folder), **listing}, f"wrote {len(names)} atlases and their chunks into {folder}")
+
+
+def _remove_if_empty(folder: Path) -> None:
+    if folder.is_dir() and not any(folder.iterdir()):
+        folder.rmdir()
 
 
 def _axes(text: str) -> list[tuple[str, float, float]]:
@@ -291,16 +335,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=int)
     p.add_argument("--margin", type=float, help="singularity margin of the sampled region (1/kappa_f)")
     p.add_argument("--gradient", action="store_true", help="exact gradient (parametrised regions)")
+    def grid_options(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--space", help="design space (default: the mechanism's first)")
+        p.add_argument("--axes", help="two design parameters with bounds instead: name=lower:upper,name=lower:upper")
+        p.add_argument("--region", default="reachable")
+        p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
+        p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")
+        p.add_argument("--pose-resolution", type=int,
+                       help="pose grid (reachable) or quadrature (parametrised region)")
+        p.add_argument("--executor", choices=parallel.EXECUTORS, default="auto",
+                       help="where the chunks run: auto (a Dask scheduler if set, else serial for small jobs and "
+                            "local processes for large ones), serial or processes; default auto")
+
+    def scheduled(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--scheduler", help=f"address of a Dask scheduler (tcp://host:8786) for the parallel work; "
+                                           f"default ${parallel.SCHEDULER_VARIABLE}; needs pip install 'pkm[dask]'")
+
     p = command("atlas", cmd_atlas, "a global index over a normalised design space (npz and figure)")
     p.add_argument("mechanism")
     p.add_argument("index")
-    p.add_argument("--space", help="design space (default: the mechanism's first)")
-    p.add_argument("--axes", help="two design parameters with bounds instead: name=lower:upper,name=lower:upper")
-    p.add_argument("--region", default="reachable")
-    p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
-    p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")
-    p.add_argument("--pose-resolution", type=int, help="pose grid (reachable) or quadrature (parametrised region)")
-    p.add_argument("--out", default="out", help="folder for the npz and the figure")
+    grid_options(p)
+    scheduled(p)
+    p.add_argument("--out", default="out", help="folder for the npz and the figure (an interrupted run resumes "
+                                                 "from the chunks kept there)")
+    p = command("sweep", cmd_sweep, "several global indices over a design space and working modes in one pass "
+                                    "(npz chunks with an index.json, and figures)")
+    p.add_argument("mechanism")
+    p.add_argument("--indices", required=True, help="comma-separated global indices, e.g. gci,gamma_max")
+    grid_options(p)
+    scheduled(p)
+    p.add_argument("--out", default="out", help="folder for the sweep's folder (an interrupted run resumes)")
     p = command("synth", cmd_synth, "solve a synthesis problem with IPOPT and verify it")
     p.add_argument("problem")
     p.add_argument("--resolution", type=int)
@@ -310,16 +374,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--print-level", type=int, help="IPOPT's print_level (default 0, or 5 with --verbose)")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations")
     p.add_argument("--out", help="folder for <problem>.json")
+    scheduled(p)
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
     p.add_argument("paper", help="a paper key (see `pkm list`) or all")
     p.add_argument("--out", default="out")
     p.add_argument("--quick", action="store_true", help="low resolutions (for tests)")
+    scheduled(p)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
+        if getattr(args, "scheduler", None):
+            parallel.use_scheduler(args.scheduler)
+            parallel.connect(args.scheduler).close()
         args.func(args)
     except PkmError as exc:
         print(f"pkm: error: {exc}", file=sys.stderr)

@@ -28,7 +28,7 @@ from pkm import io
 from pkm.errors import ComputationError, PkmError
 
 SCHEDULER_VARIABLE = "PKM_SCHEDULER"
-CONNECT_TIMEOUT = "5s"
+CONNECT_TIMEOUT = "3s"
 LOCAL_POOL_WORK = 20_000_000  # design-pose evaluations from which a local process pool pays for its start
 RETRIES = 1
 EXECUTORS = ("auto", "serial", "processes")
@@ -61,7 +61,9 @@ class SerialExecutor(Executor):
         return future
 
 
-def _dask_client(address: str) -> Any:
+def connect(address: str) -> Any:
+    """A Dask client of the scheduler at ``address`` (PkmError where dask is missing or the scheduler
+    does not answer within CONNECT_TIMEOUT)."""
     try:
         from distributed import Client
     except ImportError:
@@ -87,7 +89,7 @@ def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 
         raise PkmError(f"executor {kind!r} violates: one of {', '.join(EXECUTORS)} or a concurrent.futures.Executor")
     address = scheduler() if kind == "auto" else None
     if address:
-        client = _dask_client(address)
+        client = connect(address)
         try:
             yield client.get_executor()
         finally:
@@ -110,8 +112,15 @@ def run_tasks(
     done: Callable[[int, Any], None] | None = None,
 ) -> list[Any]:
     """``fn(task)`` for every task on the executor, results in the tasks' order; ``done(k, result)`` as
-    each finishes. A failed task is submitted once more; a second failure raises ComputationError."""
+    each finishes (in order on the serial executor, which runs one task at a time). A failed task is
+    submitted once more; a second failure raises ComputationError."""
     results: list[Any] = [None] * len(tasks)
+    if isinstance(pool, SerialExecutor):
+        for k, task in enumerate(tasks):
+            results[k] = _twice(fn, task, describe)
+            if done is not None:
+                done(k, results[k])
+        return results
     pending = {pool.submit(fn, task): (k, 0) for k, task in enumerate(tasks)}
     while pending:
         for future in as_completed(list(pending)):
@@ -128,6 +137,17 @@ def run_tasks(
                 done(k, result)
             break
     return results
+
+
+def _twice(fn: Callable[[Any], Any], task: Any, describe: Callable[[Any], str]) -> Any:
+    """``fn(task)`` in this process, tried once more if it fails."""
+    failure: Exception | None = None
+    for _ in range(RETRIES + 1):
+        try:
+            return fn(task)
+        except Exception as error:
+            failure = error
+    raise ComputationError(f"task {describe(task)} failed twice: {failure}") from failure
 
 
 def task_key(*parts: Any) -> str:

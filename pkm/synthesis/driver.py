@@ -6,19 +6,24 @@ problem says otherwise) second derivatives from the best feasible screening poin
 converged optimum with a quadrature 4x denser and by sampling each quantity on a grid of its region,
 and reports the best by its verified objective, never by the optimiser's quadrature. Each baseline
 (the papers' own search) runs through the same model, timed and counted, and its best point is
-verified the same way.
+verified the same way. The starts and the baselines' chunks of points are tasks of names and numbers
+(:mod:`pkm.parallel`): for a registered problem they run where the executor says, with the same results.
 """
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from functools import lru_cache, partial
+from typing import Any, NamedTuple
 
 import casadi as ca
 import numpy as np
 
+from pkm import parallel, registry
 from pkm.errors import ComputationError, PkmError, check_integer
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
@@ -141,6 +146,88 @@ def _named(problem: Problem, values: np.ndarray) -> dict[str, float]:
     return dict(zip(problem.variable_names, (float(v) for v in values), strict=True))
 
 
+BASELINE_CHUNK = 256  # baseline points per task
+
+
+class StartTask(NamedTuple):
+    """One IPOPT run of a registered problem: its name, the start (variables), the quadrature resolution
+    and IPOPT's options as JSON."""
+
+    problem: str
+    start: np.ndarray
+    resolution: int
+    options: str
+
+    def describe(self) -> str:
+        return f"IPOPT on {self.problem} from {self.start.tolist()} at resolution {self.resolution}"
+
+
+class PointsTask(NamedTuple):
+    """The objective and feasibility of a registered problem at points (n, n_vars)."""
+
+    problem: str
+    points: np.ndarray
+    resolution: int
+
+    def describe(self) -> str:
+        return f"{self.problem} at {len(self.points)} points from {self.points[0].tolist()}"
+
+
+@lru_cache(maxsize=8)
+def _model(name: str) -> ProblemModel:
+    return ProblemModel(registry.problem(name))
+
+
+@lru_cache(maxsize=8)
+def _solver(name: str, resolution: int, options: str) -> tuple[Any, dict[str, Any]]:
+    return _nlp(_model(name), resolution, json.loads(options))
+
+
+def _nlp(model: ProblemModel, resolution: int, options: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
+    """IPOPT's solver of the problem at a resolution and the bounds of its variables and constraints."""
+    problem = model.problem
+    nlp, lower, upper = model.nlp(resolution)
+    extra = len(model.extremes)
+    solver = ca.nlpsol(problem.name.replace(".", "_"), "ipopt", nlp, options)
+    bounds = {
+        "lbx": [v.lower for v in problem.variables] + [-np.inf] * extra,
+        "ubx": [v.upper for v in problem.variables] + [np.inf] * extra,
+        "lbg": lower,
+        "ubg": upper,
+    }
+    return solver, bounds
+
+
+def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask) -> Run:
+    problem, res = model.problem, task.resolution
+    sol = solver(x0=model.start(task.start, res), **bounds)
+    stats = solver.stats()
+    calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
+    x = np.asarray(sol["x"]).ravel()
+    w = x[: len(problem.variables)]
+    value = model.sign * float(sol["f"])
+    status, success = stats["return_status"], bool(stats["success"])
+    if success and not model.tight(w, x[len(problem.variables) :], res):
+        status, success = "Epigraph_Not_Tight", False
+    return Run(_named(problem, task.start), status, success, int(stats["iter_count"]), calls, value,
+               _named(problem, w))
+
+
+def solve_start(task: StartTask) -> Run:
+    """One start of a registered problem in a worker (the model and solver built once per process)."""
+    solver, bounds = _solver(task.problem, task.resolution, task.options)
+    return _solve(_model(task.problem), solver, bounds, task)
+
+
+def _points(model: ProblemModel, task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
+    return model.evaluate(task.points, task.resolution)
+
+
+def evaluate_points(task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
+    """A chunk of a registered problem's baseline in a worker."""
+    return _points(_model(task.problem), task)
+
+
 def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -> tuple[np.ndarray, np.ndarray]:
     """The screening points and the indices of the starts: the best feasible points, or where none is
     feasible the least infeasible (IPOPT starts from infeasible points too)."""
@@ -175,6 +262,7 @@ def synthesize(
     print_level: int | None = None,
     verbose: bool = False,
     progress: Callable[[str], None] | None = None,
+    executor: str | Executor | None = None,
 ) -> SynthesisResult:
     """Solve a synthesis problem with IPOPT from several starts and verify the optimum.
 
@@ -188,6 +276,9 @@ def synthesize(
         ``verbose``).
     verbose : print IPOPT's iterations and timing.
     progress : called with a short message at each stage.
+    executor : where the starts and the baselines' chunks run (:func:`pkm.parallel.executor`): by default
+        a Dask cluster when a scheduler is set, else this process; a problem outside the registry runs
+        in this process.
     """
     res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1)
     n_starts = check_integer("starts", problem.starts if starts is None else starts, 1)
@@ -200,32 +291,15 @@ def synthesize(
     say("screening")
     t0 = time.perf_counter()
     points, order = _screen(model, res, problem.screening_resolution, n_starts)
-    nlp, lower, upper = model.nlp(res)
-    extra = len(model.extremes)
-    solver = ca.nlpsol(problem.name.replace(".", "_"), "ipopt", nlp, options)
-    bounds = {
-        "lbx": [v.lower for v in problem.variables] + [-np.inf] * extra,
-        "ubx": [v.upper for v in problem.variables] + [np.inf] * extra,
-        "lbg": lower,
-        "ubg": upper,
-    }
-    runs: list[Run] = []
-    evaluations = len(points)
-    for k, index in enumerate(order):
-        say(f"IPOPT from start {k + 1}/{len(order)}")
-        x0 = model.start(points[index], res)
-        sol = solver(x0=x0, **bounds)
-        stats = solver.stats()
-        calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
-        evaluations += calls
-        x = np.asarray(sol["x"]).ravel()
-        w = x[: len(problem.variables)]
-        value = model.sign * float(sol["f"])
-        status, success = stats["return_status"], bool(stats["success"])
-        if success and not model.tight(w, x[len(problem.variables) :], res):
-            status, success = "Epigraph_Not_Tight", False
-        runs.append(Run(_named(problem, points[index]), status, success, int(stats["iter_count"]), calls, value,
-                        _named(problem, w)))
+    registered = registry.problems().get(problem.name) is problem
+    where = executor if registered else "serial"
+    tasks = [StartTask(problem.name, points[index], res, json.dumps(options, sort_keys=True)) for index in order]
+    say(f"IPOPT from {len(tasks)} starts")
+    with parallel.executor(where, tasks=len(tasks)) as pool:
+        local = isinstance(pool, parallel.SerialExecutor)
+        solve = partial(_solve, model, *_nlp(model, res, options)) if local else solve_start
+        runs = parallel.run_tasks(pool, solve, tasks, describe=StartTask.describe)
+    evaluations = len(points) + sum(r.evaluations for r in runs)
     opt_time = time.perf_counter() - t0
     good = [r for r in runs if r.success]
     if not good:
@@ -254,7 +328,14 @@ def synthesize(
         t1 = time.perf_counter()
         n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
         candidates_at = np.atleast_2d(base.points(n))
-        values, feasible = model.evaluate(candidates_at, res)
+        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], res)
+                  for k in range(0, len(candidates_at), BASELINE_CHUNK)]
+        with parallel.executor(where, tasks=len(chunks)) as pool:
+            local = isinstance(pool, parallel.SerialExecutor)
+            evaluate = partial(_points, model) if local else evaluate_points
+            parts = parallel.run_tasks(pool, evaluate, chunks, describe=PointsTask.describe)
+        values = np.concatenate([v for v, _ in parts])
+        feasible = np.concatenate([f for _, f in parts])
         wall = time.perf_counter() - t1
         pick = model.best(values, feasible)
         if len(pick) == 0:

@@ -1,0 +1,143 @@
+"""The executor seam (pkm.parallel): serial, a local process pool and a Dask cluster give the same
+atlases and optima; an interrupted atlas resumes from its stored chunks; a bad scheduler address and a
+missing dask extra give pkm's errors."""
+
+from __future__ import annotations
+
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm import parallel, registry
+from pkm.atlas import compute_atlas
+from pkm.cli import main
+from pkm.errors import ComputationError, PkmError
+
+PROBLEM = "five_bar.max_gci_miw"
+
+
+def _atlas(executor, **options):
+    m = pkm.load("five_bar")
+    options = {"chunk": 7, **options}
+    return compute_atlas(m, registry.global_index("gci"), space=m.design_spaces["gao1998"], region="miw",
+                         resolution=9, pose_resolution=3, executor=executor, **options)
+
+
+def _synthesis(executor):
+    return pkm.synthesize(PROBLEM, resolution=3, baseline_resolution=9, starts=2, executor=executor)
+
+
+@pytest.fixture(scope="module")
+def serial():
+    return _atlas("serial"), _synthesis("serial")
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None,
+                                  processes=True) as local:
+        yield local.scheduler_address
+
+
+def _same(atlas_a, atlas_b) -> None:
+    assert atlas_a.modes == atlas_b.modes
+    for mode in atlas_a.modes:
+        np.testing.assert_array_equal(atlas_a.values[mode], atlas_b.values[mode])
+        np.testing.assert_array_equal(atlas_a.points[mode], atlas_b.points[mode])
+
+
+def test_a_process_pool_gives_the_serial_atlas_and_optimum_bit_for_bit(serial):
+    atlas, result = serial
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        _same(atlas, _atlas(pool))
+        pooled = _synthesis(pool)
+    assert pooled.variables == result.variables
+    assert pooled.objective == result.objective
+    assert [r.variables for r in pooled.runs] == [r.variables for r in result.runs]
+
+
+def test_a_dask_cluster_by_address_gives_the_serial_atlas_and_optimum(serial, cluster):
+    atlas, result = serial
+    pkm.use_scheduler(cluster)
+    try:
+        _same(atlas, _atlas(None))
+        dask = _synthesis(None)
+    finally:
+        pkm.use_scheduler(None)
+    assert dask.variables == result.variables
+    assert dask.objective == result.objective
+    assert dask.baselines["grid"].best.variables == result.baselines["grid"].best.variables
+
+
+def test_a_chunking_does_not_change_the_values(serial):
+    atlas, _ = serial
+    _same(atlas, _atlas("serial", chunk=1000))
+
+
+def test_an_interrupted_atlas_resumes_from_its_chunks_and_matches(serial, tmp_path):
+    atlas, _ = serial
+    store = tmp_path / "chunks"
+    finished = []
+
+    def interrupt(designs: int) -> None:
+        finished.append(designs)
+        if len(finished) == 3:  # the resumed count (0), then two chunks
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        _atlas("serial", store=store, progress=interrupt)
+    kept = sorted(store.glob("*.npz"))
+    assert len(kept) == 2
+    assert not list(store.glob(".*"))  # nothing half-written
+    computed = []
+    resumed = _atlas("serial", store=store, progress=computed.append)
+    _same(atlas, resumed)
+    per_mode = int(atlas.inside.sum())
+    total = per_mode * len(atlas.modes)
+    sizes = [min(7, per_mode - k) for _ in atlas.modes for k in range(0, per_mode, 7)]
+    assert computed[0] == sizes[0] + sizes[1]  # the two stored chunks, counted at once
+    assert sum(computed) == total
+
+
+def test_a_failing_task_is_retried_once_then_reported_with_its_inputs():
+    attempts = []
+
+    def flaky(task):
+        attempts.append(task)
+        if task == "bad" or attempts.count(task) == 1:
+            raise RuntimeError(f"boom {task}")
+        return task * 2
+
+    with parallel.executor("serial") as pool:
+        assert parallel.run_tasks(pool, flaky, ["a", "b"], describe=str) == ["aa", "bb"]
+        with pytest.raises(ComputationError, match="task bad failed twice: boom bad"):
+            parallel.run_tasks(pool, flaky, ["bad"], describe=str)
+
+
+def test_a_bad_scheduler_address_is_pkms_error_within_seconds(capfd):
+    start = time.perf_counter()
+    status = main(["atlas", "five_bar", "gci", "--resolution", "5", "--scheduler", "tcp://127.0.0.1:9"])
+    assert time.perf_counter() - start < 15
+    assert status == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err[0]
+    with pytest.raises(PkmError, match="non-empty string"):
+        pkm.use_scheduler("  ")
+
+
+def test_without_the_dask_extra_only_a_scheduler_needs_it(monkeypatch, tmp_path, serial):
+    atlas, _ = serial
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    _same(atlas, _atlas("serial"))
+    monkeypatch.setenv(parallel.SCHEDULER_VARIABLE, "tcp://127.0.0.1:8786")
+    with pytest.raises(PkmError, match=r"pip install 'pkm\[dask\]'"):
+        _atlas(None)
+    assert main(["atlas", "five_bar", "gci", "--resolution", "5", "--out", str(tmp_path),
+                 "--scheduler", "tcp://127.0.0.1:8786"]) == 2
