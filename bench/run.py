@@ -28,7 +28,7 @@ from typing import Any
 import casadi
 import numpy as np
 
-from bench import dynamics, gantry, passive_leg, throughput, ups_pu
+from bench import dynamics, gantry, passive_leg, scale_out, throughput, ups_pu
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
 
@@ -206,6 +206,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--no-passive-leg", action="store_true", help="skip the passive-leg manipulator benchmarks (bench.passive_leg)"
     )
+    parser.add_argument("--no-scale-out", action="store_true", help="skip the executor benchmark (bench.scale_out)")
     args = parser.parse_args(argv)
     report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
     report["machine"] = machine()
@@ -218,11 +219,15 @@ def main(argv: list[str] | None = None) -> int:
         report["ups_pu"] = ups_pu.run(n, 3, log)
     if not args.no_passive_leg:
         report["passive_leg"] = passive_leg.run(n, n // 10, 3, log)
+    if not args.no_scale_out:
+        report["scale_out"] = scale_out.run(21 if args.quick else 61, 32, 64, 3, log)
     print(markdown(report))
     if "ups_pu" in report:
         print("\n## 2-UPS-PU (Zhao 2008)\n\n" + ups_pu.markdown(report["ups_pu"]))
     if "passive_leg" in report:
         print("\n## passive_leg (Nam 2006)\n\n" + passive_leg.markdown(report["passive_leg"]))
+    if "scale_out" in report:
+        print("\n## Scale-out (executor seam)\n\n" + scale_out.markdown(report["scale_out"]))
     if args.json:
         path = Path(args.json)
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -188,6 +188,7 @@ def _chunk(mech: Mechanism, task: AtlasTask) -> dict[str, np.ndarray]:
 
 def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
     """One task of an atlas in a worker: the mechanism by its name (see :mod:`pkm.parallel`)."""
+    parallel.as_worker()
     return _chunk(registry.mechanism(task.mechanism), task)
 
 

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io
+from pkm import batch, io
 from pkm.errors import ComputationError, PkmError
 
 SCHEDULER_VARIABLE = "PKM_SCHEDULER"
@@ -148,6 +148,12 @@ def _twice(fn: Callable[[Any], Any], task: Any, describe: Callable[[Any], str]) 
         except Exception as error:
             failure = error
     raise ComputationError(f"task {describe(task)} failed twice: {failure}") from failure
+
+
+def as_worker() -> None:
+    """Evaluate on one thread in this process: a worker is one core of its executor, whose number of
+    workers is the parallelism (CasADi's thread maps in every worker would oversubscribe the cores)."""
+    batch.THREADS = 1
 
 
 def task_key(*parts: Any) -> str:

@@ -30,3 +30,10 @@ def test_passive_leg_tables_are_quoted_from_the_committed_run():
 
     report = json.loads((RUNS / "passive_leg.json").read_text())
     assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_scale_out_table_is_quoted_from_the_committed_run():
+    from bench.scale_out import markdown
+
+    report = json.loads((RUNS / "scale_out.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()

@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import pkm
@@ -121,3 +122,20 @@ def test_console_entry_exits_2_with_one_line():
     assert "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert "r1 = nan is not finite" in proc.stderr
+
+
+def test_sweep_writes_chunks_an_index_and_figures_and_an_atlas_leaves_no_chunks(tmp_path, capsys):
+    assert main(["sweep", "five_bar", "--indices", "gci,gamma_max", "--region", "miw", "--resolution", "5",
+                 "--pose-resolution", "2", "--executor", "serial", "--out", str(tmp_path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    folder = tmp_path / data["folder"].split("/")[-1]
+    listing = json.loads((folder / "index.json").read_text())
+    assert listing["indices"] == ["gci", "gamma_max"]
+    assert set(listing["chunks"]) == {p.name for p in (folder / "chunks").glob("*.npz")}
+    for name in ("gci", "gamma_max"):
+        assert (folder / f"{name}.png").stat().st_size > 1000
+        with np.load(folder / f"{name}.npz") as atlas:
+            assert np.isfinite(atlas[f"values_{listing['modes'][0]}"]).any()
+    assert main(["atlas", "five_bar", "gci", "--region", "miw", "--resolution", "5", "--pose-resolution", "2",
+                 "--out", str(tmp_path)]) == 0
+    assert not (tmp_path / ".pkm-chunks").exists()

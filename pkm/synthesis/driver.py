@@ -215,6 +215,7 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
 
 def solve_start(task: StartTask) -> Run:
     """One start of a registered problem in a worker (the model and solver built once per process)."""
+    parallel.as_worker()
     solver, bounds = _solver(task.problem, task.resolution, task.options)
     return _solve(_model(task.problem), solver, bounds, task)
 
@@ -225,6 +226,7 @@ def _points(model: ProblemModel, task: PointsTask) -> tuple[np.ndarray, np.ndarr
 
 def evaluate_points(task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
     """A chunk of a registered problem's baseline in a worker."""
+    parallel.as_worker()
     return _points(_model(task.problem), task)
 
 
