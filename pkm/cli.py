@@ -386,10 +386,11 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        if getattr(args, "scheduler", None):
-            parallel.use_scheduler(args.scheduler)
-            parallel.connect(args.scheduler).close()
-        args.func(args)
+        address = getattr(args, "scheduler", None)
+        if address:
+            parallel.connect(address).close()
+        with parallel.scheduled(address or parallel.scheduler()):
+            args.func(args)
     except PkmError as exc:
         print(f"pkm: error: {exc}", file=sys.stderr)
         return 2

@@ -44,6 +44,17 @@ def use_scheduler(address: str | None) -> None:
     _SETTINGS["scheduler"] = address
 
 
+@contextmanager
+def scheduled(address: str | None) -> Iterator[None]:
+    """:func:`use_scheduler` for the duration of a block, the previous setting restored after it."""
+    previous = _SETTINGS["scheduler"]
+    use_scheduler(address)
+    try:
+        yield
+    finally:
+        _SETTINGS["scheduler"] = previous
+
+
 def scheduler() -> str | None:
     """The scheduler address in force: :func:`use_scheduler`'s, else ``PKM_SCHEDULER``, else None."""
     return _SETTINGS["scheduler"] or os.environ.get(SCHEDULER_VARIABLE) or None
