@@ -212,9 +212,9 @@ def forward(n: int, subset: int, repeats: int, log: Callable[[str], None]) -> di
     for name, size, fn in (
         ("numpy.roots in a Python loop (real roots only)", subset, lambda: numpy_real_roots(c[:subset])),
         (
-            "pkm forward.roots (coefficients + batched companion eigenvalues + polish)",
+            "pkm forward.compute (coefficients + batched companion eigenvalues + polish)",
             n,
-            lambda: m.forward.roots(m.functions, q, design),
+            lambda: m.forward.compute(m.functions, q, design),
         ),
         ("pkm forward_solutions (+ poses, joints, working modes)", n, lambda: m.forward_solutions(q, design)),
     ):

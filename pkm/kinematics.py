@@ -322,10 +322,11 @@ class PolynomialRoots:
             if len(_ROOTS) >= ROOTS_KEPT:
                 _ROOTS.pop(next(iter(_ROOTS)))
             # the table is kept with its roots, so that its id cannot be reused while the entry lives
-            _ROOTS[key] = (functions, self._roots(functions, q_a, design))
+            _ROOTS[key] = (functions, self.compute(functions, q_a, design))
         return _ROOTS[key][1].copy()
 
-    def _roots(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
+    def compute(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
+        """The real roots as :meth:`roots` gives them, computed afresh (no kept results)."""
         (c,) = evaluate(functions[self.polynomial], q_a, design)
         c = c.reshape(len(q_a), -1)
         degree = c.shape[1] - 1

@@ -278,7 +278,7 @@ class PassiveLeg(Mechanism):
         and loop residual; the leading axis is dropped for a single configuration."""
         qa, single = as_batch(q, self.n_act, "actuated joints")
         d = self.design_vector(design)
-        roots = self.forward.roots(self.functions, qa, d)
+        roots = self.forward.compute(self.functions, qa, d)
         n, k = roots.shape
         found = np.isfinite(roots.ravel())
         x, q_all, reach = evaluate(self.functions["forward_refined"], np.nan_to_num(roots.reshape(-1, 1)),
