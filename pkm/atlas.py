@@ -14,6 +14,7 @@ from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from functools import partial
+from importlib.metadata import version as installed_version
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -244,8 +245,11 @@ def compute_sweep(
         is set, else in this process for small atlases and a local process pool for large ones. The
         values are the same on every executor. A mechanism outside the registry runs in this process.
     store : path, optional
-        A folder for the finished chunks (:class:`pkm.parallel.ChunkStore`): run again with the same
-        folder, an interrupted atlas computes only the chunks it lacks.
+        A folder for the finished chunks (:class:`pkm.parallel.ChunkStore`; a registered mechanism's only):
+        run again with the same folder, an interrupted atlas computes only the chunks it lacks. A chunk
+        is keyed by its task, pkm's version and the hash of the mechanism's generated module, and holds
+        ``values_<index>``, ``points_<index>``, its ``mode`` and the ``start`` and ``count`` of its rows
+        among the space's inside nodes (row-major).
     chunk : int
         Designs per task.
 
@@ -294,17 +298,28 @@ def compute_sweep(
         for mode in modes
         for k in range(0, len(designs), chunk)
     ]
-    saved = ChunkStore(store) if store is not None else None
+    if not tasks:
+        raise PkmError(f"the {space.name} chart at resolution {resolution} has no design inside the space")
+    registered = mech.name in registry.mechanisms() and registry.mechanism(mech.name) is mech
+    saved = ChunkStore(store) if store is not None and registered else None
+    stamp = (installed_version("pkm"), mech.functions.source_hash) if saved is not None else ()
+    starts = dict.fromkeys(modes, 0)
+    offsets = []
+    for task in tasks:
+        offsets.append(starts[task.mode])
+        starts[task.mode] += len(task.designs)
+    keys = [task_key(*stamp, *task) for task in tasks]
     results: list[dict[str, np.ndarray] | None] = [None] * len(tasks)
     if saved is not None:
-        results = [saved.load(task_key(*task)) for task in tasks]
+        results = [saved.load(key) for key in keys]
     missing = [k for k, r in enumerate(results) if r is None]
-    registered = mech.name in registry.mechanisms() and registry.mechanism(mech.name) is mech
 
     def finished(k: int, result: dict[str, np.ndarray]) -> None:
         task = tasks[missing[k]]
         if saved is not None:
-            saved.save(task_key(*task), result)
+            meta = {"mode": np.array(task.mode), "start": np.array(offsets[missing[k]]),
+                    "count": np.array(len(task.designs))}
+            saved.save(keys[missing[k]], {**result, **meta})
         if progress is not None:
             progress(len(task.designs))
 
@@ -312,7 +327,7 @@ def compute_sweep(
         progress(sum(len(tasks[k].designs) for k in range(len(tasks)) if k not in set(missing)))
     work = len(designs) * sum(per_design.values()) * len(modes)
     with parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
-        fn = atlas_chunk if registered else partial(_chunk, mech)
+        fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk
         computed = parallel.run_tasks(
             pool, fn, [tasks[k] for k in missing], describe=AtlasTask.describe, done=finished,
         )

@@ -210,7 +210,7 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     best = {mode: atlas.best(mode) for mode in atlas.modes}
     atlas.plot(png)
     atlas.save_npz(npz)
-    shutil.rmtree(store)
+    shutil.rmtree(store, ignore_errors=True)
     _remove_if_empty(out / CHUNKS)
     u, v = space.chart_axes
     data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense, "best": best}
@@ -228,17 +228,23 @@ def cmd_sweep(args: argparse.Namespace) -> None:
     m = registry.mechanism(args.mechanism)
     names = [n.strip() for n in args.indices.split(",") if n.strip()]
     folder = Path(args.out) / f"{m.name}_sweep_{args.region}_{_run_key(m, args, names)[:8]}"
+    (folder / "index.json").unlink(missing_ok=True)
     atlases = _sweep(m, args, names, folder / "chunks", f"sweep {len(names)} indices")
     first = next(iter(atlases.values()))
     figures = {name: str(a.plot(folder / f"{name}.png")) for name, a in atlases.items()}
+    chunks = []
+    for path in (folder / "chunks").glob("[!.]*.npz"):
+        with np.load(path) as data:
+            chunks.append({"file": f"chunks/{path.name}", "mode": str(data["mode"]), "start": int(data["start"]),
+                           "count": int(data["count"])})
+    chunks.sort(key=lambda c: (list(first.modes).index(c["mode"]), c["start"]))
     listing = {
         "mechanism": m.name, "region": args.region, "space": first.space.name, "modes": list(first.modes),
         "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
         "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
-        "inside": first.inside.tolist(), "chunks": sorted(p.name for p in (folder / "chunks").glob("*.npz")),
-        "figures": figures, "wall_time_s": first.wall_time,
-        "format": "chunks/<key>.npz hold values_<index> and points_<index> of a block of the inside nodes of "
-                  "one mode in row-major order; every atlas as a whole is in <index>.npz",
+        "inside": first.inside.tolist(), "chunks": chunks, "figures": figures, "wall_time_s": first.wall_time,
+        "format": "each chunk holds values_<index> and points_<index> of `count` inside nodes of one mode from "
+                  "`start` on (the chart grid's inside nodes in row-major order); <index>.npz holds each atlas whole",
     }
     for name, a in atlases.items():
         a.save_npz(folder / f"{name}.npz")
@@ -386,10 +392,10 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
-        address = getattr(args, "scheduler", None)
-        if address:
+        address = getattr(args, "scheduler", None) or parallel.scheduler()
+        if address and args.func in PARALLEL_COMMANDS:
             parallel.connect(address).close()
-        with parallel.scheduled(address or parallel.scheduler()):
+        with parallel.scheduled(address):
             args.func(args)
     except PkmError as exc:
         print(f"pkm: error: {exc}", file=sys.stderr)
@@ -398,6 +404,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"pkm: computation failed: {exc}", file=sys.stderr)
         return 1
     return 0
+
+
+PARALLEL_COMMANDS = (cmd_atlas, cmd_sweep, cmd_synth, cmd_reproduce)
 
 
 if __name__ == "__main__":

@@ -130,6 +130,11 @@ class GeneratedFunctions(FunctionTable):
         self.expected = {"PARAMETERS": tuple(parameters), "POSE": tuple(pose), "ACTUATORS": tuple(actuators)}
         self.extra = extra
 
+    @property
+    def source_hash(self) -> str:
+        """The generated module's hash of the symbolic sources it was derived from."""
+        return importlib.import_module(f"generated.{self.module}").SOURCE_HASH
+
     def check(self) -> None:
         """Import the generated module (without building its functions) and compare its names."""
         generated = importlib.import_module(f"generated.{self.module}")

@@ -16,8 +16,10 @@ from __future__ import annotations
 import hashlib
 import multiprocessing
 import os
+import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import Executor, Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, BrokenExecutor, Executor, Future, ProcessPoolExecutor, wait
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -73,25 +75,38 @@ class SerialExecutor(Executor):
 
 
 def connect(address: str) -> Any:
-    """A Dask client of the scheduler at ``address`` (PkmError where dask is missing or the scheduler
-    does not answer within CONNECT_TIMEOUT)."""
+    """A Dask client of the scheduler at ``address``: PkmError where dask is missing, or where the
+    scheduler does not answer as one within CONNECT_TIMEOUT (whatever listens there)."""
     try:
         from distributed import Client
     except ImportError:
         raise PkmError(
             f"a Dask scheduler ({address}) needs the dask extra: pip install 'pkm[dask]' (dask and distributed)"
         ) from None
-    try:
-        return Client(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as error:
-        raise PkmError(f"cannot reach the Dask scheduler at {address}: {error}") from None
+    seconds = float(CONNECT_TIMEOUT.rstrip("s"))
+    outcome: dict[str, Any] = {}
+
+    def start() -> None:
+        try:
+            outcome["client"] = Client(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except BaseException as error:
+            outcome["error"] = error
+
+    thread = threading.Thread(target=start, daemon=True)
+    thread.start()
+    thread.join(2 * seconds)
+    if "client" in outcome:
+        return outcome["client"]
+    reason = outcome.get("error", f"no answer as a Dask scheduler within {2 * seconds:g} s")
+    raise PkmError(f"cannot reach the Dask scheduler at {address}: {reason}")
 
 
 @contextmanager
 def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 1) -> Iterator[Executor]:
     """The executor for a job: ``kind`` an Executor (used as it is), ``"serial"``, ``"processes"``, or
     ``"auto"``/None: the Dask cluster of :func:`scheduler` if one is set, else serial below
-    LOCAL_POOL_WORK evaluations (``work``) and a local process pool above."""
+    LOCAL_POOL_WORK evaluations (``work``) and a local process pool above (forked on Linux, so that a
+    script without a ``__main__`` guard is not run again in the workers; spawned elsewhere)."""
     if isinstance(kind, Executor):
         yield kind
         return
@@ -110,8 +125,14 @@ def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 
     if kind == "serial" or (kind == "auto" and (work < LOCAL_POOL_WORK or workers < 2)):
         yield SerialExecutor()
         return
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    method = "fork" if sys.platform == "linux" else "spawn"
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method))
+    try:
         yield pool
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def run_tasks(
@@ -123,8 +144,9 @@ def run_tasks(
     done: Callable[[int, Any], None] | None = None,
 ) -> list[Any]:
     """``fn(task)`` for every task on the executor, results in the tasks' order; ``done(k, result)`` as
-    each finishes (in order on the serial executor, which runs one task at a time). A failed task is
-    submitted once more; a second failure raises ComputationError."""
+    each finishes (in order on the serial executor, which runs one task at a time). A task that fails
+    is submitted once more; a second failure, or a lost worker, raises ComputationError naming the
+    task; pkm's own errors (bad input) pass at once. On any error the tasks still queued are cancelled."""
     results: list[Any] = [None] * len(tasks)
     if isinstance(pool, SerialExecutor):
         for k, task in enumerate(tasks):
@@ -132,30 +154,49 @@ def run_tasks(
             if done is not None:
                 done(k, results[k])
         return results
-    pending = {pool.submit(fn, task): (k, 0) for k, task in enumerate(tasks)}
-    while pending:
-        for future in as_completed(list(pending)):
-            k, attempt = pending.pop(future)
-            try:
-                result = future.result()
-            except Exception as error:
-                if attempt < RETRIES:
-                    pending[pool.submit(fn, tasks[k])] = (k, attempt + 1)
+    pending: dict[Future, tuple[int, int]] = {}
+    try:
+        for k, task in enumerate(tasks):
+            pending[_submit(pool, fn, task, describe)] = (k, 0)
+        while pending:
+            finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            for future in finished:
+                k, attempt = pending.pop(future)
+                try:
+                    results[k] = future.result()
+                except PkmError:
+                    raise
+                except BrokenExecutor as error:
+                    raise ComputationError(f"task {describe(tasks[k])} lost its worker: {error}") from error
+                except Exception as error:
+                    if attempt >= RETRIES:
+                        raise ComputationError(f"task {describe(tasks[k])} failed twice: {error}") from error
+                    pending[_submit(pool, fn, tasks[k], describe)] = (k, attempt + 1)
                     continue
-                raise ComputationError(f"task {describe(tasks[k])} failed twice: {error}") from error
-            results[k] = result
-            if done is not None:
-                done(k, result)
-            break
+                if done is not None:
+                    done(k, results[k])
+    except BaseException:
+        for future in pending:
+            future.cancel()
+        raise
     return results
 
 
+def _submit(pool: Executor, fn: Callable[[Any], Any], task: Any, describe: Callable[[Any], str]) -> Future:
+    try:
+        return pool.submit(fn, task)
+    except BrokenExecutor as error:
+        raise ComputationError(f"task {describe(task)} could not start: a worker was lost ({error})") from error
+
+
 def _twice(fn: Callable[[Any], Any], task: Any, describe: Callable[[Any], str]) -> Any:
-    """``fn(task)`` in this process, tried once more if it fails."""
+    """``fn(task)`` in this process, tried once more if it fails (pkm's own errors pass at once)."""
     failure: Exception | None = None
     for _ in range(RETRIES + 1):
         try:
             return fn(task)
+        except PkmError:
+            raise
         except Exception as error:
             failure = error
     raise ComputationError(f"task {describe(task)} failed twice: {failure}") from failure

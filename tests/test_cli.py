@@ -131,7 +131,11 @@ def test_sweep_writes_chunks_an_index_and_figures_and_an_atlas_leaves_no_chunks(
     folder = tmp_path / data["folder"].split("/")[-1]
     listing = json.loads((folder / "index.json").read_text())
     assert listing["indices"] == ["gci", "gamma_max"]
-    assert set(listing["chunks"]) == {p.name for p in (folder / "chunks").glob("*.npz")}
+    assert {c["file"] for c in listing["chunks"]} == {f"chunks/{p.name}" for p in (folder / "chunks").glob("*.npz")}
+    first = [c for c in listing["chunks"] if c["mode"] == listing["modes"][0]]
+    inside = int(np.sum(listing["inside"]))
+    assert [c["start"] for c in first] == list(np.cumsum([0] + [c["count"] for c in first[:-1]]))
+    assert sum(c["count"] for c in first) == inside
     for name in ("gci", "gamma_max"):
         assert (folder / f"{name}.png").stat().st_size > 1000
         with np.load(folder / f"{name}.npz") as atlas:

@@ -142,3 +142,48 @@ def test_without_the_dask_extra_only_a_scheduler_needs_it(monkeypatch, tmp_path,
         _atlas(None)
     assert main(["atlas", "five_bar", "gci", "--resolution", "5", "--out", str(tmp_path),
                  "--scheduler", "tcp://127.0.0.1:8786"]) == 2
+
+
+def _exit(_task):
+    import os
+
+    os._exit(1)
+
+
+def test_a_lost_worker_is_pkms_computation_error_naming_the_task():
+    with ProcessPoolExecutor(1, mp_context=get_context("fork")) as pool, pytest.raises(
+            ComputationError, match=r"task chunk 7 .*worker"):
+        parallel.run_tasks(pool, _exit, [7], describe=lambda t: f"chunk {t}")
+
+
+def test_bad_input_in_a_task_is_not_retried():
+    calls = []
+
+    def bad(task):
+        calls.append(task)
+        raise PkmError("resolution = 0 violates resolution >= 1")
+
+    with parallel.executor("serial") as pool, pytest.raises(PkmError, match="resolution = 0"):
+        parallel.run_tasks(pool, bad, [1], describe=str)
+    assert calls == [1]
+
+
+def test_a_serial_atlas_leaves_the_callers_threads_alone(serial):
+    from pkm import batch
+
+    before = batch.THREADS
+    _atlas("serial")
+    assert before == batch.THREADS
+
+
+def test_an_address_that_is_not_a_dask_scheduler_is_refused_within_seconds(monkeypatch):
+    import socket
+
+    monkeypatch.setattr(parallel, "CONNECT_TIMEOUT", "1s")
+    with socket.socket() as server:
+        server.bind(("127.0.0.1", 0))
+        server.listen()
+        start = time.perf_counter()
+        with pytest.raises(PkmError, match="cannot reach the Dask scheduler"):
+            parallel.connect(f"tcp://127.0.0.1:{server.getsockname()[1]}")
+        assert time.perf_counter() - start < 5
