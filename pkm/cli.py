@@ -7,6 +7,8 @@ computation fails (for instance IPOPT does not converge).
 from __future__ import annotations
 
 import argparse
+import os
+import re
 import shutil
 import sys
 from importlib.metadata import version
@@ -389,9 +391,24 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+NEGATIVE = re.compile(r"^-[0-9.]")
+
+
+def _negative_values(argv: list[str]) -> list[str]:
+    """``--pose -0.3,1.9`` as ``--pose=-0.3,1.9``: argparse reads a value that starts with a minus sign
+    and is not a lone number as an option, and half of every workspace has negative coordinates."""
+    out: list[str] = []
+    for token in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and NEGATIVE.match(token):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser().parse_args(_negative_values(sys.argv[1:] if argv is None else list(argv)))
         address = getattr(args, "scheduler", None) or parallel.scheduler()
         if address and args.func in PARALLEL_COMMANDS:
             parallel.connect(address).close()
@@ -402,6 +419,13 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except ComputationError as exc:
         print(f"pkm: computation failed: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("pkm: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        # the reader of stdout has gone (e.g. `pkm list | head -1`): nothing more can be written there
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
     return 0
 

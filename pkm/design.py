@@ -99,6 +99,8 @@ def parse_design(text: str) -> dict[str, float]:
         name, sep, value = item.partition("=")
         if not sep:
             raise DesignError(f"design item {item!r} is not of the form name=value")
+        if name.strip() in out:
+            raise DesignError(f"design parameter {name.strip()} is given twice")
         try:
             out[name.strip()] = float(value)
         except ValueError:

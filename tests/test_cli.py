@@ -143,3 +143,33 @@ def test_sweep_writes_chunks_an_index_and_figures_and_an_atlas_leaves_no_chunks(
     assert main(["atlas", "five_bar", "gci", "--region", "miw", "--resolution", "5", "--pose-resolution", "2",
                  "--out", str(tmp_path)]) == 0
     assert not (tmp_path / ".pkm-chunks").exists()
+
+
+def test_a_negative_coordinate_is_a_value_not_an_option(capsys):
+    assert main(["eval", "passive_leg", "--pose", "-0.2,1.1", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["poses"][0]["pose"] == [-0.2, 1.1]
+
+
+def test_a_design_parameter_given_twice_is_bad_input(capfd):
+    assert main(["eval", "five_bar", "--design", "r1=1.0,r1=1.2"]) == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert err == ["pkm: error: design parameter r1 is given twice"]
+
+
+def test_ctrl_c_is_one_line_and_exit_130(monkeypatch, capfd):
+    def interrupted(_name):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(pkm.registry, "mechanism", interrupted)
+    assert main(["eval", "five_bar", "--pose", "0,1.5"]) == 130
+    assert capfd.readouterr().err.strip().splitlines() == ["pkm: interrupted"]
+
+
+def test_a_closed_stdout_gives_no_traceback():
+    proc = subprocess.Popen([sys.executable, "-m", "pkm.cli", "list", "--json"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    proc.stdout.close()
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode in (0, 1)
+    assert b"Traceback" not in err
+    assert b"BrokenPipeError" not in err
