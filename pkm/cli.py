@@ -206,7 +206,8 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     store = out / CHUNKS / _run_key(m, args, [args.index])
     atlas = _sweep(m, args, [args.index], store, f"atlas {args.index}")[args.index]
     index, space = atlas.index, atlas.space
-    stem = f"{m.name}_{args.index}_{args.region}"
+    space_name = "axes" if args.axes else atlas.space.name
+    stem = "_".join([m.name, args.index, args.region, space_name, *atlas.modes])
     npz = out / f"{stem}.npz"
     png = out / f"{stem}.png"
     best = {mode: atlas.best(mode) for mode in atlas.modes}
@@ -406,9 +407,20 @@ def _negative_values(argv: list[str]) -> list[str]:
     return out
 
 
+def _check_out(folder: str | None) -> None:
+    """Refuse an output folder that cannot be one before any work: an existing file, or a path under a file."""
+    if not folder:
+        return
+    path = Path(folder)
+    for part in (path, *path.parents):
+        if part.exists() and not part.is_dir():
+            raise PkmError(f"--out {folder} violates: a folder (or a path to one); {part} is a file")
+
+
 def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(_negative_values(sys.argv[1:] if argv is None else list(argv)))
+        _check_out(getattr(args, "out", None))
         address = getattr(args, "scheduler", None) or parallel.scheduler()
         if address and args.func in PARALLEL_COMMANDS:
             parallel.connect(address).close()

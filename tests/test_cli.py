@@ -173,3 +173,23 @@ def test_a_closed_stdout_gives_no_traceback():
     assert proc.returncode in (0, 1)
     assert b"Traceback" not in err
     assert b"BrokenPipeError" not in err
+
+
+def test_an_out_that_is_a_file_or_under_one_is_refused_before_any_work(tmp_path, capfd):
+    afile = tmp_path / "a_file"
+    afile.write_text("mine")
+    for out in (afile, afile / "below"):
+        assert main(["atlas", "five_bar", "gci", "--resolution", "5", "--out", str(out)]) == 2
+        assert "is a file" in capfd.readouterr().err
+    assert afile.read_text() == "mine"
+
+
+def test_atlases_of_other_spaces_or_modes_do_not_overwrite_each_other(tmp_path, capsys):
+    common = ["atlas", "five_bar", "gci", "--region", "miw", "--resolution", "5", "--pose-resolution", "2",
+              "--out", str(tmp_path), "--json"]
+    assert main([*common, "--modes", "out_out"]) == 0
+    first = json.loads(capsys.readouterr().out)["npz"]
+    assert main([*common, "--modes", "in_in"]) == 0
+    second = json.loads(capsys.readouterr().out)["npz"]
+    assert first != second
+    assert {p.name for p in tmp_path.glob("*.npz")} == {first.split("/")[-1], second.split("/")[-1]}
