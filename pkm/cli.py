@@ -96,7 +96,8 @@ def cmd_eval(args: argparse.Namespace) -> None:
     d = _design(m, args.design)
     x = _poses(args.pose, m.n_out)
     mode = m.working_mode(args.mode).name
-    q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=True)
+    q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=args.strict)
+    reached = np.all(np.isfinite(q), axis=1)
     J = m.jacobian(x, d, mode=mode)
     local = {name: m.local_index(name, x, d, mode=mode) for name in m.local_indices()}
     sing = m.singularity(x, d, mode=mode)
@@ -105,6 +106,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
         rows.append(
             {
                 "pose": x[k],
+                "reachable": bool(reached[k]),
                 "q": q[k],
                 "J": J[k],
                 **{name: float(v[k]) for name, v in local.items()},
@@ -115,6 +117,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
     text = "\n".join(
         f"pose {r['pose'].tolist()}: q = {np.round(r['q'], 6).tolist()}, "
         + ", ".join(f"{name} = {r[name]:.6g}" for name in shown)
+        if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}"
         for r in rows
     )
     _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "poses": rows}, text)
@@ -335,6 +338,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--pose", action="append", help="x,y (repeat for several poses)")
     p.add_argument("--design", help="name=value,... (missing parameters take their defaults)")
     p.add_argument("--mode", help="working mode (name or paper alias)")
+    p.add_argument("--strict", action="store_true",
+                   help="fail on a pose out of reach (default: report it with reachable false and null values)")
     p = command("index", cmd_index, "a global index of a design")
     p.add_argument("mechanism")
     p.add_argument("index")

@@ -28,6 +28,8 @@ def to_json(data: Any) -> str:
 
 
 def _finite(data: Any) -> Any:
+    if isinstance(data, np.ndarray):
+        return _finite(data.tolist())
     if isinstance(data, float | np.floating):
         return float(data) if np.isfinite(data) else None
     if isinstance(data, dict):

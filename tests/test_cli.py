@@ -99,7 +99,7 @@ def test_synth_that_does_not_converge_exits_1_with_the_reason(capfd):
         (["index", "five_bar", "gci", "--design", "r1=nan"], "r1 = nan is not finite"),
         (["index", "five_bar", "gci", "--design", "r1=0.1,r2=0.1,r3=1"], "cannot be assembled"),
         (["index", "five_bar", "gci", "--mode", "sideways"], "unknown five_bar working mode"),
-        (["eval", "five_bar", "--pose", "9,9"], "out of reach"),
+        (["eval", "five_bar", "--pose", "9,9", "--strict"], "out of reach"),
         (["synth", "no.such"], "unknown synthesis problem"),
         (["synth", "five_bar.max_gci_miw", "--tol", "0"], "tol = 0.0 violates tol > 0"),
         (["synth", "five_bar.max_gci_miw", "--print-level", "13"], "print_level = 13 violates"),
@@ -193,3 +193,13 @@ def test_atlases_of_other_spaces_or_modes_do_not_overwrite_each_other(tmp_path, 
     second = json.loads(capsys.readouterr().out)["npz"]
     assert first != second
     assert {p.name for p in tmp_path.glob("*.npz")} == {first.split("/")[-1], second.split("/")[-1]}
+
+
+def test_eval_reports_an_unreachable_pose_with_a_mask_unless_strict(capfd):
+    assert main(["eval", "five_bar", "--pose", "0,1.5", "--pose", "10,10", "--json"]) == 0
+    rows = json.loads(capfd.readouterr().out)["poses"]
+    assert [r["reachable"] for r in rows] == [True, False]
+    assert rows[1]["q"] == [None] * 4
+    assert rows[0]["inverse_condition_f"] > 0
+    assert main(["eval", "five_bar", "--pose", "10,10", "--strict"]) == 2
+    assert "out of reach" in capfd.readouterr().err
