@@ -26,6 +26,7 @@ from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integ
 from pkm.indices import GlobalIndex
 from pkm.mechanism import Mechanism
 from pkm.parallel import ChunkStore, task_key
+from pkm.regions.shapes import MAX_RESOLUTION
 
 
 class BestPoint(NamedTuple):
@@ -150,6 +151,7 @@ class Atlas:
 
 
 CHUNK = 64
+MAX_CHART = 4001  # chart nodes per axis
 
 
 class AtlasTask(NamedTuple):
@@ -275,11 +277,11 @@ def compute_sweep(
     if defined and not set(modes) <= set(defined):
         raise PkmError(f"region {region} is defined on working mode {', '.join(defined)} only, not on "
                        f"{', '.join(m for m in modes if m not in defined)}")
-    resolution = check_integer("resolution", resolution, 3)
+    resolution = check_integer("resolution", resolution, 3, MAX_CHART)
     sampled = isinstance(where, regions.SampledWorkspace)
     if pose_resolution is None:
         pose_resolution = regions.SAMPLED_RESOLUTION if sampled else regions.QUADRATURE_RESOLUTION
-    pose_resolution = check_integer("pose_resolution", pose_resolution, 2 if sampled else 1)
+    pose_resolution = check_integer("pose_resolution", pose_resolution, 2 if sampled else 1, MAX_RESOLUTION)
     if sampled:
         regions.check_margin(singularity_margin)
 

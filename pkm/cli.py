@@ -20,7 +20,7 @@ import numpy as np
 from pkm import io, parallel, registry
 from pkm.design import Design, parse_design
 from pkm.design_space import parameter_plane
-from pkm.errors import ComputationError, PkmError, UnknownNameError
+from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
 from pkm.progress import Progress
@@ -183,12 +183,12 @@ def _space(m: Mechanism, args: argparse.Namespace) -> Any:
 
 def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path, label: str) -> dict[str, Any]:
     """The atlases of ``names`` over the command's design space, chunks kept in ``store``."""
-    from pkm.atlas import compute_sweep, default_modes
+    from pkm.atlas import MAX_CHART, compute_sweep, default_modes
 
     space = _space(m, args)
     indices = tuple(m.global_spec(name) for name in names)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
-    inside = int(space.chart_grid(args.resolution)[2].sum()) if args.resolution >= 3 else 1
+    inside = int(space.chart_grid(check_integer("resolution", args.resolution, 3, MAX_CHART))[2].sum())
     bar = Progress(len(modes) * inside, label)
     atlases = compute_sweep(
         m, indices, space=space, modes=modes, region=args.region, resolution=args.resolution,

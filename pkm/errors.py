@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 
 class PkmError(ValueError):
     """Bad input to pkm: the message names the parameter and the violated condition."""
@@ -30,8 +32,17 @@ class ComputationError(RuntimeError):
     """A computation that failed on valid input (for instance IPOPT did not converge)."""
 
 
-def check_integer(name: str, value: object, minimum: int) -> int:
-    """``value`` as an int; :class:`PkmError` naming ``name`` unless it is an integer >= ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or int(value) != value or value < minimum:
-        raise PkmError(f"{name} = {value!r} violates: an integer >= {minimum}")
+def check_integer(name: str, value: object, minimum: int, maximum: int | None = None) -> int:
+    """``value`` as an int; :class:`PkmError` naming ``name`` unless it is an integer >= ``minimum`` (and
+    <= ``maximum`` where one is given: a bound on the memory and time a call may take)."""
+    condition = f"an integer >= {minimum}" + (f" and <= {maximum}" if maximum is not None else "")
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or not math.isfinite(value)
+        or int(value) != value
+        or value < minimum
+        or (maximum is not None and value > maximum)
+    ):
+        raise PkmError(f"{name} = {value!r} violates: {condition}")
     return int(value)

@@ -203,3 +203,28 @@ def test_eval_reports_an_unreachable_pose_with_a_mask_unless_strict(capfd):
     assert rows[0]["inverse_condition_f"] > 0
     assert main(["eval", "five_bar", "--pose", "10,10", "--strict"]) == 2
     assert "out of reach" in capfd.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["atlas", "five_bar", "gci", "--resolution", "100000"], "resolution = 100000 violates"),
+        (["atlas", "five_bar", "gci", "--pose-resolution", "100000"], "pose_resolution = 100000 violates"),
+        (["index", "five_bar", "gci", "--resolution", "100000"], "resolution = 100000 violates"),
+        (["synth", "five_bar.max_gci_miw", "--starts", "100000"], "starts = 100000 violates"),
+        (["synth", "five_bar.max_gci_miw", "--max-iter", "100000000000"], "max_iter = 100000000000 violates"),
+    ],
+)
+def test_resolutions_and_counts_too_large_for_memory_are_refused(args, needle, capfd):
+    assert main(args) == 2
+    err = capfd.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert needle in err[0]
+
+
+def test_non_finite_counts_are_pkms_error():
+    from pkm.errors import check_integer
+
+    for value in (float("inf"), float("nan"), 1e400):
+        with pytest.raises(pkm.PkmError, match="violates"):
+            check_integer("starts", value, 1)

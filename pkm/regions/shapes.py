@@ -44,8 +44,12 @@ RIM_INSET = 1e-9  # of the span between the curves, for the rim nodes of a Mappe
 CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
 
 
+MAX_RESOLUTION = 1024  # a quadrature of (2 MAX_RESOLUTION)^2 nodes per part, a sampled axis of as many cells
+MAX_SAMPLES = 50_000_000  # cells of a sampled grid
+
+
 def check_resolution(resolution: int, minimum: int) -> int:
-    return check_integer("resolution", resolution, minimum)
+    return check_integer("resolution", resolution, minimum, MAX_RESOLUTION)
 
 
 @lru_cache(maxsize=32)
@@ -144,6 +148,8 @@ def grid(box: np.ndarray, resolution: int) -> tuple[np.ndarray, float]:
     """Cell centres (resolution^d, d) of a d-dimensional box (d, 2) and the cell measure."""
     resolution = check_resolution(resolution, 2)
     box = np.asarray(box, dtype=float)
+    if resolution ** len(box) > MAX_SAMPLES:
+        raise PkmError(f"resolution = {resolution} violates: resolution^{len(box)} <= {MAX_SAMPLES} cells")
     axes = [lo + (hi - lo) * (np.arange(resolution) + 0.5) / resolution for lo, hi in box]
     mesh = np.meshgrid(*axes, indexing="ij")
     cell = float(np.prod([(hi - lo) / resolution for lo, hi in box]))

@@ -25,6 +25,7 @@ import numpy as np
 
 from pkm import parallel, registry
 from pkm.errors import ComputationError, PkmError, check_integer
+from pkm.regions.shapes import MAX_RESOLUTION
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
 
@@ -121,7 +122,7 @@ def ipopt_options(
 ) -> dict[str, Any]:
     """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given; the variables'
     bounds are kept exactly (no relaxation), so that an optimum on a bound is reported on it."""
-    max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0)
+    max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0, MAX_ITER)
     tol = problem.tol if tol is None else float(tol)
     if not tol > 0:
         raise PkmError(f"tol = {tol} violates tol > 0")
@@ -147,6 +148,9 @@ def _named(problem: Problem, values: np.ndarray) -> dict[str, float]:
 
 
 BASELINE_CHUNK = 256  # baseline points per task
+MAX_ITER = 1_000_000
+MAX_STARTS = 1000
+MAX_BASELINE = 10_001  # grid nodes per variable of a baseline
 
 
 class StartTask(NamedTuple):
@@ -282,10 +286,10 @@ def synthesize(
         a Dask cluster when a scheduler is set, else this process; a problem outside the registry runs
         in this process.
     """
-    res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1)
-    n_starts = check_integer("starts", problem.starts if starts is None else starts, 1)
+    res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1, MAX_RESOLUTION)
+    n_starts = check_integer("starts", problem.starts if starts is None else starts, 1, MAX_STARTS)
     if baseline_resolution is not None:
-        check_integer("baseline_resolution", baseline_resolution, 3)
+        check_integer("baseline_resolution", baseline_resolution, 3, MAX_BASELINE)
     options = ipopt_options(problem, verbose=verbose, max_iter=max_iter, tol=tol, print_level=print_level)
     model = ProblemModel(problem)
     say = progress or (lambda _msg: None)

@@ -97,8 +97,15 @@ class Objective:
         return cls(lambda t: t[name], quantity.index.sense, quantity.index.doc, name)
 
 
+MAX_GRID_POINTS = 10_000_000
+
+
 def grid_points(variables: Sequence[Variable], resolution: int) -> np.ndarray:
-    """A regular grid (resolution^n, n) over the variables' bounds, bounds included."""
+    """A regular grid (resolution^n, n) over the variables' bounds, bounds included; at most
+    MAX_GRID_POINTS points."""
+    if resolution ** len(variables) > MAX_GRID_POINTS:
+        raise PkmError(f"resolution = {resolution} violates: resolution^{len(variables)} <= {MAX_GRID_POINTS} "
+                       "grid points")
     axes = [np.linspace(v.lower, v.upper, resolution) for v in variables]
     mesh = np.meshgrid(*axes, indexing="ij")
     return np.stack([m.ravel() for m in mesh], axis=1)
