@@ -11,6 +11,8 @@ import os
 import re
 import shutil
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager, redirect_stdout
 from importlib.metadata import version
 from pathlib import Path
 from typing import Any, NoReturn
@@ -282,17 +284,29 @@ def _named(values: dict[str, float]) -> str:
     return ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
 
 
+@contextmanager
+def _logs_to_stderr(active: bool) -> Iterator[None]:
+    """Send what the solver prints to standard output to standard error while ``active`` (with ``--json``
+    standard output holds the JSON alone): CasADi passes IPOPT's log to Python's ``sys.stdout``."""
+    if not active:
+        yield
+        return
+    with redirect_stdout(sys.stderr):
+        yield
+
+
 def cmd_synth(args: argparse.Namespace) -> None:
-    result = synthesize(
-        registry.problem(args.problem),
-        resolution=args.resolution,
-        starts=args.starts,
-        max_iter=args.max_iter,
-        tol=args.tol,
-        print_level=args.print_level,
-        verbose=args.verbose,
-        progress=(lambda msg: print(msg, file=sys.stderr)) if sys.stderr.isatty() else None,
-    )
+    with _logs_to_stderr(args.json):
+        result = synthesize(
+            registry.problem(args.problem),
+            resolution=args.resolution,
+            starts=args.starts,
+            max_iter=args.max_iter,
+            tol=args.tol,
+            print_level=args.print_level,
+            verbose=args.verbose,
+            progress=(lambda msg: print(msg, file=sys.stderr)) if sys.stderr.isatty() else None,
+        )
     data = result.to_dict()
     if args.out:
         io.write_text(Path(args.out) / f"{args.problem}.json", io.to_json(data))

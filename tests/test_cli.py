@@ -228,3 +228,10 @@ def test_non_finite_counts_are_pkms_error():
     for value in (float("inf"), float("nan"), 1e400):
         with pytest.raises(pkm.PkmError, match="violates"):
             check_integer("starts", value, 1)
+
+
+def test_json_with_verbose_keeps_ipopts_log_out_of_stdout(capfd):
+    assert main(["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1", "--verbose", "--json"]) == 0
+    captured = capfd.readouterr()
+    assert json.loads(captured.out)["problem"] == "five_bar.max_gci_miw"
+    assert "iter" in captured.err
