@@ -60,15 +60,20 @@ def write_text(path: Path, text: str) -> Path:
 
 @contextmanager
 def staged_folder(target: Path) -> Iterator[Path]:
-    """Yield a temporary folder beside ``target`` that replaces ``target`` only if the block succeeds."""
+    """Yield a temporary folder beside ``target`` whose files move into ``target`` only if the block
+    succeeds, each by an atomic rename; files of ``target`` that the block did not write are kept."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     try:
         yield stage
-        if target.exists():
-            shutil.rmtree(target)
-        os.replace(stage, target)
+        target.mkdir(exist_ok=True)
+        for path in sorted(stage.rglob("*")):
+            destination = target / path.relative_to(stage)
+            if path.is_dir():
+                destination.mkdir(exist_ok=True)
+            else:
+                os.replace(path, destination)
     finally:
         if stage.exists():
             shutil.rmtree(stage)

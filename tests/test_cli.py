@@ -235,3 +235,29 @@ def test_json_with_verbose_keeps_ipopts_log_out_of_stdout(capfd):
     captured = capfd.readouterr()
     assert json.loads(captured.out)["problem"] == "five_bar.max_gci_miw"
     assert "iter" in captured.err
+
+
+def test_a_reproduction_keeps_the_users_own_files_in_its_folder(tmp_path):
+    from pkm import io
+
+    target = tmp_path / "gao1998"
+    target.mkdir()
+    (target / "notes.txt").write_text("mine")
+    (target / "report.md").write_text("an old report")
+    with io.staged_folder(target) as stage:
+        (stage / "report.md").write_text("new")
+        (stage / "figures").mkdir()
+        (stage / "figures" / "a.png").write_text("png")
+    assert (target / "notes.txt").read_text() == "mine"
+    assert (target / "report.md").read_text() == "new"
+    assert (target / "figures" / "a.png").read_text() == "png"
+    assert [p.name for p in tmp_path.iterdir()] == ["gao1998"]
+    def interrupted() -> None:
+        with io.staged_folder(target) as stage:
+            (stage / "report.md").write_text("half")
+            raise RuntimeError
+
+    with pytest.raises(RuntimeError):
+        interrupted()
+    assert (target / "report.md").read_text() == "new"
+    assert [p.name for p in tmp_path.iterdir()] == ["gao1998"]
