@@ -261,3 +261,17 @@ def test_a_reproduction_keeps_the_users_own_files_in_its_folder(tmp_path):
         interrupted()
     assert (target / "report.md").read_text() == "new"
     assert [p.name for p in tmp_path.iterdir()] == ["gao1998"]
+
+
+def test_outputs_follow_the_umask_not_private_to_the_user(tmp_path):
+    import os
+    import stat
+
+    from pkm import io
+
+    previous = os.umask(0o022)
+    try:
+        path = io.write_text(tmp_path / "report.json", "{}")
+    finally:
+        os.umask(previous)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
