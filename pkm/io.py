@@ -65,13 +65,32 @@ def write_text(path: Path, text: str) -> Path:
     return atomic_write(path, lambda tmp: tmp.write_text(text))
 
 
+def _remove_abandoned(target: Path) -> None:
+    """Remove the staging folders of ``target`` whose process is gone (a run that was killed)."""
+    for stage in target.parent.glob(f".{target.name}.*.*"):
+        pid = stage.name[len(target.name) + 2 :].split(".")[0]
+        if stage.is_dir() and pid.isdigit() and not _alive(int(pid)):
+            shutil.rmtree(stage, ignore_errors=True)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
 @contextmanager
 def staged_folder(target: Path) -> Iterator[Path]:
     """Yield a temporary folder beside ``target`` whose files move into ``target`` only if the block
     succeeds, each by an atomic rename; files of ``target`` that the block did not write are kept."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    _remove_abandoned(target)
+    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}.", dir=target.parent))
     try:
         yield stage
         target.mkdir(exist_ok=True)

@@ -275,3 +275,17 @@ def test_outputs_follow_the_umask_not_private_to_the_user(tmp_path):
     finally:
         os.umask(previous)
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
+
+
+def test_a_staging_folder_left_by_a_killed_run_is_removed_by_the_next(tmp_path):
+    from pkm import io
+
+    finished = subprocess.Popen(["true"])  # a process that has ended: its pid names no live process
+    finished.wait()
+    abandoned = tmp_path / f".gao1998.{finished.pid}.x1y2"
+    abandoned.mkdir()
+    (abandoned / "report.json").write_text("{")
+    with io.staged_folder(tmp_path / "gao1998") as stage:
+        assert stage.name.startswith(".gao1998.")
+        (stage / "report.json").write_text("{}")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["gao1998"]
