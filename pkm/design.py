@@ -12,6 +12,8 @@ import numpy as np
 
 from pkm.errors import DesignError
 
+MAX_MAGNITUDE = 1e12  # of a design value in SI units: beyond it the models overflow, not the mechanism
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -41,6 +43,9 @@ class Parameter:
     def check(self, value: float) -> None:
         if not math.isfinite(value):
             raise DesignError(f"design parameter {self.name} = {value} is not finite")
+        if abs(value) > MAX_MAGNITUDE:
+            raise DesignError(f"design parameter {self.name} = {value:g} {self.unit} violates |{self.name}| <= "
+                              f"{MAX_MAGNITUDE:g}")
         low_ok = value >= self.lower if self.closed_lower else value > self.lower
         if not low_ok or not value < self.upper:
             left = "[" if self.closed_lower else "("
@@ -108,6 +113,17 @@ def parse_design(text: str) -> dict[str, float]:
     return out
 
 
+def _number(parameter: Parameter, value: object) -> float:
+    """A design value as a float; DesignError naming the parameter for what is not a real number."""
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise DesignError(f"design parameter {parameter.name} = {value!r} violates: a real number")
+    try:
+        return float(value)
+    except OverflowError:
+        raise DesignError(f"design parameter {parameter.name} = an integer of {len(str(abs(value)))} digits "
+                          f"violates |{parameter.name}| <= {MAX_MAGNITUDE:g}") from None
+
+
 def make_design(
     parameters: Sequence[Parameter],
     conditions: Sequence[Condition],
@@ -128,7 +144,7 @@ def make_design(
     missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:
         raise DesignError(f"missing design parameter(s) {', '.join(missing)}")
-    full = {p.name: float(given[p.name]) for p in parameters if p.name in given}
+    full = {p.name: _number(p, given[p.name]) for p in parameters if p.name in given}
     for p in parameters:
         if p.name not in full and p.default_from is None:
             full[p.name] = p.default

@@ -7,6 +7,7 @@ which give the index's limiting value and never raise (unless ``strict``).
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -162,3 +163,19 @@ def test_forward_jacobian_at_a_parallel_singularity_raises_when_strict():
 def test_bad_global_index_option_is_a_pkm_error(options):
     with pytest.raises(PkmError, match="|".join(k for k in options if k != "region")):
         m.global_index("gci", DESIGN, **options)
+
+
+@pytest.mark.parametrize(
+    ("value", "needle"),
+    [
+        (None, "r1 = None violates: a real number"),
+        ("1.2", "r1 = '1.2' violates: a real number"),
+        ([1.2], "r1 = [1.2] violates: a real number"),
+        (True, "r1 = True violates: a real number"),
+        (10**400, "an integer of 401 digits violates |r1| <= 1e+12"),
+        (1e308, "r1 = 1e+308 m violates |r1| <= 1e+12"),
+    ],
+)
+def test_design_values_that_are_not_usable_numbers_are_pkms_error(value, needle):
+    with pytest.raises(pkm.DesignError, match=re.escape(needle)):
+        pkm.load("five_bar").design({"r1": value}, partial=True)
