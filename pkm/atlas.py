@@ -326,7 +326,7 @@ def compute_sweep(
             progress(len(task.designs))
 
     if progress is not None:
-        progress(sum(len(tasks[k].designs) for k in range(len(tasks)) if k not in set(missing)))
+        progress(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
     work = len(designs) * sum(per_design.values()) * len(modes)
     with parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
         fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk

@@ -101,10 +101,7 @@ def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
         root = sp.sqrt(delta)
         phis.append(sp.atan2(-beta * gamma - s * alpha * root, -alpha * gamma + s * beta * root))
         deltas.append(delta / (4 * l_a**2 * (l_a + l_b) ** 2))
-    psis = []
-    for phi, b, base in zip(phis, platform_points(centre, th), base_points(), strict=True):
-        upper = b - base - l_a * _e(phi)
-        psis.append(sp.atan2(upper[1], upper[0]))
+    psis = passive_joints(centre, th, phis)
     q = sp.Matrix([phis[0], phis[1], th, psis[0], psis[1], sp.sqrt(x_c**2 + y_c**2)])
     return q, sp.Matrix([deltas[0], deltas[1], y_c])
 
@@ -181,10 +178,10 @@ def angle_from_length(length: sp.Expr) -> sp.Expr:
     return sp.atan2((A2 * B1 - A1 * B2) * sp.sign(det), (A2 * C1 - A1 * C2) * sp.sign(det))
 
 
-def passive_joints(centre: sp.Matrix, angle: sp.Expr) -> list[sp.Expr]:
-    """psi1, psi2 of the upper links at the actuated angles phi1, phi2."""
+def passive_joints(centre: sp.Matrix, angle: sp.Expr, phis: tuple[sp.Expr, ...] = (phi1, phi2)) -> list[sp.Expr]:
+    """psi1, psi2 of the upper links at the actuated angles ``phis``."""
     out = []
-    for phi, b, base in zip((phi1, phi2), platform_points(centre, angle), base_points(), strict=True):
+    for phi, b, base in zip(phis, platform_points(centre, angle), base_points(), strict=True):
         upper = b - base - l_a * _e(phi)
         out.append(sp.atan2(upper[1], upper[0]))
     return out
