@@ -1,5 +1,11 @@
 """End-effector trajectories x(t), evaluated alike on numbers and on CasADi expressions, and the
 checks of the vectors, times and positive scalars that the dynamics take as input.
+
+A trajectory whose acceleration jumps (the trapezoidal speed profile of Wu 2008, Table 3) knows its
+switch times. Its derivatives at a switch are one-sided: :meth:`Trajectory.sample` gives the values
+just after by default and just before with ``side="before"``, and :meth:`Trajectory.switches` gives
+both at every switch with the jump between them. A derivative taken at the kink of max(u, 0) would be
+neither (CasADi gives max's derivative 1/2 at the tie).
 """
 
 from __future__ import annotations
@@ -16,6 +22,8 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.errors import PkmError
 
+SIDES = ("after", "before")
+
 
 @dataclass(frozen=True)
 class _Operations:
@@ -29,15 +37,31 @@ class _Operations:
 _NUMERIC = _Operations(
     np.cos, np.sin, lambda u: np.clip(u, 0.0, 1.0), lambda u: np.maximum(u, 0.0), lambda c: np.stack(c, axis=-1)
 )
-_SYMBOLIC = _Operations(
-    ca.cos, ca.sin, lambda u: ca.fmin(ca.fmax(u, 0), 1), lambda u: ca.fmax(u, 0), lambda c: ca.vertcat(*c)
-)
+# The ramp max(u, 0) as a branch: at u = 0 CasADi differentiates the branch taken, so the ramp's
+# derivative there is 1 when the branch u >= 0 is closed at 0 (the slope just after) and 0 with u > 0
+# (just before).
+_SYMBOLIC = {
+    side: _Operations(
+        ca.cos,
+        ca.sin,
+        lambda u: ca.fmin(ca.fmax(u, 0), 1),
+        (lambda u: ca.if_else(u >= 0, u, 0)) if side == "after" else (lambda u: ca.if_else(u > 0, u, 0)),
+        lambda c: ca.vertcat(*c),
+    )
+    for side in SIDES
+}
 
 
-def _operations(t: Any) -> tuple[Any, _Operations]:
+def _operations(t: Any, side: str = "after") -> tuple[Any, _Operations]:
     if isinstance(t, ca.SX | ca.MX | ca.DM):
-        return t, _SYMBOLIC
+        return t, _SYMBOLIC[side]
     return np.asarray(t, dtype=float), _NUMERIC
+
+
+def _side(side: str) -> str:
+    if side not in SIDES:
+        raise PkmError(f"side = {side!r} must be one of {', '.join(SIDES)}")
+    return side
 
 
 def rest_to_rest(u: Any) -> Any:
@@ -78,6 +102,34 @@ def as_positive(value: float, what: str) -> float:
 
 
 @dataclass(frozen=True)
+class Switches:
+    """A trajectory's states at its switch times, where its acceleration jumps.
+
+    Position and velocity are continuous there; the acceleration has a limit from each side.
+
+    Attributes
+    ----------
+    times : ndarray, shape (k,)
+        The switch times [s], increasing.
+    position, velocity : ndarray, shape (k, n_out)
+        x and x_dot at the switches.
+    acceleration_before, acceleration_after : ndarray, shape (k, n_out)
+        x_ddot just before and just after each switch (its limits from the left and from the right).
+    """
+
+    times: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration_before: np.ndarray
+    acceleration_after: np.ndarray
+
+    @property
+    def acceleration_jump(self) -> np.ndarray:
+        """x_ddot after less x_ddot before each switch, shape (k, n_out)."""
+        return self.acceleration_after - self.acceleration_before
+
+
+@dataclass(frozen=True)
 class Trajectory:
     """An end-effector motion x(t).
 
@@ -86,17 +138,35 @@ class Trajectory:
     path : callable
         t -> x(t) for a float (returns shape (n_out,)), a numpy array of times (shape t.shape + (n_out,))
         or a casadi scalar (an n_out x 1 expression); built from arithmetic that CasADi differentiates.
+        At a switch time its derivatives are the limits from the right (the phase that starts there).
     duration : float
         The time the motion lasts [s], from t = 0.
     dimension : int
         n_out, the number of end-effector coordinates.
     description : str
+    switch_times : tuple of float
+        The times in [0, duration], increasing, at which the acceleration jumps (position and velocity
+        are continuous there); empty for a motion whose acceleration is continuous.
+    path_before : callable or None
+        The same motion as ``path``, with its derivatives at a switch time the limits from the left;
+        required where there are switch times.
     """
 
     path: Callable[[Any], Any]
     duration: float
     dimension: int
     description: str
+    switch_times: tuple[float, ...] = ()
+    path_before: Callable[[Any], Any] | None = None
+
+    def __post_init__(self) -> None:
+        times = np.asarray(self.switch_times, dtype=float)
+        if times.ndim != 1 or not np.all(np.isfinite(times)):
+            raise PkmError("switch_times must be a sequence of finite times")
+        if np.any(np.diff(times) <= 0) or np.any(times < 0) or np.any(times > self.duration):
+            raise PkmError(f"switch_times must increase strictly within [0, duration = {self.duration:g}]")
+        if times.size and self.path_before is None:
+            raise PkmError("path_before is required where switch_times are given (the left limits at the switches)")
 
     @classmethod
     def point_to_point(cls, start: Any, end: Any, duration: float) -> Trajectory:
@@ -123,9 +193,11 @@ class Trajectory:
 
         Equal accelerating and decelerating times T0 = v_max / a_max at +-a_max, cruising at v_max in
         between; the total time T_f satisfies Wu's eq. 45, T0 = T_f - |x1 - x0| / v_max. A move too
-        short to reach v_max is triangular (T0 = sqrt(|x1 - x0| / a_max)). The arc length is
-        s(t) = a_max / 2 (r(t)^2 - r(t - T0)^2 - r(t - T_f + T0)^2 + r(t - T_f)^2), r(u) = max(u, 0);
-        the acceleration jumps at the phase changes.
+        short to reach v_max (v_max^2 >= a_max |x1 - x0|) is triangular: T0 = sqrt(|x1 - x0| / a_max),
+        T_f = 2 T0. The arc length is s(t) = a_max / 2 sum_k c_k r(t - t_k)^2 with r(u) = max(u, 0), the
+        switch times t_k = (0, T0, T_f - T0, T_f) and c_k = (1, -1, -1, 1) ((0, T0, T_f) and (1, -2, 1)
+        for a triangle). The acceleration a_max sum_k c_k [t >= t_k] jumps by c_k a_max at t_k: see
+        :meth:`switches` for its values on both sides.
         """
         a = as_vector(start, np.size(start), "start")
         b = as_vector(end, a.size, "end")
@@ -134,22 +206,29 @@ class Trajectory:
         length = float(np.linalg.norm(b - a))
         if length == 0:
             raise PkmError("start and end of a trapezoidal move coincide")
-        t0 = min(v_max / a_max, math.sqrt(length / a_max))
-        total = length / (a_max * t0) + t0
+        if v_max**2 >= a_max * length:
+            t0 = math.sqrt(length / a_max)
+            total = 2 * t0
+            switches, coefficients = (0.0, t0, total), (1.0, -2.0, 1.0)
+        else:
+            t0 = v_max / a_max
+            total = length / v_max + t0
+            switches, coefficients = (0.0, t0, total - t0, total), (1.0, -1.0, -1.0, 1.0)
         direction = (b - a) / length
 
-        def path(t: Any) -> Any:
-            t, ops = _operations(t)
-            r = ops.ramp
-            s = a_max / 2 * (r(t) ** 2 - r(t - t0) ** 2 - r(t - total + t0) ** 2 + r(t - total) ** 2)
+        def motion(t: Any, side: str) -> Any:
+            t, ops = _operations(t, side)
+            s = a_max / 2 * sum(c * ops.ramp(t - t_k) ** 2 for c, t_k in zip(coefficients, switches, strict=True))
             return ops.stack([float(a_k) + float(e_k) * s for a_k, e_k in zip(a, direction, strict=True)])
 
         return cls(
-            path,
+            lambda t: motion(t, "after"),
             total,
             a.size,
             f"trapezoidal move from {a.tolist()} to {b.tolist()}: v_max {v_max:g}, a_max {a_max:g}, "
             f"T0 {t0:.4g} s, T_f {total:.4g} s",
+            switches,
+            lambda t: motion(t, "before"),
         )
 
     @classmethod
@@ -177,13 +256,33 @@ class Trajectory:
         return self.path(t)
 
     @cached_property
-    def _derivatives(self) -> ca.Function:
+    def _derivatives(self) -> dict[str, ca.Function]:
         t = ca.SX.sym("t")
-        x = self.path(t)
-        x_dot = ca.jacobian(x, t)
-        return ca.Function("trajectory", [t], [x, x_dot, ca.jacobian(x_dot, t)], ["t"], ["x", "x_dot", "x_ddot"])
+        functions = {}
+        for side, path in (("after", self.path), ("before", self.path_before or self.path)):
+            x = path(t)
+            x_dot = ca.jacobian(x, t)
+            functions[side] = ca.Function(
+                f"trajectory_{side}", [t], [x, x_dot, ca.jacobian(x_dot, t)], ["t"], ["x", "x_dot", "x_ddot"]
+            )
+        return functions
 
-    def sample(self, times: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position, velocity and acceleration, each (N, n_out), at the times (N,), by CasADi's AD."""
+    def sample(self, times: Any, *, side: str = "after") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position, velocity and acceleration, each (N, n_out), at the times (N,), by CasADi's AD.
+
+        At a switch time the acceleration is its limit from the right (the phase that starts there; at
+        the end of a move, rest) with ``side="after"``, from the left with ``side="before"``; elsewhere
+        both sides agree.
+        """
         t = as_times(times, increasing=False)
-        return tuple(v[:, :, 0] for v in evaluate(self._derivatives, t[:, None]))
+        return tuple(v[:, :, 0] for v in evaluate(self._derivatives[_side(side)], t[:, None]))
+
+    def switches(self) -> Switches:
+        """The states at the switch times with the acceleration on both sides of each (none: k = 0)."""
+        times = np.asarray(self.switch_times, dtype=float)
+        if not times.size:
+            empty = np.zeros((0, self.dimension))
+            return Switches(times, empty, empty, empty, empty)
+        x, x_dot, after = self.sample(times)
+        _, _, before = self.sample(times, side="before")
+        return Switches(times, x, x_dot, before, after)
