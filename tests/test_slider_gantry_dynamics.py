@@ -17,6 +17,8 @@ import pkm
 from pkm.batch import evaluate
 from pkm.dynamics import Trajectory
 from pkm.errors import PkmError
+from pkm.reproduce import wu2008
+from pkm.reproduce.wu2008 import _forces
 
 VARIANTS = ("slider_gantry", "slider_gantry_symmetric")
 MECHANISMS = {name: pkm.load(name) for name in VARIANTS}
@@ -184,8 +186,7 @@ def test_actuator_power_is_the_rate_of_the_total_energy(name, trajectory):
     design = mech.design()
     step = 2e-6
     t = np.linspace(0.0, trajectory.duration, 66)[1:-1]
-    t0 = 1.0 / 6.67  # the trapezoid's phase switches, where the acceleration jumps
-    t = t[np.abs(t[:, None] - [t0, TABLE_3.duration - t0]).min(axis=1) > 10 * step]
+    t = t[np.abs(t[:, None] - np.array(TABLE_3.switch_times)).min(axis=1) > 10 * step]
     power, _ = power_and_energy(mech, design, trajectory, t)
     scale = np.abs(power).max()
     assert scale > 1e3  # some kW
@@ -211,6 +212,67 @@ def test_work_of_the_table_3_move_is_the_change_of_potential_energy(name):
         assert energy[1] - energy[0] > 10.0  # J: the asymmetric machine ends higher in potential energy
     else:
         assert abs(energy[1] - energy[0]) < 1e-10 * effort  # the move is mirror symmetric
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+def test_force_jumps_at_the_switches_are_the_inertia_times_the_acceleration_jump(name):
+    # eq. 41: x and x_dot are continuous at a switch, N with them, so tau jumps by (J^T)^-1 M times
+    # the acceleration jump; the one-sided forces are the limits of the inverse dynamics at t_k -+ eps
+    mech = MECHANISMS[name]
+    switches = TABLE_3.switches()
+    before = mech.inverse_dynamics(switches.position, switches.velocity, switches.acceleration_before)
+    after = mech.inverse_dynamics(switches.position, switches.velocity, switches.acceleration_after)
+    mixed = mech.inertia_matrix(switches.position, space="mixed")
+    scale = np.abs(after - before).max()
+    assert scale > 2e4  # N: the end switches carry a link at 80 deg
+    np.testing.assert_allclose(
+        after - before, np.einsum("kij,kj->ki", mixed, switches.acceleration_jump), rtol=0, atol=1e-12 * scale
+    )
+    errors = []
+    for eps in (1e-5, 1e-6):
+        limits = [mech.inverse_dynamics(*TABLE_3.sample(switches.times + s * eps)) for s in (-1, 1)]
+        np.testing.assert_allclose(limits[0], before, rtol=0, atol=eps * 1e6)
+        np.testing.assert_allclose(limits[1], after, rtol=0, atol=eps * 1e6)
+        errors.append(np.abs(limits[1] - limits[0] - (after - before)).max())
+    assert errors[1] < errors[0] / 5  # the one-sided values are the limits, not values near them
+
+
+def test_wu_fig4_reports_the_force_jumps_of_the_one_sided_limits(tmp_path):
+    forces, _ = _forces(m, tmp_path / "fig4.png", 40)
+    switches = TABLE_3.switches()
+    np.testing.assert_array_equal(forces["switch_times_s"], switches.times)
+    np.testing.assert_array_equal(forces["acceleration_jump_m_s2"], [6.67, -6.67, -6.67, 6.67])
+    eps = 1e-7
+    limits = [m.inverse_dynamics(*TABLE_3.sample(switches.times + s * eps)) for s in (-1, 1)]
+    jumps = np.array(forces["force_jumps_N"])
+    np.testing.assert_allclose(jumps, limits[1] - limits[0], rtol=0, atol=1e-6 * np.abs(jumps).max())
+    np.testing.assert_allclose(forces["jump_at_switches_N"], np.abs(jumps).max(axis=1), rtol=1e-15)
+    # sampled at a switch, the force is the one just after (the derivative at the kink of the ramp gave
+    # a_max / 4 at t = 0, and a reported jump there of three quarters of the limits' difference)
+    np.testing.assert_allclose(m.inverse_dynamics(*TABLE_3.sample([0.0]))[0], forces["forces_after_N"][0], rtol=1e-14)
+    assert forces["force_jump_identity_residual_N"] < 1e-9 * np.abs(jumps).max()
+
+
+def test_wu_report_values_are_pkms_model(tmp_path):
+    values = wu2008.run(tmp_path, quick=True)["values"]
+    symmetric = MECHANISMS["slider_gantry_symmetric"]
+    assert values["fig7_M_yy_kg"] == pytest.approx(sum(symmetric.design()[k] for k in masses(symmetric)))
+    assert values["fig7_M_yy_kg"] == pytest.approx(2112.0)  # not the 2004 kg the docs once gave
+    centre = [0.0, m.task_rectangle().centre[1]]
+    assert values["fig6_kappa_d_centre"] == pytest.approx(float(m.local_index("kappa_d", centre)), rel=1e-14)
+    assert values["fig6_kappa_d_centre"] < values["fig6_kappa_d_min"] * 1.03
+    box = m.task_rectangle().box
+    edges = m.local_index("kappa_d", [[box[0, 0], centre[1]], [box[0, 1], centre[1]]])
+    assert (values["fig6_kappa_d_left_edge"], values["fig6_kappa_d_right_edge"]) == pytest.approx(edges, rel=1e-12)
+    M_d = symmetric.inertia_matrix(centre, space="mixed")
+    easiest_x = 1e3 / np.linalg.norm(M_d @ [1.0, 0.0])
+    easiest_y = 1e3 / np.linalg.norm(M_d @ [0.0, 1.0])
+    assert values["fig7_acceleration_along_x_per_kN_m_s2"] == pytest.approx(easiest_x, rel=1e-12)
+    assert values["fig7_acceleration_along_y_per_kN_m_s2"] == pytest.approx(easiest_y, rel=1e-12)
+    assert values["fig4_force_jump_max_N"] == max(
+        values[f"fig4_force_jump_{k}_N"] for k in ("start", "end_of_acceleration", "start_of_deceleration", "end")
+    )
+    assert all(isinstance(v, float) for v in values.values())
 
 
 @pytest.mark.parametrize("name", VARIANTS)

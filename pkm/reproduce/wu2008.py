@@ -111,7 +111,7 @@ def _k_av_claims(m: Mechanism) -> list[dict[str, Any]]:
             "table1_k_av",
             "Table 1: the global velocity ratio k_av (eqs. 6-7) of the theta_1S = 10 deg design",
             K_AV_PAPER,
-            {"eq7_closed_form": exact, "eq7_quadrature": quadrature},
+            {"eq7_closed_form": exact, "eq7_quadrature": quadrature, **alternatives},
             "-",
             "match" if abs(exact - K_AV_PAPER) <= 0.005 else "differs",
             "eq. 7 is the mean of k_v = |x_dot / q1_dot| = cot(theta_1) over x in [-b/2, b/2]; pkm evaluates it "
@@ -167,38 +167,59 @@ def _model_claims(m: Mechanism, rng: np.random.Generator) -> list[dict[str, Any]
 
 
 def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str]:
-    """Fig. 4: the driving forces along Table 3's trapezoidal move."""
+    """Fig. 4: the driving forces along Table 3's trapezoidal move, and their limits on both sides of
+    each phase switch.
+
+    Position and velocity are continuous at a switch, so the force jumps by (J^T)^-1 M times the
+    acceleration jump (eq. 41 with N unchanged).
+    """
     move = Trajectory.trapezoidal(TABLE3["x0"], TABLE3["x1"], TABLE3["v_max"], TABLE3["a_s"])
     t = (np.arange(samples) + 0.5) / samples * move.duration
     x, v, a = move.sample(t)
     tau = m.inverse_dynamics(x, v, a)
-    t0 = TABLE3["v_max"] / TABLE3["a_s"]
-    switches = np.array([0.0, t0, move.duration - t0, move.duration])
-    eps = 1e-7
-    before = m.inverse_dynamics(*move.sample(np.clip(switches - eps, 0, None)))
-    after = m.inverse_dynamics(*move.sample(switches + eps))
-    jumps = np.abs(after - before)
-    phase = np.digitize(t, switches[1:-1])
+    switches = move.switches()
+    before = m.inverse_dynamics(switches.position, switches.velocity, switches.acceleration_before)
+    after = m.inverse_dynamics(switches.position, switches.velocity, switches.acceleration_after)
+    jumps = after - before
+    mixed = m.inertia_matrix(switches.position, space="mixed")
+    identity = np.einsum("kij,kj->ki", mixed, switches.acceleration_jump)
+    phase = np.digitize(t, switches.times[1:-1])
     second = np.abs(np.diff(tau, 2, axis=0))[(phase[2:] == phase[:-2])]
+    every = np.concatenate([tau, before, after])
     out = {
         "duration_s": move.duration,
-        "accelerating_time_s": t0,
-        "force_range_N": [float(tau.min()), float(tau.max())],
-        "jump_at_switches_N": jumps.max(axis=1).tolist(),
+        "accelerating_time_s": switches.times[1],
+        "switch_times_s": switches.times.tolist(),
+        "acceleration_before_m_s2": switches.acceleration_before[:, 0].tolist(),
+        "acceleration_after_m_s2": switches.acceleration_after[:, 0].tolist(),
+        "acceleration_jump_m_s2": switches.acceleration_jump[:, 0].tolist(),
+        "forces_before_N": before.tolist(),
+        "forces_after_N": after.tolist(),
+        "force_jumps_N": jumps.tolist(),
+        "jump_at_switches_N": np.abs(jumps).max(axis=1).tolist(),
+        "force_jump_identity_residual_N": float(np.abs(jumps - identity).max()),
+        "force_range_N": [float(every.min()), float(every.max())],
         "max_second_difference_within_phases_N": float(second.max()),
     }
     fig = Figure(figsize=(8, 4.5))
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
-    ax.plot(t, tau[:, 0], label="F1 (left slider)")
-    ax.plot(t, tau[:, 1], label="F2 (right slider)")
+    for k, label in enumerate(("F1 (left slider)", "F2 (right slider)")):
+        line = ax.plot(t, tau[:, k], label=label)[0]
+        ax.vlines(switches.times, before[:, k], after[:, k], colors=line.get_color(), linestyles="dashed", lw=0.8)
+        ax.plot(switches.times, before[:, k], "o", color=line.get_color(), markerfacecolor="none", markersize=4)
+        ax.plot(switches.times, after[:, k], "o", color=line.get_color(), markersize=3)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("driving force [N]")
     twin = ax.twinx()
     twin.plot(t, v[:, 0], "k:", label="platform speed")
     twin.set_ylabel("x_dot [m/s]")
     ax.legend(loc="upper left", fontsize=8)
-    ax.set_title("Driving forces along Table 3's move (Wu Fig. 4): trapezoidal speed, a = 6.67 m/s^2", fontsize=10)
+    ax.set_title(
+        "Driving forces along Table 3's move (Wu Fig. 4): trapezoidal speed, a = 6.67 m/s^2; at the switches "
+        "just before (open) and after (filled)",
+        fontsize=9,
+    )
     io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
     return out, path.name
 
@@ -212,8 +233,10 @@ def _kappa_map(m: Mechanism, resolution: int) -> tuple[np.ndarray, np.ndarray, n
     return X, Y, kappa
 
 
-def _isotropy(X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
-    centre = kappa[np.argmin(np.abs(X[:, 0])), :].mean()
+def _isotropy(m: Mechanism, X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
+    """kappa_D at x = 0 and on the edges of the map (means over y), its smallest value and where it
+    lies, and its asymmetry."""
+    centre = m.local_index("kappa_d", [0.0, m.task_rectangle().centre[1]])
     edge = np.concatenate([kappa[0, :], kappa[-1, :]]).mean()
     mirrored = kappa[::-1, :]
     return {
@@ -221,6 +244,7 @@ def _isotropy(X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
         "kappa_d_left_right_edges": float(edge),
         "kappa_d_left_edge": float(kappa[0, :].mean()),
         "kappa_d_right_edge": float(kappa[-1, :].mean()),
+        "kappa_d_min": float(kappa.min()),
         "argmin_x_m": float(X[np.unravel_index(np.argmin(kappa), kappa.shape)]),
         "max_mirror_difference": float(np.max(np.abs(kappa - mirrored))),
         "spread_over_y": float(np.max(np.ptp(kappa, axis=1))),
@@ -235,7 +259,7 @@ def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[s
     for k, (label, m) in enumerate(ms.items()):
         X, Y, kappa = _kappa_map(m, resolution)
         out[label] = {
-            **_isotropy(X, kappa),
+            **_isotropy(m, X, kappa),
             "kappa_d_mean": float(m.global_index("kappa_d_mean", region="task", resolution=16)),
             "kappa_d_std": float(m.global_index("kappa_d_std", region="task", resolution=16)),
         }
@@ -282,6 +306,7 @@ def _ellipses(ms: dict[str, Mechanism], path: Path) -> tuple[dict[str, Any], str
         out[label] = {
             "on_y_axis_major_axis_angle_deg": float(np.degrees(np.arctan2(abs(major[1]), abs(major[0])))),
             "on_y_axis_acceleration_per_kN": [float(1e3 / sigma[1]), float(1e3 / sigma[0])],
+            "on_y_axis_task_mass_matrix_kg": m.inertia_matrix([0.0, rect.centre[1]]).tolist(),
         }
     fig.suptitle("Accelerations a with |(J^T)^-1 M a| = 1: the major axis is the easiest direction (eq. 42)")
     io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
@@ -314,6 +339,85 @@ def _synthesis_record(result, resolution: int) -> dict[str, Any]:
     }
 
 
+def _values(
+    *,
+    claims: dict[str, Any],
+    forces: dict[str, Any],
+    maps: dict[str, Any],
+    ellipses: dict[str, Any],
+    record: dict[str, Any],
+    variants: dict[str, Mechanism],
+) -> dict[str, float]:
+    """Every number docs/papers/wu2008.md quotes, one key each, as pkm computes it (SI unless the key
+    names another unit)."""
+    asym_label, sym_label = variants
+    asym, sym = variants.values()
+    box = asym.task_rectangle().box
+    k_av, family = claims["table1_k_av"], claims["k_av_descends"]
+    d = asym.design()
+    switch_jumps = forces["jump_at_switches_N"]
+    a, b = maps[asym_label], maps[sym_label]
+    mass = np.array(ellipses[sym_label]["on_y_axis_task_mass_matrix_kg"])
+    per_kn = ellipses[sym_label]["on_y_axis_acceleration_per_kN"]
+    major_along_x = ellipses[sym_label]["on_y_axis_major_axis_angle_deg"] < 45
+    values = {}
+    for angle in TABLE1:
+        first = workspace_synthesis(B, H, angle * DEG)
+        values |= {
+            f"table1_theta{angle}_l_mm": first.length * 1e3,
+            f"table1_theta{angle}_d1_mm": first.d1 * 1e3,
+            f"table1_theta{angle}_stroke_mm": first.stroke * 1e3,
+        }
+    values |= {
+        "eq13_y_d1_over_b": claims["eq13_ratio"],
+        "task_rectangle_y_min_m": float(box[1, 0]),
+        "task_rectangle_y_max_m": float(box[1, 1]),
+        "k_av_eq7": k_av["eq7_closed_form"],
+        "k_av_harmonic_mean": k_av["harmonic_mean"],
+        "k_av_geometric_mean": k_av["geometric_mean"],
+        "k_av_median": k_av["median"],
+        "k_av_theta_1S_5_deg": family["k_av"][0],
+        "k_av_theta_1S_44_deg": family["k_av"][1],
+        "link_inertia_about_centre_of_mass_kg_m2": d["I12"] - d["m12"] * d["s12"] ** 2,
+        "virtual_work_vs_lagrange_max_relative_difference": claims["eq41_virtual_work_vs_lagrange"][
+            "max_relative_difference_to_lagrange"
+        ],
+        "fig4_accelerating_time_s": forces["accelerating_time_s"],
+        "fig4_duration_s": forces["duration_s"],
+        "fig4_acceleration_jump_m_s2": float(np.max(np.abs(forces["acceleration_jump_m_s2"]))),
+        "fig4_force_jump_start_N": switch_jumps[0],
+        "fig4_force_jump_end_of_acceleration_N": switch_jumps[1],
+        "fig4_force_jump_start_of_deceleration_N": switch_jumps[2],
+        "fig4_force_jump_end_N": switch_jumps[3],
+        "fig4_force_jump_max_N": max(switch_jumps),
+        "fig4_force_jump_identity_residual_N": forces["force_jump_identity_residual_N"],
+        "fig6_kappa_d_centre": a["kappa_d_centre"],
+        "fig6_kappa_d_left_edge": a["kappa_d_left_edge"],
+        "fig6_kappa_d_right_edge": a["kappa_d_right_edge"],
+        "fig6_kappa_d_min": a["kappa_d_min"],
+        "fig6_kappa_d_argmin_x_m": a["argmin_x_m"],
+        "fig7_symmetric_slider_mass_kg": sym.design()["m21"],
+        "fig7_symmetric_counterweight_kg": sym.design()["m13"],
+        "fig7_max_mirror_difference": b["max_mirror_difference"],
+        "fig7_kappa_d_centre": b["kappa_d_centre"],
+        "fig7_M_xx_kg": float(mass[0, 0]),
+        "fig7_M_yy_kg": float(mass[1, 1]),
+        "fig7_acceleration_along_x_per_kN_m_s2": per_kn[0] if major_along_x else per_kn[1],
+        "fig7_acceleration_along_y_per_kN_m_s2": per_kn[1] if major_along_x else per_kn[0],
+        "eq44_kappa_d_mean_asymmetric": a["kappa_d_mean"],
+        "eq44_kappa_d_std_asymmetric": a["kappa_d_std"],
+        "eq44_kappa_d_mean_symmetric": b["kappa_d_mean"],
+        "eq44_kappa_d_std_symmetric": b["kappa_d_std"],
+        "synthesis_paper_design_kappa_d_mean": record["paper_design_objective"],
+        "synthesis_optimum_kappa_d_mean": record["objective"],
+        "synthesis_optimum_l_mm": record["variables"]["l"] * 1e3,
+        "synthesis_optimum_d1_mm": record["variables"]["d1"] * 1e3,
+        "synthesis_optimum_frame_width_m": 2 * (record["design"]["d1"] + record["design"]["d2"]),
+        "synthesis_sampled_points": record["sampled_points"],
+    }
+    return {k: float(v) for k, v in values.items()}
+
+
 def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     """Compute every claim and figure into ``folder``; returns the report dictionary."""
     s = _settings(quick)
@@ -343,7 +447,10 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
             "N",
             "differs" if jump > 1e-3 * np.ptp(forces["force_range_N"]) else "match",
             "within each phase the forces are smooth; at the four phase switches the trapezoidal profile's "
-            f"acceleration jumps by 6.67 m/s^2 and the forces by up to {jump:.0f} N ((J^T)^-1 M times the jump)",
+            f"acceleration jumps by {max(np.abs(forces['acceleration_jump_m_s2'])):g} m/s^2 and the forces by up "
+            f"to {jump:.0f} N: forces_before_N and forces_after_N are the limits just before and just after each "
+            "switch (rows: switches, columns: F1, F2); their difference is (J^T)^-1 M times the acceleration jump "
+            f"(eq. 41, residual {forces['force_jump_identity_residual_N']:.1e} N)",
         )
     )
     a, b = maps["asymmetric (Fig. 1)"], maps["symmetric (section 6.3)"]
@@ -410,6 +517,14 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     bar.advance()
     bar.close()
     record = _synthesis_record(result, s["synthesis_resolution"])
+    values = _values(
+        claims={c["id"]: c["pkm_value"] for c in claims},
+        forces=forces,
+        maps=maps,
+        ellipses=ellipses,
+        record=record,
+        variants=variants,
+    )
     return {
         "paper": "wu2008",
         "title": TITLE,
@@ -427,6 +542,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
             "note": f"x1 of Table 3 reads 0.25 mm; taken as {TABLE3['x1'][0]} m",
         },
         "claims": claims,
+        "values": values,
         "beyond_paper": {"syntheses": [record], "text": record["text"]},
         "figures": [fig4, fig5, fig67],
     }
