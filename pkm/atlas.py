@@ -3,16 +3,25 @@
 The chart of a normalised design space is sampled on a regular grid; each node inside the space is a
 design at scale 1, and the global index of every node is evaluated in one vectorised call into
 :mod:`pkm.regions` per mode. Axis labels come from the design space, the sense from the index.
+
+A grid's largest value is no recommendation by itself: where a design's region holds a handful of poses
+(a workspace shrunk to a sliver) or the index is not converged in the pose resolution (a mean of an
+integrand that grows without bound towards a singular boundary), it is an artefact of the sampling. The
+best an atlas reports (:class:`Best`) is the best of its top nodes that pass :class:`Checks`: a region
+that is not degenerate and a value that changes by less than a stated tolerance when the pose resolution
+doubles.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
+import textwrap
 import time
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, field
 from functools import partial
 from importlib.metadata import version as installed_version
 from pathlib import Path
@@ -30,12 +39,98 @@ from pkm.regions.shapes import MAX_RESOLUTION
 
 
 class BestPoint(NamedTuple):
-    """The best grid node of an atlas: chart coordinates, index value, normalised coordinates."""
+    """The best grid node of an atlas, unchecked: chart coordinates, index value, normalised coordinates."""
 
     u: float
     v: float
     value: float
     coordinates: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class Checks:
+    """What the best design an atlas reports must pass.
+
+    tolerance : float
+        Largest relative change |v(2r) - v(r)| / |v(2r)| of the value when the pose resolution r (the
+        sampled grid's poses per axis, or the quadrature resolution of a parametrised region) doubles.
+    min_points : int
+        Fewest poses (sampled region) or quadrature nodes the design's region must hold.
+    min_fraction : float
+        Smallest measure of the region as a fraction of the design's size, its workspace box
+        (``mech.workspace_box``): for the sampled region the share of the grid's poses that it keeps.
+    candidates : int
+        How many of the grid's best nodes that pass the size checks are re-evaluated.
+    refinements : int
+        Most doublings of the pose resolution per candidate: a candidate whose value still changes by
+        more than ``tolerance`` at the last one is not converged.
+    """
+
+    tolerance: float = 0.01
+    min_points: int = 16
+    min_fraction: float = 0.02
+    candidates: int = 12
+    refinements: int = 2
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.tolerance, int | float) and 0 < self.tolerance < 1):
+            raise PkmError(f"tolerance = {self.tolerance!r} violates 0 < tolerance < 1")
+        if not (isinstance(self.min_fraction, int | float) and 0 <= self.min_fraction < 1):
+            raise PkmError(f"min_fraction = {self.min_fraction!r} violates 0 <= min_fraction < 1")
+        check_integer("min_points", self.min_points, 1)
+        check_integer("candidates", self.candidates, 1, MAX_CANDIDATES)
+        check_integer("refinements", self.refinements, 1, MAX_REFINEMENTS)
+
+    def describe(self) -> str:
+        return (f"a region of at least {self.min_points} poses and {self.min_fraction:.0%} of the design's workspace "
+                f"box, and a value that changes by less than {self.tolerance:.2%} when the pose resolution doubles")
+
+
+MAX_CANDIDATES = 1000
+MAX_REFINEMENTS = 4
+
+
+@dataclass(frozen=True)
+class Best:
+    """The best design of one working mode of an atlas that passed the :class:`Checks`, or why none did.
+
+    ``design`` holds the mechanism's design parameters (SI), ``coordinates`` the normalised ones of the
+    design space and ``u``, ``v`` the chart's. ``value`` is the index at the finest pose resolution
+    evaluated; ``values`` the node's value at each of ``resolutions`` (the atlas's own first), ``change``
+    the relative change of the last doubling, ``points`` the poses (or nodes) of the region at the finest
+    resolution and ``fraction`` its measure per the design's workspace box. ``found`` is False with the
+    ``reason`` when no candidate passed (then the other fields are empty or NaN). ``varied`` names the
+    design parameters the design space sets (the summary shows those).
+    """
+
+    index: str
+    mode: str
+    found: bool
+    reason: str
+    u: float = math.nan
+    v: float = math.nan
+    coordinates: dict[str, float] = field(default_factory=dict)
+    design: dict[str, float] = field(default_factory=dict)
+    value: float = math.nan
+    values: tuple[float, ...] = ()
+    resolutions: tuple[int, ...] = ()
+    change: float = math.nan
+    points: int = 0
+    fraction: float = math.nan
+    varied: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields, JSON-ready: NaN (no value) as None."""
+        return {name: None if isinstance(value, float) and math.isnan(value) else value
+                for name, value in ((name, getattr(self, name)) for name in self.__dataclass_fields__)}
+
+    def __str__(self) -> str:
+        if not self.found:
+            return f"no best {self.index} in {self.mode}: {self.reason}"
+        chart = ", ".join(f"{k:.4g}" for k in (self.u, self.v))
+        design = ", ".join(f"{k} = {self.design[k]:.4g}" for k in self.varied or self.design)
+        return (f"best {self.index} in {self.mode}: {self.value:.6g} at chart ({chart}), design {design} "
+                f"({self.reason})")
 
 
 @dataclass
@@ -46,6 +141,8 @@ class Atlas:
     space (``inside`` False) and where the region holds no point. ``points[mode]`` counts the poses
     the index averaged over. ``wall_time`` is in seconds; ``evaluations`` counts the design-pose
     pairs evaluated (all modes); ``singularity_margin`` is None for a parametrised region.
+    ``checked[mode]`` is the best design that passed ``checks`` (a :class:`Best`, with the reason
+    where none did); :meth:`best` is the grid's best node, unchecked.
     """
 
     mechanism: Mechanism
@@ -63,6 +160,14 @@ class Atlas:
     singularity_margin: float | None
     wall_time: float
     evaluations: int
+    checks: Checks = field(default_factory=Checks)
+    checked: dict[str, Best] = field(default_factory=dict)
+
+    def __str__(self) -> str:
+        head = (f"{self.index.name} atlas of the {self.mechanism.name} over {self.region} in the {self.space.name} "
+                f"space: {int(self.inside.sum())} designs x {len(self.modes)} modes, pose resolution "
+                f"{self.pose_resolution}, {self.wall_time:.1f} s")
+        return "\n".join([head, *(f"  {self.checked[mode]}" for mode in self.modes if mode in self.checked)])
 
     def _mode(self, mode: str | None) -> str:
         name = self.modes[0] if mode is None else self.mechanism.working_mode(mode).name
@@ -71,7 +176,8 @@ class Atlas:
         return name
 
     def best(self, mode: str | None = None, *, min_points: int = 1) -> BestPoint:
-        """The best node of ``mode`` (the first mode by default) in the index's sense.
+        """The best grid node of ``mode`` (the first mode by default) in the index's sense, unchecked
+        (``checked[mode]`` is the best that passed the convergence and size checks).
 
         Only nodes whose value averages at least ``min_points`` poses count: the sampled grid puts
         few poses in a tiny workspace, whose value is then coarse.
@@ -98,7 +204,24 @@ class Atlas:
             "chart_axes": list(self.space.chart_axes),
             "chart_labels": list(self.space.chart_labels),
             **{name: getattr(self, name) for name in names},
+            "checks": asdict(self.checks),
+            "best": {mode: self.checked[mode].to_dict() for mode in self.modes if mode in self.checked},
         }
+
+    def _star(self, mode: str, min_points: int | None) -> tuple[list[float], list[float], str]:
+        """Where the figure marks the best of ``mode`` and its legend."""
+        space = self.space
+        if min_points is None:
+            best = self.checked.get(mode)
+            if best is None or not best.found:
+                reason = best.reason if best is not None else "not checked"
+                return [], [], textwrap.shorten(f"no best: {reason}", 90)
+            at = ", ".join(f"{n}={best.design[n]:.3g}" for n in best.varied)
+            return [best.u], [best.v], f"best {self.index.name} = {best.value:.3g} at {at} ({best.points} poses)"
+        node = self.best(mode, min_points=min_points)
+        points = self.points[mode][self.u == node.u, self.v == node.v][0]
+        at = ", ".join(f"{n}={c:.2f}" for n, c in zip(space.coordinates, node.coordinates, strict=True))
+        return [node.u], [node.v], f"best node {self.index.name} = {node.value:.3g} at {at} ({points} poses)"
 
     def save_npz(self, path: str | os.PathLike) -> Path:
         """Write u, v, inside, ``values_<mode>``, ``points_<mode>`` and JSON ``metadata``, atomically."""
@@ -109,8 +232,10 @@ class Atlas:
         arrays["metadata"] = np.array(json.dumps(self.metadata()))
         return io.atomic_write(Path(path), lambda tmp: np.savez_compressed(tmp, **arrays))
 
-    def plot(self, path: str | os.PathLike, *, min_points: int = 1) -> Path:
-        """A PNG like Gao's Figs. 4-9: filled and labelled contours over the chart, one panel per mode."""
+    def plot(self, path: str | os.PathLike, *, min_points: int | None = None) -> Path:
+        """A PNG like Gao's Figs. 4-9: filled and labelled contours over the chart, one panel per mode, the
+        checked best marked by a star (or the reason there is none); with ``min_points`` the star marks
+        the grid's best node of at least that many poses instead."""
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
         from matplotlib.ticker import MaxNLocator
@@ -131,11 +256,8 @@ class Atlas:
             lines = ax.contour(U, V, z, levels=levels, colors="k", linewidths=0.6)
             ax.clabel(lines, lines.levels[::2], fmt="%.3g", fontsize=7)
             ax.plot(poly[:, 0], poly[:, 1], color="k", linewidth=1.2)
-            best = self.best(mode, min_points=min_points)
-            points = self.points[mode][self.u == best.u, self.v == best.v][0]
-            at = ", ".join(f"{n}={c:.2f}" for n, c in zip(space.coordinates, best.coordinates, strict=True))
-            ax.plot(best.u, best.v, marker="*", color="red", markersize=12, linestyle="none",
-                    label=f"best {self.index.name} = {best.value:.3g} at {at} ({points} poses)")
+            star_u, star_v, label = self._star(mode, min_points)
+            ax.plot(star_u, star_v, marker="*", color="red", markersize=12, linestyle="none", label=label)
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
             aliases = self.mechanism.working_mode(mode).aliases
             alias = f" ({', '.join(aliases)})" if aliases else ""
@@ -195,6 +317,85 @@ def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
     return _chunk(registry.mechanism(task.mechanism), task)
 
 
+def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:
+    """The measure of each design's parametrised region (D,) as a fraction of its workspace box: its
+    ``region_measure`` over the volume of ``mech.workspace_box``. (For the sampled region it is the share
+    of the grid's cells kept, points / pose_resolution^n.)"""
+    measure = regions.parametrised_global(mech, registry.global_index("region_measure"), where, designs,
+                                          branch=branch, resolution=resolution)
+    box = np.array([np.prod(np.diff(mech.workspace_box(d), axis=1)) for d in designs])
+    return measure / box
+
+
+def _relative_change(values: list[float]) -> float:
+    new, old = values[-1], values[-2]
+    return abs(new - old) / max(abs(new), np.finfo(float).tiny)
+
+
+def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndarray) -> Best:
+    """The best design of ``mode`` that passes ``atlas.checks``: the best ``candidates`` nodes whose region
+    holds enough poses and measure are re-evaluated at twice the pose resolution (and twice again, up to
+    ``refinements`` times) until their value changes by less than ``tolerance``; the best of those that
+    converge, by its value at the finest resolution. ``designs`` (D, n_p) and ``fraction`` (D,) are the
+    atlas's inside nodes in row-major order."""
+    mech, checks, name = atlas.mechanism, atlas.checks, atlas.index.name
+    values, points = atlas.values[mode][atlas.inside], atlas.points[mode][atlas.inside]
+    nodes = np.argwhere(atlas.inside)
+    sampled = isinstance(mech.region(atlas.region), regions.SampledWorkspace)
+
+    def sized(value: float, count: int, share: float) -> bool:
+        return bool(np.isfinite(value)) and count >= checks.min_points and share >= checks.min_fraction
+
+    ok = np.array([sized(*row) for row in zip(values, points, fraction, strict=True)], dtype=bool)
+    if not ok.any():
+        return Best(name, mode, False, f"no design's region has a finite {name} over at least {checks.min_points} "
+                                       f"points and {checks.min_fraction:.0%} of its workspace box")
+    sign = -1.0 if atlas.index.sense == "max" else 1.0
+    order = np.flatnonzero(ok)[np.argsort(sign * values[ok], kind="stable")][: checks.candidates]
+    history = {k: [float(values[k])] for k in order}
+    state = {k: (int(points[k]), float(fraction[k])) for k in order}
+    resolutions, pending, converged = [atlas.pose_resolution], list(order), []
+    for _ in range(checks.refinements):
+        if not pending or 2 * resolutions[-1] > MAX_RESOLUTION:
+            break
+        resolutions.append(2 * resolutions[-1])
+        task = AtlasTask(mech.name, (name,), atlas.region, mode, designs[pending], resolutions[-1],
+                         atlas.singularity_margin)
+        out = _chunk(mech, task)
+        still = []
+        for k, value, count in zip(pending, out[f"values_{name}"], out[f"points_{name}"], strict=True):
+            history[k].append(float(value))
+            share = count / resolutions[-1] ** mech.n_out if sampled else state[k][1]
+            state[k] = (int(count), float(share))
+            if not sized(value, count, share):
+                continue
+            (converged if _relative_change(history[k]) < checks.tolerance else still).append(k)
+        pending = still
+    if not converged:
+        changes = [_relative_change(h) for h in history.values() if len(h) > 1 and np.isfinite(h[-1])]
+        smallest = f"; the smallest change was {min(changes):.2%}" if changes else ""
+        return Best(name, mode, False,
+                    f"none of the {len(order)} best designs with a region of at least {checks.min_points} points and "
+                    f"{checks.min_fraction:.0%} of the workspace box converged to {checks.tolerance:.2%} within "
+                    f"{len(resolutions) - 1} doubling(s) of the pose resolution ({', '.join(map(str, resolutions))})"
+                    f"{smallest}")
+    k = min(converged, key=lambda c: sign * history[c][-1])
+    i, j = nodes[k]
+    u, v = float(atlas.u[i]), float(atlas.v[j])
+    count, share = state[k]
+    used = tuple(resolutions[: len(history[k])])
+    change = _relative_change(history[k])
+    return Best(
+        name, mode, True,
+        f"converged: {change:.2%} change from pose resolution {used[-2]} to {used[-1]}; {count} points, "
+        f"{share:.0%} of the workspace box",
+        u=u, v=v,
+        coordinates={c: float(x) for c, x in zip(atlas.space.coordinates, atlas.space.from_chart(u, v), strict=True)},
+        design=mech.design_dict(designs[k]), value=history[k][-1], values=tuple(history[k]), resolutions=used,
+        change=change, points=count, fraction=share, varied=tuple(atlas.space.parameters),
+    )
+
+
 def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
     """The working modes an atlas draws over ``region`` by default: ``mech.distinct_modes[region]`` where
     the mechanism's symmetry makes some modes equal, the modes the region is defined on where it says,
@@ -217,6 +418,7 @@ def compute_sweep(
     executor: str | Executor | None = None,
     store: Path | None = None,
     chunk: int = CHUNK,
+    checks: Checks | None = None,
 ) -> dict[str, Atlas]:
     """Atlases of several global indices over a design space's chart, per working mode, in one pass:
     each task evaluates every index at its designs.
@@ -254,6 +456,9 @@ def compute_sweep(
         among the space's inside nodes (row-major).
     chunk : int
         Designs per task.
+    checks : Checks, optional
+        What the best design of each mode must pass (``Checks()`` by default): its top candidates are
+        re-evaluated in this process at doubled pose resolutions; ``Atlas.checked`` holds the result.
 
     Returns
     -------
@@ -286,6 +491,9 @@ def compute_sweep(
         regions.check_margin(singularity_margin)
 
     chunk = check_integer("chunk", chunk, 1)
+    checks = Checks() if checks is None else checks
+    if not isinstance(checks, Checks):
+        raise PkmError(f"checks = {checks!r} violates: a pkm.atlas.Checks")
     start = time.perf_counter()
     u, v, inside = space.chart_grid(resolution)
     U, V = np.meshgrid(u, v, indexing="ij")
@@ -335,7 +543,6 @@ def compute_sweep(
         )
     for k, result in zip(missing, computed, strict=True):
         results[k] = result
-    wall = time.perf_counter() - start
     atlases = {}
     for index in indices:
         values, points = {}, {}
@@ -348,8 +555,17 @@ def compute_sweep(
         atlases[index.name] = Atlas(
             mechanism=mech, index=index, space=space, region=region, modes=modes, u=u, v=v, inside=inside,
             values=values, points=points, resolution=resolution, pose_resolution=pose_resolution,
-            singularity_margin=margin, wall_time=wall, evaluations=len(designs) * per_design[index.name] * len(modes),
+            singularity_margin=margin, wall_time=0.0, evaluations=len(designs) * per_design[index.name] * len(modes),
+            checks=checks,
         )
+    for mode in modes:
+        share = None if sampled else region_fraction(mech, where, designs, mech.working_mode(mode), pose_resolution)
+        for atlas in atlases.values():
+            fraction = atlas.points[mode][inside] / pose_resolution**mech.n_out if sampled else share
+            atlas.checked[mode] = checked_best(atlas, mode, designs, fraction)
+    wall = time.perf_counter() - start
+    for atlas in atlases.values():
+        atlas.wall_time = wall
     return atlases
 
 

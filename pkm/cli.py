@@ -13,6 +13,7 @@ import shutil
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stdout
+from dataclasses import asdict
 from importlib.metadata import version
 from pathlib import Path
 from typing import Any, NoReturn
@@ -185,16 +186,18 @@ def _space(m: Mechanism, args: argparse.Namespace) -> Any:
 
 def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path, label: str) -> dict[str, Any]:
     """The atlases of ``names`` over the command's design space, chunks kept in ``store``."""
-    from pkm.atlas import MAX_CHART, compute_sweep, default_modes
+    from pkm.atlas import MAX_CHART, Checks, compute_sweep, default_modes
 
     space = _space(m, args)
     indices = tuple(m.global_spec(name) for name in names)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
     inside = int(space.chart_grid(check_integer("resolution", args.resolution, 3, MAX_CHART))[2].sum())
     bar = Progress(len(modes) * inside, label)
+    checks = Checks(tolerance=args.tolerance, min_points=args.min_points, min_fraction=args.min_fraction)
     atlases = compute_sweep(
         m, indices, space=space, modes=modes, region=args.region, resolution=args.resolution,
         pose_resolution=args.pose_resolution, progress=bar.advance, executor=args.executor, store=store,
+        checks=checks,
     )
     bar.close()
     return atlases
@@ -215,20 +218,15 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     stem = "_".join([m.name, args.index, args.region, space_name, *atlas.modes])
     npz = out / f"{stem}.npz"
     png = out / f"{stem}.png"
-    best = {mode: atlas.best(mode) for mode in atlas.modes}
     atlas.plot(png)
     atlas.save_npz(npz)
     shutil.rmtree(store, ignore_errors=True)
     _remove_if_empty(out / CHUNKS)
-    u, v = space.chart_axes
-    data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense, "best": best}
-    text = "\n".join(
-        [f"wrote {npz} and {png} in {atlas.wall_time:.1f} s"]
-        + [
-            f"best {args.index} in {mode}: {b[2]:.6g} at ({u}, {v}) = ({b[0]:.4f}, {b[1]:.4f})"
-            for mode, b in best.items()
-        ]
-    )
+    data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense,
+            "chart_axes": list(space.chart_axes), "checks": asdict(atlas.checks),
+            "best": {mode: atlas.checked[mode].to_dict() for mode in atlas.modes}}
+    text = "\n".join([f"wrote {npz} and {png} in {atlas.wall_time:.1f} s",
+                      *(str(atlas.checked[mode]) for mode in atlas.modes)])
     _emit(args, data, text)
 
 
@@ -251,6 +249,8 @@ def cmd_sweep(args: argparse.Namespace) -> None:
         "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
         "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
         "inside": first.inside.tolist(), "chunks": chunks, "figures": figures, "wall_time_s": first.wall_time,
+        "checks": asdict(first.checks),
+        "best": {name: {mode: a.checked[mode].to_dict() for mode in a.modes} for name, a in atlases.items()},
         "format": "each chunk holds values_<index> and points_<index> of `count` inside nodes of one mode from "
                   "`start` on (the chart grid's inside nodes in row-major order); <index>.npz holds each atlas whole",
     }
@@ -335,78 +335,180 @@ def cmd_reproduce(args: argparse.Namespace) -> None:
     _emit(args, summaries, text)
 
 
+def _catalogue(kind: str) -> str:
+    """Each mechanism's allowed values of ``kind`` (for help texts): ``mechanism: a, b, c``, one line each."""
+    lines = []
+    for name in registry.mechanisms():
+        m = registry.mechanism(name)
+        values = {
+            "design": [f"{p.name} [{p.unit}]" for p in m.parameters],
+            "mode": [f"{b.name} ({'/'.join(b.aliases)})" if b.aliases else b.name for b in m.working_modes],
+            "region": list(m.region_names()),
+            "space": list(m.design_spaces) or ["none (use --axes)"],
+            "pose": [f"{n} [{u}]" for n, u in zip(m.pose_names, m.pose_units, strict=True)],
+            "index": list(m.global_indices()),
+        }[kind]
+        lines.append(f"{name}: {', '.join(values)}")
+    return "; ".join(lines)
+
+
+def _example_design() -> str:
+    m = registry.mechanism(registry.mechanisms()[0])
+    return ",".join(f"{p.name}={p.default:g}" for p in m.parameters[:3])
+
+
+def _example_pose() -> str:
+    m = registry.mechanism(registry.mechanisms()[0])
+    centre = m.workspace_box(m.design().vector()).mean(axis=1)
+    return ",".join(f"{c:.3g}" for c in centre)
+
+
+HELP = {
+    "mechanism": lambda: f"mechanism: one of {', '.join(registry.mechanisms())}; e.g. {registry.mechanisms()[0]}",
+    "index": lambda: f"global index, per mechanism: {_catalogue('index')}; e.g. gci",
+    "indices": lambda: f"comma-separated global indices, per mechanism: {_catalogue('index')}; e.g. gci,gamma_max",
+    "design": lambda: f"design parameters name=value,... in the units shown (missing ones take their defaults, "
+                      f"see `pkm list`); per mechanism: {_catalogue('design')}; e.g. --design {_example_design()}",
+    "mode": lambda: f"working mode by name or paper alias (default: the first); per mechanism: {_catalogue('mode')}; "
+                    f"e.g. --mode out_out",
+    "modes": lambda: f"comma-separated working modes (default: the distinct ones over the region); per mechanism: "
+                     f"{_catalogue('mode')}; e.g. --modes out_out,out_in",
+    "region": lambda: f"region of the index (default reachable: the sampled workspace of the mode); per mechanism: "
+                      f"{_catalogue('region')}; e.g. --region miw",
+    "space": lambda: f"normalised design space (default: the mechanism's first); per mechanism: {_catalogue('space')}; "
+                     f"e.g. --space gao1998",
+    "pose": lambda: f"a pose, comma-separated in the mechanism's pose coordinates (repeat for several poses); per "
+                    f"mechanism: {_catalogue('pose')}; e.g. --pose {_example_pose()}",
+    "problem": lambda: "synthesis problem: " + "; ".join(f"{p.name} ({p.doc.split(':')[0]})"
+                                                        for p in registry.problems().values())
+                       + f"; e.g. {next(iter(registry.problems()))}",
+    "paper": lambda: "paper key, or all: "
+                     + "; ".join(f"{key}: {module.TITLE}" for key, module in registry.papers().items())
+                     + f"; e.g. {next(iter(registry.papers()))}",
+}
+
+
+def _lazy(action: argparse.Action, key: str) -> None:
+    action.lazy_help = HELP[key]  # type: ignore[attr-defined]
+
+
+class _HelpParser(_Parser):
+    """Fills the help texts that list the registry's names only when help is shown: building them loads
+    every mechanism and paper, which the other commands do not need."""
+
+    def format_help(self) -> str:
+        for action in self._actions:
+            text = getattr(action, "lazy_help", None)
+            if text is not None:
+                action.help = text()
+        return super().format_help()
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="pkm", description="Design of parallel kinematic machines.")
+    from pkm.atlas import Checks
+    from pkm.regions import QUADRATURE_RESOLUTION, SAMPLED_RESOLUTION, SINGULARITY_MARGIN
+
+    parser = _HelpParser(prog="pkm", description="Design of parallel kinematic machines.")
     parser.add_argument("--version", action="version", version=version("pkm"))
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_HelpParser)
 
     def command(name: str, func, help_text: str) -> argparse.ArgumentParser:
         p = sub.add_parser(name, help=help_text, description=help_text)
-        p.add_argument("--json", action="store_true", help="machine-readable output")
+        p.add_argument("--json", action="store_true", help="machine-readable output on standard output (default: text)")
         p.set_defaults(func=func)
         return p
 
-    command("list", cmd_list, "mechanisms, their parameters, modes and regions; indices; problems")
+    def listed(p: argparse.ArgumentParser, *names: str, key: str, **kwargs: Any) -> None:
+        _lazy(p.add_argument(*names, help=f"see {key} in pkm {p.prog.split()[-1]} --help", **kwargs), key)
+
+    resolution = (f"pose grid per axis over the sampled region (default {SAMPLED_RESOLUTION}) or quadrature "
+                  f"resolution of a parametrised region (default {QUADRATURE_RESOLUTION}); e.g. 32")
+
+    command("list", cmd_list, "mechanisms with their parameters, units, modes, regions and design spaces; indices; "
+                              "problems; papers")
     p = command("eval", cmd_eval, "inverse kinematics, Jacobian and local indices at poses")
-    p.add_argument("mechanism")
-    p.add_argument("--pose", action="append", help="x,y (repeat for several poses)")
-    p.add_argument("--design", help="name=value,... (missing parameters take their defaults)")
-    p.add_argument("--mode", help="working mode (name or paper alias)")
+    listed(p, "mechanism", key="mechanism")
+    listed(p, "--pose", key="pose", action="append")
+    listed(p, "--design", key="design")
+    listed(p, "--mode", key="mode")
     p.add_argument("--strict", action="store_true",
                    help="fail on a pose out of reach (default: report it with reachable false and null values)")
     p = command("index", cmd_index, "a global index of a design")
-    p.add_argument("mechanism")
-    p.add_argument("index")
-    p.add_argument("--design")
-    p.add_argument("--mode")
-    p.add_argument("--region", default="reachable")
-    p.add_argument("--resolution", type=int)
-    p.add_argument("--margin", type=float, help="singularity margin of the sampled region (1/kappa_f)")
-    p.add_argument("--gradient", action="store_true", help="exact gradient (parametrised regions)")
+    listed(p, "mechanism", key="mechanism")
+    listed(p, "index", key="index")
+    listed(p, "--design", key="design")
+    listed(p, "--mode", key="mode")
+    listed(p, "--region", key="region", default="reachable")
+    p.add_argument("--resolution", type=int, help=resolution)
+    p.add_argument("--margin", type=float, help=f"singularity margin of the sampled region: poses with 1/kappa_f "
+                                                f"below it are left out (default {SINGULARITY_MARGIN}, in [0, 1)); "
+                                                f"e.g. 0.05")
+    p.add_argument("--gradient", action="store_true",
+                   help="also the exact gradient in every design parameter (parametrised regions; default off)")
+
     def grid_options(p: argparse.ArgumentParser) -> None:
-        p.add_argument("--space", help="design space (default: the mechanism's first)")
-        p.add_argument("--axes", help="two design parameters with bounds instead: name=lower:upper,name=lower:upper")
-        p.add_argument("--region", default="reachable")
-        p.add_argument("--modes", help="comma-separated working modes (default: the distinct ones)")
-        p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis")
-        p.add_argument("--pose-resolution", type=int,
-                       help="pose grid (reachable) or quadrature (parametrised region)")
+        listed(p, "--space", key="space")
+        p.add_argument("--axes", help="two design parameters with bounds instead of a design space (default: none): "
+                                      "name=lower:upper,name=lower:upper; e.g. --axes r1=0.5:1.5,r2=0.5:1.5")
+        listed(p, "--region", key="region", default="reachable")
+        listed(p, "--modes", key="modes")
+        p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis (default 41, "
+                                                                  "3 to 4001); e.g. 21")
+        p.add_argument("--pose-resolution", type=int, help=resolution)
+        p.add_argument("--tolerance", type=float, default=Checks.tolerance,
+                       help=f"the best design's value must change by less than this (relative) when the pose "
+                            f"resolution doubles (default {Checks.tolerance}, in (0, 1)); e.g. 0.005")
+        p.add_argument("--min-points", type=int, default=Checks.min_points,
+                       help=f"the best design's region must hold at least this many poses or nodes "
+                            f"(default {Checks.min_points}); e.g. 100")
+        p.add_argument("--min-fraction", type=float, default=Checks.min_fraction,
+                       help=f"the best design's region must measure at least this fraction of its workspace box "
+                            f"(default {Checks.min_fraction}, in [0, 1)); e.g. 0.05")
         p.add_argument("--executor", choices=parallel.EXECUTORS, default="auto",
                        help="where the chunks run: auto (a Dask scheduler if set, else serial for small jobs and "
-                            "local processes for large ones), serial or processes; default auto")
+                            "local processes for large ones), serial or processes; default auto; e.g. serial")
 
     def scheduled(p: argparse.ArgumentParser) -> None:
-        p.add_argument("--scheduler", help=f"address of a Dask scheduler (tcp://host:8786) for the parallel work; "
-                                           f"default ${parallel.SCHEDULER_VARIABLE}; needs pip install 'pkm[dask]'")
+        p.add_argument("--scheduler", help=f"address of a Dask scheduler for the parallel work (default "
+                                           f"${parallel.SCHEDULER_VARIABLE}, else local); needs pip install "
+                                           f"'pkm[dask]'; e.g. tcp://127.0.0.1:8786")
 
-    p = command("atlas", cmd_atlas, "a global index over a normalised design space (npz and figure)")
-    p.add_argument("mechanism")
-    p.add_argument("index")
+    p = command("atlas", cmd_atlas, "a global index over a normalised design space (npz and figure) and its best "
+                                    "design that passes the convergence and size checks")
+    listed(p, "mechanism", key="mechanism")
+    listed(p, "index", key="index")
     grid_options(p)
     scheduled(p)
-    p.add_argument("--out", default="out", help="folder for the npz and the figure (an interrupted run resumes "
-                                                 "from the chunks kept there)")
+    p.add_argument("--out", default="out", help="folder for the npz and the figure (default out; an interrupted run "
+                                                 "resumes from the chunks kept there); e.g. atlases")
     p = command("sweep", cmd_sweep, "several global indices over a design space and working modes in one pass "
                                     "(npz chunks with an index.json, and figures)")
-    p.add_argument("mechanism")
-    p.add_argument("--indices", required=True, help="comma-separated global indices, e.g. gci,gamma_max")
+    listed(p, "mechanism", key="mechanism")
+    listed(p, "--indices", key="indices", required=True)
     grid_options(p)
     scheduled(p)
-    p.add_argument("--out", default="out", help="folder for the sweep's folder (an interrupted run resumes)")
-    p = command("synth", cmd_synth, "solve a synthesis problem with IPOPT and verify it")
-    p.add_argument("problem")
-    p.add_argument("--resolution", type=int)
-    p.add_argument("--starts", type=int)
-    p.add_argument("--max-iter", type=int, help="IPOPT's max_iter (default: the problem's)")
-    p.add_argument("--tol", type=float, help="IPOPT's tol (default: the problem's)")
-    p.add_argument("--print-level", type=int, help="IPOPT's print_level (default 0, or 5 with --verbose)")
-    p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations")
-    p.add_argument("--out", help="folder for <problem>.json")
+    p.add_argument("--out", default="out", help="folder for the sweep's folder (default out; an interrupted run "
+                                                 "resumes); e.g. sweeps")
+    p = command("synth", cmd_synth, "solve a synthesis problem with IPOPT and verify it (exit 1 with the record of "
+                                    "the last iterate when it fails)")
+    listed(p, "problem", key="problem")
+    p.add_argument("--resolution", type=int, help="quadrature resolution of the optimised indices (default: the "
+                                                  "problem's, 8 for most); e.g. 6")
+    p.add_argument("--starts", type=int, help="IPOPT starts from the best screening points (default: the problem's, "
+                                              "3 or 4; 1 to 1000); e.g. 2")
+    p.add_argument("--max-iter", type=int, help="IPOPT's max_iter per start (default: the problem's, 100 to 500); "
+                                                "e.g. 1000")
+    p.add_argument("--tol", type=float, help="IPOPT's tol, > 0 (default: the problem's, 1e-10); e.g. 1e-8")
+    p.add_argument("--print-level", type=int, help="IPOPT's print_level, 0 to 12 (default 0, or 5 with --verbose); "
+                                                   "e.g. 3")
+    p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
+    p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
+                                 "e.g. results")
     scheduled(p)
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
-    p.add_argument("paper", help="a paper key (see `pkm list`) or all")
-    p.add_argument("--out", default="out")
-    p.add_argument("--quick", action="store_true", help="low resolutions (for tests)")
+    listed(p, "paper", key="paper")
+    p.add_argument("--out", default="out", help="folder holding <key>/ (default out); e.g. reports")
+    p.add_argument("--quick", action="store_true", help="low resolutions, for tests (default off)")
     scheduled(p)
     return parser
 

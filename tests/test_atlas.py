@@ -212,3 +212,113 @@ def test_unknown_names_are_unknown_name_errors(mech, gao, gci):
         compute_atlas(mech, GCI, space=gao, region="disc")
     with pytest.raises(pkm.UnknownNameError, match="in_in"):
         gci.best("in_in")
+
+
+CHECKED_RES = 11  # a chart whose best raw nodes (gci, gamma_max) hold a sliver of a workspace at 16 poses per axis
+
+
+@pytest.fixture(scope="module")
+def checked(mech, gao):
+    """gci and gamma_max in out_out over the reachable region at pose resolutions 16 and 32."""
+    return {
+        (name, pose_res): compute_atlas(mech, registry.global_index(name), space=gao, modes="out_out",
+                                        resolution=CHECKED_RES, pose_resolution=pose_res, executor="serial")
+        for name in ("gci", "gamma_max")
+        for pose_res in (16, 32)
+    }
+
+
+@pytest.mark.parametrize("name", ["gci", "gamma_max"])
+def test_the_reported_best_is_stable_under_a_doubling_of_the_pose_resolution(checked, mech, name):
+    coarse, fine = checked[name, 16].checked["out_out"], checked[name, 32].checked["out_out"]
+    tolerance = checked[name, 16].checks.tolerance
+    assert coarse.found
+    assert fine.found
+    assert coarse.design == fine.design
+    assert fine.value == pytest.approx(coarse.value, rel=tolerance)
+    # its value converged: from the last resolution checked to its double it moved by less than the tolerance
+    last, before = (mech.global_index(name, coarse.design, mode="out_out", resolution=r)
+                    for r in coarse.resolutions[-1:-3:-1])
+    assert (float(last), float(before)) == pytest.approx(coarse.values[-1:-3:-1], rel=1e-12)
+    assert coarse.values[-1] == coarse.value
+    assert abs(coarse.values[-1] - coarse.values[-2]) < tolerance * abs(coarse.value)
+    assert coarse.resolutions[0] == 16
+    assert coarse.resolutions[1] == 32
+
+
+@pytest.mark.parametrize("name", ["gci", "gamma_max"])
+def test_a_degenerate_region_is_never_the_best(checked, name):
+    atlas = checked[name, 16]
+    raw = atlas.best("out_out")
+    i, j = np.flatnonzero(atlas.u == raw.u)[0], np.flatnonzero(atlas.v == raw.v)[0]
+    assert atlas.points["out_out"][i, j] < atlas.checks.min_points  # the grid's own best is a sliver
+    best = atlas.checked["out_out"]
+    assert (best.u, best.v) != (raw.u, raw.v)
+    assert best.points >= atlas.checks.min_points
+    assert best.fraction >= atlas.checks.min_fraction
+    k, m = np.flatnonzero(atlas.u == best.u)[0], np.flatnonzero(atlas.v == best.v)[0]
+    assert atlas.points["out_out"][k, m] >= atlas.checks.min_points
+
+
+def test_the_best_is_given_in_design_parameters_and_chart_coordinates(checked, mech, gao, tmp_path):
+    atlas = checked["gci", 16]
+    best = atlas.checked["out_out"]
+    assert list(best.design) == list(mech.parameter_names())
+    coordinates = gao.from_chart(best.u, best.v)
+    assert list(best.coordinates.values()) == pytest.approx(coordinates)
+    np.testing.assert_allclose(mech.design_vector(best.design), gao.designs(mech.parameters, coordinates))
+    assert f"r1 = {best.design['r1']:.4g}" in str(best)
+    assert "out_out" in str(atlas)
+    with np.load(atlas.save_npz(tmp_path / "gci.npz")) as data:
+        saved = json.loads(str(data["metadata"]))["best"]["out_out"]
+    assert saved["design"] == best.design
+    assert (saved["u"], saved["v"], saved["value"]) == (best.u, best.v, best.value)
+
+
+def test_no_best_when_no_candidate_converges_says_why(mech, gao):
+    from pkm.atlas import Checks
+
+    atlas = compute_atlas(mech, registry.global_index("gamma_max"), space=gao, modes="out_out", resolution=5,
+                          pose_resolution=8, checks=Checks(tolerance=1e-9, refinements=1))
+    best = atlas.checked["out_out"]
+    assert not best.found
+    assert "converged to 0.00%" in best.reason
+    assert "(8, 16)" in best.reason
+    assert best.design == {}
+    assert best.to_dict()["value"] is None
+    assert str(best).startswith("no best gamma_max in out_out: none of the")
+    sliver = compute_atlas(mech, GCI, space=gao, modes="out_out", resolution=5, pose_resolution=8,
+                           checks=Checks(min_fraction=0.99))
+    assert "no design's region" in sliver.checked["out_out"].reason
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"tolerance": 0}, "tolerance = 0 violates"),
+        ({"min_fraction": 1.0}, "min_fraction = 1.0 violates"),
+        ({"min_points": 0}, "min_points = 0 violates"),
+        ({"refinements": 9}, "refinements = 9 violates"),
+    ],
+)
+def test_bad_checks_are_pkms_error(kwargs, match):
+    from pkm.atlas import Checks
+
+    with pytest.raises(pkm.PkmError, match=match):
+        Checks(**kwargs)
+
+
+def test_cli_atlas_reports_the_checked_best_in_design_parameters(tmp_path, capsys):
+    args = ["atlas", "five_bar", "gci", "--modes", "out_out", "--resolution", str(CHECKED_RES),
+            "--pose-resolution", "16", "--executor", "serial", "--out", str(tmp_path)]
+    assert main([*args, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    best = data["best"]["out_out"]
+    assert best["found"]
+    assert best["points"] >= data["checks"]["min_points"]
+    assert {"r1", "r2", "r3"} <= set(best["design"])
+    assert {"u", "v", "coordinates"} <= set(best)
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert f"best gci in out_out: {best['value']:.6g} at chart" in text
+    assert f"r1 = {best['design']['r1']:.4g}" in text
