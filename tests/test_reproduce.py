@@ -8,6 +8,7 @@ import json
 import pytest
 
 from pkm.cli import main
+from pkm.reproduce import docs
 
 
 def reproduce_quick(factory, key: str):
@@ -57,8 +58,10 @@ def test_synthesis_beyond_the_paper_beats_its_baseline(report):
     assert list(beyond["variables"]) == ["u", "v"]
     for key in ("design_normalised", "baseline_design_normalised"):
         r = beyond[key]
-        assert list(r) == ["r1", "r2", "r3"]
-        assert 2 * r["r1"] + 2 * r["r2"] + r["r3"] == pytest.approx(4.0)  # Gao's solution space
+        assert list(r) == ["r1", "r2", "base"]  # Gao's full base is never called r3 (pkm's half base)
+        assert 2 * r["r1"] + 2 * r["r2"] + r["base"] == pytest.approx(4.0)  # Gao's solution space
+    d, r = beyond["design"], beyond["design_normalised"]
+    assert d["r3"] / d["r1"] == pytest.approx(r["base"] / 2 / r["r1"])  # r3 stays pkm's half base
 
 
 @pytest.fixture(scope="module")
@@ -213,3 +216,14 @@ def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
     assert run["status"] == "Solve_Succeeded"
     assert run["verified_objective"] == pytest.approx(run["objective"], rel=1e-2)
     assert run["objective"] >= run["grid_objective"] - 1e-9
+
+
+@pytest.mark.parametrize("key", ["gao1998", "lara_molina2016", "nam2006", "zhao2008"])
+def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, request):
+    """The docs' numbers (tests/test_paper_docs.py) name places that a reproduction still writes."""
+    fixture = {"gao1998": "report", "lara_molina2016": "lara", "nam2006": "nam", "zhao2008": "zhao"}[key]
+    _, data = request.getfixturevalue(fixture)
+    snapshot = json.loads(docs.paths(key)[1].read_text())
+    for path in snapshot["values"]:
+        value = docs.resolve(data, path)
+        assert value is None or isinstance(value, int | float), path
