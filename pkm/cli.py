@@ -28,7 +28,7 @@ from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
 from pkm.progress import Progress
 from pkm.reproduce import reproduce
-from pkm.synthesis import synthesize
+from pkm.synthesis import SynthesisError, SynthesisResult, synthesize
 
 
 class _Parser(argparse.ArgumentParser):
@@ -88,9 +88,13 @@ def cmd_list(args: argparse.Namespace) -> None:
         lines += [f"  {p['name']} = {p['default']:g} {p['unit']}: {p['doc']}" for p in info["parameters"]]
         lines.append("  modes: " + ", ".join(f"{k} ({'/'.join(v['aliases'])})" for k, v in info["modes"].items()))
         lines.append("  regions: " + ", ".join(info["regions"]))
+        lines.append("  design spaces: " + (", ".join(info["design_spaces"]) or "none (atlases take --axes)"))
+        lines.append("  pose: " + ", ".join(f"{k} [{u}]" for k, u in info["pose"].items())
+                     + "; actuators: " + ", ".join(f"{k} [{u}]" for k, u in info["actuators"].items()))
     lines.append("indices: " + ", ".join(out["indices"]))
     lines.append("problems: " + ", ".join(out["problems"]))
-    lines.append("papers: " + ", ".join(out["papers"]))
+    lines.append("papers:")
+    lines += [f"  {key}: {title}" for key, title in out["papers"].items()]
     _emit(args, out, "\n".join(lines))
 
 
@@ -111,19 +115,27 @@ def cmd_eval(args: argparse.Namespace) -> None:
                 "pose": x[k],
                 "reachable": bool(reached[k]),
                 "q": q[k],
+                "actuators": dict(zip(m.actuator_names, q[k][: m.n_act].tolist(), strict=True)),
                 "J": J[k],
                 **{name: float(v[k]) for name, v in local.items()},
                 **{name: float(v[k]) for name, v in sing.items()},
             }
         )
     shown = [name for name in ("inverse_condition_f", "velocity_max", "velocity_min") if name in local]
+    units = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
+             "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True))}
     text = "\n".join(
-        f"pose {r['pose'].tolist()}: q = {np.round(r['q'], 6).tolist()}, "
+        f"pose {_valued(r['pose'], units['pose'])}: {_valued(r['q'][: m.n_act], units['actuators'])}, "
         + ", ".join(f"{name} = {r[name]:.6g}" for name in shown)
         if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}"
         for r in rows
     )
-    _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "poses": rows}, text)
+    _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}, text)
+
+
+def _valued(values: np.ndarray, units: dict[str, str]) -> str:
+    """``x = 0.1 m, y = 1.5 m``: values by name with their units."""
+    return ", ".join(f"{name} = {v:.6g} {unit}" for (name, unit), v in zip(units.items(), values, strict=True))
 
 
 def cmd_index(args: argparse.Namespace) -> None:
@@ -296,6 +308,16 @@ def _logs_to_stderr(active: bool) -> Iterator[None]:
 
 
 def cmd_synth(args: argparse.Namespace) -> None:
+    """Solve and report; a failed synthesis still writes and prints its record (the last iterate) before
+    it fails with the reason (exit 1)."""
+    try:
+        _synth(args)
+    except SynthesisError as exc:
+        _report_synthesis(args, exc.result)
+        raise
+
+
+def _synth(args: argparse.Namespace) -> None:
     with _logs_to_stderr(args.json):
         result = synthesize(
             registry.problem(args.problem),
@@ -305,14 +327,17 @@ def cmd_synth(args: argparse.Namespace) -> None:
             tol=args.tol,
             print_level=args.print_level,
             verbose=args.verbose,
-            progress=(lambda msg: print(msg, file=sys.stderr)) if sys.stderr.isatty() else None,
         )
+    _report_synthesis(args, result)
+
+
+def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None:
     data = result.to_dict()
     if args.out:
         io.write_text(Path(args.out) / f"{args.problem}.json", io.to_json(data))
     o = result.optimum
     lines = [
-        f"{args.problem}: {result.status} after {result.iterations} iterations "
+        f"{result.problem}: {result.status} after {result.iterations} iterations "
         f"({result.optimizer['wall_time_s']:.2f} s, {result.optimizer['evaluations']} evaluations)",
         f"variables: {_named(o.variables)}",
         f"design: {_named(o.design)}",
@@ -358,15 +383,20 @@ def _example_design() -> str:
 
 
 def _example_pose() -> str:
+    """The best-conditioned pose of the first mechanism's default design on a coarse grid of its workspace box."""
     m = registry.mechanism(registry.mechanisms()[0])
-    centre = m.workspace_box(m.design().vector()).mean(axis=1)
-    return ",".join(f"{c:.3g}" for c in centre)
+    box = m.workspace_box(m.design().vector())
+    axes = np.meshgrid(*(np.linspace(lo, hi, 7)[1:-1] for lo, hi in box), indexing="ij")
+    poses = np.stack([a.ravel() for a in axes], axis=1)
+    condition = np.nan_to_num(m.local_index("inverse_condition_f", poses), nan=-1.0)
+    return ",".join(f"{c:.3g}" for c in poses[int(np.argmax(condition))]) + f" ({m.name})"
 
 
 HELP = {
     "mechanism": lambda: f"mechanism: one of {', '.join(registry.mechanisms())}; e.g. {registry.mechanisms()[0]}",
     "index": lambda: f"global index, per mechanism: {_catalogue('index')}; e.g. gci",
-    "indices": lambda: f"comma-separated global indices, per mechanism: {_catalogue('index')}; e.g. gci,gamma_max",
+    "indices": lambda: f"comma-separated global indices (required, no default), per mechanism: "
+                       f"{_catalogue('index')}; e.g. gci,gamma_max",
     "design": lambda: f"design parameters name=value,... in the units shown (missing ones take their defaults, "
                       f"see `pkm list`); per mechanism: {_catalogue('design')}; e.g. --design {_example_design()}",
     "mode": lambda: f"working mode by name or paper alias (default: the first); per mechanism: {_catalogue('mode')}; "
@@ -377,7 +407,8 @@ HELP = {
                       f"{_catalogue('region')}; e.g. --region miw",
     "space": lambda: f"normalised design space (default: the mechanism's first); per mechanism: {_catalogue('space')}; "
                      f"e.g. --space gao1998",
-    "pose": lambda: f"a pose, comma-separated in the mechanism's pose coordinates (repeat for several poses); per "
+    "pose": lambda: f"a pose (required, no default), comma-separated in the mechanism's pose coordinates (repeat "
+                    f"for several poses); per "
                     f"mechanism: {_catalogue('pose')}; e.g. --pose {_example_pose()}",
     "problem": lambda: "synthesis problem: " + "; ".join(f"{p.name} ({p.doc.split(':')[0]})"
                                                         for p in registry.problems().values())

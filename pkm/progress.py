@@ -8,7 +8,8 @@ from typing import TextIO
 
 
 class Progress:
-    """``Progress(total, label)``; call ``advance(n)`` and ``close()``. Draws only on a terminal."""
+    """``Progress(total, label)``; call ``advance(n)`` and ``close()`` (or use it as a context manager). Draws
+    only on a terminal, unless ``enabled`` says otherwise."""
 
     def __init__(self, total: int, label: str, *, stream: TextIO | None = None, enabled: bool | None = None):
         self.total, self.label, self.done = max(int(total), 1), label, 0
@@ -31,3 +32,9 @@ class Progress:
         if self.enabled:
             self.stream.write("\n")
             self.stream.flush()
+
+    def __enter__(self) -> Progress:
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        self.close()

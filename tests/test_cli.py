@@ -289,3 +289,93 @@ def test_a_staging_folder_left_by_a_killed_run_is_removed_by_the_next(tmp_path):
         assert stage.name.startswith(".gao1998.")
         (stage / "report.json").write_text("{}")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["gao1998"]
+
+
+def test_a_failed_synthesis_writes_its_record_with_the_last_iterate_in_design_parameters(tmp_path, capfd):
+    args = ["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1", "--max-iter", "1",
+            "--out", str(tmp_path), "--json"]
+    assert main(args) == 1
+    captured = capfd.readouterr()
+    record = json.loads(captured.out)
+    assert record == json.loads((tmp_path / "five_bar.max_gci_miw.json").read_text())
+    assert record["status"] == "Maximum_Iterations_Exceeded"
+    assert {"r1", "r2", "r3"} <= set(record["design"])
+    assert list(record["variables"]) == ["u", "v"]
+    assert "IPOPT did not converge" in captured.err
+    assert "design {'r1'" in captured.err
+    assert "Traceback" not in captured.err
+
+
+def test_synthesis_progress_callback_and_summary():
+    calls = []
+    result = pkm.synthesize("five_bar.max_gci_miw", resolution=2, starts=1, baseline_resolution=5,
+                            progress=lambda done, total: calls.append((done, total)))
+    total = 1 + 2 + len(result.baselines)
+    assert calls[-1] == (total, total)
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+    text = str(result)
+    assert text.startswith(f"five_bar.max_gci_miw: {result.status}")
+    assert f"verified {result.verified_objective:.6g}" in text
+    assert f"r1 = {result.design['r1']:.6g}" in text
+
+
+def test_progress_bar_draws_on_a_terminal_only():
+    import io
+
+    from pkm.progress import Progress
+
+    class Terminal(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    piped, terminal = io.StringIO(), Terminal()
+    for stream in (piped, terminal):
+        with Progress(4, "work", stream=stream) as bar:
+            bar.advance(2)
+    assert piped.getvalue() == ""
+    assert "work [" in terminal.getvalue()
+    assert "2/4" in terminal.getvalue()
+
+
+def test_every_option_has_help_with_its_default_and_reproduce_lists_every_paper(capsys):
+    from pkm import registry
+    from pkm.cli import build_parser
+
+    parser = build_parser()
+    commands = parser._subparsers._group_actions[0].choices
+    for name, sub in commands.items():
+        sub.format_help()
+        for action in sub._actions:
+            if action.dest == "help":
+                continue
+            assert action.help, (name, action.dest)
+            if action.option_strings and action.dest not in ("json",):
+                assert "default" in action.help, (name, action.dest, action.help)
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for key, module in registry.papers().items():
+        assert f"{key}: {' '.join(module.TITLE.split())}" in text
+    with pytest.raises(SystemExit):
+        main(["index", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "five_bar: reachable, miw" in text
+    assert "e.g. --region miw" in text
+    assert "out_out (OABCD)" in text
+
+
+def test_units_come_from_the_mechanism_the_gantrys_sliders_in_metres(capsys):
+    assert main(["eval", "slider_gantry", "--pose", "0,0.9"]) == 0
+    text = capsys.readouterr().out
+    assert "q1 = " in text
+    assert " m, q2 = " in text
+    assert "rad" not in text
+    assert main(["eval", "slider_gantry", "--pose", "0,0.9", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["units"]["actuators"] == {"q1": "m", "q2": "m"}
+    assert set(data["poses"][0]["actuators"]) == {"q1", "q2"}
+    assert main(["list"]) == 0
+    text = capsys.readouterr().out
+    assert "design spaces: gao1998, lara_molina2016" in text
+    assert "actuators: q1 [m], q2 [m]" in text
+    assert "  gao1998: Gao" in text

@@ -3,7 +3,7 @@
 (:mod:`pkm.synthesis.driver`) for every mechanism and any number of variables. Problems are declared
 by the mechanism packages and found by name through :mod:`pkm.registry`."""
 
-from pkm.synthesis.driver import BaselineResult, Run, SynthesisResult, synthesize
+from pkm.synthesis.driver import BaselineResult, Run, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Terms, Variable, grid_points
 
@@ -17,6 +17,7 @@ __all__ = [
     "ProblemModel",
     "Quantity",
     "Run",
+    "SynthesisError",
     "SynthesisResult",
     "Terms",
     "Variable",

@@ -25,6 +25,7 @@ import numpy as np
 
 from pkm import parallel, registry
 from pkm.errors import ComputationError, PkmError, check_integer
+from pkm.progress import Progress
 from pkm.regions.shapes import MAX_RESOLUTION
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
@@ -93,6 +94,14 @@ class SynthesisResult:
         first = next(iter(self.baselines.values()), None)
         return None if first is None else first.best
 
+    def __str__(self) -> str:
+        o = self.optimum
+        design = ", ".join(f"{k} = {v:.6g}" for k, v in o.design.items())
+        variables = ", ".join(f"{k} = {v:.6g}" for k, v in o.variables.items())
+        return (f"{self.problem}: {self.status} after {self.iterations} iterations; {self.sense}imum objective "
+                f"{o.objective:.6g}, verified {o.verified_objective:.6g}{'' if o.feasible else ' (infeasible)'} at "
+                f"{variables}; design {design}")
+
     def to_dict(self) -> dict[str, Any]:
         first = next(iter(self.baselines.values()), None)
         return {
@@ -115,6 +124,16 @@ class SynthesisResult:
             "resolutions": self.resolutions,
             "options": self.options,
         }
+
+
+class SynthesisError(ComputationError):
+    """A synthesis that failed (IPOPT did not converge from any start, or every converged run is
+    infeasible): ``result`` is its record with the last iterate (the run with the best objective) as
+    ``optimum``, in variables and design parameters, and the failing status."""
+
+    def __init__(self, message: str, result: SynthesisResult) -> None:
+        super().__init__(message)
+        self.result = result
 
 
 def ipopt_options(
@@ -267,7 +286,7 @@ def synthesize(
     tol: float | None = None,
     print_level: int | None = None,
     verbose: bool = False,
-    progress: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], object] | bool | None = None,
     executor: str | Executor | None = None,
 ) -> SynthesisResult:
     """Solve a synthesis problem with IPOPT from several starts and verify the optimum.
@@ -281,7 +300,9 @@ def synthesize(
     max_iter, tol, print_level : IPOPT's options (the problem's by default; print level 0, or 5 with
         ``verbose``).
     verbose : print IPOPT's iterations and timing.
-    progress : called with a short message at each stage.
+    progress : ``progress(done, total)`` after each step (the screening, each start, the verification, each
+        baseline: ``total`` = starts + 2 + baselines); by default (None) a progress bar on standard error
+        when it is a terminal, nothing otherwise; False: nothing.
     executor : where the starts and the baselines' chunks run (:func:`pkm.parallel.executor`): by default
         a Dask cluster when a scheduler is set, else this process; a problem outside the registry runs
         in this process.
@@ -292,45 +313,69 @@ def synthesize(
         check_integer("baseline_resolution", baseline_resolution, 3, MAX_BASELINE)
     options = ipopt_options(problem, verbose=verbose, max_iter=max_iter, tol=tol, print_level=print_level)
     model = ProblemModel(problem)
-    say = progress or (lambda _msg: None)
+    total = n_starts + 2 + len(problem.baselines)
+    bar = Progress(total, f"synthesis {problem.name}", enabled=None if progress is None else False)
+    steps = [0]
 
-    say("screening")
+    def step(n: int = 1) -> None:
+        steps[0] = min(total, steps[0] + n)
+        bar.advance(n)
+        if callable(progress):
+            progress(steps[0], total)
+
+    with bar:
+        return _synthesize(problem, model, res=res, n_starts=n_starts, baseline_resolution=baseline_resolution,
+                           options=options, executor=executor, step=step)
+
+
+def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: int, baseline_resolution: int | None,
+                options: dict[str, Any], executor: str | Executor | None, step: Callable[..., None]) -> SynthesisResult:
+    """The driver's stages (see :func:`synthesize`), calling ``step`` after each."""
     t0 = time.perf_counter()
     points, order = _screen(model, res, problem.screening_resolution, n_starts)
+    step(1 + n_starts - len(order))
     registered = registry.problems().get(problem.name) is problem
     where = executor if registered else "serial"
     tasks = [StartTask(problem.name, points[index], res, json.dumps(options, sort_keys=True)) for index in order]
-    say(f"IPOPT from {len(tasks)} starts")
     with parallel.executor(where, tasks=len(tasks)) as pool:
         local = isinstance(pool, parallel.SerialExecutor)
         solve = partial(_solve, model, *_nlp(model, res, options)) if local else solve_start
-        runs = parallel.run_tasks(pool, solve, tasks, describe=StartTask.describe)
+        runs = parallel.run_tasks(pool, solve, tasks, describe=StartTask.describe, done=lambda _k, _run: step())
     evaluations = len(points) + sum(r.evaluations for r in runs)
     opt_time = time.perf_counter() - t0
     good = [r for r in runs if r.success]
-    if not good:
-        last = runs[-1]
-        raise ComputationError(
-            f"IPOPT did not converge from any of {len(runs)} starts of {problem.name}; last status {last.status}, "
-            f"last iterate {last.variables}, objective {last.objective:.6g}"
-        )
 
-    say("verification")
+    def failed(message: str, run: Run, cand: Candidate) -> SynthesisError:
+        return SynthesisError(message, SynthesisResult(
+            problem=problem.name, sense=problem.objective.sense, optimum=cand, status=run.status,
+            iterations=sum(r.iterations for r in runs), runs=runs, baselines={},
+            optimizer={"wall_time_s": opt_time, "evaluations": evaluations},
+            resolutions={"quadrature": res}, options={k: v for k, v in options["ipopt"].items() if k != "sb"},
+        ))
+
+    if not good:
+        finite = [r for r in runs if np.isfinite(r.objective)]
+        last = min(finite, key=lambda r: model.sign * r.objective) if finite else runs[-1]
+        cand = model.candidate(np.array(list(last.variables.values())), last.objective, res)
+        raise failed(
+            f"IPOPT did not converge from any of {len(runs)} starts of {problem.name}; status {last.status}, "
+            f"last iterate {last.variables}, design {cand.design}, objective {last.objective:.6g}", last, cand)
+
     candidates = []
     for run in good:
         cand = model.candidate(np.array(list(run.variables.values())), run.objective, res)
         run.verified_objective = cand.verified_objective
         candidates.append((run, cand))
     best_run, optimum = min(candidates, key=lambda rc: _rank(model, rc[1]))
+    step()
     if not optimum.feasible:
-        raise ComputationError(
+        raise failed(
             f"every converged run of {problem.name} violates a constraint by more than "
-            f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}"
-        )
+            f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}, design {optimum.design}",
+            best_run, optimum)
 
     baselines = {}
     for base in problem.baselines:
-        say(f"baseline {base.name}")
         t1 = time.perf_counter()
         n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
         candidates_at = np.atleast_2d(base.points(n))
@@ -351,6 +396,7 @@ def synthesize(
             raise ComputationError(f"no point of the {base.name} baseline of {problem.name} has an objective")
         best = model.candidate(candidates_at[pick[0]], values[pick[0]], res)
         baselines[base.name] = BaselineResult(base.name, base.doc, best, wall, len(candidates_at), n)
+        step()
 
     region_points = {
         name: q.region.node_count(res, q.index.reduce) for name, q in problem.quantities.items()
