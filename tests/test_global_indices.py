@@ -109,3 +109,53 @@ def test_reachable_points_are_the_masked_grid_cells():
     kept = local[np.nan_to_num(local, nan=-1.0) >= pkm.regions.SINGULARITY_MARGIN]
     assert value.points == len(kept)
     assert value == pytest.approx(kept.mean(), rel=1e-12)
+
+
+LM = m.design_spaces["lara_molina2016"]
+# chart points (s, t) of the Lara-Molina space: where the node minimum of lambda_e is biased most, on
+# the plateau sqrt(k/j), on its edge, and inside
+EXTREME_DESIGNS = ((0.30, 0.10), (0.40, 0.12), (1.0, 0.5), (0.5, 0.2), (2.2, 0.4), (0.14, 0.03))
+
+
+def lm_design(s: float, t: float) -> dict:
+    return m.design_dict(m.design_vector(LM.designs(m.parameters, LM.from_chart(s, t))))
+
+
+@pytest.mark.parametrize(("s", "t"), EXTREME_DESIGNS)
+def test_a_region_minimum_is_accurate_to_1e_5_at_the_default_resolution(s, t):
+    from pkm.regions import sampled_check
+
+    design = lm_design(s, t)
+    value = m.global_index("lambda_e", design, region="miw")
+    converged = m.global_index("lambda_e", design, region="miw", resolution=64)
+    assert abs(value - converged) <= 1e-5 * abs(converged)
+    assert value.accuracy <= 1e-5 * abs(value)
+    dense = sampled_check(m, m.global_spec("lambda_e"), m.region("miw"), m.design_vector(design),
+                          branch=m.working_mode("out_out"), resolution=256)
+    assert value <= dense + 1e-12
+
+
+def test_the_refinement_finds_minima_that_the_nodes_miss():
+    from pkm.regions.quadrature import value_function
+
+    spec, region, branch = m.global_spec("lambda_e"), m.region("miw"), m.working_mode("out_out")
+    biased = 0.0
+    for s, t in EXTREME_DESIGNS:
+        d = m.design_vector(lm_design(s, t))
+        node = float(value_function(m, spec, region, branch, 8)(d))
+        refined = m.global_index("lambda_e", d, region="miw", resolution=8)
+        assert refined <= node
+        biased = max(biased, (node - refined) / refined)
+    assert biased > 1e-4
+
+
+@pytest.mark.parametrize(("s", "t"), [(1.0, 0.5), (0.4, 0.12)])
+def test_a_refined_minimum_has_the_gradient_of_central_differences(s, t):
+    design = lm_design(s, t)
+    _, grad = m.global_index("lambda_e", design, region="miw", gradient=True)
+    # parameters that keep the design symmetric: its two mirror minima stay tied, the minimum smooth
+    for name in ("r1", "r2", "r3", "m2"):
+        h = 1e-5
+        up = m.global_index("lambda_e", {**design, name: design[name] + h}, region="miw")
+        down = m.global_index("lambda_e", {**design, name: design[name] - h}, region="miw")
+        assert grad[name] == pytest.approx((up - down) / (2 * h), rel=1e-4, abs=1e-6)

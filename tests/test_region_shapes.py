@@ -104,3 +104,38 @@ def test_polynomial_roots_are_found_and_polished_at_any_scale(size):
     found = PolynomialRoots(scale="size").roots(functions, np.zeros((1, 1)), np.array([size]))
     assert np.sum(np.isfinite(found)) == 3
     np.testing.assert_allclose(found[0, :3], roots_true, rtol=0, atol=1e-11 * size)
+
+
+def _registered_regions():
+    import pkm
+
+    for name in pkm.mechanisms():
+        mech = pkm.load(name)
+        for key, region in mech.regions.items():
+            yield pytest.param(mech, region, id=f"{name}-{key}")
+
+
+@pytest.mark.parametrize(("mech", "region"), list(_registered_regions()))
+def test_each_piece_maps_its_reference_nodes_to_the_regions_nodes(mech, region):
+    design = mech.design_vector(None)
+    points, _ = region.quadrature(mech.functions, design, 2, "min")
+    u = ca.SX.sym("u", region.dimension)
+    mapped = []
+    for piece in region.pieces():
+        to_pose = ca.Function("to_pose", [u], [piece.to_pose(mech.functions, ca.DM(design), u)])
+        nodes, _ = piece.reference(2, "min")
+        assert np.array_equal(piece.project(nodes), nodes)
+        mapped.append(np.asarray(to_pose.map(len(nodes))(nodes.T)).T)
+    np.testing.assert_allclose(np.concatenate(mapped), points, rtol=1e-13, atol=1e-13)
+
+
+def test_projection_puts_points_on_the_closed_reference_domain():
+    from pkm.regions import Cylinder, Disc
+    from pkm.regions.shapes import RIM_INSET
+
+    far = np.array([[3.0, 4.0], [0.1, 0.2]])
+    np.testing.assert_allclose(Disc("d", "disc").project(far), [[0.6 * (1 - RIM_INSET), 0.8 * (1 - RIM_INSET)],
+                                                                [0.1, 0.2]])
+    np.testing.assert_array_equal(Rectangle("r", "rectangle").project(np.array([[2.0, -0.5]])), [[1.0, -0.5]])
+    cylinder = Cylinder("c", "cylinder", axis=0).project(np.array([[-7.0, 3.0, 4.0]]))
+    np.testing.assert_allclose(cylinder, [[-1.0, 0.6 * (1 - RIM_INSET), 0.8 * (1 - RIM_INSET)]])

@@ -3,9 +3,11 @@
 The region's nodes are placed by the design (:mod:`pkm.regions.shapes`), the fused pipeline
 (:mod:`pkm.regions.pipeline`) is mapped over them, and the node values are reduced with the region's
 weights: one CasADi graph from the design to the index, with an exact gradient. A region minimum
-(``reduce="min"``) is the minimum over the nodes, which include the region's centre and boundary:
-piecewise smooth in the design, with the gradient of the active node. Syntheses maximise it in the
-smooth epigraph form (:func:`node_values` with ``epigraph``).
+(``reduce="min"``) in that graph is the minimum over the nodes, which include the region's centre and
+boundary: piecewise smooth in the design, with the gradient of the active node. Syntheses maximise it in
+the smooth epigraph form (:func:`node_values` with ``epigraph``). The values this module reports
+(:func:`global_value`, :func:`parametrised_global`) refine the best nodes between the nodes
+(:mod:`pkm.regions.extremes`), so that a region extreme is accurate to ``EXTREME_ACCURACY`` relative.
 """
 
 from __future__ import annotations
@@ -19,7 +21,9 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.indices import GlobalIndex, LocalIndex, epigraph_function, reduce_nodes, reduce_samples
+from pkm.indices.global_indices import EXTREMES_REDUCE
 from pkm.indices.local import WORKSPACE_MARGIN
+from pkm.regions.extremes import Refined, refine, refined_gradient
 from pkm.regions.pipeline import pipeline
 from pkm.regions.sampled import per_design, sample_values
 from pkm.regions.shapes import check_resolution
@@ -28,6 +32,7 @@ from pkm.regions.value import GlobalValue
 QUADRATURE_RESOLUTION = 8
 GUARD_RESOLUTION = 4
 GUARD_TOLERANCE = 1e-9
+EXTREME_ACCURACY = 1e-5  # relative, of a refined region extreme at the default resolution (tested)
 
 
 def node_values(
@@ -132,6 +137,26 @@ def quadrature_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, 
 
 
 @lru_cache(maxsize=64)
+def nodes_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
+    """CasADi function ``design -> values``: the local index at every node of the region's extreme rule
+    (a 1 x n row, NaN where a node is out of reach)."""
+    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
+    values, _, valid = node_values(mech, spec, region, branch, design, resolution=resolution)
+    values = ca.if_else(valid > 0, values, np.nan)
+    return ca.Function(f"{spec.name}_{region.name}_{branch.name}_{resolution}_nodes", [design], [values],
+                       ["design"], ["values"])
+
+
+def refined_extremes(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, designs: np.ndarray, *, resolution: int
+) -> Refined:
+    """The refined extremes of the local index over the region for a batch of designs (D, n_p)."""
+    designs = np.atleast_2d(np.asarray(designs, dtype=float))
+    (values,) = evaluate(nodes_function(mech, spec, region, branch, resolution), designs)
+    return refine(mech, spec, region, branch, designs, values=values[:, 0, :], resolution=resolution)
+
+
+@lru_cache(maxsize=64)
 def value_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
     """CasADi function ``design -> value`` of a global index over a parametrised region."""
     design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
@@ -144,8 +169,49 @@ def value_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resol
 def parametrised_global(
     mech: Any, spec: GlobalIndex, region: Any, designs: np.ndarray, *, branch: Any, resolution: int
 ) -> np.ndarray:
-    """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p)."""
-    return evaluate(value_function(mech, spec, region, branch, resolution), designs)[0][:, 0, 0]
+    """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p); an
+    extreme refined between the nodes."""
+    values = evaluate(value_function(mech, spec, region, branch, resolution), designs)[0][:, 0, 0]
+    if spec.reduce not in EXTREMES_REDUCE:
+        return values
+    designs = np.atleast_2d(np.asarray(designs, dtype=float))
+    defined = np.isfinite(values)
+    if defined.any():
+        refined = refined_extremes(mech, spec, region, branch, designs[defined], resolution=resolution).values
+        sizes = 1.0
+        if spec.per is not None:
+            per = per_function(mech, spec.per, f"the global index {spec.name}")
+            sizes = evaluate(per, designs[defined])[0][:, 0, 0]
+        values[defined] = refined / sizes
+    return values
+
+
+def _extreme(
+    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, resolution: int, gradient: bool
+) -> tuple[float, np.ndarray | None]:
+    """A region extreme of one design refined between the nodes (NaN where the quadrature's is), with
+    its gradient in the design when asked."""
+    if not np.isfinite(float(value_function(mech, spec, region, branch, resolution)(design))):
+        return float("nan"), (np.full(len(design), np.nan) if gradient else None)
+    refined = refined_extremes(mech, spec, region, branch, design[None], resolution=resolution)
+    value, grad = float(refined.values[0]), None
+    if gradient:
+        grad = refined_gradient(mech, spec, region, design, branch=branch, refined=refined)
+    if spec.per is None:
+        return value, grad
+    size, size_gradient = per_function(mech, spec.per, f"the global index {spec.name}")(design)
+    size, size_gradient = float(size), np.asarray(size_gradient, dtype=float).ravel()
+    if gradient:
+        grad = grad / size - value * size_gradient / size**2
+    return value / size, grad
+
+
+@lru_cache(maxsize=16)
+def per_function(mech: Any, name: str, what: str) -> ca.Function:
+    """CasADi function ``design -> (size, gradient)`` of the mechanism's function ``name``."""
+    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
+    size = mech.functions.require(name, what)(design)
+    return ca.Function(f"{name}_with_gradient", [design], [size, ca.gradient(size, design)])
 
 
 def global_value(
@@ -160,8 +226,12 @@ def global_value(
 ) -> tuple[GlobalValue, np.ndarray | None]:
     """The index of one design, with its exact gradient (n_p,) when asked; the accuracy is the change
     from the quadrature at half the resolution (from resolution 2 on)."""
+    design = np.asarray(design, dtype=float).ravel()
+    extreme = spec.reduce in EXTREMES_REDUCE
     grad = None
-    if gradient:
+    if extreme:
+        value, grad = _extreme(mech, spec, region, design, branch=branch, resolution=resolution, gradient=gradient)
+    elif gradient:
         value, grad = quadrature_function(mech, spec, region, branch, resolution)(design)
         grad = np.asarray(grad).ravel()
     else:
@@ -169,7 +239,10 @@ def global_value(
     value = float(value)
     accuracy = float("nan")
     if resolution >= 2:
-        coarse = float(value_function(mech, spec, region, branch, resolution // 2)(design))
+        if extreme:
+            coarse = _extreme(mech, spec, region, design, branch=branch, resolution=resolution // 2, gradient=False)[0]
+        else:
+            coarse = float(value_function(mech, spec, region, branch, resolution // 2)(design))
         accuracy = abs(value - coarse)
     points = region.node_count(resolution, spec.reduce)
     out = GlobalValue(value, points=points, region=region.name, resolution=resolution, accuracy=accuracy)

@@ -20,7 +20,12 @@ Protocol, shared by every shape:
 * ``sample(functions, design, resolution, reduce) -> (points, cell)``: the cell centres (m, d) of a
   regular grid inside the region and the cell measure, for an independent check by sampling (with the
   boundary points for a minimum);
-* ``node_count(resolution, reduce)``.
+* ``node_count(resolution, reduce)``;
+* ``pieces()``: the simple shapes the region's nodes come from, in node order, each with
+  ``reference(resolution, reduce)`` (its nodes in reference coordinates), ``to_pose(functions, design,
+  u)`` (a reference point, CasADi, to the pose) and ``project(u)`` (reference points (n, d) onto the
+  closed reference domain): what :mod:`pkm.regions.extremes` needs to refine a region's extreme between
+  the nodes.
 
 Reference rules: on the unit disc Gauss-Legendre in the radius with weight rho and ``4 resolution``
 equally spaced angles (exact area pi); on [-1, 1]^d and on the unit square Gauss-Legendre with
@@ -40,7 +45,7 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.errors import PkmError, check_integer
 
-RIM_INSET = 1e-9  # of the span between the curves, for the rim nodes of a MappedSquare
+RIM_INSET = 1e-9  # of the span between the curves (a MappedSquare) or of the radius (a disc), for rim nodes
 CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
 
 
@@ -71,10 +76,20 @@ def disc_quadrature(resolution: int) -> tuple[np.ndarray, np.ndarray]:
     return nodes, weights
 
 
-def ring(count: int) -> np.ndarray:
-    """``count`` equally spaced points on the unit circle."""
-    angle = 2 * np.pi * (np.arange(count) + 0.5) / count
+def ring(count: int, offset: float = 0.5) -> np.ndarray:
+    """``count`` equally spaced points on the unit circle, the first at ``offset`` steps from angle 0."""
+    angle = 2 * np.pi * (np.arange(count) + offset) / count
     return np.stack([np.cos(angle), np.sin(angle)], axis=1)
+
+
+def axes_of_disc(resolution: int) -> np.ndarray:
+    """Points on the unit disc's two axes (and on its rim where they cross it): the Gauss-Legendre
+    radii of :func:`disc_quadrature` and the rim along +-x and +-y, where the extremes of a mechanism
+    symmetric about an axis often lie and the rings of the rule, offset by half a step, never reach."""
+    t, _ = gauss_legendre(resolution)
+    radii = np.concatenate([(t + 1) / 2, [1.0]])
+    directions = ring(4, offset=0.0)
+    return np.concatenate([r * directions for r in radii])
 
 
 def square_perimeter(count: int) -> np.ndarray:
@@ -110,12 +125,15 @@ def _with_centre_and_rim(nodes: np.ndarray, weights: np.ndarray, rim: np.ndarray
 
 
 def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
-    """The unit disc's nodes and weights; for an extreme also its centre and a rim of ``4 resolution``
-    points, with zero weight."""
+    """The unit disc's nodes and weights; for an extreme also its centre, a rim of ``4 resolution``
+    points and the points of :func:`axes_of_disc`, with zero weight. The rim lies RIM_INSET inside the
+    unit circle: a disc inscribed in a workspace touches its boundary, where the mechanism is singular
+    and a local index is a limit that round-off decides."""
     nodes, weights = disc_quadrature(resolution)
     if reduce not in EXTREMES:
         return nodes, weights
-    return _with_centre_and_rim(nodes, weights, ring(4 * resolution))
+    rim = np.concatenate([ring(4 * resolution), axes_of_disc(resolution)])
+    return _with_centre_and_rim(nodes, weights, _onto_unit_disc(rim, 1 - RIM_INSET))
 
 
 def square_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
@@ -207,6 +225,18 @@ class PlacedRegion:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return len(self.reference(check_resolution(resolution, 1), reduce)[1])
 
+    def pieces(self) -> tuple[Any, ...]:
+        return (self,)
+
+    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+        """The pose (d x 1) at the reference point u (d x 1, CasADi)."""
+        centre, size = self.placement(functions, design)
+        return centre + self.scale(size) * u
+
+    def project(self, u: np.ndarray) -> np.ndarray:
+        """Reference points (n, d) moved onto the closed reference domain [-1, 1]^d."""
+        return np.clip(u, -1.0, 1.0)
+
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
         nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
         centre, size = self.placement(functions, design)
@@ -251,8 +281,17 @@ class Disc(PlacedRegion):
     def inside_reference(self, u):
         return np.sum(u**2, axis=1) < 1
 
+    def project(self, u):
+        return _onto_unit_disc(u, 1 - RIM_INSET)
+
     def boundary_reference(self, count):
         return ring(count)
+
+
+def _onto_unit_disc(u: np.ndarray, radius: float = 1.0) -> np.ndarray:
+    """Points (n, 2) moved radially onto the closed disc of ``radius`` about the origin."""
+    norm = np.linalg.norm(u, axis=1, keepdims=True)
+    return np.where(norm > radius, u * (radius / np.where(norm > radius, norm, 1.0)), u)
 
 
 @dataclass(frozen=True)
@@ -320,6 +359,13 @@ class Cylinder(PlacedRegion):
         order = self._order()
         return (u[:, order[0]] ** 2 + u[:, order[1]] ** 2 < 1) & (np.abs(u[:, self.axis]) < 1)
 
+    def project(self, u):
+        order = self._order()
+        out = np.array(u, dtype=float)
+        out[:, order[:2]] = _onto_unit_disc(out[:, order[:2]], 1 - RIM_INSET)
+        out[:, self.axis] = np.clip(out[:, self.axis], -1.0, 1.0)
+        return out
+
     def boundary_reference(self, count):
         k = max(2, math.ceil(math.sqrt(count)))
         side, _ = product((ring(k), np.ones(k)), (np.linspace(-1, 1, k)[:, None], np.ones(k)))
@@ -357,6 +403,22 @@ class MappedSquare:
 
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return len(self.reference(check_resolution(resolution, 1), reduce)[1])
+
+    def pieces(self) -> tuple[Any, ...]:
+        return (self,)
+
+    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+        """The pose (2 x 1) at the point u (2 x 1, CasADi) of the unit square, as :meth:`quadrature`
+        maps its nodes."""
+        lo, hi = functions[self.bounds](design)
+        v = ca.fmin(ca.fmax(1 - (1 - u[1]) ** self.grading, RIM_INSET), 1 - RIM_INSET)
+        a = lo + (hi - lo) * u[0]
+        lower, upper = functions[self.curves](a, design)
+        return ca.vertcat(a, lower + (upper - lower) * v)
+
+    def project(self, u: np.ndarray) -> np.ndarray:
+        """Points (n, 2) moved onto the closed unit square."""
+        return np.clip(u, 0.0, 1.0)
 
     def _map(self, functions: Any, design: Any, nodes: np.ndarray):
         lo, hi = functions[self.bounds](design)
@@ -416,6 +478,9 @@ class Mapped:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return self.inner.node_count(resolution, reduce)
 
+    def pieces(self) -> tuple[Any, ...]:
+        return tuple(MappedPiece(p, self.to_pose) for p in self.inner.pieces())
+
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
         numeric = _numeric(design)
         d = ca.DM(design) if numeric else design
@@ -442,6 +507,31 @@ class Mapped:
 
 
 @dataclass(frozen=True)
+class MappedPiece:
+    """A piece of a :class:`Mapped` region: the inner piece's reference points carried into the pose by
+    the generated function ``map_to_pose`` ((y, design) -> x)."""
+
+    inner: Any
+    map_to_pose: str
+
+    @property
+    def dimension(self) -> int:
+        return self.inner.dimension
+
+    def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+        return self.inner.reference(resolution, reduce)
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:
+        return self.inner.node_count(resolution, reduce)
+
+    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+        return functions[self.map_to_pose](self.inner.to_pose(functions, design, u), design)
+
+    def project(self, u: np.ndarray) -> np.ndarray:
+        return self.inner.project(u)
+
+
+@dataclass(frozen=True)
 class Union:
     """Shapes side by side (disjoint but for their common boundaries), one region: the nodes and weights of
     every part, so that each part's rule stays smooth where the region's boundary has a kink."""
@@ -457,6 +547,9 @@ class Union:
 
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return sum(p.node_count(resolution, reduce) for p in self.parts)
+
+    def pieces(self) -> tuple[Any, ...]:
+        return tuple(piece for part in self.parts for piece in part.pieces())
 
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
         rules = [p.quadrature(functions, design, resolution, reduce) for p in self.parts]

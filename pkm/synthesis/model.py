@@ -16,7 +16,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError
-from pkm.regions import node_values, quadrature_value, sampled_check
+from pkm.regions import node_values, parametrised_global, quadrature_value, sampled_check
 from pkm.synthesis.problem import Problem, Terms
 
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
@@ -184,12 +184,26 @@ class ProblemModel:
             starts.append(value + inside * EPIGRAPH_SLACK * max(abs(value), 1.0))
         return [*point, *starts]
 
+    def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
+        """The objective and the feasibility at ``point`` with the quadratures at ``resolution`` and
+        each region extreme refined between the nodes (:mod:`pkm.regions.extremes`)."""
+        _, _, *values = evaluate(self.function(resolution), point[None])
+        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        for name in self.extremes:
+            quantity = self.problem.quantities[name]
+            named[name] = float(parametrised_global(
+                self.mech, quantity.index, quantity.region, design[None], branch=self.branch, resolution=resolution
+            )[0])
+        f, g = self._expressions_with(point, named)
+        return f, bool(self.feasible(g[None])[0] and np.isfinite(f))
+
     def candidate(self, point: np.ndarray, objective: float, resolution: int) -> Candidate:
         """A candidate at ``point`` with its objective verified at twice the resolution (4x the
-        points of a 2-D rule) and by sampling every quantity on a grid of its region."""
+        points of a 2-D rule, region extremes refined between the nodes) and by sampling every quantity
+        on a grid of its region."""
         point = np.asarray(point, dtype=float)
         design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
-        verified, ok = self.evaluate(point[None], 2 * resolution)
+        verified, ok = self.verify(point, design, 2 * resolution)
         sampled, points = {}, []
         # as many grid cells as a 2-D check in every dimension: (16 resolution)^2 in all
         per_axis = max(2, round((SAMPLED_FACTOR * resolution) ** (2 / self.mech.n_out)))
@@ -199,15 +213,15 @@ class ProblemModel:
             )
             sampled[name] = float(value)
             points.append(value.points)
-        sampled_objective = float(self._objective_with(point, sampled))
+        sampled_objective = self._expressions_with(point, sampled)[0]
         return Candidate(
             variables=dict(zip(self.problem.variable_names, point.tolist(), strict=True)),
             design=self.mech.design_dict(design),
             objective=float(objective),
-            verified_objective=float(verified[0]),
+            verified_objective=verified,
             sampled_objective=sampled_objective,
             sampled_points=min(points) if points else 0,
-            feasible=bool(ok[0]),
+            feasible=ok,
         )
 
     def assess(self, point: np.ndarray, resolution: int) -> Candidate:
@@ -215,11 +229,13 @@ class ProblemModel:
         objective, _ = self.evaluate(np.atleast_2d(point), resolution)
         return self.candidate(np.ravel(point), float(objective[0]), resolution)
 
-    def _objective_with(self, point: np.ndarray, quantities: dict[str, float]) -> float:
-        """The objective at ``point`` with the given quantity values in place of the quadratures."""
+    def _expressions_with(self, point: np.ndarray, quantities: dict[str, float]) -> tuple[float, np.ndarray]:
+        """The objective and the constraint values (m,) at ``point`` with the given quantity values in
+        place of the quadratures."""
         if self._objective is None:
             w = ca.MX.sym("w", len(self.problem.variables))
             values = {k: ca.MX.sym(k) for k in self.problem.quantities}
-            f, _ = self.expressions(w, values)
-            self._objective = ca.Function("objective", [w, *values.values()], [f])
-        return float(self._objective(point, *quantities.values()))
+            f, g = self.expressions(w, values)
+            self._objective = ca.Function("objective", [w, *values.values()], [f, g])
+        f, g = self._objective(point, *quantities.values())
+        return float(f), np.asarray(g, dtype=float).ravel()
