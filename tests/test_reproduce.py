@@ -89,8 +89,12 @@ def test_lara_molina_derivation_claims(lara):
     assert frequencies[1] < 1e-6 < frequencies[2]
     assert claims["mic_1.2_1_0.8"]["status"] == "match"
     assert claims["fig6_discontinuity"]["status"] == "match"
-    plateau = claims["lambda_e_plateau"]["pkm_value"]["plateau_min"]
-    assert plateau == pytest.approx((1 / 0.6) ** 0.5, rel=1e-3)
+    plateau = claims["lambda_e_plateau"]["pkm_value"]
+    assert plateau["sqrt_k_over_j"] == pytest.approx((1 / 0.6) ** 0.5)
+    assert plateau["touching_within_tolerance"] > 0.9
+    unequal = claims["lambda_e_plateau_unequal_ratios"]["pkm_value"]
+    low, high = unequal["unequal_ratios_bounds"]
+    assert low * 1.01 < unequal["unequal_ratios_min"] < unequal["unequal_ratios_max"] < high
 
 
 def test_lara_molina_syntheses_beat_their_baselines(lara):
@@ -220,10 +224,17 @@ def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
 
 @pytest.mark.parametrize("key", ["gao1998", "lara_molina2016", "nam2006", "zhao2008"])
 def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, request):
-    """The docs' numbers (tests/test_paper_docs.py) name places that a reproduction still writes."""
+    """The docs' numbers (tests/test_paper_docs.py) name places that a reproduction still writes (a list
+    item may be missing: a quick run finds fewer, e.g. of the planes with re-entrant rays)."""
     fixture = {"gao1998": "report", "lara_molina2016": "lara", "nam2006": "nam", "zhao2008": "zhao"}[key]
     _, data = request.getfixturevalue(fixture)
     snapshot = json.loads(docs.paths(key)[1].read_text())
     for path in snapshot["values"]:
+        parts = path.split("/")
+        lists = [k for k in range(1, len(parts)) if parts[k].isdigit()
+                 and isinstance(docs.resolve(data, "/".join(parts[:k])), list)
+                 and int(parts[k]) >= len(docs.resolve(data, "/".join(parts[:k])))]
+        if lists:
+            continue
         value = docs.resolve(data, path)
         assert value is None or isinstance(value, int | float), path
