@@ -314,7 +314,9 @@ class Mechanism:
 
         ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
         a parametrised region (one of ``regions``) uses a fixed quadrature mapped into the design's region
-        and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too.
+        and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too. Without a
+        ``resolution`` the quadrature doubles from QUADRATURE_RESOLUTION until the index changes by at most
+        ``regions.INDEX_ACCURACY`` (relative above 1); region extremes are refined between the nodes.
         ``singularity_margin`` (sampled region only) drops poses with 1/kappa_f below it. The value
         reports its points, resolution and accuracy (:class:`pkm.regions.GlobalValue`).
         """
@@ -339,10 +341,12 @@ class Mechanism:
             )[0]
         if singularity_margin is not None:
             raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")
-        resolution = regions.QUADRATURE_RESOLUTION if resolution is None else resolution
-        value, grad = regions.global_value(
-            self, spec, where, d, branch=branch, resolution=resolution, gradient=gradient
-        )
+        if resolution is None:
+            value, grad = regions.adaptive_value(self, spec, where, d, branch=branch, gradient=gradient)
+        else:
+            value, grad = regions.global_value(
+                self, spec, where, d, branch=branch, resolution=resolution, gradient=gradient
+            )
         if grad is None:
             return value
         return value, self.design_dict(grad)

@@ -66,15 +66,16 @@ def random_designs(n: int, seed: int) -> list[dict[str, float]]:
 def test_miw_gradient_matches_central_differences(name):
     step = 1e-6
     for design in random_designs(5, seed=7):
-        value, grad = m.global_index(name, design, region="miw", gradient=True)
-        assert value == m.global_index(name, design, region="miw")
+        value, grad = m.global_index(name, design, region="miw", resolution=8, gradient=True)
+        assert value == m.global_index(name, design, region="miw", resolution=8)
         assert list(grad) == [p.name for p in m.parameters]
         fd = {}
         for key in design:
             plus, minus = dict(design), dict(design)
             plus[key] += step
             minus[key] -= step
-            fd[key] = (m.global_index(name, plus, region="miw") - m.global_index(name, minus, region="miw")) / (
+            fd[key] = (m.global_index(name, plus, region="miw", resolution=8)
+                       - m.global_index(name, minus, region="miw", resolution=8)) / (
                 2 * step
             )
         scale = max(abs(g) for g in grad.values())
@@ -159,3 +160,19 @@ def test_a_refined_minimum_has_the_gradient_of_central_differences(s, t):
         up = m.global_index("lambda_e", {**design, name: design[name] + h}, region="miw")
         down = m.global_index("lambda_e", {**design, name: design[name] - h}, region="miw")
         assert grad[name] == pytest.approx((up - down) / (2 * h), rel=1e-4, abs=1e-6)
+
+
+# designs the Lara-Molina syntheses visit: both dexterity ridges, the lambda_e optimum's corner, the middle
+SYNTHESIS_DESIGNS = ((2.53, 0.26), (2.83, 0.01), (1.0, 0.5), (0.3, 0.1))
+
+
+@pytest.mark.parametrize("name", ["gci", "gamma_min", "dynamic_dexterity", "lambda_e"])
+def test_a_global_index_without_a_resolution_is_within_1e_5_of_its_converged_value(name):
+    from pkm.regions import INDEX_ACCURACY
+
+    for s, t in SYNTHESIS_DESIGNS:
+        design = lm_design(s, t)
+        value = m.global_index(name, design, region="miw")
+        converged = m.global_index(name, design, region="miw", resolution=64 if name == "lambda_e" else 256)
+        assert value.accuracy <= INDEX_ACCURACY * max(1.0, abs(value))
+        assert abs(value - converged) <= INDEX_ACCURACY * max(1.0, abs(converged)), (s, t, value.resolution)

@@ -14,7 +14,9 @@ or implement the same three methods as :class:`MappedSquare`.
 
 from pkm.regions.pipeline import Evaluation, evaluate_at, pipeline
 from pkm.regions.quadrature import (
+    INDEX_ACCURACY,
     QUADRATURE_RESOLUTION,
+    adaptive_value,
     admissible,
     global_value,
     node_values,
@@ -35,6 +37,7 @@ from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, Placed
 from pkm.regions.value import GlobalValue
 
 __all__ = [
+    "INDEX_ACCURACY",
     "QUADRATURE_RESOLUTION",
     "SAMPLED_RESOLUTION",
     "SINGULARITY_MARGIN",
@@ -49,6 +52,7 @@ __all__ = [
     "Rectangle",
     "SampledWorkspace",
     "Union",
+    "adaptive_value",
     "admissible",
     "check_margin",
     "evaluate_at",

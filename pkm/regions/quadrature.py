@@ -33,6 +33,8 @@ QUADRATURE_RESOLUTION = 8
 GUARD_RESOLUTION = 4
 GUARD_TOLERANCE = 1e-9
 EXTREME_ACCURACY = 1e-5  # relative, of a refined region extreme at the default resolution (tested)
+INDEX_ACCURACY = 1e-5  # the accuracy a global index is refined to when no resolution is given (relative above 1)
+ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
 
 
 def node_values(
@@ -247,6 +249,25 @@ def global_value(
     points = region.node_count(resolution, spec.reduce)
     out = GlobalValue(value, points=points, region=region.name, resolution=resolution, accuracy=accuracy)
     return out, grad
+
+
+def adaptive_value(
+    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, gradient: bool = False,
+    tolerance: float = INDEX_ACCURACY,
+) -> tuple[GlobalValue, np.ndarray | None]:
+    """The index of one design at the resolution it needs: from QUADRATURE_RESOLUTION the resolution
+    doubles until the change from half of it is at most ``tolerance`` (times the value where it exceeds 1)
+    or ADAPTIVE_LIMIT is reached; the value reports the accuracy it reached either way."""
+    resolution = QUADRATURE_RESOLUTION
+    while True:
+        value, _ = global_value(mech, spec, region, design, branch=branch, resolution=resolution)
+        done = not np.isfinite(value) or value.accuracy <= tolerance * max(1.0, abs(value))
+        if done or 2 * resolution > ADAPTIVE_LIMIT:
+            break
+        resolution *= 2
+    if not gradient:
+        return value, None
+    return global_value(mech, spec, region, design, branch=branch, resolution=resolution, gradient=True)
 
 
 def sampled_check(
