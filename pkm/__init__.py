@@ -51,6 +51,6 @@ def load(name: str) -> Mechanism:
 def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:
     """Solve a synthesis problem (a registered name or a :class:`pkm.synthesis.Problem`) with IPOPT and
     verify it; see :func:`pkm.synthesis.synthesize` for the options."""
-    if isinstance(problem, str):
+    if not isinstance(problem, Problem):
         problem = registry.problem(problem)
     return _synthesize(problem, **options)

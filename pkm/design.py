@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import reprlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -99,6 +100,8 @@ def stack_design(values: Sequence[Any]) -> Any:
 
 def parse_design(text: str) -> dict[str, float]:
     """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise :class:`DesignError` on malformed items."""
+    if not isinstance(text, str):
+        raise DesignError(f"design text = {reprlib.repr(text)} violates: a string name=value,name=value,...")
     out: dict[str, float] = {}
     for item in filter(None, (s.strip() for s in text.split(","))):
         name, sep, value = item.partition("=")
@@ -124,6 +127,29 @@ def _number(parameter: Parameter, value: object) -> float:
                           f"violates |{parameter.name}| <= {MAX_MAGNITUDE:g}") from None
 
 
+def design_mapping(parameters: Sequence[Parameter], values: Any) -> Mapping[str, Any] | None:
+    """``values`` as a mapping by parameter name: a mapping or None as given, a sequence or array taken in
+    parameter order; :class:`DesignError` for anything else or a sequence of the wrong length. The values
+    themselves are checked by :func:`make_design`."""
+    if values is None or isinstance(values, Mapping):
+        return values
+    names = [p.name for p in parameters]
+    violated = DesignError(f"design = {reprlib.repr(values)} violates: a mapping name -> value, a sequence of "
+                           f"{len(names)} values in parameter order ({', '.join(names)}), or None for the defaults")
+    if isinstance(values, str | bytes | set | frozenset):
+        raise violated
+    try:
+        array = np.asarray(values, dtype=object)
+    except (TypeError, ValueError):
+        raise violated from None
+    if array.ndim == 0:
+        raise violated
+    flat = array.ravel()
+    if flat.size != len(names):
+        raise DesignError(f"a design vector needs {len(names)} values ({', '.join(names)}); got {flat.size}")
+    return dict(zip(names, flat.tolist(), strict=True))
+
+
 def make_design(
     parameters: Sequence[Parameter],
     conditions: Sequence[Condition],
@@ -138,9 +164,10 @@ def make_design(
     """
     names = [p.name for p in parameters]
     given = {} if values is None else dict(values)
-    extra = sorted(set(given) - set(names))
+    extra = sorted((k for k in given if k not in names), key=repr)
     if extra:
-        raise DesignError(f"unknown design parameter(s) {', '.join(extra)}; expected {', '.join(names)}")
+        shown = ", ".join(k if isinstance(k, str) else repr(k) for k in extra)
+        raise DesignError(f"unknown design parameter(s) {shown}; expected {', '.join(names)}")
     missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:
         raise DesignError(f"missing design parameter(s) {', '.join(missing)}")

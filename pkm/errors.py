@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import reprlib
+from collections.abc import Sequence
 
 
 class PkmError(ValueError):
@@ -10,10 +12,21 @@ class PkmError(ValueError):
 
 
 class UnknownNameError(PkmError):
-    """An unknown mechanism, index, region, mode, design space or problem."""
+    """An unknown mechanism, index, region, mode, design space or problem, or a name that is not a string."""
 
-    def __init__(self, kind: str, name: str, known: list[str] | tuple[str, ...]) -> None:
-        super().__init__(f"unknown {kind} {name!r}; known: {', '.join(known)}")
+    def __init__(self, kind: str, name: object, known: Sequence[str]) -> None:
+        if isinstance(name, str):
+            super().__init__(f"unknown {kind} {name!r}; known: {', '.join(known)}")
+        else:
+            super().__init__(f"{kind} = {reprlib.repr(name)} violates: a name (a string); known: {', '.join(known)}")
+
+
+def check_name(kind: str, name: object, known: Sequence[str]) -> str:
+    """``name`` if it is a string; :class:`UnknownNameError` naming ``kind`` otherwise (a list or a dict
+    given as a name would fail as unhashable in a lookup, an array as ambiguous in a comparison)."""
+    if not isinstance(name, str):
+        raise UnknownNameError(kind, name, known)
+    return name
 
 
 class DesignError(PkmError):

@@ -18,6 +18,8 @@ the one contract of :meth:`ForwardKinematics.solve`.
 from __future__ import annotations
 
 import importlib
+import numbers
+import reprlib
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
@@ -27,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate, reached
-from pkm.errors import PkmError, PoseError, UnknownNameError
+from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
 
 if TYPE_CHECKING:
     from pkm.design import Design
@@ -51,20 +53,40 @@ def find_branch(name: str | None, branches: Sequence[Branch], kind: str) -> Bran
     """The branch called ``name`` (or one of its aliases); the first one when ``name`` is None."""
     if name is None:
         return branches[0]
+    check_name(kind, name, [b.name for b in branches])
     for b in branches:
         if name == b.name or name in b.aliases:
             return b
     raise UnknownNameError(kind, name, [b.name for b in branches])
 
 
+def as_real(values: Any, what: str, shape: str) -> np.ndarray:
+    """``values`` as a float array; :class:`PoseError` naming ``what`` and the expected ``shape`` for what
+    is not an array of real numbers: text, mappings, sets, None, booleans, complex numbers, ragged
+    nesting, integers too large for a float."""
+    violated = f"{what} = {reprlib.repr(values)} violates: an array of real numbers of shape {shape}"
+    if isinstance(values, str | bytes | Mapping | set | frozenset):
+        raise PoseError(violated)
+    try:
+        arr = np.asarray(values)
+        if arr.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in arr.flat):
+            arr = arr.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise PoseError(violated) from None
+    if arr.dtype.kind not in "iuf":
+        raise PoseError(violated)
+    return arr.astype(float, copy=False)
+
+
 def as_batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
-    """``values`` as an (N, width) array, and whether it was a single 1-D row; :class:`PoseError`
-    naming ``what`` for a wrong shape or non-finite values."""
-    arr = np.asarray(values, dtype=float)
+    """``values`` as an (N, width) array (N may be 0), and whether it was a single 1-D row;
+    :class:`PoseError` naming ``what`` for what is not real numbers, a wrong shape or non-finite values."""
+    shape = f"({width},) or (N, {width})"
+    arr = as_real(values, what, shape)
+    if arr.ndim not in (1, 2) or arr.shape[-1] != width:
+        raise PoseError(f"{what} must have shape {shape}; got {arr.shape}")
     single = arr.ndim == 1
     arr = np.atleast_2d(arr)
-    if arr.ndim != 2 or arr.shape[1] != width:
-        raise PoseError(f"{what} must have shape ({width},) or (N, {width}); got {np.shape(values)}")
     if not np.all(np.isfinite(arr)):
         raise PoseError(f"{what} contains non-finite values")
     return arr, single

@@ -19,9 +19,9 @@ import numpy as np
 
 from pkm import dynamics, regions, registry
 from pkm.batch import evaluate
-from pkm.design import Condition, Design, Parameter, make_design
+from pkm.design import Condition, Design, Parameter, design_mapping, make_design
 from pkm.design_space import DesignSpace
-from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
+from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.kinematics import (
     Branch,
@@ -110,7 +110,7 @@ class Mechanism:
 
     def region(self, name: str) -> Any:
         """The parametrised region ``name``, or the sampled workspace for ``"reachable"``."""
-        if name == "reachable":
+        if check_name(f"{self.name} region", name, self.region_names()) == "reachable":
             return regions.SampledWorkspace()
         if name not in self.regions:
             raise UnknownNameError(f"{self.name} region", name, self.region_names())
@@ -119,13 +119,7 @@ class Mechanism:
     def design(self, values: DesignLike | Design = None, *, partial: bool = False) -> Design:
         """Validate a design: a mapping of parameter values, a sequence in parameter order, or None
         for the defaults."""
-        if values is not None and not isinstance(values, Mapping):
-            flat = np.asarray(values, dtype=float).ravel()
-            if flat.size != len(self.parameters):
-                names = ", ".join(self.parameter_names())
-                raise DesignError(f"a design vector needs {len(self.parameters)} values ({names}); got {flat.size}")
-            values = self.design_dict(flat)
-        return make_design(self.parameters, self.conditions, values, partial=partial)
+        return make_design(self.parameters, self.conditions, design_mapping(self.parameters, values), partial=partial)
 
     def design_vector(self, design: DesignLike | Design) -> np.ndarray:
         """The validated design as a vector in parameter order."""

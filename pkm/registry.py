@@ -16,7 +16,7 @@ from functools import cache
 from types import ModuleType
 from typing import Any
 
-from pkm.errors import UnknownNameError
+from pkm.errors import UnknownNameError, check_name
 from pkm.indices import GLOBAL_INDICES, LOCAL_INDICES, GlobalIndex, LocalIndex
 
 MODELS = "pkm.models"
@@ -43,13 +43,17 @@ def mechanisms() -> list[str]:
     return sorted(_mechanism_classes())
 
 
-@cache
 def mechanism(name: str) -> Any:
     """The mechanism registered under ``name`` (one instance per name), its generated names checked."""
     classes = _mechanism_classes()
-    if name not in classes:
+    if check_name("mechanism", name, sorted(classes)) not in classes:
         raise UnknownNameError("mechanism", name, sorted(classes))
-    mech = classes[name]()
+    return _instance(name)
+
+
+@cache
+def _instance(name: str) -> Any:
+    mech = _mechanism_classes()[name]()
     mech.functions.check()
     return mech
 
@@ -67,7 +71,7 @@ def problems() -> dict[str, Any]:
 def problem(name: str) -> Any:
     """The synthesis problem registered under ``name``."""
     known = problems()
-    if name not in known:
+    if check_name("synthesis problem", name, sorted(known)) not in known:
         raise UnknownNameError("synthesis problem", name, sorted(known))
     return known[name]
 
@@ -82,6 +86,7 @@ def global_indices() -> tuple[GlobalIndex, ...]:
 
 def local_index(name: str) -> LocalIndex:
     """The local index called ``name``."""
+    check_name("local index", name, [s.name for s in LOCAL_INDICES])
     for spec in LOCAL_INDICES:
         if spec.name == name:
             return spec
@@ -90,6 +95,7 @@ def local_index(name: str) -> LocalIndex:
 
 def global_index(name: str) -> GlobalIndex:
     """The global index called ``name``."""
+    check_name("index", name, [s.name for s in GLOBAL_INDICES])
     for spec in GLOBAL_INDICES:
         if spec.name == name:
             return spec
@@ -105,6 +111,6 @@ def papers() -> dict[str, ModuleType]:
 def paper(key: str) -> ModuleType:
     """The reproduction module of the paper ``key``."""
     known = papers()
-    if key not in known:
+    if check_name("paper", key, [*sorted(known), "all"]) not in known:
         raise UnknownNameError("paper", key, [*sorted(known), "all"])
     return known[key]

@@ -13,6 +13,8 @@ import numpy as np
 import pytest
 
 import pkm
+from pkm import registry
+from pkm.design import parse_design
 from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 
 m = pkm.load("five_bar")
@@ -179,3 +181,93 @@ def test_bad_global_index_option_is_a_pkm_error(options):
 def test_design_values_that_are_not_usable_numbers_are_pkms_error(value, needle):
     with pytest.raises(pkm.DesignError, match=re.escape(needle)):
         pkm.load("five_bar").design({"r1": value}, partial=True)
+
+
+NOT_NAMES = [["five_bar"], {"name": "five_bar"}, 3, b"gci", np.array(["out_out"])]
+NAME_LOOKUPS = {
+    "mechanism": pkm.load,
+    "index": lambda name: m.global_index(name, DESIGN, region="miw", resolution=2),
+    "region": lambda name: m.global_index("gci", DESIGN, region=name, resolution=2),
+    "mode of an index": lambda name: m.global_index("gci", DESIGN, region="miw", mode=name, resolution=2),
+    "local index": lambda name: m.local_index(name, POSE, DESIGN),
+    "mode": lambda name: m.inverse_kinematics(POSE, DESIGN, mode=name),
+    "assembly": lambda name: m.forward_kinematics([1.6, 1.4], DESIGN, assembly=name),
+    "inertia space": lambda name: m.inertia_matrix(POSE, DESIGN, space=name),
+    "problem": pkm.synthesize,
+    "paper": registry.paper,
+}
+
+
+@pytest.mark.parametrize("name", NOT_NAMES, ids=["list", "dict", "int", "bytes", "array"])
+@pytest.mark.parametrize("lookup", list(NAME_LOOKUPS.values()), ids=list(NAME_LOOKUPS))
+def test_a_name_that_is_not_a_string_is_pkms_error(lookup, name):
+    with pytest.raises(UnknownNameError, match=r"violates: a name \(a string\); known: "):
+        lookup(name)
+
+
+@pytest.mark.parametrize("text", [None, 3, b"r1=1.2", ["r1=1.2"], {"r1": 1.2}])
+def test_a_design_text_that_is_not_a_string_is_pkms_error(text):
+    with pytest.raises(DesignError, match=r"design text = .* violates: a string name=value"):
+        parse_design(text)
+
+
+@pytest.mark.parametrize(
+    ("design", "needle"),
+    [
+        ("r1=1.2", "design = 'r1=1.2' violates: a mapping name -> value, a sequence of 16 values"),
+        ({1.2, 1.0}, "violates: a mapping name -> value"),
+        (3, "design = 3 violates: a mapping name -> value"),
+        (["a"] * 16, "design parameter r1 = 'a' violates: a real number"),
+        ([1j] * 16, "design parameter r1 = 1j violates: a real number"),
+        ([[1.2], [1.0, 0.8]], "a design vector needs 16 values"),
+        ({1: 2.0, ("r1",): 1.0}, "unknown design parameter(s) ('r1',), 1"),
+    ],
+    ids=["text", "set", "scalar", "strings", "complex", "ragged", "keys not strings"],
+)
+def test_a_design_of_the_wrong_kind_is_pkms_error(design, needle):
+    with pytest.raises(DesignError, match=re.escape(needle)):
+        m.inverse_kinematics(POSE, design)
+
+
+BATCH_METHODS = {
+    "inverse_kinematics": (lambda p: m.inverse_kinematics(p, DESIGN), (0, 2)),
+    "forward_kinematics": (lambda q: m.forward_kinematics(q, DESIGN), (0, 2)),
+    "jacobian": (lambda p: m.jacobian(p, DESIGN), (0, 2, 2)),
+    "forward_jacobian": (lambda p: m.forward_jacobian(p, DESIGN), (0, 2, 2)),
+    "psi": (lambda p: m.psi(p, DESIGN), (0, 4, 2)),
+    "reachable": (lambda p: m.reachable(p, DESIGN), (0,)),
+    "local_index": (lambda p: m.local_index("inverse_condition_f", p, DESIGN), (0,)),
+    "inertia_matrix": (lambda p: m.inertia_matrix(p, DESIGN), (0, 2, 2)),
+    "actuated inertia_matrix": (lambda p: m.inertia_matrix(p, DESIGN, space="actuated"), (0, 2, 2)),
+    "inverse_dynamics": (lambda p: m.inverse_dynamics(p, [0.1, 0.0], [0.0, 0.2], DESIGN), (0, 2)),
+    "inverse_dynamics of its velocities": (lambda v: m.inverse_dynamics(POSE, v, [0.0, 0.2], DESIGN), (0, 2)),
+    "natural_frequencies": (lambda p: m.natural_frequencies(p, DESIGN).frequencies, (0, 4)),
+}
+
+
+@pytest.mark.parametrize(("call", "shape"), list(BATCH_METHODS.values()), ids=list(BATCH_METHODS))
+def test_an_empty_batch_gives_an_empty_result_of_the_right_shape(call, shape):
+    assert call(np.empty((0, 2))).shape == shape
+
+
+BAD_ARRAYS = {
+    "wrong width": (np.zeros((3, 3)), "must have shape"),
+    "3-D": (np.zeros((2, 2, 2)), "must have shape"),
+    "scalar": (0.5, "must have shape"),
+    "ragged": ([[0.1, 1.5], [0.1]], "violates: an array of real numbers"),
+    "object array": (np.array([0.1, None], dtype=object), "violates: an array of real numbers"),
+    "text": ("0.1,1.5", "violates: an array of real numbers"),
+    "list of text": (["0.1", "1.5"], "violates: an array of real numbers"),
+    "complex": ([0.1 + 1j, 1.5], "violates: an array of real numbers"),
+    "booleans": ([True, False], "violates: an array of real numbers"),
+    "None": (None, "violates: an array of real numbers"),
+    "mapping": ({"x": 0.1, "y": 1.5}, "violates: an array of real numbers"),
+    "integer too large": ([10**400, 1], "violates: an array of real numbers"),
+}
+
+
+@pytest.mark.parametrize(("values", "needle"), list(BAD_ARRAYS.values()), ids=list(BAD_ARRAYS))
+@pytest.mark.parametrize("call", [c for c, _ in BATCH_METHODS.values()], ids=list(BATCH_METHODS))
+def test_an_array_of_the_wrong_shape_or_kind_is_a_pose_error_naming_the_parameter(call, values, needle):
+    with pytest.raises(PoseError, match=rf"^(pose|actuated joints|velocity)\b.*{re.escape(needle)}"):
+        call(values)

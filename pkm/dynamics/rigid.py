@@ -19,7 +19,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.dynamics.flexible import elastic_dynamics
-from pkm.errors import PkmError, PoseError, UnknownNameError
+from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
 from pkm.kinematics import as_batch, solve_joints, unbatch
 
 if TYPE_CHECKING:
@@ -51,7 +51,7 @@ def inertia_matrix(
     numpy.ndarray, shape (N, n, n) or (n, n)
         n = n_out for ``"task"`` and n_act for ``"actuated"``; NaN where the pose is out of reach.
     """
-    if space not in SPACES:
+    if check_name("inertia space", space, list(SPACES)) not in SPACES:
         raise UnknownNameError("inertia space", space, list(SPACES))
     fn = mech.functions.require("inertia", f"the {space} inertia matrix of the {mech.name}")
     if SPACES[space] not in fn.name_out():
@@ -65,11 +65,13 @@ def inertia_matrix(
 def _motion_batch(
     mech: KinematicModel, pose: Any, velocity: Any, acceleration: Any
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """Pose, velocity and acceleration as (N, n_out) arrays; 1-D inputs are shared by the batch."""
+    """Pose, velocity and acceleration as (N, n_out) arrays; 1-D inputs are shared by the batch (N is 1
+    when every input is 1-D, and may be 0)."""
     arrays = [
         as_batch(v, mech.n_out, w) for v, w in ((pose, "pose"), (velocity, "velocity"), (acceleration, "acceleration"))
     ]
-    n = max(len(a) for a, _ in arrays)
+    rows = {len(a) for a, single in arrays if not single}
+    n = rows.pop() if len(rows) == 1 else max(rows, default=1)
     for (a, single), what in zip(arrays, ("pose", "velocity", "acceleration"), strict=True):
         if len(a) != n and not single:
             raise PoseError(f"{what} has {len(a)} rows; the batch has {n}")

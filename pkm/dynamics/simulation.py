@@ -15,7 +15,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.dynamics.flexible import elastic_dynamics
 from pkm.dynamics.trajectories import as_positive, as_times, as_vector
-from pkm.errors import ComputationError, PkmError, PoseError, UnknownNameError
+from pkm.errors import ComputationError, PkmError, PoseError, UnknownNameError, check_name
 
 if TYPE_CHECKING:
     from pkm.kinematics import DesignLike, KinematicModel
@@ -95,7 +95,7 @@ def simulate(
     ComputationError
         If CVODES fails (with its flag) or the motion leaves the assembled configurations.
     """
-    if method not in METHODS:
+    if check_name("integration method", method, METHODS) not in METHODS:
         raise UnknownNameError("integration method", method, METHODS)
     purpose = f"the simulation of the {mech.name}"
     fk, elastic = mech.functions.require("forward_kinematics", purpose), elastic_dynamics(mech, purpose)

@@ -11,6 +11,8 @@ neither (CasADi gives max's derivative 1/2 at the tie).
 from __future__ import annotations
 
 import math
+import numbers
+import reprlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
@@ -21,6 +23,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError
+from pkm.kinematics import as_real
 
 SIDES = ("after", "before")
 
@@ -71,11 +74,12 @@ def rest_to_rest(u: Any) -> Any:
     return u**5 * (126 + u * (-420 + u * (540 + u * (-315 + 70 * u))))
 
 
-def as_vector(values: Any, size: int, what: str) -> np.ndarray:
-    """``values`` as a finite vector of shape (size,); :class:`PkmError` naming ``what`` otherwise."""
-    arr = np.asarray(values, dtype=float)
-    if arr.shape != (size,):
-        raise PkmError(f"{what} must have shape ({size},); got {arr.shape}")
+def as_vector(values: Any, size: int | None, what: str) -> np.ndarray:
+    """``values`` as a finite vector of shape (size,) (of any length for None); :class:`PkmError` naming
+    ``what`` otherwise."""
+    arr = as_real(values, what, "(n,)" if size is None else f"({size},)")
+    if arr.ndim != 1 or (size is not None and arr.shape != (size,)):
+        raise PkmError(f"{what} must have shape {'(n,)' if size is None else (size,)}; got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise PkmError(f"{what} contains non-finite values")
     return arr
@@ -83,7 +87,7 @@ def as_vector(values: Any, size: int, what: str) -> np.ndarray:
 
 def as_times(times: Any, *, increasing: bool) -> np.ndarray:
     """``times`` as a finite 1-D array: one or more values, or at least two strictly increasing ones."""
-    t = np.asarray(times, dtype=float)
+    t = as_real(times, "times", "(N,)")
     if t.ndim != 1 or len(t) < (2 if increasing else 1):
         raise PkmError(f"times must be a 1-D array of {'at least two' if increasing else 'one or more'} values")
     if not np.all(np.isfinite(t)):
@@ -95,7 +99,12 @@ def as_times(times: Any, *, increasing: bool) -> np.ndarray:
 
 def as_positive(value: float, what: str) -> float:
     """``value`` as a positive finite float; :class:`PkmError` naming ``what`` otherwise."""
-    value = float(value)
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise PkmError(f"{what} = {reprlib.repr(value)} violates: a real number")
+    try:
+        value = float(value)
+    except OverflowError:
+        raise PkmError(f"{what} = an integer too large for a float violates: finite") from None
     if not (np.isfinite(value) and value > 0):
         raise PkmError(f"{what} = {value:g} must be positive and finite")
     return value
@@ -176,7 +185,7 @@ class Trajectory:
         vanish at both ends, so the motor torques of the flexible model (which need the fourth
         derivative of x) start and end continuously. The position holds outside [0, duration].
         """
-        a = as_vector(start, np.size(start), "start")
+        a = as_vector(start, None, "start")
         b = as_vector(end, a.size, "end")
         duration = as_positive(duration, "duration")
 
@@ -199,7 +208,7 @@ class Trajectory:
         for a triangle). The acceleration a_max sum_k c_k [t >= t_k] jumps by c_k a_max at t_k: see
         :meth:`switches` for its values on both sides.
         """
-        a = as_vector(start, np.size(start), "start")
+        a = as_vector(start, None, "start")
         b = as_vector(end, a.size, "end")
         v_max = as_positive(v_max, "v_max")
         a_max = as_positive(a_max, "a_max")
