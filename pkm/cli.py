@@ -382,6 +382,10 @@ def _example_design() -> str:
     return ",".join(f"{p.name}={p.default:g}" for p in m.parameters[:3])
 
 
+def _example_space() -> str:
+    return next(space for name in registry.mechanisms() for space in registry.mechanism(name).design_spaces)
+
+
 def _example_pose() -> str:
     """The best-conditioned pose of the first mechanism's default design on a coarse grid of its workspace box."""
     m = registry.mechanism(registry.mechanisms()[0])
@@ -406,7 +410,7 @@ HELP = {
     "region": lambda: f"region of the index (default reachable: the sampled workspace of the mode); per mechanism: "
                       f"{_catalogue('region')}; e.g. --region miw",
     "space": lambda: f"normalised design space (default: the mechanism's first); per mechanism: {_catalogue('space')}; "
-                     f"e.g. --space gao1998",
+                     f"e.g. --space {_example_space()}",
     "pose": lambda: f"a pose (required, no default), comma-separated in the mechanism's pose coordinates (repeat "
                     f"for several poses); per "
                     f"mechanism: {_catalogue('pose')}; e.g. --pose {_example_pose()}",

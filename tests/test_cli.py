@@ -50,7 +50,7 @@ def test_index_with_gradient_on_the_miw(capsys):
     assert 0 < data["value"] < 1
     assert set(data["gradient"]) == {p.name for p in pkm.load("five_bar").parameters}
     assert all(data["gradient"][k] == 0 for k in ("m1", "m2", "k1", "j1"))
-    assert data["points"] == 4 * 8**2
+    assert data["points"] == 4 * data["resolution"] ** 2
 
 
 def test_index_over_a_region_holding_a_singularity_says_why_it_is_undefined(capsys):
