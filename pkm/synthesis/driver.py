@@ -4,7 +4,11 @@
 problem's own starting points), runs IPOPT through ``casadi.nlpsol`` with exact first and (unless the
 problem says otherwise) second derivatives from the best feasible screening points, verifies every
 converged optimum with a quadrature 4x denser and by sampling each quantity on a grid of its region,
-and reports the best by its verified objective, never by the optimiser's quadrature. Each baseline
+and reports the best by its verified objective, never by the optimiser's quadrature. At the problem's own
+resolution the best optimum is then polished: IPOPT runs again from it at twice the resolution until the
+verified objective agrees with the optimised one to ``ACCURACY`` (relative above 1) or POLISH_LIMIT is
+reached; the result states the accuracy reached. A problem with region extremes is not polished: its
+epigraph grows with the nodes, and its verification refines the extremes between the nodes already. Each baseline
 (the papers' own search) runs through the same model, timed and counted, and its best point is
 verified the same way. The starts and the baselines' chunks of points are tasks of names and numbers
 (:mod:`pkm.parallel`): for a registered problem they run where the executor says, with the same results.
@@ -26,9 +30,13 @@ import numpy as np
 from pkm import parallel, registry
 from pkm.errors import ComputationError, PkmError, check_integer
 from pkm.progress import Progress
+from pkm.regions import INDEX_ACCURACY
 from pkm.regions.shapes import MAX_RESOLUTION
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
+
+ACCURACY = INDEX_ACCURACY
+POLISH_LIMIT = 64  # the largest quadrature resolution a polishing run uses
 
 
 @dataclass
@@ -89,6 +97,11 @@ class SynthesisResult:
         return self.optimum.verified_objective
 
     @property
+    def accuracy(self) -> float:
+        """The change of the optimum's objective from the optimiser's quadrature to the verification's."""
+        return abs(self.optimum.objective - self.optimum.verified_objective)
+
+    @property
     def baseline(self) -> Candidate | None:
         """The best point of the first baseline (None for a problem without baselines)."""
         first = next(iter(self.baselines.values()), None)
@@ -99,7 +112,8 @@ class SynthesisResult:
         design = ", ".join(f"{k} = {v:.6g}" for k, v in o.design.items())
         variables = ", ".join(f"{k} = {v:.6g}" for k, v in o.variables.items())
         return (f"{self.problem}: {self.status} after {self.iterations} iterations; {self.sense}imum objective "
-                f"{o.objective:.6g}, verified {o.verified_objective:.6g}{'' if o.feasible else ' (infeasible)'} at "
+                f"{o.objective:.6g}, verified {o.verified_objective:.6g} (accuracy {self.accuracy:.1e})"
+                f"{'' if o.feasible else ' (infeasible)'} at "
                 f"{variables}; design {design}")
 
     def to_dict(self) -> dict[str, Any]:
@@ -113,6 +127,7 @@ class SynthesisResult:
             "design": self.optimum.design,
             "objective": self.optimum.objective,
             "verified_objective": self.optimum.verified_objective,
+            "accuracy": self.accuracy,
             "baseline_objective": None if first is None else first.best.objective,
             "optimum": asdict(self.optimum),
             "baseline": None
@@ -270,6 +285,31 @@ def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -
     return points, order
 
 
+def _polish(
+    model: ProblemModel, run: Run, optimum: Candidate, res: int, options: dict[str, Any]
+) -> tuple[Run, Candidate, int, list[Run]]:
+    """IPOPT again from the optimum at doubled resolutions until its verified objective agrees with the
+    optimised one to ACCURACY or POLISH_LIMIT is reached; a polishing run that fails or turns infeasible
+    ends the polish and the last good optimum stands."""
+    extra = []
+    while 2 * res <= POLISH_LIMIT:
+        scale = max(1.0, abs(optimum.verified_objective))
+        if abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
+            break
+        task = StartTask(model.problem.name, np.array(list(run.variables.values())), 2 * res,
+                         json.dumps(options, sort_keys=True))
+        polished = _solve(model, *_nlp(model, 2 * res, options), task)
+        extra.append(polished)
+        if not polished.success:
+            break
+        cand = model.candidate(np.array(list(polished.variables.values())), polished.objective, 2 * res)
+        if not cand.feasible:
+            break
+        polished.verified_objective = cand.verified_objective
+        run, optimum, res = polished, cand, 2 * res
+    return run, optimum, res, extra
+
+
 def _rank(model: ProblemModel, cand: Candidate) -> tuple[bool, float]:
     """Sort key: feasible candidates first, then by the verified objective in the problem's sense."""
     value = cand.verified_objective
@@ -294,7 +334,9 @@ def synthesize(
     Parameters
     ----------
     problem : Problem
-    resolution : quadrature resolution of the optimised objective (verification uses twice it).
+    resolution : quadrature resolution of the optimised objective (verification uses twice it); by default
+        the problem's, and the optimum is then polished at doubled resolutions until it is verified to
+        ``ACCURACY`` (or POLISH_LIMIT is reached).
     baseline_resolution : grid nodes per variable of the baselines (their own resolution by default).
     starts : number of IPOPT starts, the best feasible screening points.
     max_iter, tol, print_level : IPOPT's options (the problem's by default; print level 0, or 5 with
@@ -325,11 +367,12 @@ def synthesize(
 
     with bar:
         return _synthesize(problem, model, res=res, n_starts=n_starts, baseline_resolution=baseline_resolution,
-                           options=options, executor=executor, step=step)
+                           options=options, executor=executor, step=step, polish=resolution is None)
 
 
 def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: int, baseline_resolution: int | None,
-                options: dict[str, Any], executor: str | Executor | None, step: Callable[..., None]) -> SynthesisResult:
+                options: dict[str, Any], executor: str | Executor | None, step: Callable[..., None],
+                polish: bool) -> SynthesisResult:
     """The driver's stages (see :func:`synthesize`), calling ``step`` after each."""
     t0 = time.perf_counter()
     points, order = _screen(model, res, problem.screening_resolution, n_starts)
@@ -373,13 +416,19 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             f"every converged run of {problem.name} violates a constraint by more than "
             f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}, design {optimum.design}",
             best_run, optimum)
+    start_resolution = res
+    if polish and not model.extremes:
+        best_run, optimum, res, extra = _polish(model, best_run, optimum, res, options)
+        runs.extend(extra)
+        evaluations += sum(r.evaluations for r in extra)
+        opt_time = time.perf_counter() - t0
 
     baselines = {}
     for base in problem.baselines:
         t1 = time.perf_counter()
         n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
         candidates_at = np.atleast_2d(base.points(n))
-        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], res)
+        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], start_resolution)
                   for k in range(0, len(candidates_at), BASELINE_CHUNK)]
         with parallel.executor(where, tasks=len(chunks)) as pool:
             local = isinstance(pool, parallel.SerialExecutor)
@@ -394,7 +443,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             pick = model.best(values, np.isfinite(values))
         if len(pick) == 0:
             raise ComputationError(f"no point of the {base.name} baseline of {problem.name} has an objective")
-        best = model.candidate(candidates_at[pick[0]], values[pick[0]], res)
+        best = model.candidate(candidates_at[pick[0]], values[pick[0]], start_resolution)
         baselines[base.name] = BaselineResult(base.name, base.doc, best, wall, len(candidates_at), n)
         step()
 
@@ -415,6 +464,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
         optimizer={"wall_time_s": opt_time, "evaluations": evaluations},
         resolutions={
             "quadrature": res,
+            "polished_from": start_resolution,
             "quadrature_points": sum(region_points.values()),
             "verification_points": sum(dense_points.values()),
             "baseline_grid": baseline_resolution or (problem.baselines[0].resolution if problem.baselines else 0),

@@ -22,6 +22,7 @@ from pkm.synthesis.problem import Problem, Terms
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
 EPIGRAPH_SLACK = 1e-3  # an extreme's variable starts this far (relative) inside its node bounds
 SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
+SAMPLED_LIMIT = 512**2  # cells of a sampled check at most
 
 
 @dataclass
@@ -206,7 +207,8 @@ class ProblemModel:
         verified, ok = self.verify(point, design, 2 * resolution)
         sampled, points = {}, []
         # as many grid cells as a 2-D check in every dimension: (16 resolution)^2 in all
-        per_axis = max(2, round((SAMPLED_FACTOR * resolution) ** (2 / self.mech.n_out)))
+        cells = min((SAMPLED_FACTOR * resolution) ** 2, SAMPLED_LIMIT)
+        per_axis = max(2, round(cells ** (1 / self.mech.n_out)))
         for name, quantity in self.problem.quantities.items():
             value = sampled_check(
                 self.mech, quantity.index, quantity.region, design, branch=self.branch, resolution=per_axis
