@@ -197,7 +197,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
             m, m.global_spec(name), space=space, resolution=s["atlas_resolution"], pose_resolution=s["pose_resolution"]
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
-        atlas.plot(folder / f"atlas_{name}.png", min_points=s["pose_resolution"] ** 2 // 50)
+        atlas.plot(folder / f"atlas_{name}.png")
         figures.append(f"atlas_{name}.png")
         atlases[name] = (atlas, fig_no)
         bar.advance()
@@ -310,17 +310,19 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         )
     for name, (atlas, fig_no) in atlases.items():
         for mode in atlas.modes:
-            _, _, value, normalised = atlas.best(mode, min_points=s["pose_resolution"] ** 2 // 50)
+            best = atlas.checked[mode]
             claims.append(
                 claim(
                     f"atlas_{name}_{mode}_best",
                     f"largest {name} on the atlas of Figs. {fig_no}, {mode}",
                     None,
-                    {"value": value, **_named(normalised)},
+                    {"value": best.value, **_named(best.coordinates), "pose_resolutions": list(best.resolutions),
+                     "relative_change": best.change} if best.found else {"reason": best.reason},
                     "-" if name == "gci" else "L/rad",
                     "not_stated",
-                    "the figures are missing from the text; pkm's atlas grid maximum over designs whose workspace "
-                "holds at least 2% of the pose grid",
+                    "the figures are missing from the text; pkm's atlas maximum over the designs whose value "
+                    "converged under a doubling of the pose resolution and whose region is not degenerate "
+                    "(pkm.atlas.Checks)",
                 )
             )
     o, grid = result.optimum, result.baselines["grid"]

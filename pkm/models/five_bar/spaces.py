@@ -13,38 +13,40 @@ SQRT3 = math.sqrt(3.0)
 
 
 def _gao_to_design(c, scale=1.0):
-    """Gao's (r1, r2, r3), r3 the full base, 2 r1 + 2 r2 + r3 = 4, -> (r1, r2, half base) in metres."""
+    """Gao's (r1, r2, base), the full base, 2 r1 + 2 r2 + base = 4, -> (r1, r2, r3 = half base) in metres."""
     return [c[0] * scale, c[1] * scale, c[2] * scale / 2]
 
 
 def _gao_from_design(d):
-    """SI design -> Gao's normalised (r1, r2, r3) and the average link length L (Gao eq. 2)."""
+    """SI design -> Gao's normalised (r1, r2, base) and the average link length L (Gao eq. 2)."""
     scale = (d[0] + d[1] + d[2]) / 2
     return [d[0] / scale, d[1] / scale, 2 * d[2] / scale], scale
 
 
 def _gao_to_chart(c):
-    """Isometric chart of the plane 2 r1 + 2 r2 + r3 = 4: u along r1 - r2, v along r3."""
+    """Isometric chart of the plane 2 r1 + 2 r2 + base = 4: u along r1 - r2, v along the base."""
     return (c[0] - c[1]) / SQRT2, 3 * c[2] / (2 * SQRT2)
 
 
 def _gao_from_chart(u, v):
-    r3 = 2 * SQRT2 * v / 3
-    half_sum = (4 - r3) / 2
-    return [(half_sum + SQRT2 * u) / 2, (half_sum - SQRT2 * u) / 2, r3]
+    base = 2 * SQRT2 * v / 3
+    half_sum = (4 - base) / 2
+    return [(half_sum + SQRT2 * u) / 2, (half_sum - SQRT2 * u) / 2, base]
 
 
 GAO1998 = DesignSpace(
     name="gao1998",
     doc=(
-        "Gao 1998 eqs. 1-5: r_i = R_i / L with L the average of the five link lengths, r3 the full "
-        "base, 2 r1 + 2 r2 + r3 = 4, 0 < r1, r2 < 2, 0 <= r3 < 2. Chart: u = (r1 - r2)/sqrt(2), "
-        "v = 3 r3 / (2 sqrt(2)), isometric in the plane of the solution space (trapezoid ABCD)."
+        "Gao 1998 eqs. 1-5: r_i = R_i / L with L the average of the five link lengths, base = Gao's r3, "
+        "the full base (twice pkm's half base r3), 2 r1 + 2 r2 + base = 4, 0 < r1, r2 < 2, 0 <= base < 2. "
+        "Chart: u = (r1 - r2)/sqrt(2), v = 3 base / (2 sqrt(2)), isometric in the plane of the solution space "
+        "(trapezoid ABCD)."
     ),
-    coordinates=("r1", "r2", "r3"),
+    coordinates=("r1", "r2", "base"),
     chart_axes=("u", "v"),
-    chart_labels=("(r1 - r2)/\u221a2", "3 r3/(2\u221a2)"),
-    note="r_i = R_i / L, L the mean link length, r3 the full base, 2 r1 + 2 r2 + r3 = 4 (Gao 1998 eqs. 1-5)",
+    chart_labels=("(r1 - r2)/\u221a2", "3 base/(2\u221a2)"),
+    note="r_i = R_i / L, L the mean link length, base = Gao's r3 (the full base, 2 r3 / L in pkm's terms), "
+    "2 r1 + 2 r2 + base = 4 (Gao 1998 eqs. 1-5)",
     to_design=_gao_to_design,
     from_design=_gao_from_design,
     to_chart=_gao_to_chart,
@@ -55,9 +57,9 @@ GAO1998 = DesignSpace(
     conditions=(
         *interval("r1", 0, 2, source=" (Gao eq. 5)"),
         *interval("r2", 0, 2, source=" (Gao eq. 5)"),
-        Condition("0 <= r3 < 2 (Gao eq. 5)", lambda c: c["r3"] + 1e-12),
-        Condition("0 <= r3 < 2 (Gao eq. 5)", lambda c: 2 - c["r3"]),
-        fixed_sum({"r1": 2, "r2": 2, "r3": 1}, 4, source=" (Gao eq. 3)"),
+        Condition("0 <= base < 2 (Gao eq. 5)", lambda c: c["base"] + 1e-12),
+        Condition("0 <= base < 2 (Gao eq. 5)", lambda c: 2 - c["base"]),
+        fixed_sum({"r1": 2, "r2": 2, "base": 1}, 4, source=" (Gao eq. 3)"),
     ),
 )
 
