@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
-from matplotlib.path import Path as PolygonPath
 
 from pkm.design import Condition, Parameter, stack_design
 from pkm.errors import DesignError
@@ -107,6 +106,8 @@ class DesignSpace:
         u = np.linspace(poly[:, 0].min(), poly[:, 0].max(), resolution)
         v = np.linspace(poly[:, 1].min(), poly[:, 1].max(), resolution)
         U, V = np.meshgrid(u, v, indexing="ij")
+        from matplotlib.path import Path as PolygonPath
+
         path = PolygonPath(poly)
         inside = path.contains_points(np.stack([U.ravel(), V.ravel()], 1), radius=-2 * inset)
         return u, v, inside.reshape(U.shape)

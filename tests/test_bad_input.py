@@ -271,3 +271,16 @@ BAD_ARRAYS = {
 def test_an_array_of_the_wrong_shape_or_kind_is_a_pose_error_naming_the_parameter(call, values, needle):
     with pytest.raises(PoseError, match=rf"^(pose|actuated joints|velocity)\b.*{re.escape(needle)}"):
         call(values)
+
+
+@pytest.mark.parametrize("wrench", ["abc", {"F_x": 1}, [[1, 2, 3, 4, 5, 6], [1, 2]], [1j] * 6])
+def test_a_wrench_that_is_not_real_numbers_is_a_pose_error(wrench):
+    mech = pkm.load("ups_pu")
+    with pytest.raises(PoseError, match="wrench"):
+        mech.statics(np.array([0.4, 0.0, 0.0]), wrench)
+
+
+@pytest.mark.parametrize("theta", ["x", 1j, [[0.1]], None])
+def test_a_theta_that_is_not_real_numbers_is_a_pose_error(theta):
+    with pytest.raises(PoseError, match="theta"):
+        pkm.load("passive_leg").workspace_boundary(theta)

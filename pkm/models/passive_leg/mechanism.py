@@ -22,7 +22,16 @@ from pkm.batch import evaluate
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace
 from pkm.errors import PoseError
-from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
+from pkm.kinematics import (
+    Branch,
+    DesignLike,
+    FunctionTable,
+    GeneratedFunctions,
+    PolynomialRoots,
+    as_batch,
+    as_real,
+    unbatch,
+)
 from pkm.mechanism import Mechanism
 from pkm.models.passive_leg.spaces import NAM2006
 from pkm.regions import Mapped, MappedSquare, Union
@@ -262,9 +271,9 @@ class PassiveLeg(Mechanism):
     def workspace_boundary(self, theta: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
         """l_CM(theta), l_cm(theta) of eqs. 12-13 (as derived and as printed) and the radicands of eqs.
         14-15, by name, each (N,) or a float; NaN where a boundary is not real."""
-        t = np.asarray(theta, dtype=float)
-        if not np.all(np.isfinite(t)) or np.any(np.abs(t) >= math.pi / 2):
-            raise PoseError("theta must be finite and within (-pi/2, pi/2) (section 4)")
+        t = as_real(theta, "theta", "a number or (N,)")
+        if t.ndim > 1 or not np.all(np.isfinite(t)) or np.any(np.abs(t) >= math.pi / 2):
+            raise PoseError("theta must be a number or (N,), finite and within (-pi/2, pi/2) (section 4)")
         d = self.design_vector(design)
         fn = self.functions["workspace_boundary"]
         values = {fn.name_out(k): v[:, 0, 0] for k, v in enumerate(evaluate(fn, np.atleast_1d(t)[:, None], d))}

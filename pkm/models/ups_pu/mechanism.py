@@ -21,7 +21,16 @@ from pkm.batch import evaluate
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace, parameter_plane
 from pkm.errors import PoseError
-from pkm.kinematics import Branch, DesignLike, FunctionTable, GeneratedFunctions, PolynomialRoots, as_batch, unbatch
+from pkm.kinematics import (
+    Branch,
+    DesignLike,
+    FunctionTable,
+    GeneratedFunctions,
+    PolynomialRoots,
+    as_batch,
+    as_real,
+    unbatch,
+)
 from pkm.mechanism import Mechanism
 from pkm.models.ups_pu import workspace
 from pkm.regions import Cylinder, Mapped
@@ -172,7 +181,7 @@ class UpsPu(Mechanism):
         Rows where the wrench matrix is singular (condition number above 1e12) are NaN.
         """
         x, single = as_batch(pose, self.n_out, "pose")
-        w = np.asarray(wrench, dtype=float)
+        w = as_real(wrench, "wrench", "(6,) or (N, 6)")
         if w.shape[-1:] != (6,) or w.ndim > 2 or not np.all(np.isfinite(w)):
             raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
         w = np.broadcast_to(w, (len(x), 6))
