@@ -164,6 +164,8 @@ def cmd_index(args: argparse.Namespace) -> None:
         "accuracy": value.accuracy,
     }
     text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}"
+    if np.isfinite(value.accuracy):
+        text += f" (accuracy {value.accuracy:.1e}, resolution {value.resolution})"
     if np.isnan(float(value)):
         data["undefined"] = _undefined(m, args.region)
         text += f" (undefined: {data['undefined']})"
@@ -341,7 +343,8 @@ def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None
         f"({result.optimizer['wall_time_s']:.2f} s, {result.optimizer['evaluations']} evaluations)",
         f"variables: {_named(o.variables)}",
         f"design: {_named(o.design)}",
-        f"objective ({result.sense}) {o.objective:.6g}, verified {o.verified_objective:.6g} (4x quadrature), "
+        f"objective ({result.sense}) {o.objective:.6g} at resolution {result.resolutions['quadrature']}, "
+        f"verified {o.verified_objective:.6g} (4x quadrature; accuracy {result.accuracy:.1e}), "
         f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)",
     ]
     for base in result.baselines.values():

@@ -91,7 +91,7 @@ def test_public_entry_point_rejects_unknown_options():
 def test_runs_are_ranked_by_their_verified_objective_not_the_optimisers_quadrature():
     """Lara-Molina's dexterity at quadrature resolution 8: the run that the coarse quadrature ranks
     first verifies worse than another run at 4x the nodes; the result is the other run."""
-    result = pkm.synthesize("five_bar.max_dynamic_dexterity_miw", starts=4, baseline_resolution=5)
+    result = pkm.synthesize("five_bar.max_dynamic_dexterity_miw", resolution=8, starts=4, baseline_resolution=5)
     converged = [r for r in result.runs if r.success]
     by_quadrature = max(converged, key=lambda r: r.objective)
     by_verification = max(converged, key=lambda r: r.verified_objective)
