@@ -222,11 +222,12 @@ def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
     assert run["objective"] >= run["grid_objective"] - 1e-9
 
 
-@pytest.mark.parametrize("key", ["gao1998", "lara_molina2016", "nam2006", "zhao2008"])
+@pytest.mark.parametrize("key", ["gao1998", "lara_molina2016", "nam2006", "wu2008", "zhao2008"])
 def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, request):
     """The docs' numbers (tests/test_paper_docs.py) name places that a reproduction still writes (a list
     item may be missing: a quick run finds fewer, e.g. of the planes with re-entrant rays)."""
-    fixture = {"gao1998": "report", "lara_molina2016": "lara", "nam2006": "nam", "zhao2008": "zhao"}[key]
+    fixture = {"gao1998": "report", "lara_molina2016": "lara", "nam2006": "nam", "wu2008": "wu",
+               "zhao2008": "zhao"}[key]
     _, data = request.getfixturevalue(fixture)
     snapshot = json.loads(docs.paths(key)[1].read_text())
     for path in snapshot["values"]:
