@@ -134,6 +134,8 @@ def design_mapping(parameters: Sequence[Parameter], values: Any) -> Mapping[str,
     if values is None or isinstance(values, Mapping):
         return values
     names = [p.name for p in parameters]
+    if isinstance(values, np.ndarray) and values.dtype == np.float64 and values.shape == (len(names),):
+        return dict(zip(names, values.tolist(), strict=True))
     violated = DesignError(f"design = {reprlib.repr(values)} violates: a mapping name -> value, a sequence of "
                            f"{len(names)} values in parameter order ({', '.join(names)}), or None for the defaults")
     if isinstance(values, str | bytes | set | frozenset):

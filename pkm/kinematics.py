@@ -64,17 +64,22 @@ def as_real(values: Any, what: str, shape: str) -> np.ndarray:
     """``values`` as a float array; :class:`PoseError` naming ``what`` and the expected ``shape`` for what
     is not an array of real numbers: text, mappings, sets, None, booleans, complex numbers, ragged
     nesting, integers too large for a float."""
-    violated = f"{what} = {reprlib.repr(values)} violates: an array of real numbers of shape {shape}"
+    if isinstance(values, np.ndarray) and values.dtype == np.float64:
+        return values
+
+    def violated() -> PoseError:
+        return PoseError(f"{what} = {reprlib.repr(values)} violates: an array of real numbers of shape {shape}")
+
     if isinstance(values, str | bytes | Mapping | set | frozenset):
-        raise PoseError(violated)
+        raise violated()
     try:
         arr = np.asarray(values)
         if arr.dtype.kind == "O" and all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in arr.flat):
             arr = arr.astype(float)
     except (TypeError, ValueError, OverflowError):
-        raise PoseError(violated) from None
+        raise violated() from None
     if arr.dtype.kind not in "iuf":
-        raise PoseError(violated)
+        raise violated()
     return arr.astype(float, copy=False)
 
 

@@ -82,14 +82,10 @@ def ring(count: int, offset: float = 0.5) -> np.ndarray:
     return np.stack([np.cos(angle), np.sin(angle)], axis=1)
 
 
-def axes_of_disc(resolution: int) -> np.ndarray:
-    """Points on the unit disc's two axes (and on its rim where they cross it): the Gauss-Legendre
-    radii of :func:`disc_quadrature` and the rim along +-x and +-y, where the extremes of a mechanism
-    symmetric about an axis often lie and the rings of the rule, offset by half a step, never reach."""
-    t, _ = gauss_legendre(resolution)
-    radii = np.concatenate([(t + 1) / 2, [1.0]])
-    directions = ring(4, offset=0.0)
-    return np.concatenate([r * directions for r in radii])
+def axes_of_disc() -> np.ndarray:
+    """The four points where the unit disc's axes cross its rim: the extremes of a mechanism symmetric
+    about an axis often lie there, and the rim of the rule, offset by half a step, never reaches them."""
+    return ring(4, offset=0.0)
 
 
 def square_perimeter(count: int) -> np.ndarray:
@@ -132,7 +128,7 @@ def disc_rule(resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
     nodes, weights = disc_quadrature(resolution)
     if reduce not in EXTREMES:
         return nodes, weights
-    rim = np.concatenate([ring(4 * resolution), axes_of_disc(resolution)])
+    rim = np.concatenate([ring(4 * resolution), axes_of_disc()])
     return _with_centre_and_rim(nodes, weights, _onto_unit_disc(rim, 1 - RIM_INSET))
 
 
