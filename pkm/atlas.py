@@ -35,6 +35,7 @@ from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integ
 from pkm.indices import GlobalIndex
 from pkm.mechanism import Mechanism
 from pkm.parallel import ChunkStore, task_key
+from pkm.progress import Progress
 from pkm.regions.shapes import MAX_RESOLUTION
 
 
@@ -414,7 +415,7 @@ def compute_sweep(
     resolution: int = 41,
     pose_resolution: int | None = None,
     singularity_margin: float = regions.SINGULARITY_MARGIN,
-    progress: Callable[[int], object] | None = None,
+    progress: Callable[[int, int], object] | bool | None = None,
     executor: str | Executor | None = None,
     store: Path | None = None,
     chunk: int = CHUNK,
@@ -442,8 +443,10 @@ def compute_sweep(
         resolution of a parametrised region (default ``regions.QUADRATURE_RESOLUTION``).
     singularity_margin : float
         Poses with 1/kappa_f below it are left out of the sampled region.
-    progress : callable, optional
-        Called with the number of designs just finished; the total is ``inside.sum() * len(modes)``.
+    progress : callable or bool, optional
+        ``progress(done, total)`` in design-modes after each chunk (resumed chunks counted at once); by
+        default (None) a progress bar on standard error when it is a terminal, nothing otherwise; False:
+        nothing.
     executor : "auto", "serial", "processes" or a concurrent.futures.Executor, optional
         Where the chunks of designs run (:mod:`pkm.parallel`); by default a Dask cluster when a scheduler
         is set, else in this process for small atlases and a local process pool for large ones. The
@@ -530,13 +533,21 @@ def compute_sweep(
             meta = {"mode": np.array(task.mode), "start": np.array(offsets[missing[k]]),
                     "count": np.array(len(task.designs))}
             saved.save(keys[missing[k]], {**result, **meta})
-        if progress is not None:
-            progress(len(task.designs))
+        step(len(task.designs))
 
-    if progress is not None:
-        progress(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
+    total = sum(len(task.designs) for task in tasks)
+    bar = Progress(total, f"atlas {mech.name}", enabled=None if progress is None else False)
+    done = [0]
+
+    def step(n: int) -> None:
+        done[0] += n
+        bar.advance(n)
+        if callable(progress):
+            progress(done[0], total)
+
     work = len(designs) * sum(per_design.values()) * len(modes)
-    with parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
+    with bar, parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
+        step(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
         fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk
         computed = parallel.run_tasks(
             pool, fn, [tasks[k] for k in missing], describe=AtlasTask.describe, done=finished,

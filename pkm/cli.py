@@ -26,7 +26,6 @@ from pkm.design_space import parameter_plane
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
-from pkm.progress import Progress
 from pkm.reproduce import reproduce
 from pkm.synthesis import SynthesisError, SynthesisResult, synthesize
 
@@ -123,14 +122,20 @@ def cmd_eval(args: argparse.Namespace) -> None:
         )
     shown = [name for name in ("inverse_condition_f", "velocity_max", "velocity_min") if name in local]
     units = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
-             "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True))}
+             "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
+             "indices": {name: m.index_unit(name) for name in local}}
     text = "\n".join(
         f"pose {_valued(r['pose'], units['pose'])}: {_valued(r['q'][: m.n_act], units['actuators'])}, "
-        + ", ".join(f"{name} = {r[name]:.6g}" for name in shown)
+        + ", ".join(f"{name} = {r[name]:.6g}{_unit(units['indices'][name])}" for name in shown)
         if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}"
         for r in rows
     )
     _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}, text)
+
+
+def _unit(unit: str) -> str:
+    """`` m/rad`` after a value, nothing for a dimensionless one."""
+    return "" if unit == "-" else f" {unit}"
 
 
 def _valued(values: np.ndarray, units: dict[str, str]) -> str:
@@ -162,8 +167,9 @@ def cmd_index(args: argparse.Namespace) -> None:
         "points": value.points,
         "resolution": value.resolution,
         "accuracy": value.accuracy,
+        "unit": m.index_unit(args.index),
     }
-    text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}"
+    text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}{_unit(data['unit'])}"
     if np.isfinite(value.accuracy):
         text += f" (accuracy {value.accuracy:.1e}, resolution {value.resolution})"
     if np.isnan(float(value)):
@@ -198,23 +204,19 @@ def _space(m: Mechanism, args: argparse.Namespace) -> Any:
     return m.design_spaces[name]
 
 
-def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path, label: str) -> dict[str, Any]:
+def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path) -> dict[str, Any]:
     """The atlases of ``names`` over the command's design space, chunks kept in ``store``."""
     from pkm.atlas import MAX_CHART, Checks, compute_sweep, default_modes
 
     space = _space(m, args)
     indices = tuple(m.global_spec(name) for name in names)
     modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
-    inside = int(space.chart_grid(check_integer("resolution", args.resolution, 3, MAX_CHART))[2].sum())
-    bar = Progress(len(modes) * inside, label)
+    check_integer("resolution", args.resolution, 3, MAX_CHART)
     checks = Checks(tolerance=args.tolerance, min_points=args.min_points, min_fraction=args.min_fraction)
-    atlases = compute_sweep(
+    return compute_sweep(
         m, indices, space=space, modes=modes, region=args.region, resolution=args.resolution,
-        pose_resolution=args.pose_resolution, progress=bar.advance, executor=args.executor, store=store,
-        checks=checks,
+        pose_resolution=args.pose_resolution, executor=args.executor, store=store, checks=checks,
     )
-    bar.close()
-    return atlases
 
 
 def _run_key(m: Mechanism, args: argparse.Namespace, names: list[str]) -> str:
@@ -226,7 +228,7 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     m = registry.mechanism(args.mechanism)
     out = Path(args.out)
     store = out / CHUNKS / _run_key(m, args, [args.index])
-    atlas = _sweep(m, args, [args.index], store, f"atlas {args.index}")[args.index]
+    atlas = _sweep(m, args, [args.index], store)[args.index]
     index, space = atlas.index, atlas.space
     space_name = "axes" if args.axes else atlas.space.name
     stem = "_".join([m.name, args.index, args.region, space_name, *atlas.modes])
@@ -249,7 +251,7 @@ def cmd_sweep(args: argparse.Namespace) -> None:
     names = [n.strip() for n in args.indices.split(",") if n.strip()]
     folder = Path(args.out) / f"{m.name}_sweep_{args.region}_{_run_key(m, args, names)[:8]}"
     (folder / "index.json").unlink(missing_ok=True)
-    atlases = _sweep(m, args, names, folder / "chunks", f"sweep {len(names)} indices")
+    atlases = _sweep(m, args, names, folder / "chunks")
     first = next(iter(atlases.values()))
     figures = {name: str(a.plot(folder / f"{name}.png")) for name, a in atlases.items()}
     chunks = []

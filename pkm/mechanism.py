@@ -269,6 +269,15 @@ class Mechanism:
             self.functions.require(spec.per, f"the global index {name}")
         return spec
 
+    def index_unit(self, name: str) -> str:
+        """The unit of a local or global index of this mechanism: its template filled with the unit of the
+        pose coordinates and of the actuators (angles count as lengths where a mechanism's coordinates mix
+        them: indices are taken in arc lengths, :mod:`pkm.regions.pipeline`)."""
+        is_global = isinstance(name, str) and name in {i.name for i in registry.global_indices()}
+        spec = self.global_spec(name) if is_global else self.local_spec(name)
+        return spec.unit.format(pose=_coordinate_unit(self.pose_units), actuator=_coordinate_unit(self.actuator_units),
+                                n=self.n_out)
+
     def local_indices(self) -> tuple[str, ...]:
         """Names of the local indices this mechanism can evaluate."""
         return tuple(i.name for i in registry.local_indices() if self._has(i))
@@ -349,3 +358,9 @@ class Mechanism:
     inverse_dynamics = _delegate(dynamics.inverse_dynamics)
     natural_frequencies = _delegate(dynamics.natural_frequencies)
     simulate = _delegate(dynamics.simulate)
+
+
+def _coordinate_unit(units: tuple[str, ...]) -> str:
+    """The unit of coordinates of these units as indices see them: angles among lengths are arc lengths."""
+    lengths = sorted(set(units) - {"rad"})
+    return lengths[0] if len(lengths) == 1 else "rad" if not lengths else "/".join(lengths)

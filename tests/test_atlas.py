@@ -109,9 +109,10 @@ def test_gao_mode_symmetry_over_the_reachable_region(mech, gao):
 def test_default_modes_are_the_distinct_ones(mech, gao, monkeypatch):
     monkeypatch.setattr(type(mech), "distinct_modes", {"reachable": ("out_out", "out_in")})
     calls = []
-    atlas = compute_atlas(mech, GCI, space=gao, resolution=4, pose_resolution=4, progress=calls.append)
+    atlas = compute_atlas(mech, GCI, space=gao, resolution=4, pose_resolution=4,
+                          progress=lambda done, total: calls.append((done, total)))
     assert atlas.modes == ("out_out", "out_in")
-    assert sum(calls) == atlas.inside.sum() * 2
+    assert calls[-1] == (atlas.inside.sum() * 2, atlas.inside.sum() * 2)
     # Gao's equalities hold over the reachable workspace only; a region not listed keeps every mode.
     assert default_modes(mech, "miw") == mech.modes
     monkeypatch.setattr(type(mech), "distinct_modes", {"miw": ("out_out", "in_in")})
@@ -322,3 +323,14 @@ def test_cli_atlas_reports_the_checked_best_in_design_parameters(tmp_path, capsy
     text = capsys.readouterr().out
     assert f"best gci in out_out: {best['value']:.6g} at chart" in text
     assert f"r1 = {best['design']['r1']:.4g}" in text
+
+
+def test_an_atlas_reports_progress_as_done_and_total(mech, gao):
+    seen = []
+    atlas = compute_atlas(
+        mech, GCI, space=gao, modes=("out_out",), resolution=5, pose_resolution=8,
+        progress=lambda done, total: seen.append((done, total)),
+    )
+    total = int(atlas.inside.sum())
+    assert seen[-1] == (total, total)
+    assert [d for d, _ in seen] == sorted(d for d, _ in seen)

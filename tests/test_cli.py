@@ -379,3 +379,15 @@ def test_units_come_from_the_mechanism_the_gantrys_sliders_in_metres(capsys):
     assert "design spaces: gao1998, lara_molina2016" in text
     assert "actuators: q1 [m], q2 [m]" in text
     assert "  gao1998: Gao" in text
+
+
+def test_index_units_follow_the_mechanisms_coordinates(capsys):
+    assert pkm.load("five_bar").index_unit("velocity_max") == "m/rad"
+    assert pkm.load("slider_gantry").index_unit("gamma_max") == "m/m"
+    assert pkm.load("ups_pu").index_unit("region_measure") == "m^3"
+    assert main(["eval", "slider_gantry", "--pose", "0,0.5", "--json"]) == 0
+    units = json.loads(capsys.readouterr().out)["units"]
+    assert units["actuators"] == {"q1": "m", "q2": "m"}
+    assert units["indices"]["velocity_max"] == "m/m"
+    assert main(["index", "five_bar", "gamma_min", "--region", "miw", "--resolution", "2", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["unit"] == "m/rad"

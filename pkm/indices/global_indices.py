@@ -40,9 +40,10 @@ class GlobalIndex:
 
     @property
     def unit(self) -> str:
-        if self.per is not None:
-            return f"{'pose units^n' if self.reduce == 'measure' else self.local.unit} per {self.per}"
-        return "pose units^n" if self.reduce == "measure" else self.local.unit
+        """The unit as a template: ``{pose}``, ``{actuator}`` and ``{n}`` (the pose's dimension) are the
+        mechanism's (:meth:`pkm.Mechanism.index_unit`)."""
+        unit = "{pose}^{n}" if self.reduce == "measure" else self.local.unit
+        return f"{unit} per {self.per}" if self.per is not None else unit
 
     def better(self, a: float, b: float) -> bool:
         """Whether ``a`` is strictly better than ``b`` in this index's sense (NaN is never better)."""

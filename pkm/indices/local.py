@@ -32,11 +32,12 @@ ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the 
 
 @dataclass(frozen=True)
 class LocalIndex:
-    """A local index: key, meaning, unit, documented range, its value where the pose is singular, the
-    generated function (``source``) and outputs (``arguments``) it is computed from, and its formula
-    on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a smooth g with g >= 0 exactly
-    where the index is >= t (value - t otherwise), and ``epigraph_upper`` one with g >= 0 exactly where
-    it is <= t (t - value otherwise)."""
+    """A local index: key, meaning, unit (a template with ``{pose}`` and ``{actuator}``, the units of the
+    mechanism's pose and actuator coordinates: :meth:`pkm.Mechanism.index_unit`), documented range, its
+    value where the pose is singular, the generated function (``source``) and outputs (``arguments``) it
+    is computed from, and its formula on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a
+    smooth g with g >= 0 exactly where the index is >= t (value - t otherwise), and ``epigraph_upper`` one
+    with g >= 0 exactly where it is <= t (t - value otherwise)."""
 
     name: str
     doc: str
@@ -181,12 +182,12 @@ INVERSE_CONDITION_2 = LocalIndex(
 VELOCITY_MAX = LocalIndex(
     "velocity_max",
     "||V||max = sigma_max(J_f): largest output speed for unit actuator rates (Gao eq. 22)",
-    "m/rad", 0.0, np.inf, np.inf, lambda _J, J_f: largest_singular_value(J_f),
+    "{pose}/{actuator}", 0.0, np.inf, np.inf, lambda _J, J_f: largest_singular_value(J_f),
 )
 VELOCITY_MIN = LocalIndex(
     "velocity_min",
     "||V||min = sigma_min(J_f) = 1 / sigma_max(J): smallest output speed for unit actuator rates (Gao eq. 22)",
-    "m/rad", 0.0, np.inf, 0.0, lambda J, _J_f: 1 / largest_singular_value(J),
+    "{pose}/{actuator}", 0.0, np.inf, 0.0, lambda J, _J_f: 1 / largest_singular_value(J),
 )
 MANIPULABILITY = LocalIndex(
     "manipulability",
