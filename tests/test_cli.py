@@ -391,3 +391,48 @@ def test_index_units_follow_the_mechanisms_coordinates(capsys):
     assert units["indices"]["velocity_max"] == "m/m"
     assert main(["index", "five_bar", "gamma_min", "--region", "miw", "--resolution", "2", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["unit"] == "m/rad"
+
+
+def _reproduction_under_way(out) -> subprocess.Popen:
+    """A quick wu2008 reproduction run by the console script, once its staging folder exists."""
+    import time
+
+    run = subprocess.Popen([sys.executable, "-m", "pkm.cli", "reproduce", "wu2008", "--quick", "--out", str(out)],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not list(out.glob(".wu2008.*")) and time.monotonic() < deadline and run.poll() is None:
+        time.sleep(0.05)
+    assert run.poll() is None, "the reproduction finished before it could be stopped"
+    return run
+
+
+def test_an_interrupted_reproduction_leaves_its_folder_as_it_was(tmp_path):
+    import signal
+
+    out = tmp_path / "out"
+    (out / "wu2008").mkdir(parents=True)
+    (out / "wu2008" / "notes.txt").write_text("mine")
+    run = _reproduction_under_way(out)
+    run.send_signal(signal.SIGINT)
+    _, err = run.communicate(timeout=60)
+    assert run.returncode == 130
+    assert err.strip().splitlines() == ["pkm: interrupted"]
+    assert sorted(p.name for p in out.iterdir()) == ["wu2008"]
+    assert sorted(p.name for p in (out / "wu2008").iterdir()) == ["notes.txt"]
+
+
+def test_a_killed_reproduction_writes_nothing_and_the_next_run_cleans_up(tmp_path):
+    import signal
+
+    from pkm import io
+
+    out = tmp_path / "out"
+    run = _reproduction_under_way(out)
+    run.send_signal(signal.SIGKILL)
+    run.communicate(timeout=60)
+    assert not (out / "wu2008" / "report.json").exists()
+    assert len(list(out.glob(".wu2008.*"))) == 1  # what the killed process held
+    with io.staged_folder(out / "wu2008") as stage:
+        (stage / "report.json").write_text("{}")
+    assert sorted(p.name for p in out.iterdir()) == ["wu2008"]
+    assert (out / "wu2008" / "report.json").read_text() == "{}"

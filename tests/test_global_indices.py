@@ -176,3 +176,13 @@ def test_a_global_index_without_a_resolution_is_within_1e_5_of_its_converged_val
         converged = m.global_index(name, design, region="miw", resolution=64 if name == "lambda_e" else 256)
         assert value.accuracy <= INDEX_ACCURACY * max(1.0, abs(value))
         assert abs(value - converged) <= INDEX_ACCURACY * max(1.0, abs(converged)), (s, t, value.resolution)
+
+
+def test_a_global_value_prints_what_it_rests_on():
+    value = m.global_index("gci", DEFAULT, region="miw", resolution=4)
+    assert repr(value) == (f"GlobalValue({float(value)!r} over miw, resolution 4, {value.points} points, "
+                           f"accuracy {value.accuracy:.1e})")
+    assert f"{value:.3f}" == f"{float(value):.3f}"
+    import json
+
+    assert json.loads(json.dumps(value)) == float(value)

@@ -18,3 +18,8 @@ class GlobalValue(float):
         obj = super().__new__(cls, value)
         obj.points, obj.region, obj.resolution, obj.accuracy = points, region, resolution, float(accuracy)
         return obj
+
+    def __repr__(self) -> str:
+        accuracy = "" if self.accuracy != self.accuracy else f", accuracy {self.accuracy:.1e}"
+        return (f"GlobalValue({float(self)!r} over {self.region}, resolution {self.resolution}, "
+                f"{self.points} points{accuracy})")
