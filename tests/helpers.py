@@ -99,3 +99,34 @@ def inputs_by_port(mech: pkm.Mechanism, rng: np.random.Generator, n: int) -> dic
     picks = rng.integers(len(mech.assembly_modes), size=len(x))
     assembly = np.array([mech.assembly_modes[k].signs for k in picks])
     return port_inputs(mech, design, x, mode.name, assembly)
+
+
+def reproduce_quick(factory, key: str):
+    """``pkm reproduce KEY --quick`` into a fresh folder: the report folder and its report.json."""
+    import json
+
+    from pkm.cli import main
+
+    out = factory.mktemp("out")
+    assert main(["reproduce", key, "--out", str(out), "--quick"]) == 0
+    folder = out / key
+    return folder, json.loads((folder / "report.json").read_text())
+
+
+def check_docs_snapshot_paths(key: str, data: dict) -> None:
+    """The docs' numbers of ``key`` (tests/test_paper_docs.py) name places that its quick report still
+    writes (a list item may be missing: a quick run finds fewer, e.g. of the planes with re-entrant rays)."""
+    import json
+
+    from pkm.reproduce import docs
+
+    snapshot = json.loads(docs.paths(key)[1].read_text())
+    for path in snapshot["values"]:
+        parts = path.split("/")
+        lists = [k for k in range(1, len(parts)) if parts[k].isdigit()
+                 and isinstance(docs.resolve(data, "/".join(parts[:k])), list)
+                 and int(parts[k]) >= len(docs.resolve(data, "/".join(parts[:k])))]
+        if lists:
+            continue
+        value = docs.resolve(data, path)
+        assert value is None or isinstance(value, int | float), path

@@ -1,22 +1,10 @@
-"""`pkm reproduce gao1998`, `lara_molina2016`, `wu2008`, `zhao2008` and `nam2006` at low resolution: report
-files, claim schema, honest statuses."""
+"""`pkm reproduce gao1998`, `lara_molina2016` and `wu2008` at low resolution: report files, claim schema,
+honest statuses (zhao2008 and nam2006: tests/test_reproduce_zhao.py and tests/test_reproduce_nam.py)."""
 
 from __future__ import annotations
 
-import json
-
 import pytest
-
-from pkm.cli import main
-from pkm.reproduce import docs
-
-
-def reproduce_quick(factory, key: str):
-    """``pkm reproduce KEY --quick`` into a fresh folder: the report folder and its report.json."""
-    out = factory.mktemp("out")
-    assert main(["reproduce", key, "--out", str(out), "--quick"]) == 0
-    folder = out / key
-    return folder, json.loads((folder / "report.json").read_text())
+from helpers import check_docs_snapshot_paths, reproduce_quick
 
 
 @pytest.fixture(scope="module")
@@ -156,86 +144,6 @@ def test_wu_synthesis_beats_the_papers_design(wu):
     assert set(run["baselines"]) == {"grid", "two_step"}
 
 
-@pytest.fixture(scope="module")
-def zhao(tmp_path_factory):
-    return reproduce_quick(tmp_path_factory, "zhao2008")
-
-
-def test_zhao_report_checks_the_papers_equations_honestly(zhao):
-    folder, data = zhao
-    for fig in data["figures"]:
-        assert (folder / fig).stat().st_size > 1000
-    status = {c["id"]: c["status"] for c in data["claims"]}
-    assert status["eq6_corrected"] == "match"
-    assert status["eq6_as_printed"] == "differs"
-    assert status["eq8_physical"] == "match"
-    assert status["eq8_as_printed"] == "differs"
-    assert status["eq9_sign_at_home"] == "differs"
-    assert status["stroke_rule_section_5.3"] == "differs"
-    assert status["stroke_rule_table1"] == "match"
-    for c in data["claims"]:
-        assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
-
-
-def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
-    _, data = zhao
-    run = data["beyond_paper"]["syntheses"][0]
-    assert run["dense_margin"] >= 0
-    assert run["objective"] < run["monte_carlo_objective"]
-    assert run["objective"] < run["table1_objective"]
-
-
-@pytest.fixture(scope="module")
-def nam(tmp_path_factory):
-    return reproduce_quick(tmp_path_factory, "nam2006")
-
-
-def test_nam_report_checks_every_printed_equation_against_the_derivation(nam):
-    folder, data = nam
-    for fig in data["figures"]:
-        assert (folder / fig).stat().st_size > 1000
-    status = {c["id"]: c["status"] for c in data["claims"]}
-    for derived in ("eq6_corrected", "eq12_derived", "eq13_derived", "eq14_condition", "eq15_condition",
-                    "eq20_jacobian", "fk_six_solutions"):
-        assert status[derived] == "match", derived
-    for printed in ("eq6_as_printed", "eq9_as_printed", "eq11_as_printed", "eq12_as_printed", "eq24_as_printed"):
-        assert status[printed] == "differs", printed
-    assert status["singularity_free"] == "differs"
-    assert status["trend_manipulability"] == "differs"
-    assert status["trend_space_utilization"] == "match"
-    assert status["workspace_area"] == "not_stated"
-    crossover = data["readings"]["space_utilization_crossover_at_l_b_1.2"]
-    assert crossover["supported"]
-    assert not crossover["literal"]
-    scale_free = data["readings"]["space_utilization_scale_free"]
-    assert scale_free["supported"]
-    assert not scale_free["literal"]
-    for c in data["claims"]:
-        assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
-
-
-def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
-    _, data = nam
-    run = data["beyond_paper"]["syntheses"][0]
-    assert run["status"] == "Solve_Succeeded"
-    assert run["verified_objective"] == pytest.approx(run["objective"], rel=1e-2)
-    assert run["objective"] >= run["grid_objective"] - 1e-9
-
-
-@pytest.mark.parametrize("key", ["gao1998", "lara_molina2016", "nam2006", "wu2008", "zhao2008"])
-def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, request):
-    """The docs' numbers (tests/test_paper_docs.py) name places that a reproduction still writes (a list
-    item may be missing: a quick run finds fewer, e.g. of the planes with re-entrant rays)."""
-    fixture = {"gao1998": "report", "lara_molina2016": "lara", "nam2006": "nam", "wu2008": "wu",
-               "zhao2008": "zhao"}[key]
-    _, data = request.getfixturevalue(fixture)
-    snapshot = json.loads(docs.paths(key)[1].read_text())
-    for path in snapshot["values"]:
-        parts = path.split("/")
-        lists = [k for k in range(1, len(parts)) if parts[k].isdigit()
-                 and isinstance(docs.resolve(data, "/".join(parts[:k])), list)
-                 and int(parts[k]) >= len(docs.resolve(data, "/".join(parts[:k])))]
-        if lists:
-            continue
-        value = docs.resolve(data, path)
-        assert value is None or isinstance(value, int | float), path
+@pytest.mark.parametrize(("key", "fixture"), [("gao1998", "report"), ("lara_molina2016", "lara"), ("wu2008", "wu")])
+def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, fixture, request):
+    check_docs_snapshot_paths(key, request.getfixturevalue(fixture)[1])

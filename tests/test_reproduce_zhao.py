@@ -1,0 +1,39 @@
+"""`pkm reproduce zhao2008` at low resolution: report files, honest statuses, the synthesis."""
+
+from __future__ import annotations
+
+import pytest
+from helpers import check_docs_snapshot_paths, reproduce_quick
+
+
+@pytest.fixture(scope="module")
+def zhao(tmp_path_factory):
+    return reproduce_quick(tmp_path_factory, "zhao2008")
+
+
+def test_zhao_report_checks_the_papers_equations_honestly(zhao):
+    folder, data = zhao
+    for fig in data["figures"]:
+        assert (folder / fig).stat().st_size > 1000
+    status = {c["id"]: c["status"] for c in data["claims"]}
+    assert status["eq6_corrected"] == "match"
+    assert status["eq6_as_printed"] == "differs"
+    assert status["eq8_physical"] == "match"
+    assert status["eq8_as_printed"] == "differs"
+    assert status["eq9_sign_at_home"] == "differs"
+    assert status["stroke_rule_section_5.3"] == "differs"
+    assert status["stroke_rule_table1"] == "match"
+    for c in data["claims"]:
+        assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
+
+
+def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
+    _, data = zhao
+    run = data["beyond_paper"]["syntheses"][0]
+    assert run["dense_margin"] >= 0
+    assert run["objective"] < run["monte_carlo_objective"]
+    assert run["objective"] < run["table1_objective"]
+
+
+def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(zhao):
+    check_docs_snapshot_paths("zhao2008", zhao[1])
