@@ -52,6 +52,8 @@ def synthesis_record(result: Any) -> dict[str, Any]:
         "design": o.design,
         "objective": o.objective,
         "verified_objective": o.verified_objective,
+        "accuracy": result.accuracy,
+        "resolutions": result.resolutions,
         "sampled_objective": o.sampled_objective,
         "sampled_points": o.sampled_points,
         "status": result.status,
