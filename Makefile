@@ -3,9 +3,9 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: generate check-generated test lint bench demo clean
+.PHONY: generate check-generated test test-interpreted lint bench demo clean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml setup.py pkm/_kernels.c $(wildcard generated/*.c)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e ".[test]"
@@ -24,6 +24,9 @@ lint: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/ruff check .
 	MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist loadfile
+
+test-interpreted: $(STAMP)
+	PKM_COMPILED=0 MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist loadfile -W ignore::pkm.compiled.CompiledPathWarning
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(PY) -m bench.run

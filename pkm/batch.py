@@ -7,14 +7,19 @@ major), so a ``Function.map(N)`` can read and write numpy buffers directly.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from functools import lru_cache
 
 import casadi as ca
 import numpy as np
 
+from pkm.compiled import kernel
+
 REACH_TOLERANCE = 1e-12
 THREADS = max(1, min(os.cpu_count() or 1, 8))
 CHUNK = 1 << 16
+COMPILED_CHUNK = 1 << 14  # rows per thread at least: smaller batches run on the calling thread
 
 
 @lru_cache(maxsize=256)
@@ -36,38 +41,74 @@ def _dense(f: ca.Function) -> ca.Function:
 
 
 def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
-    """Evaluate ``f`` over a batch.
+    """Evaluate ``f`` over a batch: compiled where ``f`` has a kernel (:mod:`pkm.compiled`), else by
+    CasADi's interpreter.
 
     Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
     Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
     """
+    run = kernel(f)
+    if run is not None:
+        return _compiled(f, run, [np.asarray(a, dtype=float) for a in args])
+    return interpreted(f, *args)
+
+
+def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
+    """:func:`evaluate` by CasADi's interpreter (``map`` over the batch), whatever kernels there are."""
     f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
-    sizes = {a.shape[0] for a in arrays if a.ndim == 2}
-    if len(sizes) > 1:
-        raise ValueError(f"{f.name()}: batch sizes differ: {sorted(sizes)}")
-    n = sizes.pop() if sizes else 1
-    inputs = []
-    for i, a in enumerate(arrays):
-        width = f.numel_in(i)
-        if a.shape[-1] != width:
-            raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {width}")
-        inputs.append(np.ascontiguousarray(np.broadcast_to(a, (n, width))))
+    n = _batch_size(f, arrays)
+    inputs = [np.ascontiguousarray(np.broadcast_to(a, (n, f.numel_in(i)))) for i, a in enumerate(arrays)]
     outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         mapped = _mapped(f, stop - start)
-        buf, run = mapped.buffer()
+        buf, run_mapped = mapped.buffer()
         for i, a in enumerate(inputs):
             buf.set_arg(i, memoryview(a[start:stop]))
         for j, o in enumerate(outputs):
             buf.set_res(j, memoryview(o[start:stop]))
-        run()
-    shaped = []
+        run_mapped()
+    return _shaped(f, outputs, n)
+
+
+def _batch_size(f: ca.Function, arrays: list[np.ndarray]) -> int:
+    sizes = {a.shape[0] for a in arrays if a.ndim == 2}
+    if len(sizes) > 1:
+        raise ValueError(f"{f.name()}: batch sizes differ: {sorted(sizes)}")
+    for i, a in enumerate(arrays):
+        if a.shape[-1] != f.numel_in(i):
+            raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {f.numel_in(i)}")
+    return sizes.pop() if sizes else 1
+
+
+def _shaped(f: ca.Function, outputs: list[np.ndarray], n: int) -> tuple[np.ndarray, ...]:
+    out = []
     for j, o in enumerate(outputs):
         rows, cols = f.size_out(j)
-        shaped.append(o.reshape(n, cols, rows).transpose(0, 2, 1))
-    return tuple(shaped)
+        out.append(o.reshape(n, cols, rows).transpose(0, 2, 1))
+    return tuple(out)
+
+
+def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
+    """``f`` over the batch by its compiled kernel: shared inputs read with stride 0, chunks of the batch
+    on THREADS threads (the kernel runs without the GIL)."""
+    n = _batch_size(f, arrays)
+    inputs = [np.ascontiguousarray(a) for a in arrays]
+    strides = [f.numel_in(i) if a.ndim == 2 else 0 for i, a in enumerate(inputs)]
+    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
+
+    def chunk(start: int, stop: int) -> None:
+        run([a[start:stop] if a.ndim == 2 else a for a in inputs], strides, [o[start:stop] for o in outputs])
+
+    step = max(COMPILED_CHUNK, -(-n // THREADS))
+    bounds = [(start, min(n, start + step)) for start in range(0, n, step)]
+    if len(bounds) > 1:
+        with ThreadPoolExecutor(len(bounds)) as pool:
+            list(pool.map(lambda b: chunk(*b), bounds))
+    elif bounds:
+        chunk(*bounds[0])
+    return _shaped(f, outputs, n)
 
 
 def reached(values: np.ndarray, reach: np.ndarray) -> np.ndarray:

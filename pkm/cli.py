@@ -11,6 +11,7 @@ import os
 import re
 import shutil
 import sys
+import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stdout
 from dataclasses import asdict
@@ -21,6 +22,8 @@ from typing import Any, NoReturn
 import numpy as np
 
 from pkm import io, parallel, registry
+from pkm.compiled import CompiledPathWarning
+from pkm.compiled import status as compiled_status
 from pkm.design import Design, parse_design
 from pkm.design_space import parameter_plane
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
@@ -80,6 +83,7 @@ def cmd_list(args: argparse.Namespace) -> None:
             p.name: {"doc": p.doc, "variables": [v.name for v in p.variables]} for p in registry.problems().values()
         },
         "papers": {key: module.TITLE for key, module in registry.papers().items()},
+        "evaluation": compiled_status(),
     }
     lines = []
     for name, info in data.items():
@@ -94,6 +98,9 @@ def cmd_list(args: argparse.Namespace) -> None:
     lines.append("problems: " + ", ".join(out["problems"]))
     lines.append("papers:")
     lines += [f"  {key}: {title}" for key, title in out["papers"].items()]
+    path = out["evaluation"]
+    lines.append(f"evaluation: compiled kernels ({path['kernels']}, {path['instruction_set']})" if path["path"] ==
+                 "compiled" else f"evaluation: CasADi's interpreter ({path['reason']})")
     _emit(args, out, "\n".join(lines))
 
 
@@ -579,6 +586,9 @@ def _check_out(folder: str | None) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command line; its output is its own (``pkm list`` says which evaluation path is active, so no
+    warning of the interpreter fallback is printed)."""
+    warnings.filterwarnings("ignore", category=CompiledPathWarning)
     try:
         args = build_parser().parse_args(_negative_values(sys.argv[1:] if argv is None else list(argv)))
         _check_out(getattr(args, "out", None))

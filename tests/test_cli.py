@@ -394,13 +394,17 @@ def test_index_units_follow_the_mechanisms_coordinates(capsys):
 
 
 def _reproduction_under_way(out) -> subprocess.Popen:
-    """A quick wu2008 reproduction run by the console script, once its staging folder exists."""
+    """A quick nam2006 reproduction (seconds long) run by the console script, once its staging folder
+    exists."""
     import time
 
-    run = subprocess.Popen([sys.executable, "-m", "pkm.cli", "reproduce", "wu2008", "--quick", "--out", str(out)],
+    # a test runner's worker may ignore SIGINT, which its children inherit: the child takes Python's handler
+    start = ("import runpy, signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+             "sys.argv = ['pkm', *sys.argv[1:]]; runpy.run_module('pkm.cli', run_name='__main__')")
+    run = subprocess.Popen([sys.executable, "-c", start, "reproduce", "nam2006", "--quick", "--out", str(out)],
                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
-    while not list(out.glob(".wu2008.*")) and time.monotonic() < deadline and run.poll() is None:
+    while not list(out.glob(".nam2006.*")) and time.monotonic() < deadline and run.poll() is None:
         time.sleep(0.05)
     assert run.poll() is None, "the reproduction finished before it could be stopped"
     return run
@@ -410,15 +414,15 @@ def test_an_interrupted_reproduction_leaves_its_folder_as_it_was(tmp_path):
     import signal
 
     out = tmp_path / "out"
-    (out / "wu2008").mkdir(parents=True)
-    (out / "wu2008" / "notes.txt").write_text("mine")
+    (out / "nam2006").mkdir(parents=True)
+    (out / "nam2006" / "notes.txt").write_text("mine")
     run = _reproduction_under_way(out)
     run.send_signal(signal.SIGINT)
     _, err = run.communicate(timeout=60)
     assert run.returncode == 130
     assert err.strip().splitlines() == ["pkm: interrupted"]
-    assert sorted(p.name for p in out.iterdir()) == ["wu2008"]
-    assert sorted(p.name for p in (out / "wu2008").iterdir()) == ["notes.txt"]
+    assert sorted(p.name for p in out.iterdir()) == ["nam2006"]
+    assert sorted(p.name for p in (out / "nam2006").iterdir()) == ["notes.txt"]
 
 
 def test_a_killed_reproduction_writes_nothing_and_the_next_run_cleans_up(tmp_path):
@@ -430,9 +434,26 @@ def test_a_killed_reproduction_writes_nothing_and_the_next_run_cleans_up(tmp_pat
     run = _reproduction_under_way(out)
     run.send_signal(signal.SIGKILL)
     run.communicate(timeout=60)
-    assert not (out / "wu2008" / "report.json").exists()
-    assert len(list(out.glob(".wu2008.*"))) == 1  # what the killed process held
-    with io.staged_folder(out / "wu2008") as stage:
+    assert not (out / "nam2006" / "report.json").exists()
+    assert len(list(out.glob(".nam2006.*"))) == 1  # what the killed process held
+    with io.staged_folder(out / "nam2006") as stage:
         (stage / "report.json").write_text("{}")
-    assert sorted(p.name for p in out.iterdir()) == ["wu2008"]
-    assert (out / "wu2008" / "report.json").read_text() == "{}"
+    assert sorted(p.name for p in out.iterdir()) == ["nam2006"]
+    assert (out / "nam2006" / "report.json").read_text() == "{}"
+
+
+def test_list_says_which_evaluation_path_is_active(capsys, monkeypatch):
+    from pkm import compiled
+
+    assert main(["list", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["evaluation"] == compiled.status()
+    monkeypatch.setenv("PKM_COMPILED", "0")
+    compiled._library.cache_clear()
+    try:
+        assert main(["list", "--json"]) == 0
+        evaluation = json.loads(capsys.readouterr().out)["evaluation"]
+    finally:
+        monkeypatch.delenv("PKM_COMPILED")
+        compiled._library.cache_clear()
+        compiled.kernel.cache_clear()
+    assert evaluation == {"path": "interpreter", "kernels": 0, "instruction_set": None, "reason": "PKM_COMPILED=0"}

@@ -1,0 +1,92 @@
+"""The compiled path: the kernels ``make generate`` emits as C (generated/*_kernels.c) and ``pip install``
+builds into ``pkm._kernels``, found by the function they were emitted from.
+
+:func:`kernel` returns a batch evaluator for a CasADi function whose key (its name and the sha256 of its
+serialised graph, :func:`key`) is in the library, else None, and :func:`pkm.batch.evaluate`
+uses it in place of CasADi's interpreter: same inputs, same (N, k) buffers, values equal to round-off.
+Where the library was not built (no C compiler at install) or ``PKM_COMPILED=0``, every function runs on
+the interpreter and a :class:`CompiledPathWarning` says so once; :func:`status` tells which path is active.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import importlib
+import os
+import warnings
+from collections.abc import Callable
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+_DOUBLES = ctypes.POINTER(ctypes.c_double)
+
+
+class CompiledPathWarning(UserWarning):
+    """pkm evaluates with CasADi's interpreter because its compiled kernels are off or not built."""
+
+
+@lru_cache(maxsize=1)
+def _library() -> tuple[ctypes.CDLL | None, dict[str, int], str]:
+    """The kernels' library, its kernels by key, and why it is not used (empty when it is)."""
+    if os.environ.get("PKM_COMPILED", "1") == "0":
+        return None, {}, "PKM_COMPILED=0"
+    try:
+        library = importlib.import_module("pkm._kernels").__file__
+    except ImportError:
+        return None, {}, "pkm._kernels was not built at install (no C compiler?)"
+    lib = ctypes.CDLL(library)
+    lib.pkm_kernel_count.restype = ctypes.c_long
+    lib.pkm_kernel_key.restype = ctypes.c_char_p
+    lib.pkm_kernel_key.argtypes = [ctypes.c_long]
+    lib.pkm_kernel_call.restype = None
+    lib.pkm_kernel_isa.restype = ctypes.c_char_p
+    keys = {lib.pkm_kernel_key(i).decode(): i for i in range(lib.pkm_kernel_count())}
+    return lib, keys, ""
+
+
+def status() -> dict[str, Any]:
+    """Which path evaluates pkm's functions: ``{"path": "compiled" | "interpreter", "kernels": count,
+    "instruction_set": the kernels' on this processor, "reason": why not compiled}``."""
+    lib, keys, reason = _library()
+    if lib is None:
+        return {"path": "interpreter", "kernels": 0, "instruction_set": None, "reason": reason}
+    return {"path": "compiled", "kernels": len(keys), "instruction_set": lib.pkm_kernel_isa().decode(), "reason": ""}
+
+
+def key(fn: ca.Function) -> str:
+    """A function's key: its name and the sha256 of its serialised graph (symbolic.kernels lists the
+    kernels by it)."""
+    return f"{fn.name()}:{hashlib.sha256(fn.serialize().encode()).hexdigest()[:16]}"
+
+
+_noticed = []
+
+
+@lru_cache(maxsize=1024)
+def kernel(fn: ca.Function) -> Callable[[list[np.ndarray], list[int], list[np.ndarray]], None] | None:
+    """``run(inputs, strides, outputs)`` evaluating ``fn`` compiled over a batch (inputs (N or 1, k_i)
+    with their row strides, outputs (N, k_j), C order), or None where ``fn`` has no kernel."""
+    lib, keys, reason = _library()
+    if lib is None:
+        if not _noticed:
+            _noticed.append(reason)
+            warnings.warn(f"pkm evaluates with CasADi's interpreter: {reason}", CompiledPathWarning, stacklevel=3)
+        return None
+    if not fn.is_a("SXFunction"):
+        return None
+    index = keys.get(key(fn))
+    if index is None:
+        return None
+
+    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray]) -> None:
+        n = len(outputs[0]) if outputs else 0
+        ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
+        step = (ctypes.c_long * len(strides))(*strides)
+        outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
+        lib.pkm_kernel_call(ctypes.c_long(index), ctypes.c_long(n), ins, step, outs)
+
+    return run

@@ -1,0 +1,158 @@
+"""CasADi SX function -> C loop over a batch: the emitter of the compiled path (DESIGN.md section 6a).
+
+:func:`kernel` writes a function's instruction list, one C statement per instruction, as the body of a
+loop over the rows of pkm's batch arrays: input ``i`` of row ``p`` is read from ``in[i] + p * stride[i]``
+(a stride of 0 shares one row with the whole batch), output ``j`` written to ``out[j] + p * numel_j``,
+both in CasADi's column-major order of the matrix entries, as :func:`pkm.batch.evaluate` lays them out.
+Each operation is the C library's or IEEE arithmetic (no fast-math, no contraction: the build says so;
+comparisons and logic as selects, so that the loop vectorises), so the compiled kernel agrees with
+CasADi's interpreter to round-off; constants are written as hexadecimal floats, so
+they are exact. The text depends only on the graph: the same function gives the same bytes.
+"""
+
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+
+UNARY = {
+    ca.OP_ASSIGN: "{0}", ca.OP_NEG: "-{0}", ca.OP_SQ: "{0} * {0}", ca.OP_TWICE: "{0} + {0}",
+    ca.OP_INV: "1. / {0}", ca.OP_NOT: "(double)({0} == 0)", ca.OP_SIGN: "PKM_SIGN({0})",
+    ca.OP_EXP: "exp({0})", ca.OP_LOG: "log({0})", ca.OP_SQRT: "sqrt({0})", ca.OP_FABS: "fabs({0})",
+    ca.OP_SIN: "sin({0})", ca.OP_COS: "PKM_COS({0})", ca.OP_TAN: "tan({0})", ca.OP_ASIN: "asin({0})",
+    ca.OP_ACOS: "acos({0})", ca.OP_ATAN: "atan({0})", ca.OP_SINH: "sinh({0})", ca.OP_COSH: "cosh({0})",
+    ca.OP_TANH: "tanh({0})", ca.OP_ASINH: "asinh({0})", ca.OP_ACOSH: "acosh({0})", ca.OP_ATANH: "atanh({0})",
+    ca.OP_FLOOR: "floor({0})", ca.OP_CEIL: "ceil({0})", ca.OP_ERF: "erf({0})", ca.OP_LOG1P: "log1p({0})",
+    ca.OP_EXPM1: "expm1({0})",
+}
+BINARY = {
+    ca.OP_ADD: "{0} + {1}", ca.OP_SUB: "{0} - {1}", ca.OP_MUL: "{0} * {1}", ca.OP_DIV: "{0} / {1}",
+    ca.OP_POW: "pow({0}, {1})", ca.OP_CONSTPOW: "pow({0}, {1})", ca.OP_ATAN2: "atan2({0}, {1})",
+    ca.OP_FMIN: "PKM_FMIN({0}, {1})", ca.OP_FMAX: "PKM_FMAX({0}, {1})", ca.OP_FMOD: "fmod({0}, {1})",
+    ca.OP_COPYSIGN: "copysign({0}, {1})", ca.OP_HYPOT: "hypot({0}, {1})",
+    ca.OP_LT: "(double)({0} < {1})", ca.OP_LE: "(double)({0} <= {1})", ca.OP_EQ: "(double)({0} == {1})",
+    ca.OP_NE: "(double)({0} != {1})", ca.OP_AND: "(double)(({0} != 0) & ({1} != 0))",
+    ca.OP_OR: "(double)(({0} != 0) | ({1} != 0))", ca.OP_IF_ELSE_ZERO: "{0} == 0 ? 0. : {1}",
+}
+NAMES = {getattr(ca, n): n for n in dir(ca) if n.startswith("OP_")}
+
+PRELUDE = """#include <math.h>
+
+/* CasADi's sign (-1, 0 or 1, NaN for NaN) and the C library's fmin and fmax (the other operand where
+   one is NaN), written as selects so that a loop of them vectorises */
+#define PKM_SIGN(x) ((x) < 0 ? -1. : (x) > 0 ? 1. : (x))
+#define PKM_FMIN(a, b) ((a) != (a) ? (b) : (b) != (b) ? (a) : (a) < (b) ? (a) : (b))
+#define PKM_FMAX(a, b) ((a) != (a) ? (b) : (b) != (b) ? (a) : (a) > (b) ? (a) : (b))
+
+/* the vector variants of the C library's functions (glibc's libmvec, within 4 ulp) where it has them */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \\
+    defined(__GLIBC__) && __GLIBC_PREREQ(2, 35)
+#define PKM_X86_VECTOR 1
+#define PKM_SIMD __attribute__((simd("notinbranch")))
+PKM_SIMD double sin(double);
+PKM_SIMD double cos(double);
+PKM_SIMD double tan(double);
+PKM_SIMD double asin(double);
+PKM_SIMD double acos(double);
+PKM_SIMD double atan(double);
+PKM_SIMD double atan2(double, double);
+PKM_SIMD double exp(double);
+PKM_SIMD double log(double);
+PKM_SIMD double pow(double, double);
+#else
+#define PKM_SIMD
+#endif
+
+/* kernels are compiled once per instruction set: PKM_FN(name) is name_<PKM_ISA> */
+#define PKM_CAT(a, b) a##_##b
+#define PKM_XCAT(a, b) PKM_CAT(a, b)
+#define PKM_FN(name) PKM_XCAT(name, PKM_ISA)
+
+/* cos goes through a wrapper of its own, or the compiler would merge sin and cos of one argument into a
+   complex exponential that does not vectorise */
+#define PKM_COS PKM_FN(pkm_cos)
+
+#define PKM_BLOCK 64 /* poses a kernel transposes into columns and evaluates at a time */
+
+typedef void (*pkm_kernel_fn)(long n, const double *const *in, const long *stride, double *const *out);
+"""
+
+ISA_HELPERS = """PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
+
+/* rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch) into k
+   columns of a block, the last row repeated to fill it */
+static inline void PKM_FN(pkm_gather)(double *restrict a, long k, const double *in, long stride, long p0, long m)
+{
+  for (long q = 0; q < PKM_BLOCK; ++q)
+    for (long e = 0; e < k; ++e) a[e * PKM_BLOCK + q] = in[(p0 + (q < m ? q : m - 1)) * stride + e];
+}
+
+/* the first m rows of a block's k columns into rows p0 .. p0 + m - 1 of an (N, k) output */
+static inline void PKM_FN(pkm_scatter)(double *out, long k, const double *restrict b, long p0, long m)
+{
+  for (long q = 0; q < m; ++q)
+    for (long e = 0; e < k; ++e) out[(p0 + q) * k + e] = b[e * PKM_BLOCK + q];
+}
+"""
+
+
+def literal(value: float) -> str:
+    """An exact C literal of a double."""
+    if math.isnan(value):
+        return "NAN"
+    if math.isinf(value):
+        return "INFINITY" if value > 0 else "-INFINITY"
+    return value.hex()
+
+
+def emittable(fn: ca.Function) -> bool:
+    """Whether :func:`kernel` can write ``fn``: an SX function with dense ports and known operations."""
+    if not fn.is_a("SXFunction"):
+        return False
+    ports = [fn.sparsity_in(i) for i in range(fn.n_in())] + [fn.sparsity_out(j) for j in range(fn.n_out())]
+    if not all(s.is_dense() for s in ports):
+        return False
+    known = {ca.OP_INPUT, ca.OP_OUTPUT, ca.OP_CONST, *UNARY, *BINARY}
+    return all(fn.instruction_id(k) in known for k in range(fn.n_instructions()))
+
+
+def kernel(fn: ca.Function, symbol: str) -> str:
+    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring)."""
+    if not emittable(fn):
+        raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
+    n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
+    n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
+    lines = [
+        f"/* {fn.name()}: {fn.n_instructions()} instructions; inputs {', '.join(fn.name_in())}; "
+        f"outputs {', '.join(fn.name_out())} */",
+        f"void PKM_FN({symbol})(long n, const double *const *in, const long *stride, double *const *out)",
+        "{",
+    ]
+    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k]
+    lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
+    lines += [
+        "  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {",
+        "    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;",
+    ]
+    lines += [f"    PKM_FN(pkm_gather)(a{i}[0], {k}, in[{i}], stride[{i}], p0, m);" for i, k in enumerate(n_in) if k]
+    lines += ["#pragma omp simd", "    for (long q = 0; q < PKM_BLOCK; ++q) {"]
+    if fn.sz_w():
+        lines.append("      double " + ", ".join(f"w{k}" for k in range(fn.sz_w())) + ";")
+    for k in range(fn.n_instructions()):
+        op, ins, outs = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
+        if op == ca.OP_INPUT:
+            statement = f"w{outs[0]} = a{ins[0]}[{ins[1]}][q];"
+        elif op == ca.OP_OUTPUT:
+            statement = f"b{outs[0]}[{outs[1]}][q] = w{ins[0]};"
+        elif op == ca.OP_CONST:
+            statement = f"w{outs[0]} = {literal(fn.instruction_constant(k))};"
+        elif op in UNARY:
+            statement = f"w{outs[0]} = {UNARY[op].format(f'w{ins[0]}')};"
+        else:
+            statement = f"w{outs[0]} = {BINARY[op].format(f'w{ins[0]}', f'w{ins[1]}')};"
+        lines.append("      " + statement)
+    lines.append("    }")
+    lines += [f"    PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
+    lines += ["  }", "}", ""]
+    return "\n".join(lines)
