@@ -39,7 +39,9 @@ def table(before: dict[str, Any], after: dict[str, Any]) -> str:
                 f"| {key}: {name} | {threads} | {a['ratio_vs_numpy']:.2f}x | {b['ratio_vs_numpy']:.2f}x "
                 f"| {a[rate] / 1e6:.2f} | {b[rate] / 1e6:.2f} |"
             )
-    syn_a, syn_b = before["synthesis"], after["synthesis"]
+    syn_a, syn_b = before.get("synthesis", {}), after.get("synthesis", {})
+    if "problem" not in syn_a or "problem" not in syn_b:
+        return "\n".join(lines)
     lines.append(
         f"| synthesis {syn_a['problem']}: IPOPT wall time (s) / verified objective | - "
         f"| {syn_a['optimizer']['wall_time_s']:.2f} / {syn_a['optimizer']['verified_objective']:.6f} "

@@ -18,6 +18,12 @@ def test_before_after_table_is_quoted_from_the_committed_runs():
     assert table(before, after) in (ROOT / "docs" / "benchmarks.md").read_text()
 
 
+def test_compiled_path_table_is_quoted_from_the_committed_runs():
+    interpreter = json.loads((RUNS / "compiled_off.json").read_text())
+    compiled = json.loads((RUNS / "compiled_on.json").read_text())
+    assert table(interpreter, compiled) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
 def test_ups_pu_tables_are_quoted_from_the_committed_run():
     from bench.ups_pu import markdown
 
