@@ -24,6 +24,7 @@ void pkm_five_bar_pipeline_jacobian_determinant_avx2(long, const double *const *
 void pkm_five_bar_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_five_bar_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_five_bar_pipeline_natural_frequency_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_footprint_avx2(long, const double *const *, const long *, double *const *);
@@ -51,6 +52,7 @@ void pkm_passive_leg_pipeline_velocity_min_avx2(long, const double *const *, con
 void pkm_passive_leg_pipeline_manipulability_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_jacobian_determinant_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_energy_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_first_order_avx2(long, const double *const *, const long *, double *const *);
@@ -71,6 +73,7 @@ void pkm_slider_gantry_pipeline_jacobian_determinant_avx2(long, const double *co
 void pkm_slider_gantry_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_kappa_d_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_energy_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_first_order_avx2(long, const double *const *, const long *, double *const *);
@@ -91,6 +94,7 @@ void pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_avx2(long, const 
 void pkm_slider_gantry_symmetric_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_kappa_d_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_actuator_forces_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_first_order_avx2(long, const double *const *, const long *, double *const *);
@@ -111,6 +115,7 @@ void pkm_ups_pu_pipeline_jacobian_determinant_avx2(long, const double *const *, 
 void pkm_ups_pu_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_pipeline_actuator_force_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_pipeline_workspace_margin_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 #endif
 
 static const pkm_kernel_fn KERNELS_generic[] = {
@@ -133,6 +138,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_five_bar_pipeline_velocity_ratio_generic,
   pkm_five_bar_pipeline_dynamic_dexterity_generic,
   pkm_five_bar_pipeline_natural_frequency_generic,
+  pkm_five_bar_pipeline_first_order_generic,
   pkm_passive_leg_constraint_generic,
   pkm_passive_leg_first_order_generic,
   pkm_passive_leg_footprint_generic,
@@ -160,6 +166,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_passive_leg_pipeline_manipulability_generic,
   pkm_passive_leg_pipeline_jacobian_determinant_generic,
   pkm_passive_leg_pipeline_velocity_ratio_generic,
+  pkm_passive_leg_pipeline_first_order_generic,
   pkm_slider_gantry_constraint_generic,
   pkm_slider_gantry_energy_generic,
   pkm_slider_gantry_first_order_generic,
@@ -180,6 +187,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_pipeline_velocity_ratio_generic,
   pkm_slider_gantry_pipeline_dynamic_dexterity_generic,
   pkm_slider_gantry_pipeline_kappa_d_generic,
+  pkm_slider_gantry_pipeline_first_order_generic,
   pkm_slider_gantry_symmetric_constraint_generic,
   pkm_slider_gantry_symmetric_energy_generic,
   pkm_slider_gantry_symmetric_first_order_generic,
@@ -200,6 +208,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_symmetric_pipeline_velocity_ratio_generic,
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_generic,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_generic,
+  pkm_slider_gantry_symmetric_pipeline_first_order_generic,
   pkm_ups_pu_actuator_forces_generic,
   pkm_ups_pu_constraint_generic,
   pkm_ups_pu_first_order_generic,
@@ -220,6 +229,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_ups_pu_pipeline_velocity_ratio_generic,
   pkm_ups_pu_pipeline_actuator_force_generic,
   pkm_ups_pu_pipeline_workspace_margin_generic,
+  pkm_ups_pu_pipeline_first_order_generic,
 };
 
 #ifdef PKM_X86_VECTOR
@@ -243,6 +253,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_five_bar_pipeline_velocity_ratio_avx2,
   pkm_five_bar_pipeline_dynamic_dexterity_avx2,
   pkm_five_bar_pipeline_natural_frequency_avx2,
+  pkm_five_bar_pipeline_first_order_avx2,
   pkm_passive_leg_constraint_avx2,
   pkm_passive_leg_first_order_avx2,
   pkm_passive_leg_footprint_avx2,
@@ -270,6 +281,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_passive_leg_pipeline_manipulability_avx2,
   pkm_passive_leg_pipeline_jacobian_determinant_avx2,
   pkm_passive_leg_pipeline_velocity_ratio_avx2,
+  pkm_passive_leg_pipeline_first_order_avx2,
   pkm_slider_gantry_constraint_avx2,
   pkm_slider_gantry_energy_avx2,
   pkm_slider_gantry_first_order_avx2,
@@ -290,6 +302,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_pipeline_velocity_ratio_avx2,
   pkm_slider_gantry_pipeline_dynamic_dexterity_avx2,
   pkm_slider_gantry_pipeline_kappa_d_avx2,
+  pkm_slider_gantry_pipeline_first_order_avx2,
   pkm_slider_gantry_symmetric_constraint_avx2,
   pkm_slider_gantry_symmetric_energy_avx2,
   pkm_slider_gantry_symmetric_first_order_avx2,
@@ -310,6 +323,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_symmetric_pipeline_velocity_ratio_avx2,
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_avx2,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_avx2,
+  pkm_slider_gantry_symmetric_pipeline_first_order_avx2,
   pkm_ups_pu_actuator_forces_avx2,
   pkm_ups_pu_constraint_avx2,
   pkm_ups_pu_first_order_avx2,
@@ -330,6 +344,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_ups_pu_pipeline_velocity_ratio_avx2,
   pkm_ups_pu_pipeline_actuator_force_avx2,
   pkm_ups_pu_pipeline_workspace_margin_avx2,
+  pkm_ups_pu_pipeline_first_order_avx2,
 };
 #endif
 
@@ -353,6 +368,7 @@ static const char *const KEYS[] = {
   "five_bar_velocity_ratio:bbf1205ac96b2466",
   "five_bar_dynamic_dexterity:69ce59a9fef2c4ed",
   "five_bar_natural_frequency:12e413168863bf99",
+  "five_bar_first_order:edef1c676ff52fd4",
   "constraint:90b413ea5244cd6d",
   "first_order:540f39c989e5c137",
   "footprint:968bf14655f88189",
@@ -380,6 +396,7 @@ static const char *const KEYS[] = {
   "passive_leg_manipulability:3196318743484f6e",
   "passive_leg_jacobian_determinant:51bef459f042b4e3",
   "passive_leg_velocity_ratio:c82bb00ac3e660c3",
+  "passive_leg_first_order:f6fac8df8420024c",
   "constraint:324c2b370dc1a12c",
   "energy:33724a7014f7ea96",
   "first_order:c8c4b69e2e06a69d",
@@ -400,6 +417,7 @@ static const char *const KEYS[] = {
   "slider_gantry_velocity_ratio:3743b1a6921bae6f",
   "slider_gantry_dynamic_dexterity:20da9d6c9071b5a7",
   "slider_gantry_kappa_d:982cc6c4b98ce93a",
+  "slider_gantry_first_order:13b5652d54578977",
   "constraint:78158b9fb17e4de7",
   "energy:953a6881f5646552",
   "first_order:6f47ba6e09afac3a",
@@ -420,6 +438,7 @@ static const char *const KEYS[] = {
   "slider_gantry_symmetric_velocity_ratio:6bdf39e1d7284c6f",
   "slider_gantry_symmetric_dynamic_dexterity:5220ab957c96fb33",
   "slider_gantry_symmetric_kappa_d:f3a00e7e9fd9eabe",
+  "slider_gantry_symmetric_first_order:8594474780232d6c",
   "actuator_forces:5559a8a5dcdea307",
   "constraint:dadb563899453a73",
   "first_order:3fe014cd8fe9e158",
@@ -440,6 +459,7 @@ static const char *const KEYS[] = {
   "ups_pu_velocity_ratio:5fa078bc193c5d10",
   "ups_pu_actuator_force:c2bd6dcb80d16dd0",
   "ups_pu_workspace_margin:cf94c45fe7c80a5f",
+  "ups_pu_first_order:24ecd86b27e140d0",
 };
 
 long pkm_kernel_count(void) { return (long)(sizeof(KEYS) / sizeof(KEYS[0])); }

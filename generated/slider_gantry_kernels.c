@@ -2774,3 +2774,136 @@ void PKM_FN(pkm_slider_gantry_pipeline_kappa_d)(long n, const double *const *in,
     PKM_FN(pkm_scatter)(out[3], 1, b3[0], p0, m);
   }
 }
+
+/* slider_gantry_first_order: 99 instructions; inputs x, mode, design; outputs q, reach, valid, J, J_f, psi, det_type1, det_type2 */
+void PKM_FN(pkm_slider_gantry_pipeline_first_order)(long n, const double *const *in, const long *stride, double *const *out)
+{
+  double a0[2][PKM_BLOCK];
+  double a1[2][PKM_BLOCK];
+  double a2[23][PKM_BLOCK];
+  double b0[4][PKM_BLOCK];
+  double b1[4][PKM_BLOCK];
+  double b2[1][PKM_BLOCK];
+  double b3[4][PKM_BLOCK];
+  double b4[4][PKM_BLOCK];
+  double b5[8][PKM_BLOCK];
+  double b6[1][PKM_BLOCK];
+  double b7[1][PKM_BLOCK];
+  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
+    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
+    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+#pragma omp simd
+    for (long q = 0; q < PKM_BLOCK; ++q) {
+      double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;
+      w0 = a1[0][q];
+      w1 = 0x0.0p+0;
+      w2 = a2[0][q];
+      w3 = w2 * w2;
+      w4 = a2[1][q];
+      w5 = a0[0][q];
+      w6 = w4 + w5;
+      w7 = w6 * w6;
+      w7 = w3 - w7;
+      w8 = PKM_FMAX(w1, w7);
+      w8 = sqrt(w8);
+      w0 = w0 * w8;
+      w8 = 0x1.0000000000000p-1;
+      w9 = a2[3][q];
+      w8 = w8 * w9;
+      w9 = a0[1][q];
+      w8 = w8 - w9;
+      w9 = w0 + w8;
+      w10 = -w9;
+      b0[0][q] = w10;
+      w10 = a1[1][q];
+      w5 = w5 - w4;
+      w4 = w5 * w5;
+      w3 = w3 - w4;
+      w4 = PKM_FMAX(w1, w3);
+      w4 = sqrt(w4);
+      w10 = w10 * w4;
+      w8 = w8 + w10;
+      w4 = -w8;
+      b0[1][q] = w4;
+      w6 = atan2(w6, w0);
+      b0[2][q] = w6;
+      w5 = atan2(w5, w10);
+      b0[3][q] = w5;
+      b1[0][q] = w7;
+      b1[1][q] = w3;
+      w10 = a2[4][q];
+      w0 = w9 + w10;
+      w4 = a2[5][q];
+      w9 = w9 + w4;
+      w0 = w0 * w9;
+      w0 = -w0;
+      b1[2][q] = w0;
+      w10 = w8 + w10;
+      w8 = w8 + w4;
+      w10 = w10 * w8;
+      w10 = -w10;
+      b1[3][q] = w10;
+      w8 = -0x1.19799812dea11p-40;
+      w7 = PKM_FMIN(w7, w3);
+      w7 = PKM_FMIN(w7, w0);
+      w7 = PKM_FMIN(w7, w10);
+      w8 = (double)(w8 <= w7);
+      b2[0][q] = w8;
+      w8 = sin(w6);
+      w6 = PKM_COS(w6);
+      w7 = w8 / w6;
+      b3[0][q] = w7;
+      w7 = sin(w5);
+      w5 = PKM_COS(w5);
+      w10 = w7 / w5;
+      b3[1][q] = w10;
+      w10 = 0x1.0000000000000p+0;
+      b3[2][q] = w10;
+      b3[3][q] = w10;
+      w0 = w6 * w7;
+      w8 = w8 * w5;
+      w0 = w0 - w8;
+      w3 = w5 / w0;
+      w4 = w6 * w3;
+      w9 = -w4;
+      b4[0][q] = w9;
+      w7 = w6 * w7;
+      w7 = w7 / w0;
+      b4[1][q] = w7;
+      b4[2][q] = w4;
+      w8 = w8 / w0;
+      w8 = -w8;
+      b4[3][q] = w8;
+      b5[0][q] = w10;
+      b5[1][q] = w1;
+      w3 = w3 / w2;
+      w8 = -w3;
+      b5[2][q] = w8;
+      w8 = w6 / w0;
+      w8 = w8 / w2;
+      w4 = -w8;
+      b5[3][q] = w4;
+      b5[4][q] = w1;
+      b5[5][q] = w10;
+      b5[6][q] = w3;
+      b5[7][q] = w8;
+      w2 = w2 * w2;
+      w6 = w6 * w2;
+      w6 = w6 * w5;
+      w6 = -w6;
+      b6[0][q] = w6;
+      w2 = w2 * w0;
+      b7[0][q] = w2;
+    }
+    PKM_FN(pkm_scatter)(out[0], 4, b0[0], p0, m);
+    PKM_FN(pkm_scatter)(out[1], 4, b1[0], p0, m);
+    PKM_FN(pkm_scatter)(out[2], 1, b2[0], p0, m);
+    PKM_FN(pkm_scatter)(out[3], 4, b3[0], p0, m);
+    PKM_FN(pkm_scatter)(out[4], 4, b4[0], p0, m);
+    PKM_FN(pkm_scatter)(out[5], 8, b5[0], p0, m);
+    PKM_FN(pkm_scatter)(out[6], 1, b6[0], p0, m);
+    PKM_FN(pkm_scatter)(out[7], 1, b7[0], p0, m);
+  }
+}

@@ -1,8 +1,9 @@
 """``python -m symbolic.kernels OUT``: the compiled path's C sources, written into a generated tree.
 
 The kernels are the functions pkm evaluates over batches, built the way the runtime builds them: every
-generated function of every mechanism with dense ports, and the fused pipeline of each of its local
-indices (:func:`pkm.regions.pipeline.pipeline`, the core's one builder). pkm is imported with
+generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
+and the one of its first order (the Jacobians), by :func:`pkm.regions.pipeline.pipeline`, the core's one
+builder. pkm is imported with
 ``generated`` taken from OUT, so that the C follows the Python builders written there. Each mechanism's
 kernels go into ``<mechanism>_kernels.c``; ``kernels.c`` compiles them for each instruction set and lists
 them by key (:func:`pkm.compiled.key`) for :mod:`pkm.compiled`.
@@ -41,10 +42,9 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function]]:
         fn = mech.functions[fn_name]
         if cemit.emittable(fn):
             out.append((f"pkm_{name}_{fn_name}", fn))
-    for index in mech.local_indices():
-        fn = pipeline(mech, (mech.local_spec(index),))
-        if cemit.emittable(fn):
-            out.append((f"pkm_{name}_pipeline_{index}", fn))
+    fused = {index: pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
+    fused["first_order"] = pipeline(mech, (), first_order=True)
+    out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
     return out
 
 

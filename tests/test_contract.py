@@ -272,14 +272,15 @@ def test_registry_still_lists_mechanisms_after_loading_one():
 
 
 def _compiled_functions(mech):
-    """The functions the compiled path was emitted for: the generated ones with dense ports and the fused
-    pipeline of each local index."""
+    """The functions the compiled path was emitted for: the generated ones with dense ports, the fused
+    pipeline of each local index and the one of the first order."""
     from pkm.regions.pipeline import pipeline
 
     fns = {k: f for k, f in mech.functions.items() if f.is_a("SXFunction")
            and all(f.sparsity_in(i).is_dense() for i in range(f.n_in()))
            and all(f.sparsity_out(j).is_dense() for j in range(f.n_out()))}
     fns.update({f"pipeline {i}": pipeline(mech, (mech.local_spec(i),)) for i in mech.local_indices()})
+    fns["pipeline first_order"] = pipeline(mech, (), first_order=True)
     return fns
 
 
@@ -311,6 +312,8 @@ def test_compiled_kernels_agree_with_the_interpreter_to_1e_12(case):
         n = max((len(a) for a in args if a.ndim == 2), default=1)
         args = [np.resize(a, (n, a.shape[1])) if a.ndim == 2 else a for a in args]
         fast, slow = evaluate(fn, *args), interpreted(fn, *args)
+        # a pipeline's unreached rows: its indices are NaN there, its other outputs are not used
+        used = slow[fn.name_out().index("valid")].reshape(n) > 0 if "valid" in fn.name_out() else np.ones(n, bool)
         for j, (got, want) in enumerate(zip(fast, slow, strict=True)):
             np.testing.assert_array_equal(np.isnan(got), np.isnan(want), err_msg=f"{name}: {fn.name_out(j)}")
             a, b = got.reshape(len(got), -1), want.reshape(len(want), -1)
@@ -318,4 +321,4 @@ def test_compiled_kernels_agree_with_the_interpreter_to_1e_12(case):
             with np.errstate(invalid="ignore"):
                 error = np.max(np.abs(np.where(np.isfinite(b), a - b, 0.0)), axis=1)
             tolerance = np.where(np.resize(well, len(error)) if len(error) > 1 else True, 1e-12, 1e-9) * scale
-            assert np.all(error <= tolerance), f"{name}: {fn.name_out(j)}: {np.max(error / scale):.1e}"
+            assert np.all((error <= tolerance) | ~used), f"{name}: {fn.name_out(j)}: {np.max(error / scale):.1e}"
