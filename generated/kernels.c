@@ -24,6 +24,14 @@ void pkm_five_bar_pipeline_jacobian_determinant_avx2(long, const double *const *
 void pkm_five_bar_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_five_bar_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_five_bar_pipeline_natural_frequency_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_inverse_condition_2_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_velocity_max_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_velocity_min_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_manipulability_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_velocity_ratio_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_dynamic_dexterity_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_five_bar_pipeline_natural_frequency_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
 void pkm_five_bar_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_first_order_avx2(long, const double *const *, const long *, double *const *);
@@ -52,6 +60,12 @@ void pkm_passive_leg_pipeline_velocity_min_avx2(long, const double *const *, con
 void pkm_passive_leg_pipeline_manipulability_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_jacobian_determinant_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_inverse_condition_2_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_velocity_max_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_velocity_min_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_manipulability_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_energy_avx2(long, const double *const *, const long *, double *const *);
@@ -73,6 +87,14 @@ void pkm_slider_gantry_pipeline_jacobian_determinant_avx2(long, const double *co
 void pkm_slider_gantry_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_kappa_d_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_inverse_condition_2_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_velocity_max_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_velocity_min_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_manipulability_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_constraint_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_energy_avx2(long, const double *const *, const long *, double *const *);
@@ -94,6 +116,14 @@ void pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_avx2(long, const 
 void pkm_slider_gantry_symmetric_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_kappa_d_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_inverse_condition_2_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_velocity_max_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_velocity_min_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_manipulability_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_actuator_forces_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_constraint_avx2(long, const double *const *, const long *, double *const *);
@@ -115,6 +145,14 @@ void pkm_ups_pu_pipeline_jacobian_determinant_avx2(long, const double *const *, 
 void pkm_ups_pu_pipeline_velocity_ratio_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_pipeline_actuator_force_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_pipeline_workspace_margin_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_inverse_condition_2_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_velocity_max_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_velocity_min_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_manipulability_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_velocity_ratio_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_actuator_force_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
+void pkm_ups_pu_pipeline_workspace_margin_inverse_condition_f_avx2(long, const double *const *, const long *, double *const *);
 void pkm_ups_pu_pipeline_first_order_avx2(long, const double *const *, const long *, double *const *);
 #endif
 
@@ -138,6 +176,14 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_five_bar_pipeline_velocity_ratio_generic,
   pkm_five_bar_pipeline_dynamic_dexterity_generic,
   pkm_five_bar_pipeline_natural_frequency_generic,
+  pkm_five_bar_pipeline_inverse_condition_2_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_velocity_max_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_velocity_min_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_manipulability_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_jacobian_determinant_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_velocity_ratio_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_dynamic_dexterity_inverse_condition_f_generic,
+  pkm_five_bar_pipeline_natural_frequency_inverse_condition_f_generic,
   pkm_five_bar_pipeline_first_order_generic,
   pkm_passive_leg_constraint_generic,
   pkm_passive_leg_first_order_generic,
@@ -166,6 +212,12 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_passive_leg_pipeline_manipulability_generic,
   pkm_passive_leg_pipeline_jacobian_determinant_generic,
   pkm_passive_leg_pipeline_velocity_ratio_generic,
+  pkm_passive_leg_pipeline_inverse_condition_2_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_velocity_max_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_velocity_min_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_manipulability_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_generic,
   pkm_passive_leg_pipeline_first_order_generic,
   pkm_slider_gantry_constraint_generic,
   pkm_slider_gantry_energy_generic,
@@ -187,6 +239,14 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_pipeline_velocity_ratio_generic,
   pkm_slider_gantry_pipeline_dynamic_dexterity_generic,
   pkm_slider_gantry_pipeline_kappa_d_generic,
+  pkm_slider_gantry_pipeline_inverse_condition_2_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_velocity_max_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_velocity_min_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_manipulability_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_jacobian_determinant_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_generic,
+  pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_generic,
   pkm_slider_gantry_pipeline_first_order_generic,
   pkm_slider_gantry_symmetric_constraint_generic,
   pkm_slider_gantry_symmetric_energy_generic,
@@ -208,6 +268,14 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_symmetric_pipeline_velocity_ratio_generic,
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_generic,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_generic,
+  pkm_slider_gantry_symmetric_pipeline_inverse_condition_2_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_velocity_max_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_velocity_min_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_manipulability_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_generic,
+  pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_generic,
   pkm_slider_gantry_symmetric_pipeline_first_order_generic,
   pkm_ups_pu_actuator_forces_generic,
   pkm_ups_pu_constraint_generic,
@@ -229,6 +297,14 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_ups_pu_pipeline_velocity_ratio_generic,
   pkm_ups_pu_pipeline_actuator_force_generic,
   pkm_ups_pu_pipeline_workspace_margin_generic,
+  pkm_ups_pu_pipeline_inverse_condition_2_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_velocity_max_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_velocity_min_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_manipulability_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_jacobian_determinant_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_velocity_ratio_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_actuator_force_inverse_condition_f_generic,
+  pkm_ups_pu_pipeline_workspace_margin_inverse_condition_f_generic,
   pkm_ups_pu_pipeline_first_order_generic,
 };
 
@@ -253,6 +329,14 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_five_bar_pipeline_velocity_ratio_avx2,
   pkm_five_bar_pipeline_dynamic_dexterity_avx2,
   pkm_five_bar_pipeline_natural_frequency_avx2,
+  pkm_five_bar_pipeline_inverse_condition_2_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_velocity_max_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_velocity_min_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_manipulability_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_jacobian_determinant_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_velocity_ratio_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_dynamic_dexterity_inverse_condition_f_avx2,
+  pkm_five_bar_pipeline_natural_frequency_inverse_condition_f_avx2,
   pkm_five_bar_pipeline_first_order_avx2,
   pkm_passive_leg_constraint_avx2,
   pkm_passive_leg_first_order_avx2,
@@ -281,6 +365,12 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_passive_leg_pipeline_manipulability_avx2,
   pkm_passive_leg_pipeline_jacobian_determinant_avx2,
   pkm_passive_leg_pipeline_velocity_ratio_avx2,
+  pkm_passive_leg_pipeline_inverse_condition_2_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_velocity_max_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_velocity_min_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_manipulability_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_avx2,
   pkm_passive_leg_pipeline_first_order_avx2,
   pkm_slider_gantry_constraint_avx2,
   pkm_slider_gantry_energy_avx2,
@@ -302,6 +392,14 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_pipeline_velocity_ratio_avx2,
   pkm_slider_gantry_pipeline_dynamic_dexterity_avx2,
   pkm_slider_gantry_pipeline_kappa_d_avx2,
+  pkm_slider_gantry_pipeline_inverse_condition_2_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_velocity_max_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_velocity_min_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_manipulability_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_jacobian_determinant_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_avx2,
+  pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_avx2,
   pkm_slider_gantry_pipeline_first_order_avx2,
   pkm_slider_gantry_symmetric_constraint_avx2,
   pkm_slider_gantry_symmetric_energy_avx2,
@@ -323,6 +421,14 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_symmetric_pipeline_velocity_ratio_avx2,
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_avx2,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_avx2,
+  pkm_slider_gantry_symmetric_pipeline_inverse_condition_2_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_velocity_max_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_velocity_min_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_manipulability_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_avx2,
+  pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_avx2,
   pkm_slider_gantry_symmetric_pipeline_first_order_avx2,
   pkm_ups_pu_actuator_forces_avx2,
   pkm_ups_pu_constraint_avx2,
@@ -344,6 +450,14 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_ups_pu_pipeline_velocity_ratio_avx2,
   pkm_ups_pu_pipeline_actuator_force_avx2,
   pkm_ups_pu_pipeline_workspace_margin_avx2,
+  pkm_ups_pu_pipeline_inverse_condition_2_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_velocity_max_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_velocity_min_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_manipulability_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_jacobian_determinant_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_velocity_ratio_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_actuator_force_inverse_condition_f_avx2,
+  pkm_ups_pu_pipeline_workspace_margin_inverse_condition_f_avx2,
   pkm_ups_pu_pipeline_first_order_avx2,
 };
 #endif
@@ -368,6 +482,14 @@ static const char *const KEYS[] = {
   "five_bar_velocity_ratio:bbf1205ac96b2466",
   "five_bar_dynamic_dexterity:69ce59a9fef2c4ed",
   "five_bar_natural_frequency:12e413168863bf99",
+  "five_bar_inverse_condition_2_inverse_condition_f:fd53723f71ffe7c5",
+  "five_bar_velocity_max_inverse_condition_f:6492b90f5453fbac",
+  "five_bar_velocity_min_inverse_condition_f:c0facab4be5d149a",
+  "five_bar_manipulability_inverse_condition_f:b834047a52e40b8b",
+  "five_bar_jacobian_determinant_inverse_condition_f:42b43557903caa02",
+  "five_bar_velocity_ratio_inverse_condition_f:5f9c45cf2428599c",
+  "five_bar_dynamic_dexterity_inverse_condition_f:dce881a0101afd47",
+  "five_bar_natural_frequency_inverse_condition_f:34915e5da471c65b",
   "five_bar_first_order:edef1c676ff52fd4",
   "constraint:90b413ea5244cd6d",
   "first_order:540f39c989e5c137",
@@ -396,6 +518,12 @@ static const char *const KEYS[] = {
   "passive_leg_manipulability:3196318743484f6e",
   "passive_leg_jacobian_determinant:51bef459f042b4e3",
   "passive_leg_velocity_ratio:c82bb00ac3e660c3",
+  "passive_leg_inverse_condition_2_inverse_condition_f:7193b9ba41eddb0a",
+  "passive_leg_velocity_max_inverse_condition_f:4be8e96751f4c924",
+  "passive_leg_velocity_min_inverse_condition_f:9921d7d96a883980",
+  "passive_leg_manipulability_inverse_condition_f:73b5d5c4b2f8245b",
+  "passive_leg_jacobian_determinant_inverse_condition_f:c15e219ba4ffc84d",
+  "passive_leg_velocity_ratio_inverse_condition_f:265934c28bae0296",
   "passive_leg_first_order:f6fac8df8420024c",
   "constraint:324c2b370dc1a12c",
   "energy:33724a7014f7ea96",
@@ -417,6 +545,14 @@ static const char *const KEYS[] = {
   "slider_gantry_velocity_ratio:3743b1a6921bae6f",
   "slider_gantry_dynamic_dexterity:20da9d6c9071b5a7",
   "slider_gantry_kappa_d:982cc6c4b98ce93a",
+  "slider_gantry_inverse_condition_2_inverse_condition_f:a303aaabfcf37fae",
+  "slider_gantry_velocity_max_inverse_condition_f:856fa08d7ac6c88c",
+  "slider_gantry_velocity_min_inverse_condition_f:2757879cd86ce11d",
+  "slider_gantry_manipulability_inverse_condition_f:16fe5a6ba7bb8308",
+  "slider_gantry_jacobian_determinant_inverse_condition_f:42486078a56bf908",
+  "slider_gantry_velocity_ratio_inverse_condition_f:333f2e8251fb8385",
+  "slider_gantry_dynamic_dexterity_inverse_condition_f:726f9324437a59af",
+  "slider_gantry_kappa_d_inverse_condition_f:0fff2b010fcddd27",
   "slider_gantry_first_order:13b5652d54578977",
   "constraint:78158b9fb17e4de7",
   "energy:953a6881f5646552",
@@ -438,6 +574,14 @@ static const char *const KEYS[] = {
   "slider_gantry_symmetric_velocity_ratio:6bdf39e1d7284c6f",
   "slider_gantry_symmetric_dynamic_dexterity:5220ab957c96fb33",
   "slider_gantry_symmetric_kappa_d:f3a00e7e9fd9eabe",
+  "slider_gantry_symmetric_inverse_condition_2_inverse_condition_f:7b7d050471d84c00",
+  "slider_gantry_symmetric_velocity_max_inverse_condition_f:014ef3605b320f5d",
+  "slider_gantry_symmetric_velocity_min_inverse_condition_f:473125eee954c233",
+  "slider_gantry_symmetric_manipulability_inverse_condition_f:14845af81f86cbbf",
+  "slider_gantry_symmetric_jacobian_determinant_inverse_condition_f:24ac52b5b3e71aa8",
+  "slider_gantry_symmetric_velocity_ratio_inverse_condition_f:795cea2a2c116b41",
+  "slider_gantry_symmetric_dynamic_dexterity_inverse_condition_f:88415c1938a18065",
+  "slider_gantry_symmetric_kappa_d_inverse_condition_f:200de9660cfb0d0b",
   "slider_gantry_symmetric_first_order:8594474780232d6c",
   "actuator_forces:5559a8a5dcdea307",
   "constraint:dadb563899453a73",
@@ -459,6 +603,14 @@ static const char *const KEYS[] = {
   "ups_pu_velocity_ratio:5fa078bc193c5d10",
   "ups_pu_actuator_force:c2bd6dcb80d16dd0",
   "ups_pu_workspace_margin:cf94c45fe7c80a5f",
+  "ups_pu_inverse_condition_2_inverse_condition_f:838cec3291246296",
+  "ups_pu_velocity_max_inverse_condition_f:a01890d39b01731c",
+  "ups_pu_velocity_min_inverse_condition_f:4e16211d6f19fedb",
+  "ups_pu_manipulability_inverse_condition_f:de0c7c7ac96b30f5",
+  "ups_pu_jacobian_determinant_inverse_condition_f:95c9327d97778659",
+  "ups_pu_velocity_ratio_inverse_condition_f:1021f4190bdd9f9c",
+  "ups_pu_actuator_force_inverse_condition_f:cd5fef458a07a3ea",
+  "ups_pu_workspace_margin_inverse_condition_f:93c90378d5a697ce",
   "ups_pu_first_order:24ecd86b27e140d0",
 };
 

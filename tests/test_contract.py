@@ -273,13 +273,16 @@ def test_registry_still_lists_mechanisms_after_loading_one():
 
 def _compiled_functions(mech):
     """The functions the compiled path was emitted for: the generated ones with dense ports, the fused
-    pipeline of each local index and the one of the first order."""
+    pipeline of each local index alone and with 1/kappa_f, and the one of the first order."""
     from pkm.regions.pipeline import pipeline
 
     fns = {k: f for k, f in mech.functions.items() if f.is_a("SXFunction")
            and all(f.sparsity_in(i).is_dense() for i in range(f.n_in()))
            and all(f.sparsity_out(j).is_dense() for j in range(f.n_out()))}
     fns.update({f"pipeline {i}": pipeline(mech, (mech.local_spec(i),)) for i in mech.local_indices()})
+    condition = mech.local_spec("inverse_condition_f")
+    fns.update({f"pipeline {i} with 1/kappa_f": pipeline(mech, (mech.local_spec(i), condition))
+                for i in mech.local_indices() if i != condition.name})
     fns["pipeline first_order"] = pipeline(mech, (), first_order=True)
     return fns
 
