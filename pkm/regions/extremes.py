@@ -53,8 +53,7 @@ def piece_function(mech: Any, local: LocalIndex, piece: Any, branch: Any, *, gra
     u = ca.SX.sym("u", piece.dimension)
     design = ca.SX.sym("design", n_design)
     x = piece.to_pose(mech.functions, design, u)
-    _, _, valid, value = pipeline(mech, (local,))(x, ca.DM(branch.signs), design)
-    value = ca.if_else(valid > 0, value, np.nan)
+    _, _, _, value = pipeline(mech, (local,))(x, ca.DM(branch.signs), design)
     outputs, names = [value], [local.name]
     if gradient:
         outputs, names = [value, ca.gradient(value, design)], [local.name, "gradient"]

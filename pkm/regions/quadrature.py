@@ -143,8 +143,7 @@ def nodes_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resol
     """CasADi function ``design -> values``: the local index at every node of the region's extreme rule
     (a 1 x n row, NaN where a node is out of reach)."""
     design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    values, _, valid = node_values(mech, spec, region, branch, design, resolution=resolution)
-    values = ca.if_else(valid > 0, values, np.nan)
+    values, _, _ = node_values(mech, spec, region, branch, design, resolution=resolution)
     return ca.Function(f"{spec.name}_{region.name}_{branch.name}_{resolution}_nodes", [design], [values],
                        ["design"], ["values"])
 
@@ -180,32 +179,17 @@ def parametrised_global(
     defined = np.isfinite(values)
     if defined.any():
         refined = refined_extremes(mech, spec, region, branch, designs[defined], resolution=resolution).values
-        sizes = 1.0
-        if spec.per is not None:
-            per = per_function(mech, spec.per, f"the global index {spec.name}")
-            sizes = evaluate(per, designs[defined])[0][:, 0, 0]
-        values[defined] = refined / sizes
+        values[defined] = refined / _sizes(mech, spec, designs[defined])[0]
     return values
 
 
-def _extreme(
-    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, resolution: int, gradient: bool
-) -> tuple[float, np.ndarray | None]:
-    """A region extreme of one design refined between the nodes (NaN where the quadrature's is), with
-    its gradient in the design when asked."""
-    if not np.isfinite(float(value_function(mech, spec, region, branch, resolution)(design))):
-        return float("nan"), (np.full(len(design), np.nan) if gradient else None)
-    refined = refined_extremes(mech, spec, region, branch, design[None], resolution=resolution)
-    value, grad = float(refined.values[0]), None
-    if gradient:
-        grad = refined_gradient(mech, spec, region, design, branch=branch, refined=refined)
+def _sizes(mech: Any, spec: GlobalIndex, designs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What an index's reduction is divided by for each design (D, n_p), its ``per`` function of the
+    design (1 without one), and its gradient (D, n_p)."""
     if spec.per is None:
-        return value, grad
-    size, size_gradient = per_function(mech, spec.per, f"the global index {spec.name}")(design)
-    size, size_gradient = float(size), np.asarray(size_gradient, dtype=float).ravel()
-    if gradient:
-        grad = grad / size - value * size_gradient / size**2
-    return value / size, grad
+        return np.ones(len(designs)), np.zeros(designs.shape)
+    size, gradient = evaluate(per_function(mech, spec.per, f"the global index {spec.name}"), designs)
+    return size[:, 0, 0], gradient[:, :, 0]
 
 
 @lru_cache(maxsize=16)
@@ -214,6 +198,32 @@ def per_function(mech: Any, name: str, what: str) -> ca.Function:
     design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
     size = mech.functions.require(name, what)(design)
     return ca.Function(f"{name}_with_gradient", [design], [size, ca.gradient(size, design)])
+
+
+def _at_resolution(
+    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, resolution: int, gradient: bool
+) -> tuple[float, np.ndarray | None]:
+    """The index of one design (n_p,) at one resolution, a region extreme refined between the nodes (NaN
+    where the quadrature's is), with its gradient in the design when asked."""
+    if spec.reduce not in EXTREMES_REDUCE:
+        if not gradient:
+            return float(value_function(mech, spec, region, branch, resolution)(design)), None
+        value, grad = quadrature_function(mech, spec, region, branch, resolution)(design)
+        return float(value), np.asarray(grad).ravel()
+    if not np.isfinite(float(value_function(mech, spec, region, branch, resolution)(design))):
+        return float("nan"), (np.full(len(design), np.nan) if gradient else None)
+    refined = refined_extremes(mech, spec, region, branch, design[None], resolution=resolution)
+    (size,), (size_gradient,) = _sizes(mech, spec, design[None])
+    value = float(refined.values[0])
+    if not gradient:
+        return value / size, None
+    grad = refined_gradient(mech, spec, region, design, branch=branch, refined=refined)
+    return value / size, grad / size - value * size_gradient / size**2
+
+
+def _result(spec: GlobalIndex, region: Any, value: float, *, resolution: int, accuracy: float) -> GlobalValue:
+    return GlobalValue(value, points=region.node_count(resolution, spec.reduce), region=region.name,
+                       resolution=resolution, accuracy=accuracy)
 
 
 def global_value(
@@ -229,26 +239,13 @@ def global_value(
     """The index of one design, with its exact gradient (n_p,) when asked; the accuracy is the change
     from the quadrature at half the resolution (from resolution 2 on)."""
     design = np.asarray(design, dtype=float).ravel()
-    extreme = spec.reduce in EXTREMES_REDUCE
-    grad = None
-    if extreme:
-        value, grad = _extreme(mech, spec, region, design, branch=branch, resolution=resolution, gradient=gradient)
-    elif gradient:
-        value, grad = quadrature_function(mech, spec, region, branch, resolution)(design)
-        grad = np.asarray(grad).ravel()
-    else:
-        value = value_function(mech, spec, region, branch, resolution)(design)
-    value = float(value)
+    value, grad = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution, gradient=gradient)
     accuracy = float("nan")
     if resolution >= 2:
-        if extreme:
-            coarse = _extreme(mech, spec, region, design, branch=branch, resolution=resolution // 2, gradient=False)[0]
-        else:
-            coarse = float(value_function(mech, spec, region, branch, resolution // 2)(design))
+        coarse, _ = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution // 2,
+                                   gradient=False)
         accuracy = abs(value - coarse)
-    points = region.node_count(resolution, spec.reduce)
-    out = GlobalValue(value, points=points, region=region.name, resolution=resolution, accuracy=accuracy)
-    return out, grad
+    return _result(spec, region, value, resolution=resolution, accuracy=accuracy), grad
 
 
 def adaptive_value(
@@ -257,17 +254,23 @@ def adaptive_value(
 ) -> tuple[GlobalValue, np.ndarray | None]:
     """The index of one design at the resolution it needs: from QUADRATURE_RESOLUTION the resolution
     doubles until the change from half of it is at most ``tolerance`` (times the value where it exceeds 1)
-    or ADAPTIVE_LIMIT is reached; the value reports the accuracy it reached either way."""
+    or ADAPTIVE_LIMIT is reached; the value reports the accuracy it reached either way. Each resolution
+    is evaluated once."""
+    design = np.asarray(design, dtype=float).ravel()
     resolution = QUADRATURE_RESOLUTION
-    while True:
-        value, _ = global_value(mech, spec, region, design, branch=branch, resolution=resolution)
-        done = not np.isfinite(value) or value.accuracy <= tolerance * max(1.0, abs(value))
-        if done or 2 * resolution > ADAPTIVE_LIMIT:
-            break
+
+    def at(n: int) -> float:
+        return _at_resolution(mech, spec, region, design, branch=branch, resolution=n, gradient=False)[0]
+
+    previous, value = at(resolution // 2), at(resolution)
+    while np.isfinite(value) and abs(value - previous) > tolerance * max(1.0, abs(value)) \
+            and 2 * resolution <= ADAPTIVE_LIMIT:
         resolution *= 2
-    if not gradient:
-        return value, None
-    return global_value(mech, spec, region, design, branch=branch, resolution=resolution, gradient=True)
+        previous, value = value, at(resolution)
+    grad = None
+    if gradient:
+        value, grad = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution, gradient=True)
+    return _result(spec, region, value, resolution=resolution, accuracy=abs(value - previous)), grad
 
 
 def sampled_check(

@@ -47,7 +47,7 @@ class ProblemModel:
         self.mech = problem.mechanism
         self.branch = self.mech.working_mode(problem.mode)
         self._functions: dict[int, ca.Function] = {}
-        self._objective: ca.Function | None = None
+        self._with_values: ca.Function | None = None
         self.lower = np.array([c.lower for c in problem.constraints], dtype=float)
         self.upper = np.array([c.upper for c in problem.constraints], dtype=float)
         margin = np.array([c.margin for c in problem.constraints], dtype=float)
@@ -234,10 +234,10 @@ class ProblemModel:
     def _expressions_with(self, point: np.ndarray, quantities: dict[str, float]) -> tuple[float, np.ndarray]:
         """The objective and the constraint values (m,) at ``point`` with the given quantity values in
         place of the quadratures."""
-        if self._objective is None:
+        if self._with_values is None:
             w = ca.MX.sym("w", len(self.problem.variables))
             values = {k: ca.MX.sym(k) for k in self.problem.quantities}
             f, g = self.expressions(w, values)
-            self._objective = ca.Function("objective", [w, *values.values()], [f, g])
-        f, g = self._objective(point, *quantities.values())
+            self._with_values = ca.Function("with_quantities", [w, *values.values()], [f, g])
+        f, g = self._with_values(point, *quantities.values())
         return float(f), np.asarray(g, dtype=float).ravel()
