@@ -27,6 +27,7 @@ from pkm.compiled import status as compiled_status
 from pkm.design import Design, parse_design
 from pkm.design_space import parameter_plane
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
+from pkm.interrupts import interruptible
 from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
 from pkm.reproduce import reproduce
@@ -595,7 +596,7 @@ def main(argv: list[str] | None = None) -> int:
         address = getattr(args, "scheduler", None) or parallel.scheduler()
         if address and args.func in PARALLEL_COMMANDS:
             parallel.connect(address).close()
-        with parallel.scheduled(address):
+        with parallel.scheduled(address), interruptible():
             args.func(args)
     except PkmError as exc:
         print(f"pkm: error: {exc}", file=sys.stderr)

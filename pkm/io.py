@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from pkm.interrupts import check_interrupted
+
 
 def _default(obj: Any) -> Any:
     if isinstance(obj, np.generic):
@@ -86,13 +88,15 @@ def _alive(pid: int) -> bool:
 @contextmanager
 def staged_folder(target: Path) -> Iterator[Path]:
     """Yield a temporary folder beside ``target`` whose files move into ``target`` only if the block
-    succeeds, each by an atomic rename; files of ``target`` that the block did not write are kept."""
+    succeeds (and no Ctrl-C was caught below it, :mod:`pkm.interrupts`), each by an atomic rename; files
+    of ``target`` that the block did not write are kept."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     _remove_abandoned(target)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}.", dir=target.parent))
     try:
         yield stage
+        check_interrupted()
         target.mkdir(exist_ok=True)
         for path in sorted(stage.rglob("*")):
             destination = target / path.relative_to(stage)

@@ -28,6 +28,7 @@ import numpy as np
 
 from pkm import batch, io
 from pkm.errors import ComputationError, PkmError
+from pkm.interrupts import check_interrupted, interruptible
 
 SCHEDULER_VARIABLE = "PKM_SCHEDULER"
 CONNECT_TIMEOUT = "3s"
@@ -147,6 +148,18 @@ def run_tasks(
     each finishes (in order on the serial executor, which runs one task at a time). A task that fails
     is submitted once more; a second failure, or a lost worker, raises ComputationError naming the
     task; pkm's own errors (bad input) pass at once. On any error the tasks still queued are cancelled."""
+    with interruptible():
+        return _run_tasks(pool, fn, tasks, describe=describe, done=done)
+
+
+def _run_tasks(
+    pool: Executor,
+    fn: Callable[..., Any],
+    tasks: Sequence[Any],
+    *,
+    describe: Callable[[Any], str],
+    done: Callable[[int, Any], None] | None,
+) -> list[Any]:
     results: list[Any] = [None] * len(tasks)
     if isinstance(pool, SerialExecutor):
         for k, task in enumerate(tasks):
@@ -160,6 +173,7 @@ def run_tasks(
             pending[_submit(pool, fn, task, describe)] = (k, 0)
         while pending:
             finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+            check_interrupted()
             for future in finished:
                 k, attempt = pending.pop(future)
                 try:
@@ -194,11 +208,15 @@ def _twice(fn: Callable[[Any], Any], task: Any, describe: Callable[[Any], str]) 
     failure: Exception | None = None
     for _ in range(RETRIES + 1):
         try:
-            return fn(task)
+            result = fn(task)
         except PkmError:
             raise
         except Exception as error:
             failure = error
+        else:
+            check_interrupted()
+            return result
+        check_interrupted()
     raise ComputationError(f"task {describe(task)} failed twice: {failure}") from failure
 
 

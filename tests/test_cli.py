@@ -457,3 +457,35 @@ def test_list_says_which_evaluation_path_is_active(capsys, monkeypatch):
         compiled._library.cache_clear()
         compiled.kernel.cache_clear()
     assert evaluation == {"path": "interpreter", "kernels": 0, "instruction_set": None, "reason": "PKM_COMPILED=0"}
+
+
+def _swallowed_interrupt(check) -> None:
+    """A block in which Ctrl-C comes and is caught below, as CasADi does; ``check`` runs after it."""
+    import contextlib
+    import os
+    import signal
+
+    from pkm.interrupts import interruptible
+
+    with interruptible():
+        with contextlib.suppress(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+        check()
+
+
+def test_an_interrupt_caught_below_still_ends_the_block():
+    """CasADi catches Ctrl-C inside an IPOPT solve or a graph operation and carries on: pkm remembers it,
+    raises it at the next task or staged output, and at the end of the block at the latest."""
+    import signal
+
+    from pkm.interrupts import check_interrupted
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            _swallowed_interrupt(check_interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            _swallowed_interrupt(lambda: None)
+        check_interrupted()  # forgotten once the block has raised it
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -29,6 +29,7 @@ import numpy as np
 
 from pkm import parallel, registry
 from pkm.errors import ComputationError, PkmError, check_integer
+from pkm.interrupts import interruptible
 from pkm.progress import Progress
 from pkm.regions import INDEX_ACCURACY
 from pkm.regions.shapes import MAX_RESOLUTION
@@ -238,7 +239,8 @@ def _nlp(model: ProblemModel, resolution: int, options: dict[str, Any]) -> tuple
 
 def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask) -> Run:
     problem, res = model.problem, task.resolution
-    sol = solver(x0=model.start(task.start, res), **bounds)
+    with interruptible():
+        sol = solver(x0=model.start(task.start, res), **bounds)
     stats = solver.stats()
     calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
     x = np.asarray(sol["x"]).ravel()
