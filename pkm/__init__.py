@@ -8,15 +8,17 @@ True
 
 from __future__ import annotations
 
-from typing import Any
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from pkm import registry
 from pkm.design import Design, Parameter
 from pkm.errors import ComputationError, DesignError, PkmError, PoseError, SingularityError, UnknownNameError
 from pkm.mechanism import Mechanism
-from pkm.parallel import use_scheduler
-from pkm.synthesis import Problem, SynthesisResult
-from pkm.synthesis import synthesize as _synthesize
+
+if TYPE_CHECKING:
+    from pkm.parallel import use_scheduler
+    from pkm.synthesis import Problem, SynthesisResult
 
 __all__ = [
     "ComputationError",
@@ -37,6 +39,19 @@ __all__ = [
 
 __version__ = "0.1.0"
 
+# Imported at their first use, so that loading a mechanism does not import the synthesis and the executors.
+_LAZY = {"Problem": "pkm.synthesis", "SynthesisResult": "pkm.synthesis", "use_scheduler": "pkm.parallel"}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'pkm' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 def mechanisms() -> list[str]:
     """Names of the registered mechanisms."""
@@ -51,6 +66,8 @@ def load(name: str) -> Mechanism:
 def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:
     """Solve a synthesis problem (a registered name or a :class:`pkm.synthesis.Problem`) with IPOPT and
     verify it; see :func:`pkm.synthesis.synthesize` for the options."""
-    if not isinstance(problem, Problem):
+    from pkm import synthesis
+
+    if not isinstance(problem, synthesis.Problem):
         problem = registry.problem(problem)
-    return _synthesize(problem, **options)
+    return synthesis.synthesize(problem, **options)

@@ -10,19 +10,19 @@ fused pipeline (:mod:`pkm.regions.pipeline`), global indices over sampled or par
 
 from __future__ import annotations
 
-import functools
+import importlib
+import types
 from collections.abc import Callable, Mapping
 from functools import cached_property
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from pkm import dynamics, regions, registry
+from pkm import regions, registry
 from pkm.batch import evaluate
 from pkm.design import Condition, Design, Parameter, design_mapping, make_design
 from pkm.design_space import DesignSpace
 from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError, check_name
-from pkm.indices import GlobalIndex, LocalIndex
 from pkm.kinematics import (
     Branch,
     ClosedForm,
@@ -37,18 +37,31 @@ from pkm.kinematics import (
     unbatch,
 )
 
+if TYPE_CHECKING:
+    from pkm.indices import GlobalIndex, LocalIndex
+
 SINGULAR_CONDITION = 1e12
 
 
-def _delegate(func: Callable[..., Any]) -> Callable[..., Any]:
-    """A method that calls ``func(self, ...)``: the facade keeps the function's docstring and
-    signature instead of copying them."""
+class _Delegate:
+    """A method that is the function of the same name in ``module`` called as ``function(self, ...)``:
+    the facade keeps the function's docstring and signature instead of copying them, and the module is
+    imported at the method's first use, not with every mechanism."""
 
-    @functools.wraps(func)
-    def method(self: Mechanism, *args: Any, **kwargs: Any) -> Any:
-        return func(self, *args, **kwargs)
+    def __init__(self, module: str) -> None:
+        self.module = module
 
-    return method
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    @cached_property
+    def function(self) -> Callable[..., Any]:
+        return getattr(importlib.import_module(self.module), self.name)
+
+    def __get__(self, instance: Any, owner: type | None = None) -> Callable[..., Any]:
+        if instance is None:
+            return self.function
+        return types.MethodType(self.function, instance)
 
 
 class Mechanism:
@@ -354,10 +367,10 @@ class Mechanism:
             return value
         return value, self.design_dict(grad)
 
-    inertia_matrix = _delegate(dynamics.inertia_matrix)
-    inverse_dynamics = _delegate(dynamics.inverse_dynamics)
-    natural_frequencies = _delegate(dynamics.natural_frequencies)
-    simulate = _delegate(dynamics.simulate)
+    inertia_matrix = _Delegate("pkm.dynamics")
+    inverse_dynamics = _Delegate("pkm.dynamics")
+    natural_frequencies = _Delegate("pkm.dynamics")
+    simulate = _Delegate("pkm.dynamics")
 
 
 def _coordinate_unit(units: tuple[str, ...]) -> str:

@@ -14,18 +14,24 @@ import importlib.util
 import pkgutil
 from functools import cache
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pkm.errors import UnknownNameError, check_name
-from pkm.indices import GLOBAL_INDICES, LOCAL_INDICES, GlobalIndex, LocalIndex
+
+if TYPE_CHECKING:
+    from pkm.indices import GlobalIndex, LocalIndex
 
 MODELS = "pkm.models"
 PAPERS = "pkm.reproduce"
 
 
-def _submodules(package: str) -> list[ModuleType]:
+def _submodule_names(package: str) -> list[str]:
     root = importlib.import_module(package)
-    return [importlib.import_module(f"{package}.{m.name}") for m in pkgutil.iter_modules(root.__path__)]
+    return [f"{package}.{m.name}" for m in pkgutil.iter_modules(root.__path__)]
+
+
+def _submodules(package: str) -> list[ModuleType]:
+    return [importlib.import_module(name) for name in _submodule_names(package)]
 
 
 @cache
@@ -45,15 +51,26 @@ def mechanisms() -> list[str]:
 
 def mechanism(name: str) -> Any:
     """The mechanism registered under ``name`` (one instance per name), its generated names checked."""
-    classes = _mechanism_classes()
-    if check_name("mechanism", name, sorted(classes)) not in classes:
-        raise UnknownNameError("mechanism", name, sorted(classes))
+    if not isinstance(name, str) or _mechanism_class(name) is None:
+        raise UnknownNameError("mechanism", name, mechanisms())
     return _instance(name)
 
 
 @cache
+def _mechanism_class(name: str) -> type | None:
+    """The class registered under ``name``, found without importing every model package: the packages
+    are searched one at a time, first those whose name ``name`` begins with (its own)."""
+    packages = sorted(_submodule_names(MODELS), key=lambda package: not name.startswith(package.rsplit(".", 1)[1]))
+    for package in packages:
+        for cls in getattr(importlib.import_module(package), "MECHANISMS", ()):
+            if cls.name == name:
+                return cls
+    return None
+
+
+@cache
 def _instance(name: str) -> Any:
-    mech = _mechanism_classes()[name]()
+    mech = _mechanism_class(name)()
     mech.functions.check()
     return mech
 
@@ -77,29 +94,35 @@ def problem(name: str) -> Any:
 
 
 def local_indices() -> tuple[LocalIndex, ...]:
+    from pkm.indices import LOCAL_INDICES
+
     return LOCAL_INDICES
 
 
 def global_indices() -> tuple[GlobalIndex, ...]:
+    from pkm.indices import GLOBAL_INDICES
+
     return GLOBAL_INDICES
 
 
 def local_index(name: str) -> LocalIndex:
     """The local index called ``name``."""
-    check_name("local index", name, [s.name for s in LOCAL_INDICES])
-    for spec in LOCAL_INDICES:
+    known = local_indices()
+    check_name("local index", name, [s.name for s in known])
+    for spec in known:
         if spec.name == name:
             return spec
-    raise UnknownNameError("local index", name, [s.name for s in LOCAL_INDICES])
+    raise UnknownNameError("local index", name, [s.name for s in known])
 
 
 def global_index(name: str) -> GlobalIndex:
     """The global index called ``name``."""
-    check_name("index", name, [s.name for s in GLOBAL_INDICES])
-    for spec in GLOBAL_INDICES:
+    known = global_indices()
+    check_name("index", name, [s.name for s in known])
+    for spec in known:
         if spec.name == name:
             return spec
-    raise UnknownNameError("index", name, [s.name for s in GLOBAL_INDICES])
+    raise UnknownNameError("index", name, [s.name for s in known])
 
 
 @cache

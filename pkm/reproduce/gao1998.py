@@ -13,8 +13,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from pkm import io, regions, registry
 from pkm.atlas import compute_atlas
@@ -158,6 +156,9 @@ def _named(normalised: Any) -> dict[str, float]:
 
 def _local_map(m: Mechanism, path: Path) -> str:
     """1/kappa_f over the workspace of each working mode (the symmetry of Figs. 3-5 at a glance)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     d = m.design_spaces["gao1998"].designs(m.parameters, [0.8, 0.8, 0.8])
     box = m.workspace_box(d)
     x, _ = regions.grid(box, 160)

@@ -15,8 +15,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from pkm import io, regions, registry
 from pkm.atlas import compute_atlas
@@ -95,6 +93,9 @@ def _in_disc(x: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
 
 def _mic_checks(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 2: the MIC of two designs inside their usable workspace, tangent to singular loci."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(10, 4.6), layout="constrained")
     FigureCanvasAgg(fig)
     out = {}
@@ -131,6 +132,9 @@ def _mic_checks(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, An
 
 def _local_dexterity(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 5: local dynamic dexterity over the usable workspace of r = (1.2, 1.0, 0.8) and the MIW."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     d = _design(m, FIG2[0])
     centre, radius = m.maximum_inscribed_circle(d)
     x, usable, box = _usable(m, d, resolution)

@@ -12,8 +12,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from pkm import io, registry
 from pkm.batch import evaluate
@@ -239,6 +237,9 @@ def _statements(m: Mechanism, trends: dict[str, Any]) -> dict[str, dict[str, boo
 
 
 def _draw_atlases(atlas: dict[str, Any], path: Path, title: str) -> str:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(13, 3.6), layout="constrained")
     FigureCanvasAgg(fig)
     u = atlas["u"]
@@ -260,6 +261,9 @@ def _draw_atlases(atlas: dict[str, Any], path: Path, title: str) -> str:
 def _fig8(m: Mechanism, s: dict[str, int], path: Path) -> tuple[dict[str, Any], str]:
     """1/kappa_f over each Fig. 8 design's reachable poses on mode out_out with the outer boundary and
     the loci det J_q = 0 (type 1) and det J_x = 0 (type 2)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(14, 4.5), layout="constrained")
     FigureCanvasAgg(fig)
     out = {}
@@ -306,6 +310,9 @@ def _fig8(m: Mechanism, s: dict[str, int], path: Path) -> tuple[dict[str, Any], 
 def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     """The actuator angles over the workspace of Fig. 8c's design at each theta: their extremes, and
     whether phi1's maximum for theta >= 0 lies on the outer boundary."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     d = _design(m, 1.2, 1.2)
     theta = np.linspace(-1.4, 1.4, 57)
     outer = m.workspace_boundary(theta, d)["l_CM"]

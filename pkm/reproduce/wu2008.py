@@ -15,8 +15,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from pkm import io, registry
 from pkm.batch import evaluate
@@ -173,6 +171,9 @@ def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str
     Position and velocity are continuous at a switch, so the force jumps by (J^T)^-1 M times the
     acceleration jump (eq. 41 with N unchanged).
     """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     move = Trajectory.trapezoidal(TABLE3["x0"], TABLE3["x1"], TABLE3["v_max"], TABLE3["a_s"])
     t = (np.arange(samples) + 0.5) / samples * move.duration
     x, v, a = move.sample(t)
@@ -253,6 +254,9 @@ def _isotropy(m: Mechanism, X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
 
 def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Figs. 6-7: kappa_D over the task rectangle of both variants."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(11, 4.2))
     FigureCanvasAgg(fig)
     out = {}
@@ -279,6 +283,9 @@ def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[s
 def _ellipses(ms: dict[str, Mechanism], path: Path) -> tuple[dict[str, Any], str]:
     """Fig. 5: acceleration ellipses {a : |(J^T)^-1 M a| <= F} over the task rectangle, and their axes on
     the y axis."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(11, 4.5))
     FigureCanvasAgg(fig)
     out = {}

@@ -13,8 +13,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from pkm import io, registry
 from pkm.batch import evaluate
@@ -90,6 +88,9 @@ def _eq8(m: Mechanism, rng: np.random.Generator) -> dict[str, float]:
 
 def _fig3(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, float], str]:
     """The determinant of J over (theta1, theta2) for Fig. 3's design at l0 = 300 mm."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     design = m.design({**m.design(), **{k: v for k, v in FIG3.items() if k != "l0"}})
     axis = np.linspace(-math.pi / 2, math.pi / 2, resolution)
     T1, T2 = np.meshgrid(axis, axis, indexing="ij")
@@ -112,6 +113,8 @@ def _fig3(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, float], 
 def _sections(m: Mechanism, path: Path, s: dict[str, int]) -> tuple[dict[str, Any], str]:
     """Fig. 6: the workspace of section 5.3's example at l0 = 350, 450, 500 mm with each constraint's
     boundary; areas by sampling and by the ray search; convexity against the convex hull."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
     from matplotlib.path import Path as PolygonPath
 
     design = m.design({**m.design(), **EXAMPLE_53}).vector()
@@ -199,6 +202,9 @@ def _convexity(m: Mechanism, s: dict[str, int]) -> dict[str, Any]:
 
 def _force_map(m: Mechanism, design: dict[str, float], path: Path) -> str:
     """The largest actuator force holding the payload over the top and bottom of the task cylinder."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
     d = np.array(list(design.values()))
     fig = Figure(figsize=(10, 4.5), layout="constrained")
     FigureCanvasAgg(fig)
