@@ -5,7 +5,7 @@ STAMP := $(VENV)/.installed
 
 .PHONY: generate check-generated test test-interpreted lint bench demo clean
 
-$(STAMP): pyproject.toml setup.py pkm/_kernels.c $(wildcard generated/*.c)
+$(STAMP): pyproject.toml setup.py pkm/_kernels.c $(wildcard generated/*.c) $(wildcard generated/*.h)
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e ".[test]"

@@ -90,24 +90,72 @@ def _shaped(f: ca.Function, outputs: list[np.ndarray], n: int) -> tuple[np.ndarr
     return tuple(out)
 
 
-def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
-    """``f`` over the batch by its compiled kernel: shared inputs read with stride 0, chunks of the batch
-    on THREADS threads (the kernel runs without the GIL)."""
+def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[np.ndarray, ...]:
+    """The sums of each output of ``f`` over the batch (arguments as for :func:`evaluate`): one (rows, cols)
+    array per output; or with ``group`` over each run of ``group`` consecutive rows: one (N / group, rows,
+    cols) array per output. By ``f``'s summing kernel where it has one (rows added in order), else by
+    CasADi's interpreter and numpy."""
+    arrays = [np.asarray(a, dtype=float) for a in args]
     n = _batch_size(f, arrays)
+    size = n if group is None else group
+    if size < 1 or n % size:
+        raise ValueError(f"{f.name()}: a batch of {n} rows does not split into groups of {size}")
+    run = kernel(f, summed=True)
+    if run is None:
+        sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
+    elif group is None:
+        bounds = _chunks(n)
+        partial = [np.zeros((max(1, len(bounds)), f.numel_out(j))) for j in range(f.n_out())]
+        _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=n)
+        sums = _shaped(f, [o.sum(axis=0, keepdims=True) for o in partial], 1)
+    else:
+        outputs = [np.zeros((n // size, f.numel_out(j))) for j in range(f.n_out())]
+        _run_chunks(f, run, arrays, _chunks(n, size),
+                    lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
+        sums = _shaped(f, outputs, n // size)
+    return sums if group is not None else tuple(s[0] for s in sums)
+
+
+def _chunks(n: int, unit: int = 1) -> list[tuple[int, int]]:
+    """Chunks of a batch of n rows, one per thread and of at least COMPILED_CHUNK rows, each a multiple of
+    ``unit`` rows."""
+    step = max(COMPILED_CHUNK, -(-n // THREADS))
+    step = -(-step // unit) * unit
+    return [(start, min(n, start + step)) for start in range(0, n, step)]
+
+
+def _run_chunks(
+    f: ca.Function,
+    run: Callable[..., None],
+    arrays: list[np.ndarray],
+    bounds: list[tuple[int, int]],
+    outputs_of: Callable[[int, int, int], list[np.ndarray]],
+    *,
+    group: int = 1,
+) -> None:
+    """The kernel over each chunk of the batch on its own thread (the kernel runs without the GIL), shared
+    inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a summing
+    kernel adds runs of ``group`` rows)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
     strides = [f.numel_in(i) if a.ndim == 2 else 0 for i, a in enumerate(inputs)]
-    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
 
-    def chunk(start: int, stop: int) -> None:
-        run([a[start:stop] if a.ndim == 2 else a for a in inputs], strides, [o[start:stop] for o in outputs])
+    def chunk(k: int) -> None:
+        start, stop = bounds[k]
+        run([a[start:stop] if a.ndim == 2 else a for a in inputs], strides, outputs_of(k, start, stop), stop - start,
+            group)
 
-    step = max(COMPILED_CHUNK, -(-n // THREADS))
-    bounds = [(start, min(n, start + step)) for start in range(0, n, step)]
     if len(bounds) > 1:
         with ThreadPoolExecutor(len(bounds)) as pool:
-            list(pool.map(lambda b: chunk(*b), bounds))
+            list(pool.map(chunk, range(len(bounds))))
     elif bounds:
-        chunk(*bounds[0])
+        chunk(0)
+
+
+def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
+    """``f`` over the batch by its compiled kernel."""
+    n = _batch_size(f, arrays)
+    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
+    _run_chunks(f, run, arrays, _chunks(n), lambda _, start, stop: [o[start:stop] for o in outputs])
     return _shaped(f, outputs, n)
 
 

@@ -57,19 +57,23 @@ def status() -> dict[str, Any]:
     return {"path": "compiled", "kernels": len(keys), "instruction_set": lib.pkm_kernel_isa().decode(), "reason": ""}
 
 
-def key(fn: ca.Function) -> str:
-    """A function's key: its name and the sha256 of its serialised graph (symbolic.kernels lists the
-    kernels by it)."""
-    return f"{fn.name()}:{hashlib.sha256(fn.serialize().encode()).hexdigest()[:16]}"
+def key(fn: ca.Function, summed: bool = False) -> str:
+    """A function's key: its name and the sha256 of its serialised graph, with ``:sum`` for the kernel
+    that sums its outputs over the batch (symbolic.kernels lists the kernels by it)."""
+    return f"{fn.name()}:{hashlib.sha256(fn.serialize().encode()).hexdigest()[:16]}" + (":sum" if summed else "")
 
 
 _noticed = []
 
 
 @lru_cache(maxsize=1024)
-def kernel(fn: ca.Function) -> Callable[[list[np.ndarray], list[int], list[np.ndarray]], None] | None:
-    """``run(inputs, strides, outputs)`` evaluating ``fn`` compiled over a batch (inputs (N or 1, k_i)
-    with their row strides, outputs (N, k_j), C order), or None where ``fn`` has no kernel."""
+def kernel(
+    fn: ca.Function, summed: bool = False
+) -> Callable[[list[np.ndarray], list[int], list[np.ndarray]], None] | None:
+    """``run(inputs, strides, outputs, n, group)`` evaluating ``fn`` compiled over a batch of n rows (inputs
+    (n or 1, k_i) with their row strides, outputs (n, k_j), C order), or None where ``fn`` has no kernel.
+    With ``summed`` the kernel adds the sums of each output over consecutive groups of ``group`` rows to
+    the rows of (n / group, k_j) outputs instead."""
     lib, keys, reason = _library()
     if lib is None:
         if not _noticed:
@@ -78,15 +82,14 @@ def kernel(fn: ca.Function) -> Callable[[list[np.ndarray], list[int], list[np.nd
         return None
     if not fn.is_a("SXFunction"):
         return None
-    index = keys.get(key(fn))
+    index = keys.get(key(fn, summed))
     if index is None:
         return None
 
-    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray]) -> None:
-        n = len(outputs[0]) if outputs else 0
+    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray], n: int, group: int = 1) -> None:
         ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
         step = (ctypes.c_long * len(strides))(*strides)
         outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
-        lib.pkm_kernel_call(ctypes.c_long(index), ctypes.c_long(n), ins, step, outs)
+        lib.pkm_kernel_call(ctypes.c_long(index), ctypes.c_long(n), ctypes.c_long(group), ins, step, outs)
 
     return run

@@ -75,7 +75,7 @@ PKM_SIMD double pow(double, double);
 
 #define PKM_BLOCK 64 /* poses a kernel transposes into columns and evaluates at a time */
 
-typedef void (*pkm_kernel_fn)(long n, const double *const *in, const long *stride, double *const *out);
+typedef void (*pkm_kernel_fn)(long n, long group, const double *const *in, const long *stride, double *const *out);
 """
 
 ISA_HELPERS = """PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
@@ -86,6 +86,17 @@ static inline void PKM_FN(pkm_gather)(double *restrict a, long k, const double *
 {
   for (long q = 0; q < PKM_BLOCK; ++q)
     for (long e = 0; e < k; ++e) a[e * PKM_BLOCK + q] = in[(p0 + (q < m ? q : m - 1)) * stride + e];
+}
+
+/* the first m rows of a block's k columns, rows p0 .. p0 + m - 1 of the batch, added in row order to
+   the rows of a (N / group, k) output: batch row p to output row p / group */
+static inline void PKM_FN(pkm_accumulate)(double *out, long k, const double *restrict b, long p0, long m,
+                                          long group)
+{
+  for (long q = 0; q < m; ++q) {
+    double *o = out + (p0 + q) / group * k;
+    for (long e = 0; e < k; ++e) o[e] += b[e * PKM_BLOCK + q];
+  }
 }
 
 /* the first m rows of a block's k columns into rows p0 .. p0 + m - 1 of an (N, k) output */
@@ -117,16 +128,19 @@ def emittable(fn: ca.Function) -> bool:
     return all(fn.instruction_id(k) in known for k in range(fn.n_instructions()))
 
 
-def kernel(fn: ca.Function, symbol: str) -> str:
-    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring)."""
+def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
+    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring), or with ``summed``
+    adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
+    ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``."""
     if not emittable(fn):
         raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
     n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
     n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
     lines = [
         f"/* {fn.name()}: {fn.n_instructions()} instructions; inputs {', '.join(fn.name_in())}; "
-        f"outputs {', '.join(fn.name_out())} */",
-        f"void PKM_FN({symbol})(long n, const double *const *in, const long *stride, double *const *out)",
+        f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
+        f"void PKM_FN({symbol})(long n, long group, const double *const *in, const long *stride, "
+        "double *const *out)",
         "{",
     ]
     lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k]
@@ -153,6 +167,10 @@ def kernel(fn: ca.Function, symbol: str) -> str:
             statement = f"w{outs[0]} = {BINARY[op].format(f'w{ins[0]}', f'w{ins[1]}')};"
         lines.append("      " + statement)
     lines.append("    }")
-    lines += [f"    PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
+    if summed:
+        lines += [f"    PKM_FN(pkm_accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);"
+                  for j, k in enumerate(n_out) if k]
+    else:
+        lines += [f"    PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
     lines += ["  }", "}", ""]
     return "\n".join(lines)

@@ -3,10 +3,14 @@
 The kernels are the functions pkm evaluates over batches, built the way the runtime builds them: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
 alone and with 1/kappa_f (as the sampled regions and atlases evaluate them), and the one of its first
-order (the Jacobians), by :func:`pkm.regions.pipeline.pipeline`, the core's one builder. pkm is imported with
-``generated`` taken from OUT, so that the C follows the Python builders written there. Each mechanism's
-kernels go into ``<mechanism>_kernels.c``; ``kernels.c`` compiles them for each instruction set and lists
-them by key (:func:`pkm.compiled.key`) for :mod:`pkm.compiled`.
+order (the Jacobians), by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
+integrands of its global indices over its parametrised regions and over the regions of its synthesis
+problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
+with the Hessian for the problems that IPOPT solves with exact Hessians, for a region extreme the node
+values and the epigraph margins with their gradient, and the margins of each region's guard. pkm is
+imported with ``generated`` taken from OUT, so that the C follows the Python builders written there.
+Each mechanism's kernels go into parts ``<mechanism>_kernels_<part>.c``, compiled for each instruction
+set; ``kernels.c`` lists them by key (:func:`pkm.compiled.key`) for :mod:`pkm.compiled`.
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ from __future__ import annotations
 import importlib.util
 import sys
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 
@@ -31,9 +36,11 @@ def _use_generated(out: Path) -> None:
     spec.loader.exec_module(module)
 
 
-def mechanism_kernels(name: str) -> list[tuple[str, ca.Function]]:
-    """(symbol, function) of every kernel of one mechanism, in a fixed order."""
+def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
+    """(symbol, function, whether it sums over the batch) of every kernel of one mechanism, in a fixed
+    order."""
     import pkm
+    from pkm.compiled import key
     from pkm.regions.pipeline import pipeline
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
@@ -49,45 +56,100 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function]]:
                   for index in mech.local_indices() if index != condition.name})
     fused["first_order"] = pipeline(mech, (), first_order=True)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
+    out = [(symbol, fn, False) for symbol, fn in out]
+    integrands = {}
+    for k, (fn, summed) in enumerate(_integrands(mech)):
+        integrands.setdefault(key(fn, summed), (f"pkm_{name}_integrand_{k}", fn, summed))
+    return out + list(integrands.values())
+
+
+def _integrands(mech: Any) -> list[tuple[ca.Function, bool]]:
+    """The integrand kernels of a mechanism (module docstring): (function, whether summed)."""
+    from pkm import registry
+    from pkm.regions.integrand import SUMMED, rows_function, sum_function
+    from pkm.regions.quadrature import guard_index
+
+    pairs = [(mech.global_spec(index), region, False) for region in mech.regions.values()
+             for index in mech.global_indices()]
+    for problem in (registry.problem(p) for p in sorted(registry.problems())):
+        if problem.mechanism.name == mech.name:
+            pairs += [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
+    out = []
+    for region in dict.fromkeys(region for _, region, _ in pairs):
+        if region.guard is not None:
+            out += [(rows_function(mech, guard_index(region), piece, None, order)[0], False)
+                    for piece in region.pieces() for order in range(2)]
+    for spec, region, hessian in pairs:
+        for piece in region.pieces():
+            if spec.reduce in SUMMED:
+                out += [(sum_function(mech, spec.local, piece, spec.reduce, order)[0], True)
+                        for order in range(3 if hessian else 2)]
+            else:
+                out.append((rows_function(mech, spec.local, piece, None, 0)[0], False))
+                out += [(rows_function(mech, spec.local, piece, spec.reduce, order)[0], False) for order in range(2)]
     return out
 
 
 ISAS = ("generic", "avx2")
+PART_INSTRUCTIONS = 12_000  # instructions per translation unit at most, but for a larger kernel alone
+
+
+def _parts(kernels: list[tuple[str, ca.Function, bool]]) -> list[list[tuple[str, ca.Function, bool]]]:
+    """Consecutive runs of the kernels of about PART_INSTRUCTIONS instructions each, so that the build
+    compiles translation units of similar sizes in parallel."""
+    parts: list[list[tuple[str, ca.Function, bool]]] = [[]]
+    size = 0
+    for kernel in kernels:
+        count = kernel[1].n_instructions()
+        if parts[-1] and size + count > PART_INSTRUCTIONS:
+            parts.append([])
+            size = 0
+        parts[-1].append(kernel)
+        size += count
+    return parts
 
 
 def write(out: Path) -> None:
-    """Write into ``out`` ``<mechanism>_kernels.c`` for each mechanism, ``kernels_isa.c`` (all of them with
-    what they use), and the two translation units that compile it: ``kernels.c`` for the generic
-    instruction set, with the table and the dispatch to the best one the processor has, and
-    ``kernels_avx2.c`` for AVX2 (x86-64 Linux only)."""
+    """Write into ``out``: each mechanism's kernels' text in parts (``<mechanism>_kernels_<part>.c``, see
+    :func:`_parts`), ``kernels_prelude.h`` (what every kernel uses) and ``kernels_helpers.h`` (the helpers
+    of one instruction set), the translation units that compile one part for one instruction set
+    (``<mechanism>_kernels_<part>_<isa>.c``: generic x86-64, and AVX2 on x86-64 Linux), which the build
+    compiles in parallel, and ``kernels.c`` with the table of the kernels by key and the dispatch to the
+    best instruction set the processor has."""
     _use_generated(out)
     import pkm
     from pkm.compiled import key
 
-    table, files = [], []
+    header = HEADER.format(source="symbolic/kernels.py")
+    (out / "kernels_prelude.h").write_text("\n".join([header, cemit.PRELUDE.rstrip("\n"), ""]))
+    (out / "kernels_helpers.h").write_text("\n".join([header, cemit.ISA_HELPERS.rstrip("\n"), ""]))
+    table = []
     for name in pkm.mechanisms():
         kernels = mechanism_kernels(name)
-        text = [HEADER.format(source=f"generated/{name}.py and pkm.regions.pipeline")]
-        text += [cemit.kernel(fn, symbol) for symbol, fn in kernels]
-        (out / f"{name}_kernels.c").write_text("\n".join(text))
-        files.append(f"{name}_kernels.c")
-        table += [(symbol, key(fn)) for symbol, fn in kernels]
+        table += [(symbol, key(fn, summed)) for symbol, fn, summed in kernels]
+        for part, chunk in enumerate(_parts(kernels)):
+            label = f"{name}_kernels_{part}"
+            text = [HEADER.format(source=f"generated/{name}.py, pkm.regions.pipeline and pkm.regions.integrand")]
+            text += [cemit.kernel(fn, symbol, summed) for symbol, fn, summed in chunk]
+            (out / f"{label}.c").write_text("\n".join(text))
+            for isa in ISAS:
+                unit = [header]
+                if isa != "generic":
+                    unit += [f"/* {label} for {isa.upper()}: the target is set before anything is declared */",
+                             "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && "
+                             "defined(__linux__)", f'#pragma GCC target("{isa}")']
+                unit += [f"#define PKM_ISA {isa}", '#include "kernels_prelude.h"', '#include "kernels_helpers.h"',
+                         f'#include "{label}.c"']
+                unit += ["#endif", ""] if isa != "generic" else [""]
+                (out / f"{label}_{isa}.c").write_text("\n".join(unit))
 
-    isa_unit = [HEADER.format(source="symbolic/kernels.py"), cemit.PRELUDE, cemit.ISA_HELPERS.rstrip("\n"),
-                *[f'#include "{f}"' for f in files], ""]
-    (out / "kernels_isa.c").write_text("\n".join(isa_unit))
-    avx2 = [HEADER.format(source="symbolic/kernels.py"),
-            "/* the kernels for AVX2: the target is set before anything is declared */",
-            "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)",
-            '#pragma GCC target("avx2")', "#define PKM_ISA avx2", '#include "kernels_isa.c"', "#endif", ""]
-    (out / "kernels_avx2.c").write_text("\n".join(avx2))
-    lines = [HEADER.format(source="symbolic/kernels.py"), "#define PKM_ISA generic", '#include "kernels_isa.c"',
-             "#undef PKM_ISA", "", "#ifdef PKM_X86_VECTOR"]
-    lines += [f"void {symbol}_avx2(long, const double *const *, const long *, double *const *);" for symbol, _ in table]
-    lines += ["#endif", ""]
+    lines = [header, '#include "kernels_prelude.h"', ""]
     for isa in ISAS:
         guard = isa != "generic"
-        lines += (["#ifdef PKM_X86_VECTOR"] if guard else []) + [f"static const pkm_kernel_fn KERNELS_{isa}[] = {{"]
+        lines += ["#ifdef PKM_X86_VECTOR"] if guard else []
+        lines += [f"void {symbol}_{isa}(long, long, const double *const *, const long *, double *const *);"
+                  for symbol, _ in table]
+        lines += [f"static const pkm_kernel_fn KERNELS_{isa}[] = {{"]
         lines += [f"  {symbol}_{isa}," for symbol, _ in table]
         lines += ["};"] + (["#endif"] if guard else []) + [""]
     lines += [
@@ -108,15 +170,16 @@ def write(out: Path) -> None:
         '  return "generic";',
         "}",
         "",
-        "void pkm_kernel_call(long i, long n, const double *const *in, const long *stride, double *const *out)",
+        "void pkm_kernel_call(long i, long n, long group, const double *const *in, const long *stride,",
+        "                     double *const *out)",
         "{",
         "#ifdef PKM_X86_VECTOR",
         '  if (__builtin_cpu_supports("avx2")) {',
-        "    KERNELS_avx2[i](n, in, stride, out);",
+        "    KERNELS_avx2[i](n, group, in, stride, out);",
         "    return;",
         "  }",
         "#endif",
-        "  KERNELS_generic[i](n, in, stride, out);",
+        "  KERNELS_generic[i](n, group, in, stride, out);",
         "}",
         "",
     ]

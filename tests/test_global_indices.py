@@ -137,13 +137,13 @@ def test_a_region_minimum_is_accurate_to_1e_5_at_the_default_resolution(s, t):
 
 
 def test_the_refinement_finds_minima_that_the_nodes_miss():
-    from pkm.regions.quadrature import value_function
+    from pkm.regions import node_quadrature
 
     spec, region, branch = m.global_spec("lambda_e"), m.region("miw"), m.working_mode("out_out")
     biased = 0.0
     for s, t in EXTREME_DESIGNS:
         d = m.design_vector(lm_design(s, t))
-        node = float(value_function(m, spec, region, branch, 8)(d))
+        node = float(node_quadrature(m, spec, region, d, branch=branch, resolution=8)[0])
         refined = m.global_index("lambda_e", d, region="miw", resolution=8)
         assert refined <= node
         biased = max(biased, (node - refined) / refined)

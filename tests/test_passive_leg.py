@@ -549,8 +549,6 @@ def test_the_guards_rule_admits_what_a_four_times_denser_rule_admits(mech, monke
     region, branch = mech.region("workspace"), mech.working_mode("out_out")
     coarse = quadrature.admissible(mech, region, designs, branch=branch)
     monkeypatch.setattr(quadrature, "GUARD_RESOLUTION", 4 * quadrature.GUARD_RESOLUTION)
-    quadrature.guard_function.cache_clear()
     dense = quadrature.admissible(mech, region, designs, branch=branch)
-    quadrature.guard_function.cache_clear()
     np.testing.assert_array_equal(coarse, dense)
     assert 0.3 < coarse.mean() < 0.9

@@ -3,7 +3,7 @@ reductions over regions (:mod:`pkm.indices.global_indices`). Names become indice
 :mod:`pkm.registry`; to add an index, add a :class:`LocalIndex` or :class:`GlobalIndex` to the
 catalogues here."""
 
-from pkm.indices.global_indices import GLOBAL_INDICES, GlobalIndex, reduce_nodes, reduce_samples
+from pkm.indices.global_indices import GLOBAL_INDICES, GlobalIndex, reduce_samples
 from pkm.indices.local import LOCAL_INDICES, LocalIndex, epigraph_function, finish, local_function
 
 __all__ = [
@@ -14,6 +14,5 @@ __all__ = [
     "epigraph_function",
     "finish",
     "local_function",
-    "reduce_nodes",
     "reduce_samples",
 ]

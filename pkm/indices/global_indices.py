@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import casadi as ca
 import numpy as np
 
 from pkm.errors import PkmError
@@ -52,24 +51,6 @@ class GlobalIndex:
         if not np.isfinite(b):
             return True
         return a > b if self.sense == "max" else a < b
-
-
-def reduce_nodes(values: ca.MX, weights: ca.MX | np.ndarray, reduce: str, valid: ca.MX) -> ca.MX:
-    """The weighted mean, standard deviation, minimum or measure of a 1 x n row of node values with
-    absolute weights (area or volume elements; numpy or CasADi) and the row ``valid`` (1 where a node
-    is reached, else 0). The measure is the weight of the valid nodes; a minimum is NaN where a node is
-    not valid, as the mean and standard deviation are through the node's NaN value."""
-    w = ca.DM(np.reshape(weights, (-1, 1))) if isinstance(weights, np.ndarray) else ca.vec(weights)
-    total = ca.sum1(w)
-    if reduce == "measure":
-        return ca.mtimes(valid, w)
-    if reduce in ("min", "max"):
-        extreme = ca.mmin(values) if reduce == "min" else ca.mmax(values)
-        return ca.if_else(ca.mmin(valid) > 0, extreme, np.nan)
-    mean = ca.mtimes(values, w) / total
-    if reduce == "std":
-        return ca.sqrt(ca.mtimes((values - mean) ** 2, w) / total)
-    return mean
 
 
 def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float | np.ndarray, reduce: str) -> float:

@@ -1,11 +1,12 @@
 """Global indices over parametrised regions by a fixed quadrature, differentiable in the design.
 
 The region's nodes are placed by the design (:mod:`pkm.regions.shapes`), the fused pipeline
-(:mod:`pkm.regions.pipeline`) is mapped over them, and the node values are reduced with the region's
-weights: one CasADi graph from the design to the index, with an exact gradient. A region minimum
-(``reduce="min"``) in that graph is the minimum over the nodes, which include the region's centre and
-boundary: piecewise smooth in the design, with the gradient of the active node. Syntheses maximise it in
-the smooth epigraph form (:func:`node_values` with ``epigraph``). The values this module reports
+(:mod:`pkm.regions.pipeline`) is evaluated at them point by point, and the node values are reduced with
+the region's weights (:mod:`pkm.regions.integrand`, compiled where the kernels are built): a CasADi
+function of the design with exact gradient and Hessian. A region minimum (``reduce="min"``) is the
+minimum over the nodes, which include the region's centre and boundary: piecewise smooth in the design,
+with the gradient of the active node. Syntheses maximise it in the smooth epigraph form
+(:func:`epigraph_margins`). The values this module reports
 (:func:`global_value`, :func:`parametrised_global`) refine the best nodes between the nodes
 (:mod:`pkm.regions.extremes`), so that a region extreme is accurate to ``EXTREME_ACCURACY`` relative.
 """
@@ -13,18 +14,27 @@ the smooth epigraph form (:func:`node_values` with ``epigraph``). The values thi
 from __future__ import annotations
 
 from dataclasses import replace
-from functools import lru_cache
+from functools import cache, lru_cache
 from typing import Any
 
 import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.indices import GlobalIndex, LocalIndex, epigraph_function, reduce_nodes, reduce_samples
+from pkm.indices import GlobalIndex, LocalIndex, reduce_samples
 from pkm.indices.global_indices import EXTREMES_REDUCE
 from pkm.indices.local import WORKSPACE_MARGIN
 from pkm.regions.extremes import Refined, refine, refined_gradient
-from pkm.regions.pipeline import pipeline
+from pkm.regions.integrand import (
+    COMPONENTS,
+    Smooth,
+    batch_rows,
+    batch_sums,
+    reduce_sums,
+    region_rows,
+    region_sums,
+    rows_function,
+)
 from pkm.regions.sampled import per_design, sample_values
 from pkm.regions.shapes import check_resolution
 from pkm.regions.value import GlobalValue
@@ -37,48 +47,100 @@ INDEX_ACCURACY = 1e-5  # the accuracy a global index is refined to when no resol
 ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
 
 
-def node_values(
-    mech: Any,
-    spec: GlobalIndex,
-    region: Any,
-    branch: Any,
-    design: ca.MX,
-    *,
-    resolution: int,
-    epigraph: ca.MX | None = None,
-) -> tuple[ca.MX, ca.MX, ca.MX]:
-    """The local index at the region's nodes (a 1 x n row, CasADi in the design, NaN where a node is
-    out of reach), their weights and whether each node is reached (1 or 0).
+@cache
+def _sums(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int
+) -> Smooth:
+    """CasADi ``design -> S``: the sums of the reduction's components over the region's nodes
+    (:mod:`pkm.regions.integrand`), with exact derivatives."""
+    def fn(design: np.ndarray, order: int) -> Any:
+        return region_sums(mech, local, region, reduce, signs=np.array(signs), design=design, resolution=resolution,
+                           order=order)
 
-    With ``epigraph`` t, instead of the values the constraints g >= 0 (one column per node) that say
-    the local index is at least t at every node (:func:`pkm.indices.epigraph_function`), or at most t
-    for a region maximum.
-    """
-    points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
-    n = points.size2()
-    fn = pipeline(mech, (spec.local,), matrices=epigraph is not None).map(n)
-    outputs = fn(points, ca.DM(branch.signs), design)
-    if epigraph is not None:
-        matrices = outputs[4:]
-        shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
-        g = epigraph_function(spec.local, shapes, spec.reduce == "max").map(n)(*matrices, epigraph)
-        return g, weights, outputs[2]
-    return outputs[3], weights, outputs[2]
+    return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_sums", fn, _design_size(mech),
+                  len(COMPONENTS[reduce]))
+
+
+@cache
+def _rows(mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int,
+          epigraph: bool) -> Smooth:
+    """CasADi ``design -> (values, reached)`` at the nodes of the region's extreme rule, or with
+    ``epigraph`` ``(design, t) -> margins`` (:func:`pkm.regions.integrand.region_rows`)."""
+    def fn(z: np.ndarray, order: int) -> Any:
+        return region_rows(mech, local, region, reduce, signs=np.array(signs), z=z, resolution=resolution,
+                           order=order, epigraph=epigraph)
+
+    values = sum(piece.node_count(resolution, reduce) * rows_function(mech, local, piece, reduce if epigraph else None,
+                                                                      0)[0].numel_out(0)
+                 for piece in region.pieces())
+    label = "epigraph" if epigraph else "nodes"
+    return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_{label}", fn, _design_size(mech) + epigraph,
+                  values)
+
+
+def _design_size(mech: Any) -> int:
+    return mech.functions["inverse_kinematics"].numel_in(2)
+
+
+def epigraph_margins(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: ca.MX, bound: ca.MX, resolution: int
+) -> ca.MX:
+    """The constraints g >= 0 (a column, one per node of the region's extreme rule) that say the local
+    index is at least ``bound`` at every node (:func:`pkm.indices.epigraph_function`), or at most it
+    for a region maximum."""
+    smooth = _rows(mech, spec.local, region, spec.reduce, signs=tuple(branch.signs),
+                   resolution=check_resolution(resolution, 1), epigraph=True)
+    return smooth(ca.vertcat(design, bound))
 
 
 def quadrature_value(
     mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
 ) -> ca.MX:
-    """The global index over the region as a CasADi expression of the design (no gradient attached)."""
-    values, weights, valid = node_values(
-        mech, spec, region, branch, design, resolution=check_resolution(resolution, 1)
-    )
-    value = reduce_nodes(values, weights, spec.reduce, valid)
+    """The global index over the region as a CasADi expression of the design, with exact derivatives:
+    the reduction of the sums of :mod:`pkm.regions.integrand`, or a region extreme over the nodes (NaN
+    where a node is not reached)."""
+    resolution = check_resolution(resolution, 1)
+    signs = tuple(branch.signs)
+    if spec.reduce in EXTREMES_REDUCE:
+        rows = _rows(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution, epigraph=False)(design)
+        n = rows.numel() // 2
+        values, reached = rows[:n], rows[n:]
+        extreme = ca.mmin(values) if spec.reduce == "min" else ca.mmax(values)
+        value = ca.if_else(ca.mmin(reached) > 0, extreme, np.nan)
+    else:
+        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution)(design)
+        value = reduce_sums(sums, spec.reduce)
     if region.guard is not None:
         value = ca.if_else(guard_holds(mech, region, branch, design) > 0, value, np.nan)
     if spec.per is not None:
         value = value / mech.functions.require(spec.per, f"the global index {spec.name}")(design)
     return value
+
+
+def node_quadrature(
+    mech: Any, spec: GlobalIndex, region: Any, designs: np.ndarray, *, branch: Any, resolution: int
+) -> np.ndarray:
+    """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p), as
+    :func:`quadrature_value` takes them (a region extreme over the nodes), evaluated numerically in
+    batches of designs."""
+    designs = np.atleast_2d(np.asarray(designs, dtype=float))
+    resolution = check_resolution(resolution, 1)
+    if not len(designs):
+        return np.zeros(0)
+    signs = np.array(branch.signs, dtype=float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if spec.reduce in EXTREMES_REDUCE:
+            values, reached = batch_rows(mech, spec.local, region, spec.reduce, signs=signs, designs=designs,
+                                         resolution=resolution)
+            extreme = (np.fmin if spec.reduce == "min" else np.fmax).reduce(values, axis=1)
+            value = np.where(np.all(reached > 0, axis=1), extreme, np.nan)
+        else:
+            sums = batch_sums(mech, spec.local, region, spec.reduce, signs=signs, designs=designs,
+                              resolution=resolution)
+            value = reduce_sums(sums.T, spec.reduce)
+        if region.guard is not None:
+            value = np.where(admissible(mech, region, designs, branch=branch), value, np.nan)
+        return value / _sizes(mech, spec, designs)[0]
 
 
 def guard_holds(mech: Any, region: Any, branch: Any, design: Any) -> Any:
@@ -90,30 +152,24 @@ def guard_holds(mech: Any, region: Any, branch: Any, design: Any) -> Any:
     vanishes on the boundary (a singular corner of the region) is accepted; one that turns negative
     anywhere on the boundary or at a node inside is not.
     """
-    numeric = not isinstance(design, ca.MX | ca.SX)
-    d = ca.DM(design) if numeric else design
-    points, _ = region.quadrature(mech.functions, d, GUARD_RESOLUTION, "min")
-    n = points.size2()
-    _, _, valid, margin = pipeline(mech, (guard_index(region),)).map(n)(points, ca.DM(branch.signs), d)
-    holds = ca.mmin(valid * (margin >= -GUARD_TOLERANCE))
-    return float(holds) if numeric else holds
-
-
-@lru_cache(maxsize=32)
-def guard_function(mech: Any, region: Any, branch: Any) -> ca.Function:
-    """CasADi function ``design -> holds`` of :func:`guard_holds` (1 or 0), for batches of designs."""
-    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    return ca.Function(f"{region.name}_{branch.name}_guard", [design],
-                       [guard_holds(mech, region, branch, design)], ["design"], ["holds"])
+    if not isinstance(design, ca.MX | ca.SX):
+        return float(admissible(mech, region, np.ravel(design)[None], branch=branch)[0])
+    rows = _rows(mech, guard_index(region), region, "min", signs=tuple(branch.signs), resolution=GUARD_RESOLUTION,
+                 epigraph=False)(design)
+    n = rows.numel() // 2
+    return ca.mmin(rows[n:] * (rows[:n] >= -GUARD_TOLERANCE))
 
 
 def admissible(mech: Any, region: Any, designs: np.ndarray, *, branch: Any) -> np.ndarray:
-    """Whether the region's guard holds for each design (D, n_p): a boolean mask (D,), all True for a
-    region without a guard."""
+    """Whether the region's guard holds for each design (D, n_p) (:func:`guard_holds`): a boolean mask
+    (D,), all True for a region without a guard."""
     designs = np.atleast_2d(np.asarray(designs, dtype=float))
     if region.guard is None:
         return np.ones(len(designs), dtype=bool)
-    return evaluate(guard_function(mech, region, branch), designs)[0][:, 0, 0] > 0
+    margins, reached = batch_rows(mech, guard_index(region), region, "min", signs=np.array(branch.signs, dtype=float),
+                                  designs=designs, resolution=GUARD_RESOLUTION)
+    with np.errstate(invalid="ignore"):
+        return np.all((reached > 0) & (margins >= -GUARD_TOLERANCE), axis=1)
 
 
 def guard_index(region: Any) -> LocalIndex | None:
@@ -138,33 +194,15 @@ def quadrature_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, 
     )
 
 
-@lru_cache(maxsize=64)
-def nodes_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
-    """CasADi function ``design -> values``: the local index at every node of the region's extreme rule
-    (a 1 x n row, NaN where a node is out of reach)."""
-    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    values, _, _ = node_values(mech, spec, region, branch, design, resolution=resolution)
-    return ca.Function(f"{spec.name}_{region.name}_{branch.name}_{resolution}_nodes", [design], [values],
-                       ["design"], ["values"])
-
-
 def refined_extremes(
     mech: Any, spec: GlobalIndex, region: Any, branch: Any, designs: np.ndarray, *, resolution: int
 ) -> Refined:
     """The refined extremes of the local index over the region for a batch of designs (D, n_p)."""
     designs = np.atleast_2d(np.asarray(designs, dtype=float))
-    (values,) = evaluate(nodes_function(mech, spec, region, branch, resolution), designs)
-    return refine(mech, spec, region, branch, designs, values=values[:, 0, :], resolution=resolution)
-
-
-@lru_cache(maxsize=64)
-def value_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
-    """CasADi function ``design -> value`` of a global index over a parametrised region."""
-    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution)
-    return ca.Function(
-        f"{spec.name}_{region.name}_{branch.name}_{resolution}_value", [design], [value], ["design"], [spec.name]
-    )
+    n = region.node_count(resolution, spec.reduce)
+    values = np.stack([region_rows(mech, spec.local, region, spec.reduce, signs=np.array(branch.signs), z=d,
+                                   resolution=resolution, order=0, epigraph=False)[0][:n] for d in designs])
+    return refine(mech, spec, region, branch, designs, values=values, resolution=resolution)
 
 
 def parametrised_global(
@@ -172,10 +210,10 @@ def parametrised_global(
 ) -> np.ndarray:
     """Values (D,) of a global index over a parametrised region for a batch of designs (D, n_p); an
     extreme refined between the nodes."""
-    values = evaluate(value_function(mech, spec, region, branch, resolution), designs)[0][:, 0, 0]
+    designs = np.atleast_2d(np.asarray(designs, dtype=float))
+    values = node_quadrature(mech, spec, region, designs, branch=branch, resolution=resolution)
     if spec.reduce not in EXTREMES_REDUCE:
         return values
-    designs = np.atleast_2d(np.asarray(designs, dtype=float))
     defined = np.isfinite(values)
     if defined.any():
         refined = refined_extremes(mech, spec, region, branch, designs[defined], resolution=resolution).values
@@ -207,10 +245,10 @@ def _at_resolution(
     where the quadrature's is), with its gradient in the design when asked."""
     if spec.reduce not in EXTREMES_REDUCE:
         if not gradient:
-            return float(value_function(mech, spec, region, branch, resolution)(design)), None
+            return float(node_quadrature(mech, spec, region, design, branch=branch, resolution=resolution)[0]), None
         value, grad = quadrature_function(mech, spec, region, branch, resolution)(design)
         return float(value), np.asarray(grad).ravel()
-    if not np.isfinite(float(value_function(mech, spec, region, branch, resolution)(design))):
+    if not np.isfinite(node_quadrature(mech, spec, region, design, branch=branch, resolution=resolution)[0]):
         return float("nan"), (np.full(len(design), np.nan) if gradient else None)
     refined = refined_extremes(mech, spec, region, branch, design[None], resolution=resolution)
     (size,), (size_gradient,) = _sizes(mech, spec, design[None])

@@ -22,10 +22,12 @@ Protocol, shared by every shape:
   boundary points for a minimum);
 * ``node_count(resolution, reduce)``;
 * ``pieces()``: the simple shapes the region's nodes come from, in node order, each with
-  ``reference(resolution, reduce)`` (its nodes in reference coordinates), ``to_pose(functions, design,
-  u)`` (a reference point, CasADi, to the pose) and ``project(u)`` (reference points (n, d) onto the
-  closed reference domain): what :mod:`pkm.regions.extremes` needs to refine a region's extreme between
-  the nodes.
+  ``reference(resolution, reduce)`` (its nodes and weights in reference coordinates), ``to_pose(functions,
+  design, u)`` (a reference point, CasADi, to the pose), ``element(functions, design, u)`` (the measure
+  element there: a node's weight is its reference weight times the element) and ``project(u)``
+  (reference points (n, d) onto the closed reference domain): what :mod:`pkm.regions.extremes` needs to
+  refine a region's extreme between the nodes, and :mod:`pkm.regions.integrand` to integrate point by
+  point.
 
 Reference rules: on the unit disc Gauss-Legendre in the radius with weight rho and ``4 resolution``
 equally spaced angles (exact area pi); on [-1, 1]^d and on the unit square Gauss-Legendre with
@@ -229,6 +231,12 @@ class PlacedRegion:
         centre, size = self.placement(functions, design)
         return centre + self.scale(size) * u
 
+    def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+        """The measure element at the reference point u: the product of the half extents, the same at
+        every u."""
+        _, size = self.placement(functions, design)
+        return _product(self.scale(size))
+
     def project(self, u: np.ndarray) -> np.ndarray:
         """Reference points (n, d) moved onto the closed reference domain [-1, 1]^d."""
         return np.clip(u, -1.0, 1.0)
@@ -412,6 +420,13 @@ class MappedSquare:
         lower, upper = functions[self.curves](a, design)
         return ca.vertcat(a, lower + (upper - lower) * v)
 
+    def element(self, functions: Any, design: Any, u: Any) -> Any:
+        """The area element at the point u of the unit square, as :meth:`quadrature` weighs its nodes."""
+        lo, hi = functions[self.bounds](design)
+        lower, upper = functions[self.curves](lo + (hi - lo) * u[0], design)
+        slope = self.grading * (1 - u[1]) ** (self.grading - 1) if self.grading > 1 else 1
+        return (hi - lo) * (upper - lower) * slope
+
     def project(self, u: np.ndarray) -> np.ndarray:
         """Points (n, 2) moved onto the closed unit square."""
         return np.clip(u, 0.0, 1.0)
@@ -475,7 +490,7 @@ class Mapped:
         return self.inner.node_count(resolution, reduce)
 
     def pieces(self) -> tuple[Any, ...]:
-        return tuple(MappedPiece(p, self.to_pose) for p in self.inner.pieces())
+        return tuple(MappedPiece(p, self.to_pose, self.element) for p in self.inner.pieces())
 
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
         numeric = _numeric(design)
@@ -505,10 +520,11 @@ class Mapped:
 @dataclass(frozen=True)
 class MappedPiece:
     """A piece of a :class:`Mapped` region: the inner piece's reference points carried into the pose by
-    the generated function ``map_to_pose`` ((y, design) -> x)."""
+    the generated function ``map_to_pose`` ((y, design) -> x), with the region's ``map_element``."""
 
     inner: Any
     map_to_pose: str
+    map_element: str | None = None
 
     @property
     def dimension(self) -> int:
@@ -522,6 +538,12 @@ class MappedPiece:
 
     def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
         return functions[self.map_to_pose](self.inner.to_pose(functions, design, u), design)
+
+    def element(self, functions: Any, design: Any, u: Any) -> Any:
+        inner = self.inner.element(functions, design, u)
+        if self.map_element is None:
+            return inner
+        return inner * functions[self.map_element](self.inner.to_pose(functions, design, u), design)
 
     def project(self, u: np.ndarray) -> np.ndarray:
         return self.inner.project(u)

@@ -16,7 +16,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError
-from pkm.regions import node_values, parametrised_global, quadrature_value, sampled_check
+from pkm.regions import epigraph_margins, node_quadrature, parametrised_global, quadrature_value, sampled_check
 from pkm.synthesis.problem import Problem, Terms
 
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
@@ -48,6 +48,7 @@ class ProblemModel:
         self.branch = self.mech.working_mode(problem.mode)
         self._functions: dict[int, ca.Function] = {}
         self._with_values: ca.Function | None = None
+        self._design: ca.Function | None = None
         self.lower = np.array([c.lower for c in problem.constraints], dtype=float)
         self.upper = np.array([c.upper for c in problem.constraints], dtype=float)
         margin = np.array([c.margin for c in problem.constraints], dtype=float)
@@ -115,7 +116,8 @@ class ProblemModel:
         """Objective (N,), feasibility (N,) and the total constraint violation (N,; inf where the
         model is undefined) at the variable points (N, n)."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
-        f, g, *_ = evaluate(self.function(resolution), points)
+        quantities = self.quantity_values(points, resolution)
+        f, g = evaluate(self._with_quantities(), points, *(v[:, None] for v in quantities.values()))
         objective, g = f[:, 0, 0], g[:, :, 0]
         ok = self.feasible(g) & np.isfinite(objective)
         with np.errstate(invalid="ignore"):
@@ -151,9 +153,8 @@ class ProblemModel:
         rows, lower, upper = [g], [self.nlp_lower], [self.nlp_upper]
         for name, bound in t.items():
             quantity = prob.quantities[name]
-            nodes, _, _ = node_values(
-                self.mech, quantity.index, quantity.region, self.branch, design, resolution=resolution, epigraph=bound
-            )
+            nodes = epigraph_margins(self.mech, quantity.index, quantity.region, self.branch, design=design,
+                                     bound=bound, resolution=resolution)
             rows.append(ca.vec(nodes))
             lower.append(np.zeros(nodes.numel()))
             upper.append(np.full(nodes.numel(), np.inf))
@@ -165,8 +166,7 @@ class ProblemModel:
         the direction its epigraph represents (otherwise the optimiser moved t away from it)."""
         if not self.extremes:
             return True
-        _, _, *values = evaluate(self.function(resolution), np.atleast_2d(w))
-        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        named = {name: float(v[0]) for name, v in self.quantity_values(np.atleast_2d(w), resolution).items()}
         return all(
             abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
             for name, t in zip(self.extremes, bounds, strict=True)
@@ -176,8 +176,7 @@ class ProblemModel:
         """A starting point of the NLP: the variables and each extreme a little inside its bound."""
         if not self.extremes:
             return list(point)
-        _, _, *values = evaluate(self.function(resolution), np.atleast_2d(point))
-        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        named = {name: float(v[0]) for name, v in self.quantity_values(np.atleast_2d(point), resolution).items()}
         starts = []
         for name in self.extremes:
             value = named[name]
@@ -188,8 +187,7 @@ class ProblemModel:
     def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
         """The objective and the feasibility at ``point`` with the quadratures at ``resolution`` and
         each region extreme refined between the nodes (:mod:`pkm.regions.extremes`)."""
-        _, _, *values = evaluate(self.function(resolution), point[None])
-        named = dict(zip(self.problem.quantities, (float(v[0, 0, 0]) for v in values), strict=True))
+        named = {name: float(v[0]) for name, v in self.quantity_values(point[None], resolution).items()}
         for name in self.extremes:
             quantity = self.problem.quantities[name]
             named[name] = float(parametrised_global(
@@ -231,13 +229,29 @@ class ProblemModel:
         objective, _ = self.evaluate(np.atleast_2d(point), resolution)
         return self.candidate(np.ravel(point), float(objective[0]), resolution)
 
-    def _expressions_with(self, point: np.ndarray, quantities: dict[str, float]) -> tuple[float, np.ndarray]:
-        """The objective and the constraint values (m,) at ``point`` with the given quantity values in
-        place of the quadratures."""
+    def quantity_values(self, points: np.ndarray, resolution: int) -> dict[str, np.ndarray]:
+        """Each quantity (N,) at the variable points (N, n) with the quadratures at ``resolution`` (region
+        extremes over the nodes), evaluated in batches of designs."""
+        if self._design is None:
+            w = ca.MX.sym("w", len(self.problem.variables))
+            self._design = ca.Function("design", [w], [self.design(w)])
+        designs = evaluate(self._design, points)[0][:, :, 0]
+        return {
+            name: node_quadrature(self.mech, q.index, q.region, designs, branch=self.branch, resolution=resolution)
+            for name, q in self.problem.quantities.items()
+        }
+
+    def _with_quantities(self) -> ca.Function:
+        """``(w, *quantities) -> (objective, constraints)`` with the quantity values given."""
         if self._with_values is None:
             w = ca.MX.sym("w", len(self.problem.variables))
             values = {k: ca.MX.sym(k) for k in self.problem.quantities}
             f, g = self.expressions(w, values)
             self._with_values = ca.Function("with_quantities", [w, *values.values()], [f, g])
-        f, g = self._with_values(point, *quantities.values())
+        return self._with_values
+
+    def _expressions_with(self, point: np.ndarray, quantities: dict[str, float]) -> tuple[float, np.ndarray]:
+        """The objective and the constraint values (m,) at ``point`` with the given quantity values in
+        place of the quadratures."""
+        f, g = self._with_quantities()(point, *quantities.values())
         return float(f), np.asarray(g, dtype=float).ravel()

@@ -38,26 +38,4 @@ PKM_SIMD double pow(double, double);
 
 #define PKM_BLOCK 64 /* poses a kernel transposes into columns and evaluates at a time */
 
-typedef void (*pkm_kernel_fn)(long n, const double *const *in, const long *stride, double *const *out);
-
-PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
-
-/* rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch) into k
-   columns of a block, the last row repeated to fill it */
-static inline void PKM_FN(pkm_gather)(double *restrict a, long k, const double *in, long stride, long p0, long m)
-{
-  for (long q = 0; q < PKM_BLOCK; ++q)
-    for (long e = 0; e < k; ++e) a[e * PKM_BLOCK + q] = in[(p0 + (q < m ? q : m - 1)) * stride + e];
-}
-
-/* the first m rows of a block's k columns into rows p0 .. p0 + m - 1 of an (N, k) output */
-static inline void PKM_FN(pkm_scatter)(double *out, long k, const double *restrict b, long p0, long m)
-{
-  for (long q = 0; q < m; ++q)
-    for (long e = 0; e < k; ++e) out[(p0 + q) * k + e] = b[e * PKM_BLOCK + q];
-}
-#include "five_bar_kernels.c"
-#include "passive_leg_kernels.c"
-#include "slider_gantry_kernels.c"
-#include "slider_gantry_symmetric_kernels.c"
-#include "ups_pu_kernels.c"
+typedef void (*pkm_kernel_fn)(long n, long group, const double *const *in, const long *stride, double *const *out);

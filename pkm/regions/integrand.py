@@ -1,0 +1,291 @@
+"""Global indices over parametrised regions as sums of point integrands, with exact gradients and
+Hessians in the design, evaluated by the compiled kernels where they are built.
+
+A region's pieces (:mod:`pkm.regions.shapes`) carry a reference point u to the pose x(u, d) with the
+measure element e(u, d); a node's weight is its reference weight w times e. With the local index f at
+the pose (NaN where the node is out of reach) and ``valid`` (1 where it is reached, else 0), a global
+index is a function of sums over the nodes of every piece:
+
+    mean      S = sum w (e f, e)           value = S_0 / S_1
+    std       S = sum w (e f, e f^2, e)    value = sqrt(max(0, S_1 / S_2 - (S_0 / S_2)^2))
+    measure   S = sum w (e valid)          value = S_0
+
+:func:`sum_function` is the integrand w c(u, d) of these components as one SX function of
+``(u, w, mode, design)``, with (``order`` 1) its Jacobian and (``order`` 2) the lower triangle of its
+Hessian in the design entries it depends on: ``symbolic.kernels`` emits each as a C kernel that sums it
+over a block of nodes, so that one compiled function serves every resolution. :func:`rows_function` is
+the same with one value per node: the local index itself, or for a region extreme the epigraph margin
+g(u, d, t) >= 0 (:func:`pkm.indices.epigraph_function`).
+
+:class:`Smooth` wraps a numeric evaluation of such sums or rows (values, Jacobian, Hessians) as a CasADi
+function with exact first and second derivatives: the syntheses' NLP and the global indices compose it,
+so that IPOPT's objective, constraints, gradient and Hessian are evaluated by the kernels.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import lru_cache
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate, total
+from pkm.indices import LocalIndex, epigraph_function
+from pkm.regions.pipeline import pipeline
+
+COMPONENTS = {"mean": ("e f", "e"), "std": ("e f", "e f^2", "e"), "measure": ("e valid",)}
+SUMMED = tuple(COMPONENTS)
+
+Derivatives = tuple[np.ndarray, np.ndarray | None, np.ndarray | None]
+
+
+def _name(mech: Any, local: LocalIndex, what: str, order: int) -> str:
+    return f"{mech.name}_{local.name}_{what}_{order}"
+
+
+def _with_derivatives(
+    name: str, inputs: dict[str, ca.SX], values: ca.SX, z: ca.SX, *, order: int
+) -> tuple[ca.Function, tuple[int, ...]]:
+    """``values`` (m x 1) as a function of ``inputs`` (by name), with its Jacobian (m x a) and the lower triangles
+    of its Hessians (m x a(a+1)/2, row by row) in the ``a`` entries of ``z`` it depends on, up to
+    ``order``; and the positions of those entries in z."""
+    active = tuple(k for k, depends in enumerate(ca.which_depends(values, z, 1, False)) if depends)
+    za = ca.vertcat(*[z[k] for k in active])
+    outputs, out_names = [values], ["value"]
+    if order >= 1:
+        jacobian = ca.jacobian(values, za)
+        outputs.append(ca.densify(jacobian))
+        out_names.append("jacobian")
+    if order >= 2:
+        m = values.numel()
+        second = ca.jacobian(ca.vec(jacobian), za)
+        pairs = [(j, k) for j in range(len(active)) for k in range(j + 1)]
+        rows = [ca.horzcat(*[second[i + m * j, k] for j, k in pairs]) for i in range(m)]
+        outputs.append(ca.densify(ca.vertcat(*rows)))
+        out_names.append("hessian")
+    return ca.Function(name, list(inputs.values()), outputs, list(inputs), out_names), active
+
+
+def _symbols(mech: Any, piece: Any) -> tuple[ca.SX, ca.SX, ca.SX]:
+    ik = mech.functions["inverse_kinematics"]
+    return (ca.SX.sym("u", piece.dimension), ca.SX.sym("mode", ik.numel_in(1)), ca.SX.sym("design", ik.numel_in(2)))
+
+
+@lru_cache(maxsize=512)
+def sum_function(
+    mech: Any, local: LocalIndex, piece: Any, reduce: str, order: int
+) -> tuple[ca.Function, tuple[int, ...]]:
+    """SX ``(u, w, mode, design) -> (value, jacobian, hessian)`` of the integrand w c(u, d) of the
+    reduction ``reduce`` (module docstring) up to ``order``, and the design entries it depends on."""
+    u, mode, design = _symbols(mech, piece)
+    w = ca.SX.sym("w")
+    x = piece.to_pose(mech.functions, design, u)
+    e = piece.element(mech.functions, design, u)
+    _, _, valid, f = pipeline(mech, (local,))(x, mode, design)
+    components = {"mean": [e * f, e], "std": [e * f, e * f * f, e], "measure": [e * valid]}[reduce]
+    return _with_derivatives(_name(mech, local, f"{reduce}_integrand", order),
+                             {"u": u, "w": w, "mode": mode, "design": design}, w * ca.vertcat(*components), design,
+                             order=order)
+
+
+@lru_cache(maxsize=512)
+def rows_function(
+    mech: Any, local: LocalIndex, piece: Any, epigraph: str | None, order: int
+) -> tuple[ca.Function, tuple[int, ...]]:
+    """SX ``(u, mode, design) -> (value, jacobian, hessian)`` of the local index at a node and whether the
+    node is reached (1 or 0), or with
+    ``epigraph`` (the region's reduction, ``"min"`` or ``"max"``) SX ``(u, mode, design, t) -> ...`` of
+    the node's epigraph margin, >= 0 where the index is at least t (at most t for a maximum); the
+    derivatives are in (design, t)."""
+    u, mode, design = _symbols(mech, piece)
+    x = piece.to_pose(mech.functions, design, u)
+    if epigraph is None:
+        _, _, valid, f = pipeline(mech, (local,))(x, mode, design)
+        return _with_derivatives(_name(mech, local, "node", order), {"u": u, "mode": mode, "design": design},
+                                 ca.vertcat(f, valid), design, order=order)
+    t = ca.SX.sym("t")
+    _, _, _, _, *matrices = pipeline(mech, (local,), matrices=True)(x, mode, design)
+    shapes = tuple(m.shape for m in matrices)
+    g = epigraph_function(local, shapes, epigraph == "max")(*matrices, t)
+    return _with_derivatives(_name(mech, local, f"{epigraph}_epigraph", order),
+                             {"u": u, "mode": mode, "design": design, "t": t}, g, ca.vertcat(design, t), order=order)
+
+
+def _unpack(lower: np.ndarray, active: tuple[int, ...], size: int) -> np.ndarray:
+    """Hessians (m, size, size) from their lower triangles (m, a(a+1)/2) in the active entries."""
+    rows, cols = np.tril_indices(len(active))
+    idx = np.asarray(active, dtype=int)
+    full = np.zeros((len(lower), size, size))
+    full[:, idx[rows], idx[cols]] = lower
+    full[:, idx[cols], idx[rows]] = lower
+    return full
+
+
+def region_sums(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, design: np.ndarray,
+    resolution: int, order: int,
+) -> Derivatives:
+    """The sums S (k,) of the reduction ``reduce`` over the region's nodes for one design (n_p,), with
+    their Jacobian (k, n_p) and Hessians (k, n_p, n_p) up to ``order``."""
+    k, p = len(COMPONENTS[reduce]), len(design)
+    sums = np.zeros(k)
+    jacobian = np.zeros((k, p)) if order >= 1 else None
+    hessian = np.zeros((k, p, p)) if order >= 2 else None
+    for piece in region.pieces():
+        nodes, weights = piece.reference(resolution, reduce)
+        fn, active = sum_function(mech, local, piece, reduce, order)
+        out = total(fn, nodes, weights[:, None], signs, design)
+        sums += out[0][:, 0]
+        if order >= 1:
+            jacobian[:, list(active)] += out[1]
+        if order >= 2:
+            hessian += _unpack(out[2], active, p)
+    return sums, jacobian, hessian
+
+
+def region_rows(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, z: np.ndarray,
+    resolution: int, order: int, epigraph: bool,
+) -> Derivatives:
+    """At every node of the region's rule for ``reduce``, in node order: the local index and then whether
+    the node is reached (2n values), or with ``epigraph`` the epigraph margins (n values, z = (design,
+    t)); with the Jacobian (values, len(z)) and the Hessians (values, len(z), len(z)) up to ``order``."""
+    values, jacobians, hessians = [], [], []
+    for piece in region.pieces():
+        nodes, _ = piece.reference(resolution, reduce)
+        fn, active = rows_function(mech, local, piece, reduce if epigraph else None, order)
+        out = evaluate(fn, *((nodes, signs, z[:-1], z[-1:]) if epigraph else (nodes, signs, z)))
+        values.append(out[0][:, :, 0])
+        if order >= 1:
+            jacobian = np.zeros((*out[1].shape[:2], len(z)))
+            jacobian[:, :, list(active)] = out[1]
+            jacobians.append(jacobian)
+        if order >= 2:
+            n, m, t = out[2].shape
+            hessians.append(_unpack(out[2].reshape(n * m, t), active, len(z)).reshape(n, m, len(z), len(z)))
+
+    def by_output(parts: list[np.ndarray]) -> np.ndarray:
+        stacked = np.concatenate(parts)
+        return stacked.transpose(1, 0, *range(2, stacked.ndim)).reshape(-1, *stacked.shape[2:])
+
+    return (by_output(values), by_output(jacobians) if order >= 1 else None,
+            by_output(hessians) if order >= 2 else None)
+
+
+BATCH_ROWS = 1 << 16  # rows (nodes times designs) per evaluation of a batch of designs
+
+
+def _design_batches(designs: np.ndarray, nodes: int) -> list[np.ndarray]:
+    return np.array_split(designs, -(-len(designs) * nodes // BATCH_ROWS)) if len(designs) else []
+
+
+def batch_sums(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, designs: np.ndarray, resolution: int
+) -> np.ndarray:
+    """The sums (D, k) of the reduction ``reduce`` over the region's nodes for each of the designs (D, n_p):
+    the nodes of each design are one group of the summing kernel."""
+    sums = np.zeros((len(designs), len(COMPONENTS[reduce])))
+    for piece in region.pieces():
+        nodes, weights = piece.reference(resolution, reduce)
+        fn, _ = sum_function(mech, local, piece, reduce, 0)
+        parts = []
+        for batch in _design_batches(designs, len(nodes)):
+            (value,) = total(fn, np.tile(nodes, (len(batch), 1)), np.tile(weights, len(batch))[:, None], signs,
+                             np.repeat(batch, len(nodes), axis=0), group=len(nodes))
+            parts.append(value[:, :, 0])
+        sums += np.concatenate(parts)
+    return sums
+
+
+def batch_rows(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, designs: np.ndarray, resolution: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """The local index (D, n) at the nodes of the region's rule for ``reduce`` and whether each is reached
+    (D, n), for each of the designs (D, n_p)."""
+    values, reached = [], []
+    for piece in region.pieces():
+        nodes, _ = piece.reference(resolution, reduce)
+        fn, _ = rows_function(mech, local, piece, None, 0)
+        parts = [evaluate(fn, np.tile(nodes, (len(batch), 1)), signs, np.repeat(batch, len(nodes), axis=0))[0]
+                 .reshape(len(batch), len(nodes), 2) for batch in _design_batches(designs, len(nodes))]
+        out = np.concatenate(parts)
+        values.append(out[:, :, 0])
+        reached.append(out[:, :, 1])
+    return np.concatenate(values, axis=1), np.concatenate(reached, axis=1)
+
+
+def reduce_sums(sums: Any, reduce: str) -> Any:
+    """A global index from the sums of its reduction's components (module docstring): CasADi, or numpy
+    arrays (k, ...)."""
+    if reduce == "mean":
+        return sums[0] / sums[1]
+    if reduce == "std":
+        sqrt, fmax = (np.sqrt, np.fmax) if isinstance(sums, np.ndarray) else (ca.sqrt, ca.fmax)
+        return sqrt(fmax(0, sums[1] / sums[2] - (sums[0] / sums[2]) ** 2))
+    return sums[0]
+
+
+class _Cached:
+    """The last evaluation of a numeric function ``(z, order) -> Derivatives``, reused by lower orders."""
+
+    def __init__(self, fn: Callable[[np.ndarray, int], Derivatives]) -> None:
+        self.fn = fn
+        self.key: bytes | None = None
+        self.order = -1
+        self.result: Derivatives | None = None
+
+    def __call__(self, z: np.ndarray, order: int) -> Derivatives:
+        key = z.tobytes()
+        if key != self.key or order > self.order:
+            self.result = self.fn(z, order)
+            self.key, self.order = key, order
+        return self.result
+
+
+class Smooth(ca.Callback):
+    """A CasADi function z (n x 1) -> y (m x 1) evaluated by ``fn(z, order) -> (y (m,), J (m, n),
+    H (m, n, n))``, whose Jacobian (``level`` 1) and the Jacobian of that (``level`` 2, the Hessians) are
+    Smooth functions of their own, so that CasADi and IPOPT use its exact derivatives."""
+
+    def __init__(self, name: str, fn: Callable[[np.ndarray, int], Derivatives] | _Cached, n: int, m: int,
+                 level: int = 0) -> None:
+        ca.Callback.__init__(self)
+        self.fn = fn if isinstance(fn, _Cached) else _Cached(fn)
+        self.n, self.m, self.level = n, m, level
+        self.derivative: Smooth | None = None
+        self.construct(f"{name}_d{level}" if level else name, {})
+
+    def get_n_in(self) -> int:
+        return 1 + self.level
+
+    def get_n_out(self) -> int:
+        return max(1, self.level)
+
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
+        return [ca.Sparsity.dense(self.n, 1), ca.Sparsity.dense(self.m, 1), ca.Sparsity.dense(self.m, self.n)][i]
+
+    def get_sparsity_out(self, j: int) -> ca.Sparsity:
+        if self.level == 0:
+            return ca.Sparsity.dense(self.m, 1)
+        if self.level == 1:
+            return ca.Sparsity.dense(self.m, self.n)
+        return ca.Sparsity.dense(self.m * self.n, self.n) if j == 0 else ca.Sparsity(self.m * self.n, self.m)
+
+    def eval(self, arg: list[ca.DM]) -> list[ca.DM]:
+        y, jacobian, hessian = self.fn(np.asarray(arg[0], dtype=float).ravel(), self.level)
+        if self.level == 0:
+            return [ca.DM(y)]
+        if self.level == 1:
+            return [ca.DM(jacobian)]
+        return [ca.DM(hessian.transpose(1, 0, 2).reshape(self.m * self.n, self.n)), ca.DM(self.m * self.n, self.m)]
+
+    def has_jacobian(self) -> bool:
+        return self.level < 2
+
+    def get_jacobian(self, *_: Any) -> ca.Function:
+        if self.derivative is None:
+            self.derivative = Smooth(self.name().removesuffix(f"_d{self.level}"), self.fn, self.n, self.m,
+                                     self.level + 1)
+        return self.derivative
