@@ -312,15 +312,20 @@ def compare_folders(target: Path, fresh: Path) -> list[str]:
 def compare_or_update(target: Path, write: Callable[[Path], None], *, update: bool) -> list[str]:
     """Regenerate into a temporary folder and compare with ``target`` (:func:`compare_folders`).
 
-    Returns the list of differences; empty when ``target`` is current. With ``update`` the temporary
-    folder replaces ``target`` when they differ.
+    Returns the list of differences; empty when ``target`` is current. With ``update`` the files that
+    differ are replaced and the stale ones removed; the others are left untouched, so that a build that
+    depends on them is not redone.
     """
     with tempfile.TemporaryDirectory() as tmp:
         fresh = Path(tmp) / "generated"
         write(fresh)
         diffs = compare_folders(target, fresh)
         if diffs and update:
-            if target.exists():
-                shutil.rmtree(target)
-            shutil.copytree(fresh, target)
+            target.mkdir(parents=True, exist_ok=True)
+            made = {p.name for p in fresh.glob("*") if p.is_file()}
+            for stale in (p for p in target.glob("*") if p.is_file() and p.name not in made):
+                stale.unlink()
+            for name in sorted(made):
+                if not (target / name).is_file() or not filecmp.cmp(fresh / name, target / name, shallow=False):
+                    shutil.copyfile(fresh / name, target / name)
         return diffs

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib.util
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -57,14 +58,26 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     fused["first_order"] = pipeline(mech, (), first_order=True)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
     out = [(symbol, fn, False) for symbol, fn in out]
-    integrands = {}
-    for k, (fn, summed) in enumerate(_integrands(mech)):
-        integrands.setdefault(key(fn, summed), (f"pkm_{name}_integrand_{k}", fn, summed))
-    return out + list(integrands.values())
+    kernels = {}
+    for k, integrand in enumerate(integrands(mech)):
+        kernels.setdefault(key(integrand.function, integrand.summed),
+                           (f"pkm_{name}_integrand_{k}", integrand.function, integrand.summed))
+    return out + list(kernels.values())
 
 
-def _integrands(mech: Any) -> list[tuple[ca.Function, bool]]:
-    """The integrand kernels of a mechanism (module docstring): (function, whether summed)."""
+@dataclass(frozen=True)
+class Integrand:
+    """An integrand kernel: its function, whether it sums over the batch, the region piece whose
+    reference nodes it takes and the reduction whose rule places them."""
+
+    function: ca.Function
+    summed: bool
+    piece: Any
+    reduce: str
+
+
+def integrands(mech: Any) -> list[Integrand]:
+    """The integrand kernels of a mechanism (module docstring), in a fixed order."""
     from pkm import registry
     from pkm.regions.integrand import SUMMED, rows_function, sum_function
     from pkm.regions.quadrature import guard_index
@@ -77,16 +90,17 @@ def _integrands(mech: Any) -> list[tuple[ca.Function, bool]]:
     out = []
     for region in dict.fromkeys(region for _, region, _ in pairs):
         if region.guard is not None:
-            out += [(rows_function(mech, guard_index(region), piece, None, order)[0], False)
+            out += [Integrand(rows_function(mech, guard_index(region), piece, None, order)[0], False, piece, "min")
                     for piece in region.pieces() for order in range(2)]
     for spec, region, hessian in pairs:
         for piece in region.pieces():
             if spec.reduce in SUMMED:
-                out += [(sum_function(mech, spec.local, piece, spec.reduce, order)[0], True)
-                        for order in range(3 if hessian else 2)]
+                out += [Integrand(sum_function(mech, spec.local, piece, spec.reduce, order)[0], True, piece,
+                                  spec.reduce) for order in range(3 if hessian else 2)]
             else:
-                out.append((rows_function(mech, spec.local, piece, None, 0)[0], False))
-                out += [(rows_function(mech, spec.local, piece, spec.reduce, order)[0], False) for order in range(2)]
+                out.append(Integrand(rows_function(mech, spec.local, piece, None, 0)[0], False, piece, spec.reduce))
+                out += [Integrand(rows_function(mech, spec.local, piece, spec.reduce, order)[0], False, piece,
+                                  spec.reduce) for order in range(2)]
     return out
 
 

@@ -85,9 +85,9 @@ def _design_size(mech: Any) -> int:
 def epigraph_margins(
     mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: ca.MX, bound: ca.MX, resolution: int
 ) -> ca.MX:
-    """The constraints g >= 0 (a column, one per node of the region's extreme rule) that say the local
-    index is at least ``bound`` at every node (:func:`pkm.indices.epigraph_function`), or at most it
-    for a region maximum."""
+    """The constraints g >= 0 that say the local index is at least ``bound`` at every node of the region's
+    extreme rule (:func:`pkm.indices.epigraph_function`), or at most it for a region maximum: a column of
+    the index's first margin at every node, then its second, and so on."""
     smooth = _rows(mech, spec.local, region, spec.reduce, signs=tuple(branch.signs),
                    resolution=check_resolution(resolution, 1), epigraph=True)
     return smooth(ca.vertcat(design, bound))

@@ -1,0 +1,132 @@
+"""The point integrands of the global indices (pkm.regions.integrand): their kernels against CasADi's
+interpreter, their sums and derivatives against the graph of the region's nodes built the other way
+(the region's quadrature mapped through the fused pipeline and reduced in CasADi), batches of designs
+against one design at a time."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import pkm
+from pkm import compiled
+from pkm.batch import COMPILED_CHUNK, interpreted, total
+from pkm.indices import epigraph_function
+from pkm.regions import node_quadrature, quadrature_value
+from pkm.regions.pipeline import pipeline
+from pkm.regions.quadrature import epigraph_margins
+from symbolic.kernels import integrands
+
+RESOLUTION = 4
+
+
+def _inputs(mech, integrand) -> list[np.ndarray]:
+    nodes, weights = integrand.piece.reference(RESOLUTION, integrand.reduce)
+    design = mech.design_vector(mech.design())
+    signs = np.array(mech.working_mode(None).signs, dtype=float)
+    names = integrand.function.name_in()
+    values = {"u": nodes, "w": weights[:, None], "mode": signs, "design": design, "t": np.array([0.5])}
+    return [values[n] for n in names]
+
+
+@pytest.mark.parametrize("name", pkm.mechanisms())
+def test_integrand_kernels_agree_with_the_interpreter(name):
+    """Every integrand kernel exists and gives the interpreter's values, gradients and Hessians: sums to
+    1e-12 of the sum of the magnitudes it adds, rows to 1e-12 of their largest entry (1e-9 at the rim of
+    an extreme's rule, inset 1e-9 from the region's boundary, where a mechanism may be singular and J's
+    conditioning amplifies the vector maths' last-ulp differences), NaN where the interpreter has NaN."""
+    if compiled.status()["path"] != "compiled":
+        pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
+    mech = pkm.load(name)
+    for integrand in integrands(mech):
+        fn = integrand.function
+        assert compiled.kernel(fn, integrand.summed) is not None, fn.name()
+        args = _inputs(mech, integrand)
+        slow = interpreted(fn, *args)
+        if integrand.summed:
+            fast = total(fn, *args)
+            for j, (got, rows) in enumerate(zip(fast, slow, strict=True)):
+                want = rows.sum(axis=0)
+                scale = np.maximum(1.0, np.abs(rows).sum(axis=0))
+                assert np.array_equal(np.isnan(got), np.isnan(want)), f"{fn.name()}: {fn.name_out(j)}"
+                error = np.nan_to_num(np.abs(got - want) / scale)
+                assert np.all(error <= 1e-12), f"{fn.name()}: {fn.name_out(j)}: {error.max():.1e}"
+        else:
+            fast = pkm.batch.evaluate(fn, *args)
+            _, weights = integrand.piece.reference(RESOLUTION, integrand.reduce)
+            tolerance = np.where(weights > 0, 1e-12, 1e-9)
+            for j, (got, want) in enumerate(zip(fast, slow, strict=True)):
+                assert np.array_equal(np.isnan(got), np.isnan(want)), f"{fn.name()}: {fn.name_out(j)}"
+                scale = np.maximum(1.0, np.nanmax(np.abs(want.reshape(len(want), -1)), axis=1, initial=0.0))
+                error = np.nanmax(np.nan_to_num(np.abs(got - want)).reshape(len(got), -1), axis=1) / scale
+                assert np.all(error <= tolerance), f"{fn.name()}: {fn.name_out(j)}: {np.max(error / tolerance):.1e}"
+
+
+def _node_graph(mech, spec, region, branch, design: ca.MX, resolution: int) -> ca.MX:
+    """A global index as the reduction of the local index at the region's quadrature nodes, in CasADi."""
+    points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
+    n = points.size2()
+    _, _, valid, values = pipeline(mech, (spec.local,)).map(n)(points, ca.DM(branch.signs), design)
+    w = ca.vec(weights)
+    if spec.reduce == "measure":
+        return ca.mtimes(valid, w)
+    mean = ca.mtimes(values, w) / ca.sum1(w)
+    if spec.reduce == "std":
+        return ca.sqrt(ca.mtimes((values - mean) ** 2, w) / ca.sum1(w))
+    return mean
+
+
+@pytest.mark.parametrize(
+    ("name", "index", "region"),
+    [("five_bar", "gci", "miw"), ("five_bar", "dynamic_dexterity", "miw"), ("five_bar", "region_measure", "miw"),
+     ("slider_gantry", "kappa_d_std", "task"), ("slider_gantry", "kappa_d_mean", "task"), ("ups_pu", "gci", "task")],
+)
+def test_global_indices_have_the_value_gradient_and_hessian_of_the_node_graph(name, index, region):
+    mech = pkm.load(name)
+    spec, where, branch = mech.global_spec(index), mech.region(region), mech.working_mode(None)
+    d = ca.MX.sym("d", len(mech.parameter_names()))
+    design = mech.design_vector(mech.design())
+    results = []
+    for value in (quadrature_value(mech, spec, where, branch, d, resolution=RESOLUTION),
+                  _node_graph(mech, spec, where, branch, d, RESOLUTION)):
+        gradient, hessian = ca.gradient(value, d), ca.hessian(value, d)[0]
+        results.append([np.asarray(v) for v in ca.Function("f", [d], [value, gradient, hessian])(design)])
+    for what, got, want in zip(("value", "gradient", "hessian"), *results, strict=True):
+        scale = max(1e-300, float(np.max(np.abs(want))))
+        assert np.max(np.abs(got - want)) <= 1e-10 * scale, f"{index}: {what}"
+    assert np.max(np.abs(results[0][1])) > 0
+
+
+def test_epigraph_margins_have_the_values_and_jacobian_of_the_node_graph():
+    mech = pkm.load("five_bar")
+    spec, region, branch = mech.global_spec("lambda_e"), mech.region("miw"), mech.working_mode(None)
+    d, t = ca.MX.sym("d", len(mech.parameter_names())), ca.MX.sym("t")
+    points, _ = region.quadrature(mech.functions, d, RESOLUTION, spec.reduce)
+    n = points.size2()
+    _, _, _, _, *matrices = pipeline(mech, (spec.local,), matrices=True).map(n)(points, ca.DM(branch.signs), d)
+    shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
+    margins = epigraph_function(spec.local, shapes, False).map(n)(*matrices, t)  # a margin per row, a node per column
+    graph = ca.vec(margins.T)
+    smooth = epigraph_margins(mech, spec, region, branch, design=d, bound=t, resolution=RESOLUTION)
+    z = ca.vertcat(d, t)
+    point = [mech.design_vector(mech.design()), 1.2]
+    got, want = ([np.asarray(v) for v in ca.Function("f", [d, t], [g, ca.jacobian(g, z)])(*point)]
+                 for g in (smooth, graph))
+    for a, b in zip(got, want, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * float(np.max(np.abs(b))))
+
+
+def test_a_batch_of_designs_gives_each_designs_value():
+    """Designs evaluated together (groups of nodes across the threads' chunks) and one at a time."""
+    mech = pkm.load("five_bar")
+    spec, region, branch = mech.global_spec("gci"), mech.region("miw"), mech.working_mode(None)
+    rng = np.random.default_rng(3)
+    base = mech.design_vector(mech.design())
+    nodes = region.node_count(8, spec.reduce)
+    designs = np.tile(base, (2 * COMPILED_CHUNK // nodes + 3, 1))
+    designs[:, :3] *= rng.uniform(0.95, 1.05, size=(len(designs), 3))
+    together = node_quadrature(mech, spec, region, designs, branch=branch, resolution=8)
+    alone = [node_quadrature(mech, spec, region, d, branch=branch, resolution=8)[0] for d in designs[::9]]
+    np.testing.assert_allclose(together[::9], alone, rtol=1e-14)
+    assert np.all(np.isfinite(together))
