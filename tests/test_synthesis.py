@@ -99,3 +99,19 @@ def test_runs_are_ranked_by_their_verified_objective_not_the_optimisers_quadratu
     assert result.verified_objective == by_verification.verified_objective
     assert result.variables == by_verification.variables
     assert by_verification.verified_objective > by_quadrature.verified_objective + 1e-4
+
+
+def test_the_exchange_method_reaches_the_optimum_of_the_nlp_with_every_epigraph_row(monkeypatch):
+    """A problem with a region extreme, solved holding every epigraph row and by exchange (IPOPT holds
+    the least margins, then the rows its solution violates most, until it violates none)."""
+    from pkm.synthesis import model as model_module
+
+    options = {"resolution": 6, "starts": 1, "baseline_resolution": 5}
+    whole = pkm.synthesize("five_bar.max_lambda_e_miw", **options)
+    monkeypatch.setattr(model_module, "EXCHANGE_LIMIT", 0)
+    exchanged = pkm.synthesize("five_bar.max_lambda_e_miw", **options)
+    assert exchanged.status == whole.status == "Solve_Succeeded"
+    assert exchanged.objective == pytest.approx(whole.objective, rel=1e-8)
+    for name, value in whole.variables.items():
+        assert exchanged.variables[name] == pytest.approx(value, rel=1e-6, abs=1e-8)
+    assert exchanged.runs[0].iterations > whole.runs[0].iterations

@@ -63,19 +63,21 @@ def _sums(
 
 @cache
 def _rows(mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int,
-          epigraph: bool) -> Smooth:
+          epigraph: bool, rows: tuple[int, ...] | None = None) -> Smooth:
     """CasADi ``design -> (values, reached)`` at the nodes of the region's extreme rule, or with
-    ``epigraph`` ``(design, t) -> margins`` (:func:`pkm.regions.integrand.region_rows`)."""
+    ``epigraph`` ``(design, t) -> margins`` (:func:`pkm.regions.integrand.region_rows`), only the ``rows``
+    of them where given."""
     def fn(z: np.ndarray, order: int) -> Any:
-        return region_rows(mech, local, region, reduce, signs=np.array(signs), z=z, resolution=resolution,
-                           order=order, epigraph=epigraph)
+        out = region_rows(mech, local, region, reduce, signs=np.array(signs), z=z, resolution=resolution,
+                          order=order, epigraph=epigraph)
+        return out if rows is None else tuple(None if a is None else a[list(rows)] for a in out)
 
     values = sum(piece.node_count(resolution, reduce) * rows_function(mech, local, piece, reduce if epigraph else None,
                                                                       0)[0].numel_out(0)
                  for piece in region.pieces())
     label = "epigraph" if epigraph else "nodes"
     return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_{label}", fn, _design_size(mech) + epigraph,
-                  values)
+                  values if rows is None else len(rows))
 
 
 def _design_size(mech: Any) -> int:
@@ -83,14 +85,25 @@ def _design_size(mech: Any) -> int:
 
 
 def epigraph_margins(
-    mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: ca.MX, bound: ca.MX, resolution: int
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: ca.MX, bound: ca.MX, resolution: int,
+    rows: tuple[int, ...] | None = None,
 ) -> ca.MX:
     """The constraints g >= 0 that say the local index is at least ``bound`` at every node of the region's
     extreme rule (:func:`pkm.indices.epigraph_function`), or at most it for a region maximum: a column of
-    the index's first margin at every node, then its second, and so on."""
+    the index's first margin at every node, then its second, and so on (:func:`epigraph_values`); only the
+    ``rows`` of it where given."""
     smooth = _rows(mech, spec.local, region, spec.reduce, signs=tuple(branch.signs),
-                   resolution=check_resolution(resolution, 1), epigraph=True)
+                   resolution=check_resolution(resolution, 1), epigraph=True, rows=rows)
     return smooth(ca.vertcat(design, bound))
+
+
+def epigraph_values(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: np.ndarray, bound: float, resolution: int
+) -> np.ndarray:
+    """Every row of :func:`epigraph_margins` for one design (n_p,) and bound, numerically."""
+    z = np.append(np.asarray(design, dtype=float).ravel(), bound)
+    return region_rows(mech, spec.local, region, spec.reduce, signs=np.array(branch.signs, dtype=float), z=z,
+                       resolution=check_resolution(resolution, 1), order=0, epigraph=True)[0]
 
 
 def quadrature_value(

@@ -38,6 +38,7 @@ from pkm.synthesis.problem import Problem, grid_points
 
 ACCURACY = INDEX_ACCURACY
 POLISH_LIMIT = 64  # the largest quadrature resolution a polishing run uses
+EXCHANGE_ROUNDS = 20  # IPOPT solves of one start of a problem with region extremes at most
 
 
 @dataclass
@@ -222,10 +223,13 @@ def _solver(name: str, resolution: int, options: str) -> tuple[Any, dict[str, An
     return _nlp(_model(name), resolution, json.loads(options))
 
 
-def _nlp(model: ProblemModel, resolution: int, options: dict[str, Any]) -> tuple[Any, dict[str, Any]]:
-    """IPOPT's solver of the problem at a resolution and the bounds of its variables and constraints."""
+def _nlp(
+    model: ProblemModel, resolution: int, options: dict[str, Any], rows: dict[str, tuple[int, ...]] | None = None
+) -> tuple[Any, dict[str, Any]]:
+    """IPOPT's solver of the problem at a resolution (with ``rows``, of those epigraph rows only) and the
+    bounds of its variables and constraints."""
     problem = model.problem
-    nlp, lower, upper = model.nlp(resolution)
+    nlp, lower, upper = model.nlp(resolution, rows)
     extra = len(model.extremes)
     solver = ca.nlpsol(problem.name.replace(".", "_"), "ipopt", nlp, options)
     bounds = {
@@ -238,19 +242,37 @@ def _nlp(model: ProblemModel, resolution: int, options: dict[str, Any]) -> tuple
 
 
 def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask) -> Run:
+    """IPOPT from the task's start. A problem with many epigraph rows (region extremes) is solved by
+    exchange: IPOPT holds the rows of least margin at the start, then again from its solution with the rows
+    that solution violates most added, until it violates none (:meth:`ProblemModel.exchange_rows`). Where
+    a step fails (a relaxation too loose to be bounded) or the exchange takes more than EXCHANGE_ROUNDS
+    steps, ``solver``, the NLP with every row, solves from the start."""
     problem, res = model.problem, task.resolution
-    with interruptible():
-        sol = solver(x0=model.start(task.start, res), **bounds)
-    stats = solver.stats()
-    calls = int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
-    x = np.asarray(sol["x"]).ravel()
+    start = np.asarray(model.start(task.start, res), dtype=float)
+    x0, rows = start, (model.exchange_rows(start, res) if model.extremes else None)
+    iterations = calls = 0
+    for round_ in range(EXCHANGE_ROUNDS + 1):
+        if round_ == EXCHANGE_ROUNDS:
+            rows, x0 = None, start
+        step = (solver, bounds) if rows is None else _nlp(model, res, json.loads(task.options), rows)
+        with interruptible():
+            sol = step[0](x0=x0, **step[1])
+        stats = step[0].stats()
+        iterations += int(stats["iter_count"])
+        calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
+        x = np.asarray(sol["x"]).ravel()
+        if rows is None:
+            break
+        rows = model.exchange_rows(x, res, rows) if stats["success"] else None
+        x0 = x if rows is not None else start
+        if rows is None and stats["success"]:
+            break
     w = x[: len(problem.variables)]
     value = model.sign * float(sol["f"])
     status, success = stats["return_status"], bool(stats["success"])
     if success and not model.tight(w, x[len(problem.variables) :], res):
         status, success = "Epigraph_Not_Tight", False
-    return Run(_named(problem, task.start), status, success, int(stats["iter_count"]), calls, value,
-               _named(problem, w))
+    return Run(_named(problem, task.start), status, success, iterations, calls, value, _named(problem, w))
 
 
 def solve_start(task: StartTask) -> Run:

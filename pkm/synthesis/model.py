@@ -16,13 +16,22 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError
-from pkm.regions import epigraph_margins, node_quadrature, parametrised_global, quadrature_value, sampled_check
+from pkm.regions import (
+    epigraph_margins,
+    epigraph_values,
+    node_quadrature,
+    parametrised_global,
+    quadrature_value,
+    sampled_check,
+)
 from pkm.synthesis.problem import Problem, Terms
 
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
 EPIGRAPH_SLACK = 1e-3  # an extreme's variable starts this far (relative) inside its node bounds
 SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
 SAMPLED_LIMIT = 512**2  # cells of a sampled check at most
+EXCHANGE_ROWS = 32  # epigraph rows of least margin an exchange step adds for each extreme
+EXCHANGE_LIMIT = 2048  # epigraph rows that IPOPT holds all at once
 
 
 @dataclass
@@ -139,8 +148,11 @@ class ProblemModel:
         maximised or bounded below, a maximum minimised or bounded above)."""
         return tuple(n for n, q in self.problem.quantities.items() if q.index.reduce in ("min", "max"))
 
-    def nlp(self, resolution: int) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
-        """The NLP in (w, t for each of :attr:`extremes`) with the bounds on its constraints."""
+    def nlp(
+        self, resolution: int, held: dict[str, tuple[int, ...]] | None = None
+    ) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
+        """The NLP in (w, t for each of :attr:`extremes`) with the bounds on its constraints; with ``held``
+        only those rows of each extreme's epigraph margins (:func:`pkm.regions.epigraph_values`)."""
         prob = self.problem
         w = ca.MX.sym("w", len(prob.variables))
         if not self.extremes:
@@ -154,12 +166,51 @@ class ProblemModel:
         for name, bound in t.items():
             quantity = prob.quantities[name]
             nodes = epigraph_margins(self.mech, quantity.index, quantity.region, self.branch, design=design,
-                                     bound=bound, resolution=resolution)
+                                     bound=bound, resolution=resolution, rows=None if held is None else held[name])
             rows.append(ca.vec(nodes))
             lower.append(np.zeros(nodes.numel()))
             upper.append(np.full(nodes.numel(), np.inf))
         nlp = {"x": ca.vertcat(w, *t.values()), "f": self.sign * f, "g": ca.vertcat(*rows)}
         return nlp, np.concatenate(lower), np.concatenate(upper)
+
+    def margins(self, x: np.ndarray, resolution: int) -> dict[str, np.ndarray]:
+        """Every epigraph margin of each extreme at a point x = (w, t for each extreme) of the NLP."""
+        w, bounds = x[: len(self.problem.variables)], x[len(self.problem.variables):]
+        design = np.asarray(self.problem.design(list(w)), dtype=float).ravel()
+        return {
+            name: epigraph_values(self.mech, self.problem.quantities[name].index, self.problem.quantities[name].region,
+                                  self.branch, design=design, bound=float(t), resolution=resolution)
+            for name, t in zip(self.extremes, bounds, strict=True)
+        }
+
+    def exchange_rows(
+        self, x: np.ndarray, resolution: int, rows: dict[str, tuple[int, ...]] | None = None
+    ) -> dict[str, tuple[int, ...]] | None:
+        """The epigraph rows an NLP solved from x should hold (the exchange method of semi-infinite
+        programming): at a start (``rows`` None) the EXCHANGE_ROWS least margins of each extreme; after a
+        solve, ``rows``, the EXCHANGE_ROWS rows that x violates most (an undefined one first) and the
+        EXCHANGE_ROWS least; None when x violates no row, so that x solves the NLP with every row, and at
+        a start where the extremes have EXCHANGE_LIMIT rows or fewer (IPOPT then holds every row)."""
+        margins = self.margins(x, resolution)
+        if rows is None and sum(len(m) for m in margins.values()) <= EXCHANGE_LIMIT:
+            return None
+        out, grown = {}, rows is None
+        tol = self.problem.feasibility_tolerance
+        for name, margin in margins.items():
+            least = np.argsort(np.where(np.isnan(margin), np.inf, margin), kind="stable")[:EXCHANGE_ROWS]
+            held = np.zeros(len(margin), dtype=bool)
+            held[least] = True
+            if rows is not None:
+                before = np.zeros(len(margin), dtype=bool)
+                before[list(rows[name])] = True
+                violated = ~before & ~(margin >= -tol)
+                grown |= bool(violated.any())
+                worst = np.argsort(np.where(violated, np.nan_to_num(margin, nan=-np.inf), np.inf),
+                                   kind="stable")[:min(EXCHANGE_ROWS, int(violated.sum()))]
+                held |= before
+                held[worst] = True
+            out[name] = tuple(np.flatnonzero(held).tolist())
+        return out if grown else None
 
     def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int) -> bool:
         """Whether every extreme's variable equals its quantity at w: the problem uses each extreme in
