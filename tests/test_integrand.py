@@ -130,3 +130,14 @@ def test_a_batch_of_designs_gives_each_designs_value():
     alone = [node_quadrature(mech, spec, region, d, branch=branch, resolution=8)[0] for d in designs[::9]]
     np.testing.assert_allclose(together[::9], alone, rtol=1e-14)
     assert np.all(np.isfinite(together))
+
+
+def test_the_architecture_states_the_compiled_paths_constants():
+    from pathlib import Path
+
+    from pkm.synthesis.model import EXCHANGE_LIMIT
+    from symbolic.kernels import PART_INSTRUCTIONS
+
+    text = (Path(__file__).parent.parent / "docs" / "architecture.md").read_text()
+    assert f"more than {EXCHANGE_LIMIT} rows" in text
+    assert f"parts of about {PART_INSTRUCTIONS:,} instructions" in text
