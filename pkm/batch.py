@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from functools import lru_cache
 
 import casadi as ca
@@ -145,6 +144,8 @@ def _run_chunks(
             group)
 
     if len(bounds) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
         with ThreadPoolExecutor(len(bounds)) as pool:
             list(pool.map(chunk, range(len(bounds))))
     elif bounds:

@@ -12,30 +12,31 @@ To add a shape, subclass :class:`PlacedRegion` (a reference rule, the inside tes
 or implement the same three methods as :class:`MappedSquare`.
 """
 
+from importlib import import_module
+from typing import Any
+
 from pkm.regions.pipeline import Evaluation, evaluate_at, pipeline
-from pkm.regions.quadrature import (
-    INDEX_ACCURACY,
-    QUADRATURE_RESOLUTION,
-    adaptive_value,
-    admissible,
-    epigraph_margins,
-    epigraph_values,
-    global_value,
-    node_quadrature,
-    parametrised_global,
-    quadrature_function,
-    quadrature_value,
-    sampled_check,
-)
-from pkm.regions.sampled import (
-    SAMPLED_RESOLUTION,
-    SINGULARITY_MARGIN,
-    SampledWorkspace,
-    check_margin,
-    sampled_global,
-)
 from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, PlacedRegion, Rectangle, Union, grid
 from pkm.regions.value import GlobalValue
+
+_LAZY = {
+    "quadrature": ("INDEX_ACCURACY", "QUADRATURE_RESOLUTION", "adaptive_value", "admissible", "epigraph_margins",
+                   "epigraph_values", "global_value", "node_quadrature", "parametrised_global",
+                   "quadrature_function", "quadrature_value", "sampled_check"),
+    "sampled": ("SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin", "sampled_global"),
+}
+
+
+def __getattr__(name: str) -> Any:
+    """The names of the quadratures and the sampled regions, imported at first use: loading a mechanism
+    needs only its shapes."""
+    for module, names in _LAZY.items():
+        if name in names:
+            value = getattr(import_module(f"pkm.regions.{module}"), name)
+            globals()[name] = value
+            return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "INDEX_ACCURACY",
