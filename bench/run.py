@@ -7,7 +7,9 @@
 * gantry: inverse dynamics (IK + slider forces by virtual work) of the slider gantry (Wu 2008) on 10^6
   random states, pkm against a hand-written numpy implementation in the same run (bench/gantry.py);
 * synthesis: ``pkm.synthesize("five_bar.max_gci_miw")`` (IPOPT) against its baseline on the same model,
-  when pkm.synthesis is available (skipped with a note otherwise).
+  when pkm.synthesis is available (skipped with a note otherwise);
+* integrals: global indices with their gradients over 10^4 nodes by the point integrands against the
+  CasADi graph of the nodes, and every registered synthesis against its baseline (bench/integrals.py).
 
 Figures are ratios against baselines measured in the same run; nothing asserts on time.
 """
@@ -28,7 +30,7 @@ from typing import Any
 import casadi
 import numpy as np
 
-from bench import dynamics, gantry, passive_leg, scale_out, throughput, ups_pu
+from bench import dynamics, gantry, integrals, passive_leg, scale_out, throughput, ups_pu
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
 
@@ -56,6 +58,14 @@ def machine() -> dict[str, Any]:
         "numpy": np.__version__,
         "casadi": casadi.__version__,
     }
+
+
+def write_json(path: Path, report: dict[str, Any]) -> None:
+    """Write the report as JSON to a temporary file beside ``path``, then rename it: never half a file."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(report, indent=2, default=float) + "\n")
+    tmp.replace(path)
 
 
 def synthesis_bench() -> dict[str, Any]:
@@ -207,6 +217,9 @@ def main(argv: list[str] | None = None) -> int:
         "--no-passive-leg", action="store_true", help="skip the passive-leg manipulator benchmarks (bench.passive_leg)"
     )
     parser.add_argument("--no-scale-out", action="store_true", help="skip the executor benchmark (bench.scale_out)")
+    parser.add_argument(
+        "--no-integrals", action="store_true", help="skip the global indices and syntheses benchmark (bench.integrals)"
+    )
     args = parser.parse_args(argv)
     report: dict[str, Any] = {"command": "python -m bench.run " + " ".join(sys.argv[1:] if argv is None else argv)}
     report["machine"] = machine()
@@ -221,6 +234,8 @@ def main(argv: list[str] | None = None) -> int:
         report["passive_leg"] = passive_leg.run(n, n // 10, 3, log)
     if not args.no_scale_out:
         report["scale_out"] = scale_out.run(21 if args.quick else 61, 32, 64, 3, log)
+    if not args.no_integrals:
+        report["integrals"] = integrals.run(quick=args.quick, log=log)
     print(markdown(report))
     if "ups_pu" in report:
         print("\n## 2-UPS-PU (Zhao 2008)\n\n" + ups_pu.markdown(report["ups_pu"]))
@@ -228,13 +243,13 @@ def main(argv: list[str] | None = None) -> int:
         print("\n## passive_leg (Nam 2006)\n\n" + passive_leg.markdown(report["passive_leg"]))
     if "scale_out" in report:
         print("\n## Scale-out (executor seam)\n\n" + scale_out.markdown(report["scale_out"]))
+    if "integrals" in report:
+        print("\n## Compiled global indices and syntheses (issue 12)\n\n" + integrals.markdown(report["integrals"]))
     if args.json:
-        path = Path(args.json)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(path.name + ".tmp")
-        tmp.write_text(json.dumps(report, indent=2, default=float) + "\n")
-        tmp.replace(path)
-    return 1 if "error" in report["synthesis"] else 0
+        write_json(Path(args.json), report)
+    syntheses = report.get("integrals", {}).get("syntheses", ())
+    failed = "error" in report["synthesis"] or any("error" in s for s in syntheses)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
-"""Numbers in docs come from code: the before/after table of docs/benchmarks.md is the output of
-bench.compare for the committed JSON runs."""
+"""Numbers in docs come from code: the tables of docs/benchmarks.md are the output of bench.compare
+(before/after) and of each benchmark module's ``markdown`` for the committed JSON runs."""
 
 from __future__ import annotations
 
@@ -42,4 +42,11 @@ def test_scale_out_table_is_quoted_from_the_committed_run():
     from bench.scale_out import markdown
 
     report = json.loads((RUNS / "scale_out.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_integrals_tables_are_quoted_from_the_committed_run():
+    from bench.integrals import markdown
+
+    report = json.loads((RUNS / "integrals.json").read_text())
     assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
