@@ -1,12 +1,12 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 8ee0298072f22fbc).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 90ba98ba2c48a27c).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "8ee0298072f22fbc"
-FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
+SOURCE_HASH = "90ba98ba2c48a27c"
+FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", )
 POSE = ("x", "y", )
 ACTUATORS = ("theta1", "theta2", )
@@ -46,24 +46,26 @@ def inverse_kinematics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 15 common subexpressions, 65 operations
+    # 17 common subexpressions, 82 operations
     _t0 = design_2 + x_0
     _t1 = x_1**2
     _t2 = _t0**2 + _t1
-    _t3 = design_0**2
-    _t4 = _t3 - design_1**2
-    _t5 = _t2 + _t4
-    _t6 = (1/2)/design_0
-    _t7 = mode_0*ca.acos(ca.fmax(-1, ca.fmin(1, _t5*_t6/ca.sqrt(_t2)))) + ca.atan2(x_1, _t0)
-    _t8 = design_2 - x_0
-    _t9 = -_t8
+    _t3 = ca.sqrt(_t2)
+    _t4 = design_0**2
+    _t5 = _t4 - design_1**2
+    _t6 = _t2 + _t5
+    _t7 = (1/2)/design_0
+    _t8 = ca.fmax(-1, ca.fmin(1, _t6*_t7/_t3))
+    _t9 = -design_2 + x_0
     _t10 = _t1 + _t9**2
-    _t11 = _t10 + _t4
-    _t12 = mode_1*ca.acos(ca.fmax(-1, ca.fmin(1, _t11*_t6/ca.sqrt(_t10)))) + ca.atan2(x_1, _t9)
-    _t13 = -x_1
-    _t14 = (1/4)/_t3
-    q = ca.reshape(ca.vertcat(_t7, _t12, ca.atan2(-_t13 - design_0*ca.sin(_t7), _t0 - design_0*ca.cos(_t7)), ca.atan2(-_t13 - design_0*ca.sin(_t12), -_t8 - design_0*ca.cos(_t12))), 4, 1)
-    reach = ca.reshape(ca.vertcat(-_t14*_t5**2/_t2 + 1, 1 - _t11**2*_t14/_t10), 2, 1)
+    _t11 = ca.sqrt(_t10)
+    _t12 = _t10 + _t5
+    _t13 = ca.fmax(-1, ca.fmin(1, _t12*_t7/_t11))
+    _t14 = mode_0*ca.sqrt(1 - _t8**2)
+    _t15 = mode_1*ca.sqrt(1 - _t13**2)
+    _t16 = (1/4)/_t4
+    q = ca.reshape(ca.vertcat(mode_0*ca.acos(_t8) + ca.atan2(x_1, _t0), mode_1*ca.acos(_t13) + ca.atan2(x_1, _t9), ca.atan2(_t3*x_1 - design_0*(_t0*_t14 + _t8*x_1), _t0*_t3 - design_0*(_t0*_t8 - _t14*x_1)), ca.atan2(_t11*x_1 - design_0*(_t13*x_1 + _t15*_t9), _t11*_t9 - design_0*(_t13*_t9 - _t15*x_1))), 4, 1)
+    reach = ca.reshape(ca.vertcat(-_t16*_t6**2/_t2 + 1, 1 - _t12**2*_t16/_t10), 2, 1)
     return ca.Function("inverse_kinematics", [x, mode, design], [q, reach], ["x", "mode", "design"], ["q", "reach"])
 
 
@@ -250,6 +252,99 @@ def first_order():
     det_type1 = ca.reshape(ca.vertcat(_t23*design_0**2*(_t0*_t10*_t11*_t5 - _t0*_t13*_t5*_t9 - _t12*_t4 + _t13*_t2*_t3*_t9)), 1, 1)
     det_type2 = ca.reshape(ca.vertcat(_t17*_t23), 1, 1)
     return ca.Function("first_order", [q, x, design], [J, J_f, psi, det_type1, det_type2], ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
+
+
+def first_order_from_pose():
+    """inverse_kinematics and first_order at its q, the first order with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call).
+
+    Inputs:
+        x (2): [x, y] end-effector position [m]
+        mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
+        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+    Outputs:
+        q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
+        reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
+        J (2x2, column-major): q_a_dot = J x_dot [rad/m]
+        J_f (2x2, column-major): x_dot = J_f q_a_dot [m/rad]
+        psi (4x2, column-major): q_dot = Psi q_a_dot, all joints from actuated [-]
+        det_type1 (1x1, column-major): serial singularity measure [m^2]
+        det_type2 (1x1, column-major): parallel singularity measure [m^2]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    design = ca.SX.sym("design", 16)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    # 43 common subexpressions, 177 operations
+    _t0 = design_2 + x_0
+    _t1 = x_1**2
+    _t2 = _t0**2 + _t1
+    _t3 = ca.sqrt(_t2)
+    _t4 = 1/_t3
+    _t5 = design_0**2
+    _t6 = _t5 - design_1**2
+    _t7 = _t2 + _t6
+    _t8 = (1/2)/design_0
+    _t9 = ca.fmax(-1, ca.fmin(1, _t4*_t7*_t8))
+    _t10 = -design_2 + x_0
+    _t11 = _t1 + _t10**2
+    _t12 = ca.sqrt(_t11)
+    _t13 = 1/_t12
+    _t14 = _t11 + _t6
+    _t15 = ca.fmax(-1, ca.fmin(1, _t13*_t14*_t8))
+    _t16 = mode_0*ca.sqrt(1 - _t9**2)
+    _t17 = _t0*_t16 + _t9*x_1
+    _t18 = _t17*design_0
+    _t19 = -_t18 + _t3*x_1
+    _t20 = _t0*_t9 - _t16*x_1
+    _t21 = _t20*design_0
+    _t22 = _t0*_t3 - _t21
+    _t23 = mode_1*ca.sqrt(1 - _t15**2)
+    _t24 = _t10*_t23 + _t15*x_1
+    _t25 = _t24*design_0
+    _t26 = _t12*x_1 - _t25
+    _t27 = _t10*_t15 - _t23*x_1
+    _t28 = _t27*design_0
+    _t29 = _t10*_t12 - _t28
+    _t30 = 1/_t2
+    _t31 = (1/4)/_t5
+    _t32 = 1/_t11
+    _t33 = _t18*_t22
+    _t34 = _t3/(_t19*_t20*design_0 - _t33)
+    _t35 = _t25*_t29
+    _t36 = _t12/(_t26*_t27*design_0 - _t35)
+    _t37 = _t22*_t26
+    _t38 = _t19*_t29
+    _t39 = 1/(_t3*_t37 - _t3*_t38)
+    _t40 = 1/(_t12*_t37 - _t12*_t38)
+    _t41 = _t37 - _t38
+    _t42 = 1/_t41
+    q = ca.reshape(ca.vertcat(mode_0*ca.acos(_t9) + ca.atan2(x_1, _t0), mode_1*ca.acos(_t15) + ca.atan2(x_1, _t10), ca.atan2(_t19, _t22), ca.atan2(_t26, _t29)), 4, 1)
+    reach = ca.reshape(ca.vertcat(-_t30*_t31*_t7**2 + 1, -_t14**2*_t31*_t32 + 1), 2, 1)
+    J = ca.reshape(ca.vertcat(_t22*_t34, _t29*_t36, _t19*_t34, _t26*_t36), 2, 2)
+    J_f = ca.reshape(ca.vertcat(_t39*(-_t18*_t37 + _t19*_t20*_t26*design_0), _t39*(-_t21*_t38 + _t29*_t33), _t40*(-_t19*_t26*_t28 + _t25*_t38), _t40*(_t22*_t26*_t27*design_0 - _t22*_t35)), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, _t42*(_t18*_t29 - _t21*_t26), _t39*(-_t12*_t19*_t21 + _t12*_t33), 0, 1, _t40*(_t26*_t27*_t3*design_0 - _t3*_t35), _t42*(_t19*_t27*design_0 - _t22*_t25)), 4, 2)
+    det_type1 = ca.reshape(ca.vertcat(_t30*_t32*(-_t17*_t22*_t24*_t29*_t5 + _t17*_t22*_t26*_t27*_t5 + _t19*_t20*_t24*_t29*_t5 - _t19*_t20*_t26*_t27*_t5)), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(-_t13*_t4*_t41), 1, 1)
+    return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
 def maximum_inscribed_circle():

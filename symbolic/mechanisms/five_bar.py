@@ -13,6 +13,16 @@ Inverse kinematics of chain i with elbow sign sigma_i (Lara-Molina eqs. 4-5 solv
     theta_i = atan2(P - O_i) + sigma_i acos((r1^2 + |P - O_i|^2 - r2^2) / (2 r1 |P - O_i|))
 
 sigma_1 = +1 and sigma_2 = -1 put both elbows outside the chains' triangle O_i P (Gao's OABCD).
+The links are also found as position vectors, without trigonometric calls (:class:`ChainSolution`):
+with d = P - O_i, rho = |d|, c the argument of acos above, s = sqrt(1 - c^2) and perp(d) = (-d_y, d_x),
+
+    v_i = c d + sigma_i s perp(d) = rho e(theta_i),   w_i = rho d - r1 v_i = r2 rho e(phi_i),
+
+so that phi_i = atan2(w_i), and the first order (J = -H_q^-1 H_x of the loop closure below, J_f, Psi
+and the determinants) is written in v_i, w_i and rho: cos and sin of each angle replaced by the
+components of v_i / rho and w_i / (r2 rho), each entry cancelled. The first row of J, for instance,
+is J_1 = rho_1 w_1^T / (r1 (v_1 x w_1)) (x the planar cross product): the same J as from the angles,
+to round-off, with no cos, sin, acos or atan2 (``first_order_from_pose``).
 Forward kinematics intersects the circles of radius r2 about the elbows; the assembly sign chooses the
 side of the directed line A1 -> A2 on which P lies.
 
@@ -25,6 +35,7 @@ viscous vm at the rotors. The plane is horizontal: no gravity.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import cache
 
 import sympy as sp
@@ -78,21 +89,55 @@ def loop_closure() -> LoopClosure:
     return LoopClosure.of(h, (theta1, theta2), (phi1, phi2), (x, y))
 
 
-def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
-    """All joint angles of the pose P for the elbow signs (sigma1, sigma2), and the reach margins."""
-    actuated, passive, margins = [], [], []
-    for base, s in zip(BASES, (sigma1, sigma2), strict=True):
+@dataclass(frozen=True)
+class ChainSolution:
+    """Chain i solved for the pose P on the elbow sign sigma_i, its links as position vectors.
+
+    With d = P - O_i and rho = |d|, the elbow A_i is where the circles of radius r1 about O_i and r2
+    about P meet: the proximal link is d / rho turned by sigma_i acos(c), where the cosine rule gives
+    c = (r1^2 + rho^2 - r2^2) / (2 r1 rho) and s = sqrt(1 - c^2), so that with perp(d) = (-d_y, d_x)::
+
+        v = c d + sigma_i s perp(d) = rho e(theta_i),
+        w = rho d - r1 v = rho (P - A_i) = r2 rho e(phi_i).
+
+    1 - c^2 is the reach margin. c is clamped to [-1, 1] first, so that a pose on the workspace
+    boundary, where |c| exceeds 1 by round-off, keeps its (serial-singular) solution.
+    """
+
+    d: sp.Matrix
+    rho: sp.Expr
+    c: sp.Expr
+    c_clamped: sp.Expr
+    v: sp.Matrix
+    w: sp.Matrix
+
+    @classmethod
+    def of(cls, base: sp.Matrix, s: sp.Symbol) -> ChainSolution:
         d = P - base
         rho = sp.sqrt(d[0] ** 2 + d[1] ** 2)
         c = (r1**2 + rho**2 - r2**2) / (2 * r1 * rho)
-        # Clamped so that a pose on the workspace boundary, where |c| exceeds 1 by round-off, keeps
-        # its (serial-singular) solution; the reach margin flags the poses truly out of reach.
-        th = sp.atan2(d[1], d[0]) + s * sp.acos(sp.Max(-1, sp.Min(1, c)))
-        elbow = base + r1 * _e(th)
-        actuated.append(th)
-        passive.append(sp.atan2(y - elbow[1], x - elbow[0]))
-        margins.append(1 - c**2)
-    return sp.Matrix(actuated + passive), sp.Matrix(margins)
+        c_clamped = sp.Max(-1, sp.Min(1, c))
+        v = c_clamped * d + s * sp.sqrt(1 - c_clamped**2) * sp.Matrix([-d[1], d[0]])
+        return cls(d, rho, c, c_clamped, v, rho * d - r1 * v)
+
+
+def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix, dict[sp.Expr, sp.Expr], dict[sp.Symbol, sp.Expr]]:
+    """All joint angles of the pose P for the elbow signs (sigma1, sigma2), the reach margins, and the
+    cosine and sine of every angle in the components of the links' position vectors, with those
+    components as functions of the pose (:class:`ChainSolution`)."""
+    actuated, passive, margins, directions, vectors = [], [], [], {}, {}
+    for i, (base, s, th, ph) in enumerate(zip(BASES, (sigma1, sigma2), (theta1, theta2), (phi1, phi2), strict=True), 1):
+        chain = ChainSolution.of(base, s)
+        actuated.append(sp.atan2(chain.d[1], chain.d[0]) + s * sp.acos(chain.c_clamped))
+        passive.append(sp.atan2(chain.w[1], chain.w[0]))
+        margins.append(1 - chain.c**2)
+        v = sp.symbols(f"v{i}_x v{i}_y", real=True)
+        w = sp.symbols(f"w{i}_x w{i}_y", real=True)
+        rho = sp.Symbol(f"rho{i}", positive=True)
+        directions.update({sp.cos(th): v[0] / rho, sp.sin(th): v[1] / rho,
+                           sp.cos(ph): w[0] / (r2 * rho), sp.sin(ph): w[1] / (r2 * rho)})
+        vectors.update(zip((*v, *w, rho), (*chain.v, *chain.w, chain.rho), strict=True))
+    return sp.Matrix(actuated + passive), sp.Matrix(margins), directions, vectors
 
 
 def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
@@ -111,7 +156,7 @@ def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
 def module() -> ModuleSpec:
     """Every function pkm's ``five_bar`` loads."""
     spec = ModuleSpec("five_bar", "symbolic/mechanisms/five_bar.py", "CasADi functions of the symmetric 5R.")
-    q, margins = inverse_kinematics()
+    q, margins, directions, vectors = inverse_kinematics()
     p, q_fk, height2 = forward_kinematics()
     loop = loop_closure()
     add_kinematics(
@@ -128,6 +173,8 @@ def module() -> ModuleSpec:
             doc="Closed-form inverse kinematics of both chains for the elbow signs in mode.",
             q_doc="theta1, theta2, phi1, phi2 [rad]",
             reach_doc="1 - cos^2 of each elbow angle; >= 0 where reachable",
+            directions=directions,
+            vectors=vectors,
         ),
         forward=ForwardKinematics(
             p,
