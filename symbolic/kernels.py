@@ -2,8 +2,9 @@
 
 The kernels are the functions pkm evaluates over batches, built the way the runtime builds them: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
-alone and with 1/kappa_f (as the sampled regions and atlases evaluate them), and the one of its first
-order (the Jacobians), by :func:`pkm.regions.pipeline.pipeline`, the core's one builder. pkm is imported with
+alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
+indices, the sampled regions and atlases evaluate them), and the one of its first order (the Jacobians),
+by :func:`pkm.regions.pipeline.pipeline`, the core's one builder. pkm is imported with
 ``generated`` taken from OUT, so that the C follows the Python builders written there. Each mechanism's
 kernels go into ``<mechanism>_kernels.c``; ``kernels.c`` compiles them for each instruction set and lists
 them by key (:func:`pkm.compiled.key`) for :mod:`pkm.compiled`.
@@ -34,7 +35,7 @@ def _use_generated(out: Path) -> None:
 def mechanism_kernels(name: str) -> list[tuple[str, ca.Function]]:
     """(symbol, function) of every kernel of one mechanism, in a fixed order."""
     import pkm
-    from pkm.regions.pipeline import pipeline
+    from pkm.regions.pipeline import index_pipeline, pipeline
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
     mech = pkm.load(name)
@@ -43,9 +44,9 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function]]:
         fn = mech.functions[fn_name]
         if cemit.emittable(fn):
             out.append((f"pkm_{name}_{fn_name}", fn))
-    fused = {index: pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
+    fused = {index: index_pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
     condition = mech.local_spec(SAMPLED_CONDITION.name)
-    fused.update({f"{index}_{condition.name}": pipeline(mech, (mech.local_spec(index), condition))
+    fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
                   for index in mech.local_indices() if index != condition.name})
     fused["first_order"] = pipeline(mech, (), first_order=True)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
