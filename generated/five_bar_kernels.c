@@ -13,10 +13,20 @@ void PKM_FN(pkm_five_bar_actuated_dynamics)(long n, const double *const *in, con
   double b3[8][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[4], in[3] + 4, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[5], in[3] + 5, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[7], in[3] + 7, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -316,9 +326,15 @@ void PKM_FN(pkm_five_bar_constraint)(long n, const double *const *in, const long
   double b2[8][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12;
@@ -411,10 +427,29 @@ void PKM_FN(pkm_five_bar_elastic_dynamics)(long n, const double *const *in, cons
   double b3[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 4, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[4], in[3] + 4, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[5], in[3] + 5, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[7], in[3] + 7, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[9], in[3] + 9, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[10], in[3] + 10, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[11], in[3] + 11, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[12], in[3] + 12, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[13], in[3] + 13, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -761,9 +796,12 @@ void PKM_FN(pkm_five_bar_first_order)(long n, const double *const *in, const lon
   double b4[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19;
@@ -884,9 +922,13 @@ void PKM_FN(pkm_five_bar_first_order_from_pose)(long n, const double *const *in,
   double b6[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25;
@@ -1112,9 +1154,12 @@ void PKM_FN(pkm_five_bar_forward_kinematics)(long n, const double *const *in, co
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16;
@@ -1199,9 +1244,22 @@ void PKM_FN(pkm_five_bar_inertia)(long n, const double *const *in, const long *s
   double b2[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97;
@@ -2311,9 +2369,13 @@ void PKM_FN(pkm_five_bar_inverse_kinematics)(long n, const double *const *in, co
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18;
@@ -2424,9 +2486,22 @@ void PKM_FN(pkm_five_bar_joint_dynamics)(long n, const double *const *in, const 
   double b1[16][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 4, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18;
@@ -2578,7 +2653,9 @@ void PKM_FN(pkm_five_bar_maximum_inscribed_circle)(long n, const double *const *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 16, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12;
@@ -2661,10 +2738,14 @@ void PKM_FN(pkm_five_bar_second_order)(long n, const double *const *in, const lo
   double b1[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29;
@@ -2823,9 +2904,13 @@ void PKM_FN(pkm_five_bar_pipeline_inverse_condition_f)(long n, const double *con
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20;
@@ -2999,9 +3084,13 @@ void PKM_FN(pkm_five_bar_pipeline_inverse_condition_2)(long n, const double *con
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22;
@@ -3200,9 +3289,13 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_max)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17;
@@ -3371,9 +3464,13 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_min)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15;
@@ -3523,9 +3620,13 @@ void PKM_FN(pkm_five_bar_pipeline_manipulability)(long n, const double *const *i
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17;
@@ -3673,9 +3774,13 @@ void PKM_FN(pkm_five_bar_pipeline_jacobian_determinant)(long n, const double *co
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15;
@@ -3809,9 +3914,12 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_ratio)(long n, const double *const *i
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13;
@@ -3913,9 +4021,19 @@ void PKM_FN(pkm_five_bar_pipeline_dynamic_dexterity)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32;
@@ -4220,9 +4338,23 @@ void PKM_FN(pkm_five_bar_pipeline_natural_frequency)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116;
@@ -5411,9 +5543,13 @@ void PKM_FN(pkm_five_bar_pipeline_inverse_condition_2_inverse_condition_f)(long 
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25;
@@ -5643,9 +5779,13 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_max_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20;
@@ -5857,9 +5997,13 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_min_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24;
@@ -6069,9 +6213,13 @@ void PKM_FN(pkm_five_bar_pipeline_manipulability_inverse_condition_f)(long n, co
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21;
@@ -6263,9 +6411,13 @@ void PKM_FN(pkm_five_bar_pipeline_jacobian_determinant_inverse_condition_f)(long
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23;
@@ -6460,9 +6612,13 @@ void PKM_FN(pkm_five_bar_pipeline_velocity_ratio_inverse_condition_f)(long n, co
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22;
@@ -6655,9 +6811,19 @@ void PKM_FN(pkm_five_bar_pipeline_dynamic_dexterity_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -7036,9 +7202,23 @@ void PKM_FN(pkm_five_bar_pipeline_natural_frequency_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128;
@@ -8305,9 +8485,13 @@ void PKM_FN(pkm_five_bar_pipeline_first_order)(long n, const double *const *in, 
   double b7[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25;

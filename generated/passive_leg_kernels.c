@@ -11,9 +11,18 @@ void PKM_FN(pkm_passive_leg_constraint)(long n, const double *const *in, const l
   double b2[12][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[5], in[0] + 5, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16;
@@ -155,9 +164,16 @@ void PKM_FN(pkm_passive_leg_first_order)(long n, const double *const *in, const 
   double b4[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46;
@@ -652,7 +668,10 @@ void PKM_FN(pkm_passive_leg_footprint)(long n, const double *const *in, const lo
   double b0[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 5, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4;
@@ -685,9 +704,13 @@ void PKM_FN(pkm_passive_leg_forward_from_root)(long n, const double *const *in, 
   double b2[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 1, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19;
@@ -821,8 +844,12 @@ void PKM_FN(pkm_passive_leg_forward_polynomial)(long n, const double *const *in,
   double b0[7][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23;
@@ -979,9 +1006,13 @@ void PKM_FN(pkm_passive_leg_forward_refined)(long n, const double *const *in, co
   double b2[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 1, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -1557,9 +1588,14 @@ void PKM_FN(pkm_passive_leg_inverse_kinematics)(long n, const double *const *in,
   double b1[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18;
@@ -1688,9 +1724,15 @@ void PKM_FN(pkm_passive_leg_joint_angles)(long n, const double *const *in, const
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20;
@@ -1788,9 +1830,14 @@ void PKM_FN(pkm_passive_leg_joint_positions)(long n, const double *const *in, co
   double b6[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7;
@@ -1854,7 +1901,8 @@ void PKM_FN(pkm_passive_leg_leg_reach)(long n, const double *const *in, const lo
   double b0[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 5, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1;
@@ -1880,9 +1928,14 @@ void PKM_FN(pkm_passive_leg_paper_first_order)(long n, const double *const *in, 
   double b4[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32;
@@ -2155,8 +2208,14 @@ void PKM_FN(pkm_passive_leg_paper_forward)(long n, const double *const *in, cons
   double b4[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[5], in[0] + 5, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24;
@@ -2341,9 +2400,14 @@ void PKM_FN(pkm_passive_leg_paper_inverse)(long n, const double *const *in, cons
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17;
@@ -2447,8 +2511,7 @@ void PKM_FN(pkm_passive_leg_polar_area)(long n, const double *const *in, const l
   double b0[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0;
@@ -2467,8 +2530,8 @@ void PKM_FN(pkm_passive_leg_polar_to_pose)(long n, const double *const *in, cons
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2;
@@ -2495,9 +2558,15 @@ void PKM_FN(pkm_passive_leg_region_margins)(long n, const double *const *in, con
   double b0[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 6, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23;
@@ -2743,8 +2812,11 @@ void PKM_FN(pkm_passive_leg_workspace_boundary)(long n, const double *const *in,
   double b5[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 1, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;
@@ -2818,8 +2890,11 @@ void PKM_FN(pkm_passive_leg_workspace_curves)(long n, const double *const *in, c
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 1, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 5, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2889,7 +2964,11 @@ void PKM_FN(pkm_passive_leg_workspace_range_negative)(long n, const double *cons
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 5, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6;
@@ -2929,7 +3008,11 @@ void PKM_FN(pkm_passive_leg_workspace_range_positive)(long n, const double *cons
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 5, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6;
@@ -2970,9 +3053,14 @@ void PKM_FN(pkm_passive_leg_pipeline_inverse_condition_f)(long n, const double *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42;
@@ -3321,9 +3409,14 @@ void PKM_FN(pkm_passive_leg_pipeline_inverse_condition_2)(long n, const double *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -3696,9 +3789,14 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_max)(long n, const double *const *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36;
@@ -4014,9 +4112,14 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_min)(long n, const double *const *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23;
@@ -4251,9 +4354,14 @@ void PKM_FN(pkm_passive_leg_pipeline_manipulability)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35;
@@ -4549,9 +4657,14 @@ void PKM_FN(pkm_passive_leg_pipeline_jacobian_determinant)(long n, const double 
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21;
@@ -4771,9 +4884,13 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_ratio)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16;
@@ -4928,9 +5045,14 @@ void PKM_FN(pkm_passive_leg_pipeline_inverse_condition_2_inverse_condition_f)(lo
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46;
@@ -5334,9 +5456,14 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_max_inverse_condition_f)(long n, c
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45;
@@ -5722,9 +5849,14 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_min_inverse_condition_f)(long n, c
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -6108,9 +6240,14 @@ void PKM_FN(pkm_passive_leg_pipeline_manipulability_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -6477,9 +6614,14 @@ void PKM_FN(pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f)(l
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42;
@@ -6849,9 +6991,14 @@ void PKM_FN(pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44;
@@ -7224,9 +7371,14 @@ void PKM_FN(pkm_passive_leg_pipeline_first_order)(long n, const double *const *i
   double b7[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 5, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46;

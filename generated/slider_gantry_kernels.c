@@ -11,9 +11,15 @@ void PKM_FN(pkm_slider_gantry_constraint)(long n, const double *const *in, const
   double b2[8][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7;
@@ -98,10 +104,29 @@ void PKM_FN(pkm_slider_gantry_energy)(long n, const double *const *in, const lon
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 23, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[9], in[3] + 9, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[10], in[3] + 10, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[11], in[3] + 11, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[12], in[3] + 12, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[13], in[3] + 13, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[16], in[3] + 16, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[17], in[3] + 17, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[18], in[3] + 18, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[19], in[3] + 19, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[20], in[3] + 20, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[21], in[3] + 21, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[22], in[3] + 22, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26;
@@ -257,9 +282,9 @@ void PKM_FN(pkm_slider_gantry_first_order)(long n, const double *const *in, cons
   double b4[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8;
@@ -332,9 +357,12 @@ void PKM_FN(pkm_slider_gantry_forward_kinematics)(long n, const double *const *i
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15;
@@ -406,9 +434,23 @@ void PKM_FN(pkm_slider_gantry_inertia)(long n, const double *const *in, const lo
   double b2[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -579,11 +621,27 @@ void PKM_FN(pkm_slider_gantry_inverse_dynamics)(long n, const double *const *in,
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 2, in[3], stride[3], p0, m);
-    PKM_FN(pkm_gather)(a4[0], 23, in[4], stride[4], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a4[0], in[4] + 0, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[8], in[4] + 8, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[9], in[4] + 9, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[10], in[4] + 10, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[11], in[4] + 11, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[12], in[4] + 12, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[13], in[4] + 13, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[14], in[4] + 14, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[15], in[4] + 15, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[16], in[4] + 16, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[17], in[4] + 17, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[18], in[4] + 18, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[19], in[4] + 19, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[20], in[4] + 20, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[21], in[4] + 21, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[22], in[4] + 22, stride[4], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40;
@@ -814,9 +872,15 @@ void PKM_FN(pkm_slider_gantry_inverse_kinematics)(long n, const double *const *i
   double b1[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9;
@@ -888,11 +952,28 @@ void PKM_FN(pkm_slider_gantry_lagrange_dynamics)(long n, const double *const *in
   double b3[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 2, in[3], stride[3], p0, m);
-    PKM_FN(pkm_gather)(a4[0], 23, in[4], stride[4], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a4[0], in[4] + 0, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[8], in[4] + 8, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[9], in[4] + 9, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[10], in[4] + 10, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[11], in[4] + 11, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[12], in[4] + 12, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[13], in[4] + 13, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[14], in[4] + 14, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[15], in[4] + 15, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[16], in[4] + 16, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[17], in[4] + 17, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[18], in[4] + 18, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[19], in[4] + 19, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[20], in[4] + 20, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[21], in[4] + 21, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[22], in[4] + 22, stride[4], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43;
@@ -1185,9 +1266,9 @@ void PKM_FN(pkm_slider_gantry_partial_velocities)(long n, const double *const *i
   double b1[16][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5;
@@ -1273,7 +1354,13 @@ void PKM_FN(pkm_slider_gantry_task_rectangle)(long n, const double *const *in, c
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 23, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[5], in[0] + 5, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[6], in[0] + 6, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[7], in[0] + 7, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8;
@@ -1337,10 +1424,25 @@ void PKM_FN(pkm_slider_gantry_virtual_work)(long n, const double *const *in, con
   double b2[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 23, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[9], in[3] + 9, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[10], in[3] + 10, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[11], in[3] + 11, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[12], in[3] + 12, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[13], in[3] + 13, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[16], in[3] + 16, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[17], in[3] + 17, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[18], in[3] + 18, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[19], in[3] + 19, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[20], in[3] + 20, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[21], in[3] + 21, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[22], in[3] + 22, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35;
@@ -1569,9 +1671,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_inverse_condition_f)(long n, const double
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -1680,9 +1788,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_inverse_condition_2)(long n, const double
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -1813,9 +1927,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_max)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -1929,9 +2049,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_min)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2034,9 +2160,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_manipulability)(long n, const double *con
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2130,9 +2262,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_jacobian_determinant)(long n, const doubl
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2221,9 +2359,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_ratio)(long n, const double *con
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;
@@ -2308,9 +2452,29 @@ void PKM_FN(pkm_slider_gantry_pipeline_dynamic_dexterity)(long n, const double *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26;
@@ -2517,9 +2681,29 @@ void PKM_FN(pkm_slider_gantry_pipeline_kappa_d)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -2743,9 +2927,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_inverse_condition_2_inverse_condition_f)(
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14;
@@ -2905,9 +3095,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_max_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13;
@@ -3053,9 +3249,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_min_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12;
@@ -3195,9 +3397,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_manipulability_inverse_condition_f)(long 
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3324,9 +3532,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_jacobian_determinant_inverse_condition_f)
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3454,9 +3668,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f)(long 
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3584,9 +3804,29 @@ void PKM_FN(pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f)(lo
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -3837,9 +4077,29 @@ void PKM_FN(pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30;
@@ -4111,9 +4371,15 @@ void PKM_FN(pkm_slider_gantry_pipeline_first_order)(long n, const double *const 
   double b7[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 23, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;

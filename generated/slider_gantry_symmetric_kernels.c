@@ -11,9 +11,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_constraint)(long n, const double *const 
   double b2[8][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7;
@@ -98,10 +104,32 @@ void PKM_FN(pkm_slider_gantry_symmetric_energy)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 26, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[9], in[3] + 9, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[10], in[3] + 10, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[11], in[3] + 11, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[12], in[3] + 12, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[13], in[3] + 13, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[16], in[3] + 16, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[17], in[3] + 17, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[18], in[3] + 18, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[19], in[3] + 19, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[20], in[3] + 20, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[21], in[3] + 21, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[22], in[3] + 22, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[23], in[3] + 23, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[24], in[3] + 24, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[25], in[3] + 25, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29;
@@ -279,9 +307,9 @@ void PKM_FN(pkm_slider_gantry_symmetric_first_order)(long n, const double *const
   double b4[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8;
@@ -354,9 +382,12 @@ void PKM_FN(pkm_slider_gantry_symmetric_forward_kinematics)(long n, const double
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15;
@@ -428,9 +459,26 @@ void PKM_FN(pkm_slider_gantry_symmetric_inertia)(long n, const double *const *in
   double b2[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[22], in[2] + 22, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[23], in[2] + 23, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[24], in[2] + 24, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31;
@@ -623,11 +671,30 @@ void PKM_FN(pkm_slider_gantry_symmetric_inverse_dynamics)(long n, const double *
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 2, in[3], stride[3], p0, m);
-    PKM_FN(pkm_gather)(a4[0], 26, in[4], stride[4], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a4[0], in[4] + 0, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[8], in[4] + 8, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[9], in[4] + 9, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[10], in[4] + 10, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[11], in[4] + 11, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[12], in[4] + 12, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[13], in[4] + 13, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[14], in[4] + 14, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[15], in[4] + 15, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[16], in[4] + 16, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[17], in[4] + 17, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[18], in[4] + 18, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[19], in[4] + 19, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[20], in[4] + 20, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[21], in[4] + 21, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[22], in[4] + 22, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[23], in[4] + 23, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[24], in[4] + 24, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[25], in[4] + 25, stride[4], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45;
@@ -893,9 +960,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_inverse_kinematics)(long n, const double
   double b1[4][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9;
@@ -967,11 +1040,31 @@ void PKM_FN(pkm_slider_gantry_symmetric_lagrange_dynamics)(long n, const double 
   double b3[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 2, in[3], stride[3], p0, m);
-    PKM_FN(pkm_gather)(a4[0], 26, in[4], stride[4], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a4[0], in[4] + 0, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[8], in[4] + 8, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[9], in[4] + 9, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[10], in[4] + 10, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[11], in[4] + 11, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[12], in[4] + 12, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[13], in[4] + 13, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[14], in[4] + 14, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[15], in[4] + 15, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[16], in[4] + 16, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[17], in[4] + 17, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[18], in[4] + 18, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[19], in[4] + 19, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[20], in[4] + 20, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[21], in[4] + 21, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[22], in[4] + 22, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[23], in[4] + 23, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[24], in[4] + 24, stride[4], p0, m);
+    PKM_FN(pkm_gather)(a4[25], in[4] + 25, stride[4], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46;
@@ -1285,9 +1378,9 @@ void PKM_FN(pkm_slider_gantry_symmetric_partial_velocities)(long n, const double
   double b1[18][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5;
@@ -1379,7 +1472,13 @@ void PKM_FN(pkm_slider_gantry_symmetric_task_rectangle)(long n, const double *co
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 26, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[4], in[0] + 4, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[5], in[0] + 5, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[6], in[0] + 6, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[7], in[0] + 7, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8;
@@ -1443,10 +1542,28 @@ void PKM_FN(pkm_slider_gantry_symmetric_virtual_work)(long n, const double *cons
   double b2[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 4, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 2, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 26, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[3], in[0] + 3, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[8], in[3] + 8, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[9], in[3] + 9, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[10], in[3] + 10, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[11], in[3] + 11, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[12], in[3] + 12, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[13], in[3] + 13, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[16], in[3] + 16, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[17], in[3] + 17, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[18], in[3] + 18, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[19], in[3] + 19, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[20], in[3] + 20, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[21], in[3] + 21, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[22], in[3] + 22, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[23], in[3] + 23, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[24], in[3] + 24, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[25], in[3] + 25, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40;
@@ -1710,9 +1827,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_inverse_condition_f)(long n, co
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -1821,9 +1944,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_inverse_condition_2)(long n, co
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -1954,9 +2083,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_max)(long n, const dou
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2070,9 +2205,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_min)(long n, const dou
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2175,9 +2316,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_manipulability)(long n, const d
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2271,9 +2418,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_jacobian_determinant)(long n, c
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -2362,9 +2515,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_ratio)(long n, const d
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;
@@ -2449,9 +2608,32 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity)(long n, cons
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[22], in[2] + 22, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[23], in[2] + 23, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[24], in[2] + 24, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -2680,9 +2862,32 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_kappa_d)(long n, const double *
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[22], in[2] + 22, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[23], in[2] + 23, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[24], in[2] + 24, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29;
@@ -2928,9 +3133,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_inverse_condition_2_inverse_con
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14;
@@ -3090,9 +3301,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_max_inverse_condition_
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13;
@@ -3238,9 +3455,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_min_inverse_condition_
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12;
@@ -3380,9 +3603,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_manipulability_inverse_conditio
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3509,9 +3738,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_jacobian_determinant_inverse_co
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3639,9 +3874,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_conditio
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11;
@@ -3769,9 +4010,32 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condi
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[22], in[2] + 22, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[23], in[2] + 23, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[24], in[2] + 24, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30;
@@ -4044,9 +4308,32 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f)(lo
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[16], in[2] + 16, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[17], in[2] + 17, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[18], in[2] + 18, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[19], in[2] + 19, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[20], in[2] + 20, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[21], in[2] + 21, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[22], in[2] + 22, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[23], in[2] + 23, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[24], in[2] + 24, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31;
@@ -4340,9 +4627,15 @@ void PKM_FN(pkm_slider_gantry_symmetric_pipeline_first_order)(long n, const doub
   double b7[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 2, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 2, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 26, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10;

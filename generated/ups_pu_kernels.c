@@ -9,9 +9,16 @@ void PKM_FN(pkm_ups_pu_actuator_forces)(long n, const double *const *in, const l
   double b0[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53;
@@ -588,9 +595,16 @@ void PKM_FN(pkm_ups_pu_constraint)(long n, const double *const *in, const long *
   double b2[9][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25;
@@ -753,9 +767,15 @@ void PKM_FN(pkm_ups_pu_first_order)(long n, const double *const *in, const long 
   double b4[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50;
@@ -1181,9 +1201,14 @@ void PKM_FN(pkm_ups_pu_forward_from_root)(long n, const double *const *in, const
   double b2[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 1, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21;
@@ -1324,8 +1349,13 @@ void PKM_FN(pkm_ups_pu_forward_polynomial)(long n, const double *const *in, cons
   double b0[9][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 16, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36;
@@ -1565,9 +1595,13 @@ void PKM_FN(pkm_ups_pu_inverse_kinematics)(long n, const double *const *in, cons
   double b1[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13;
@@ -1655,8 +1689,13 @@ void PKM_FN(pkm_ups_pu_joint_positions)(long n, const double *const *in, const l
   double b5[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 16, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[3], in[1] + 3, stride[1], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14;
@@ -1744,9 +1783,16 @@ void PKM_FN(pkm_ups_pu_statics)(long n, const double *const *in, const long *str
   double b2[6][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24;
@@ -1980,7 +2026,9 @@ void PKM_FN(pkm_ups_pu_task_cylinder)(long n, const double *const *in, const lon
   double b1[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 16, in[0], stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[6], in[0] + 6, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[14], in[0] + 14, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[15], in[0] + 15, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3;
@@ -2011,8 +2059,9 @@ void PKM_FN(pkm_ups_pu_tilt_to_pose)(long n, const double *const *in, const long
   double b0[3][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 16, in[1], stride[1], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6;
@@ -2059,9 +2108,22 @@ void PKM_FN(pkm_ups_pu_workspace_margins)(long n, const double *const *in, const
   double b0[15][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 3, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[1], in[1] + 1, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a1[2], in[1] + 2, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26;
@@ -2513,9 +2575,13 @@ void PKM_FN(pkm_ups_pu_pipeline_inverse_condition_f)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52;
@@ -3006,9 +3072,13 @@ void PKM_FN(pkm_ups_pu_pipeline_inverse_condition_2)(long n, const double *const
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58;
@@ -3647,9 +3717,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_max)(long n, const double *const *in, c
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48;
@@ -4185,9 +4259,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_min)(long n, const double *const *in, c
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23;
@@ -4447,9 +4525,13 @@ void PKM_FN(pkm_ups_pu_pipeline_manipulability)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35;
@@ -4726,9 +4808,13 @@ void PKM_FN(pkm_ups_pu_pipeline_jacobian_determinant)(long n, const double *cons
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19;
@@ -4891,9 +4977,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_ratio)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17;
@@ -5009,9 +5099,16 @@ void PKM_FN(pkm_ups_pu_pipeline_actuator_force)(long n, const double *const *in,
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -5664,9 +5761,20 @@ void PKM_FN(pkm_ups_pu_pipeline_workspace_margin)(long n, const double *const *i
   double b1[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28;
@@ -6192,9 +6300,13 @@ void PKM_FN(pkm_ups_pu_pipeline_inverse_condition_2_inverse_condition_f)(long n,
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65;
@@ -6884,9 +6996,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_max_inverse_condition_f)(long n, const 
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60;
@@ -7488,9 +7604,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_min_inverse_condition_f)(long n, const 
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60;
@@ -8088,9 +8208,13 @@ void PKM_FN(pkm_ups_pu_pipeline_manipulability_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -8603,9 +8727,13 @@ void PKM_FN(pkm_ups_pu_pipeline_jacobian_determinant_inverse_condition_f)(long n
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -9121,9 +9249,13 @@ void PKM_FN(pkm_ups_pu_pipeline_velocity_ratio_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -9633,9 +9765,16 @@ void PKM_FN(pkm_ups_pu_pipeline_actuator_force_inverse_condition_f)(long n, cons
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64;
@@ -10694,9 +10833,20 @@ void PKM_FN(pkm_ups_pu_pipeline_workspace_margin_inverse_condition_f)(long n, co
   double b2[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[4], in[2] + 4, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[5], in[2] + 5, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[7], in[2] + 7, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[8], in[2] + 8, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[9], in[2] + 9, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[10], in[2] + 10, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -11632,9 +11782,13 @@ void PKM_FN(pkm_ups_pu_pipeline_first_order)(long n, const double *const *in, co
   double b7[1][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50;
