@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 b4633a1193cf0738).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 bac60b94c442f5f1).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "b4633a1193cf0738"
+SOURCE_HASH = "bac60b94c442f5f1"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", )
 POSE = ("x", "y", )
@@ -46,26 +46,29 @@ def inverse_kinematics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 17 common subexpressions, 82 operations
+    # 20 common subexpressions, 69 operations
     _t0 = design_2 + x_0
-    _t1 = x_1**2
-    _t2 = _t0**2 + _t1
-    _t3 = ca.sqrt(_t2)
-    _t4 = design_0**2
-    _t5 = _t4 - design_1**2
-    _t6 = _t2 + _t5
-    _t7 = (1/2)/design_0
-    _t8 = ca.fmax(-1, ca.fmin(1, _t6*_t7/_t3))
-    _t9 = -design_2 + x_0
-    _t10 = _t1 + _t9**2
-    _t11 = ca.sqrt(_t10)
-    _t12 = _t10 + _t5
-    _t13 = ca.fmax(-1, ca.fmin(1, _t12*_t7/_t11))
-    _t14 = mode_0*ca.sqrt(1 - _t8**2)
-    _t15 = mode_1*ca.sqrt(1 - _t13**2)
-    _t16 = (1/4)/_t4
-    q = ca.reshape(ca.vertcat(mode_0*ca.acos(_t8) + ca.atan2(x_1, _t0), mode_1*ca.acos(_t13) + ca.atan2(x_1, _t9), ca.atan2(_t3*x_1 - design_0*(_t0*_t14 + _t8*x_1), _t0*_t3 - design_0*(_t0*_t8 - _t14*x_1)), ca.atan2(_t11*x_1 - design_0*(_t13*x_1 + _t15*_t9), _t11*_t9 - design_0*(_t13*_t9 - _t15*x_1))), 4, 1)
-    reach = ca.reshape(ca.vertcat(-_t16*_t6**2/_t2 + 1, 1 - _t12**2*_t16/_t10), 2, 1)
+    _t1 = design_0**2
+    _t2 = x_1**2
+    _t3 = _t0**2
+    _t4 = _t2 + _t3
+    _t5 = (1/2)*_t1 + (1/2)*_t2 - 1/2*design_1**2
+    _t6 = (1/2)*_t3 + _t5
+    _t7 = _t1*_t4 - _t6**2
+    _t8 = 1/_t1
+    _t9 = _t7*_t8/_t4
+    _t10 = ca.if_else((_t9 > 1/1125899906842624), ca.sqrt(_t7), 0)
+    _t11 = -design_2 + x_0
+    _t12 = _t11**2
+    _t13 = _t12 + _t2
+    _t14 = (1/2)*_t12 + _t5
+    _t15 = _t1*_t13 - _t14**2
+    _t16 = _t15*_t8/_t13
+    _t17 = ca.if_else((_t16 > 1/1125899906842624), ca.sqrt(_t15), 0)
+    _t18 = _t10*mode_0
+    _t19 = _t17*mode_1
+    q = ca.reshape(ca.vertcat(mode_0*ca.atan2(_t10, _t6) + ca.atan2(x_1, _t0), mode_1*ca.atan2(_t17, _t14) + ca.atan2(x_1, _t11), ca.atan2(-_t0*_t18 + _t4*x_1 - _t6*x_1, _t0*_t4 - _t0*_t6 + _t18*x_1), ca.atan2(-_t11*_t19 + _t13*x_1 - _t14*x_1, _t11*_t13 - _t11*_t14 + _t19*x_1)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t9, _t16), 2, 1)
     return ca.Function("inverse_kinematics", [x, mode, design], [q, reach], ["x", "mode", "design"], ["q", "reach"])
 
 
@@ -293,57 +296,58 @@ def first_order_from_pose():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 43 common subexpressions, 177 operations
+    # 44 common subexpressions, 150 operations
     _t0 = design_2 + x_0
-    _t1 = x_1**2
-    _t2 = _t0**2 + _t1
-    _t3 = ca.sqrt(_t2)
-    _t4 = 1/_t3
-    _t5 = design_0**2
-    _t6 = _t5 - design_1**2
-    _t7 = _t2 + _t6
-    _t8 = (1/2)/design_0
-    _t9 = ca.fmax(-1, ca.fmin(1, _t4*_t7*_t8))
-    _t10 = -design_2 + x_0
-    _t11 = _t1 + _t10**2
-    _t12 = ca.sqrt(_t11)
-    _t13 = 1/_t12
-    _t14 = _t11 + _t6
-    _t15 = ca.fmax(-1, ca.fmin(1, _t13*_t14*_t8))
-    _t16 = mode_0*ca.sqrt(1 - _t9**2)
-    _t17 = _t0*_t16 + _t9*x_1
-    _t18 = _t17*design_0
-    _t19 = -_t18 + _t3*x_1
-    _t20 = _t0*_t9 - _t16*x_1
-    _t21 = _t20*design_0
-    _t22 = _t0*_t3 - _t21
-    _t23 = mode_1*ca.sqrt(1 - _t15**2)
-    _t24 = _t10*_t23 + _t15*x_1
-    _t25 = _t24*design_0
-    _t26 = _t12*x_1 - _t25
-    _t27 = _t10*_t15 - _t23*x_1
-    _t28 = _t27*design_0
-    _t29 = _t10*_t12 - _t28
-    _t30 = 1/_t2
-    _t31 = (1/4)/_t5
-    _t32 = 1/_t11
-    _t33 = _t18*_t22
-    _t34 = _t3/(_t19*_t20*design_0 - _t33)
-    _t35 = _t25*_t29
-    _t36 = _t12/(_t26*_t27*design_0 - _t35)
-    _t37 = _t22*_t26
-    _t38 = _t19*_t29
-    _t39 = 1/(_t3*_t37 - _t3*_t38)
-    _t40 = 1/(_t12*_t37 - _t12*_t38)
-    _t41 = _t37 - _t38
-    _t42 = 1/_t41
-    q = ca.reshape(ca.vertcat(mode_0*ca.acos(_t9) + ca.atan2(x_1, _t0), mode_1*ca.acos(_t15) + ca.atan2(x_1, _t10), ca.atan2(_t19, _t22), ca.atan2(_t26, _t29)), 4, 1)
-    reach = ca.reshape(ca.vertcat(-_t30*_t31*_t7**2 + 1, -_t14**2*_t31*_t32 + 1), 2, 1)
-    J = ca.reshape(ca.vertcat(_t22*_t34, _t29*_t36, _t19*_t34, _t26*_t36), 2, 2)
-    J_f = ca.reshape(ca.vertcat(_t39*(-_t18*_t37 + _t19*_t20*_t26*design_0), _t39*(-_t21*_t38 + _t29*_t33), _t40*(-_t19*_t26*_t28 + _t25*_t38), _t40*(_t22*_t26*_t27*design_0 - _t22*_t35)), 2, 2)
-    psi = ca.reshape(ca.vertcat(1, 0, _t42*(_t18*_t29 - _t21*_t26), _t39*(-_t12*_t19*_t21 + _t12*_t33), 0, 1, _t40*(_t26*_t27*_t3*design_0 - _t3*_t35), _t42*(_t19*_t27*design_0 - _t22*_t25)), 4, 2)
-    det_type1 = ca.reshape(ca.vertcat(_t30*_t32*(-_t17*_t22*_t24*_t29*_t5 + _t17*_t22*_t26*_t27*_t5 + _t19*_t20*_t24*_t29*_t5 - _t19*_t20*_t26*_t27*_t5)), 1, 1)
-    det_type2 = ca.reshape(ca.vertcat(-_t13*_t4*_t41), 1, 1)
+    _t1 = design_0**2
+    _t2 = x_1**2
+    _t3 = _t0**2
+    _t4 = _t2 + _t3
+    _t5 = (1/2)*_t1 + (1/2)*_t2 - 1/2*design_1**2
+    _t6 = (1/2)*_t3 + _t5
+    _t7 = _t1*_t4 - _t6**2
+    _t8 = 1/_t1
+    _t9 = 1/_t4
+    _t10 = _t7*_t8*_t9
+    _t11 = ca.if_else((_t10 > 1/1125899906842624), ca.sqrt(_t7), 0)
+    _t12 = -design_2 + x_0
+    _t13 = _t12**2
+    _t14 = _t13 + _t2
+    _t15 = (1/2)*_t13 + _t5
+    _t16 = _t1*_t14 - _t15**2
+    _t17 = 1/_t14
+    _t18 = _t16*_t17*_t8
+    _t19 = ca.if_else((_t18 > 1/1125899906842624), ca.sqrt(_t16), 0)
+    _t20 = _t11*mode_0
+    _t21 = _t0*_t20 + _t6*x_1
+    _t22 = -_t21 + _t4*x_1
+    _t23 = -_t0*_t6 + _t20*x_1
+    _t24 = _t0*_t4 + _t23
+    _t25 = _t19*mode_1
+    _t26 = _t12*_t25 + _t15*x_1
+    _t27 = _t14*x_1 - _t26
+    _t28 = -_t12*_t15 + _t25*x_1
+    _t29 = _t12*_t14 + _t28
+    _t30 = -_t23
+    _t31 = _t22*_t30
+    _t32 = _t21*_t24
+    _t33 = _t4/(_t31 - _t32)
+    _t34 = -_t28
+    _t35 = _t27*_t34
+    _t36 = _t26*_t29
+    _t37 = _t14/(_t35 - _t36)
+    _t38 = _t24*_t27
+    _t39 = _t22*_t29
+    _t40 = 1/(_t38*_t4 - _t39*_t4)
+    _t41 = 1/(_t14*_t38 - _t14*_t39)
+    _t42 = _t38 - _t39
+    _t43 = 1/_t42
+    q = ca.reshape(ca.vertcat(mode_0*ca.atan2(_t11, _t6) + ca.atan2(x_1, _t0), mode_1*ca.atan2(_t19, _t15) + ca.atan2(x_1, _t12), ca.atan2(_t22, _t24), ca.atan2(_t27, _t29)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t10, _t18), 2, 1)
+    J = ca.reshape(ca.vertcat(_t24*_t33, _t29*_t37, _t22*_t33, _t27*_t37), 2, 2)
+    J_f = ca.reshape(ca.vertcat(_t40*(_t27*_t31 - _t27*_t32), _t40*(_t21*_t24*_t29 - _t29*_t31), _t41*(_t22*_t26*_t29 - _t22*_t35), _t41*(_t24*_t35 - _t24*_t36)), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, _t43*(_t21*_t29 - _t27*_t30), _t40*(_t14*_t21*_t24 - _t14*_t31), 0, 1, _t41*(_t35*_t4 - _t36*_t4), _t43*(_t22*_t34 - _t24*_t26)), 4, 2)
+    det_type1 = ca.reshape(ca.vertcat((_t21*_t24*_t27*_t34 + _t22*_t26*_t29*_t30 - _t31*_t35 - _t32*_t36)/(_t14**2*_t4**2)), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(-_t17*_t42*_t9), 1, 1)
     return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
