@@ -44,7 +44,8 @@ SEED = 20261121
 TOL = 1e-9
 SERIAL_MARGIN = 1e-3
 CC = shutil.which("gcc") or shutil.which("cc")
-BUILD_FLAGS = ("-O3", "-fopenmp-simd", "-fno-math-errno", "-fno-trapping-math", "-fno-tree-sink", "-ffp-contract=off")
+BUILD_FLAGS = ("-O3", "-fopenmp-simd", "-fno-math-errno", "-fno-trapping-math", "-fno-tree-sink", "-fno-thread-jumps",
+               "-ffp-contract=off")
 LIBMVEC = sys.platform == "linux" and platform.machine() == "x86_64"
 _DOUBLES = ctypes.POINTER(ctypes.c_double)
 
