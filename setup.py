@@ -4,10 +4,11 @@ built into pkm._kernels at install:
 optional, so that pkm installs without a C compiler and evaluates with CasADi's interpreter.
 
 IEEE semantics are kept: no -ffast-math and no contraction into fused multiply-adds; -fno-math-errno and
--fno-trapping-math change no value (sqrt compiles to its instruction, selects to blends). Every kernel
-is compiled for the generic x86-64 and for AVX2, and kernels.c picks one when called, instead of
--march=native; the vector functions come from glibc's libmvec. The translation units compile in
-parallel, one per core.
+-fno-trapping-math change no value (sqrt compiles to its instruction, selects to blends), nor does
+-fno-thread-jumps, which keeps selects that share a condition in straight-line code (threaded into
+branches, they stop the loop over a block from vectorising). Every kernel is compiled for the generic
+x86-64 and for AVX2, and kernels.c picks one when called, instead of -march=native; the vector functions
+come from glibc's libmvec. The translation units compile in parallel, one per core.
 """
 
 import os
@@ -48,7 +49,7 @@ setup(
             sources=["pkm/_kernels.c", "generated/kernels.c", *UNITS],
             depends=["generated/kernels_prelude.h", "generated/kernels_helpers.h"],
             extra_compile_args=["-O3", "-fopenmp-simd", "-fno-math-errno", "-fno-trapping-math", "-fno-tree-sink",
-                                "-ffp-contract=off"],
+                                "-fno-thread-jumps", "-ffp-contract=off"],
             libraries=["mvec", "m"] if VECTOR else ["m"],
             optional=True,
         )

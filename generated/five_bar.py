@@ -1,12 +1,12 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 ca091efafb739e0c).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 b1f54c251f9b7da9).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "ca091efafb739e0c"
-FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
+SOURCE_HASH = "b1f54c251f9b7da9"
+FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", )
 POSE = ("x", "y", )
 ACTUATORS = ("theta1", "theta2", )
@@ -46,24 +46,29 @@ def inverse_kinematics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 15 common subexpressions, 65 operations
+    # 20 common subexpressions, 69 operations
     _t0 = design_2 + x_0
-    _t1 = x_1**2
-    _t2 = _t0**2 + _t1
-    _t3 = design_0**2
-    _t4 = _t3 - design_1**2
-    _t5 = _t2 + _t4
-    _t6 = (1/2)/design_0
-    _t7 = mode_0*ca.acos(ca.fmax(-1, ca.fmin(1, _t5*_t6/ca.sqrt(_t2)))) + ca.atan2(x_1, _t0)
-    _t8 = design_2 - x_0
-    _t9 = -_t8
-    _t10 = _t1 + _t9**2
-    _t11 = _t10 + _t4
-    _t12 = mode_1*ca.acos(ca.fmax(-1, ca.fmin(1, _t11*_t6/ca.sqrt(_t10)))) + ca.atan2(x_1, _t9)
-    _t13 = -x_1
-    _t14 = (1/4)/_t3
-    q = ca.reshape(ca.vertcat(_t7, _t12, ca.atan2(-_t13 - design_0*ca.sin(_t7), _t0 - design_0*ca.cos(_t7)), ca.atan2(-_t13 - design_0*ca.sin(_t12), -_t8 - design_0*ca.cos(_t12))), 4, 1)
-    reach = ca.reshape(ca.vertcat(-_t14*_t5**2/_t2 + 1, 1 - _t11**2*_t14/_t10), 2, 1)
+    _t1 = design_0**2
+    _t2 = x_1**2
+    _t3 = _t0**2
+    _t4 = _t2 + _t3
+    _t5 = (1/2)*_t1 + (1/2)*_t2 - 1/2*design_1**2
+    _t6 = (1/2)*_t3 + _t5
+    _t7 = _t1*_t4 - _t6**2
+    _t8 = 1/_t1
+    _t9 = _t7*_t8/_t4
+    _t10 = ca.if_else((_t9 > 1/1125899906842624), ca.sqrt(_t7), 0)
+    _t11 = -design_2 + x_0
+    _t12 = _t11**2
+    _t13 = _t12 + _t2
+    _t14 = (1/2)*_t12 + _t5
+    _t15 = _t1*_t13 - _t14**2
+    _t16 = _t15*_t8/_t13
+    _t17 = ca.if_else((_t16 > 1/1125899906842624), ca.sqrt(_t15), 0)
+    _t18 = _t10*mode_0
+    _t19 = _t17*mode_1
+    q = ca.reshape(ca.vertcat(mode_0*ca.atan2(_t10, _t6) + ca.atan2(x_1, _t0), mode_1*ca.atan2(_t17, _t14) + ca.atan2(x_1, _t11), ca.atan2(-_t0*_t18 + _t4*x_1 - _t6*x_1, _t0*_t4 - _t0*_t6 + _t18*x_1), ca.atan2(-_t11*_t19 + _t13*x_1 - _t14*x_1, _t11*_t13 - _t11*_t14 + _t19*x_1)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t9, _t16), 2, 1)
     return ca.Function("inverse_kinematics", [x, mode, design], [q, reach], ["x", "mode", "design"], ["q", "reach"])
 
 
@@ -250,6 +255,100 @@ def first_order():
     det_type1 = ca.reshape(ca.vertcat(_t23*design_0**2*(_t0*_t10*_t11*_t5 - _t0*_t13*_t5*_t9 - _t12*_t4 + _t13*_t2*_t3*_t9)), 1, 1)
     det_type2 = ca.reshape(ca.vertcat(_t17*_t23), 1, 1)
     return ca.Function("first_order", [q, x, design], [J, J_f, psi, det_type1, det_type2], ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
+
+
+def first_order_from_pose():
+    """inverse_kinematics and first_order at its q, the first order with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call).
+
+    Inputs:
+        x (2): [x, y] end-effector position [m]
+        mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
+        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+    Outputs:
+        q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
+        reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
+        J (2x2, column-major): q_a_dot = J x_dot [rad/m]
+        J_f (2x2, column-major): x_dot = J_f q_a_dot [m/rad]
+        psi (4x2, column-major): q_dot = Psi q_a_dot, all joints from actuated [-]
+        det_type1 (1x1, column-major): serial singularity measure [m^2]
+        det_type2 (1x1, column-major): parallel singularity measure [m^2]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    design = ca.SX.sym("design", 16)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    # 44 common subexpressions, 150 operations
+    _t0 = design_2 + x_0
+    _t1 = design_0**2
+    _t2 = x_1**2
+    _t3 = _t0**2
+    _t4 = _t2 + _t3
+    _t5 = (1/2)*_t1 + (1/2)*_t2 - 1/2*design_1**2
+    _t6 = (1/2)*_t3 + _t5
+    _t7 = _t1*_t4 - _t6**2
+    _t8 = 1/_t1
+    _t9 = 1/_t4
+    _t10 = _t7*_t8*_t9
+    _t11 = ca.if_else((_t10 > 1/1125899906842624), ca.sqrt(_t7), 0)
+    _t12 = -design_2 + x_0
+    _t13 = _t12**2
+    _t14 = _t13 + _t2
+    _t15 = (1/2)*_t13 + _t5
+    _t16 = _t1*_t14 - _t15**2
+    _t17 = 1/_t14
+    _t18 = _t16*_t17*_t8
+    _t19 = ca.if_else((_t18 > 1/1125899906842624), ca.sqrt(_t16), 0)
+    _t20 = _t11*mode_0
+    _t21 = _t0*_t20 + _t6*x_1
+    _t22 = -_t21 + _t4*x_1
+    _t23 = -_t0*_t6 + _t20*x_1
+    _t24 = _t0*_t4 + _t23
+    _t25 = _t19*mode_1
+    _t26 = _t12*_t25 + _t15*x_1
+    _t27 = _t14*x_1 - _t26
+    _t28 = -_t12*_t15 + _t25*x_1
+    _t29 = _t12*_t14 + _t28
+    _t30 = -_t23
+    _t31 = _t22*_t30
+    _t32 = _t21*_t24
+    _t33 = _t4/(_t31 - _t32)
+    _t34 = -_t28
+    _t35 = _t27*_t34
+    _t36 = _t26*_t29
+    _t37 = _t14/(_t35 - _t36)
+    _t38 = _t24*_t27
+    _t39 = _t22*_t29
+    _t40 = 1/(_t38*_t4 - _t39*_t4)
+    _t41 = 1/(_t14*_t38 - _t14*_t39)
+    _t42 = _t38 - _t39
+    _t43 = 1/_t42
+    q = ca.reshape(ca.vertcat(mode_0*ca.atan2(_t11, _t6) + ca.atan2(x_1, _t0), mode_1*ca.atan2(_t19, _t15) + ca.atan2(x_1, _t12), ca.atan2(_t22, _t24), ca.atan2(_t27, _t29)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t10, _t18), 2, 1)
+    J = ca.reshape(ca.vertcat(_t24*_t33, _t29*_t37, _t22*_t33, _t27*_t37), 2, 2)
+    J_f = ca.reshape(ca.vertcat(_t40*(_t27*_t31 - _t27*_t32), _t40*(_t21*_t24*_t29 - _t29*_t31), _t41*(_t22*_t26*_t29 - _t22*_t35), _t41*(_t24*_t35 - _t24*_t36)), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, _t43*(_t21*_t29 - _t27*_t30), _t40*(_t14*_t21*_t24 - _t14*_t31), 0, 1, _t41*(_t35*_t4 - _t36*_t4), _t43*(_t22*_t34 - _t24*_t26)), 4, 2)
+    det_type1 = ca.reshape(ca.vertcat((_t21*_t24*_t27*_t34 + _t22*_t26*_t29*_t30 - _t31*_t35 - _t32*_t36)/(_t14**2*_t4**2)), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(-_t17*_t42*_t9), 1, 1)
+    return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
 def maximum_inscribed_circle():

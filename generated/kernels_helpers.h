@@ -2,12 +2,11 @@
 
 PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
 
-/* rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch) into k
-   columns of a block, the last row repeated to fill it */
-static inline void PKM_FN(pkm_gather)(double *restrict a, long k, const double *in, long stride, long p0, long m)
+/* one entry of rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch;
+   in points at the entry in row 0) into a column of a block, the last row repeated to fill it */
+static inline void PKM_FN(pkm_gather)(double *restrict a, const double *in, long stride, long p0, long m)
 {
-  for (long q = 0; q < PKM_BLOCK; ++q)
-    for (long e = 0; e < k; ++e) a[e * PKM_BLOCK + q] = in[(p0 + (q < m ? q : m - 1)) * stride + e];
+  for (long q = 0; q < PKM_BLOCK; ++q) a[q] = in[(p0 + (q < m ? q : m - 1)) * stride];
 }
 
 /* the first m rows of a block's k columns, rows p0 .. p0 + m - 1 of the batch, added in row order to

@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 9fd4e7839f602bfa).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 ccfa7050be3413b6).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "9fd4e7839f602bfa"
+SOURCE_HASH = "ccfa7050be3413b6"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
 POSE = ("x", "y", )

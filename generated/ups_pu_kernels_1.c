@@ -11,10 +11,17 @@ void PKM_FN(pkm_ups_pu_integrand_1)(long n, long group, const double *const *in,
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129, w130, w131, w132, w133, w134, w135, w136, w137, w138, w139, w140, w141, w142, w143, w144, w145, w146, w147, w148, w149, w150, w151, w152, w153, w154, w155, w156, w157, w158, w159, w160, w161, w162, w163, w164, w165, w166, w167, w168, w169, w170, w171, w172, w173, w174, w175, w176, w177, w178, w179, w180, w181, w182, w183, w184, w185, w186, w187, w188, w189, w190, w191, w192, w193, w194, w195, w196, w197, w198, w199, w200, w201, w202, w203, w204, w205, w206, w207, w208, w209, w210, w211, w212, w213, w214, w215, w216, w217, w218, w219, w220, w221, w222, w223, w224, w225, w226, w227, w228, w229, w230, w231, w232, w233, w234, w235, w236, w237, w238, w239, w240, w241, w242, w243, w244, w245, w246, w247, w248, w249, w250, w251, w252, w253, w254, w255, w256, w257, w258, w259, w260, w261, w262, w263, w264, w265, w266, w267, w268, w269, w270, w271, w272, w273, w274, w275, w276, w277, w278, w279, w280, w281, w282, w283, w284, w285, w286, w287, w288, w289, w290, w291, w292, w293, w294, w295, w296, w297, w298, w299, w300, w301, w302, w303, w304, w305, w306, w307, w308, w309, w310, w311, w312, w313, w314, w315, w316, w317, w318, w319, w320, w321, w322, w323, w324, w325, w326, w327, w328, w329, w330, w331, w332, w333, w334, w335, w336, w337, w338, w339, w340, w341, w342, w343, w344, w345, w346, w347, w348, w349, w350, w351, w352, w353, w354, w355, w356, w357, w358, w359, w360, w361, w362, w363, w364, w365, w366, w367, w368, w369, w370, w371, w372, w373, w374, w375, w376, w377, w378;
@@ -1719,10 +1726,17 @@ void PKM_FN(pkm_ups_pu_integrand_2)(long n, long group, const double *const *in,
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61;
@@ -2391,10 +2405,17 @@ void PKM_FN(pkm_ups_pu_integrand_3)(long n, long group, const double *const *in,
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129, w130, w131, w132, w133, w134, w135, w136, w137, w138, w139, w140, w141, w142, w143, w144, w145, w146, w147, w148, w149, w150, w151, w152, w153, w154, w155, w156, w157, w158, w159, w160, w161, w162, w163, w164, w165, w166, w167, w168, w169, w170, w171, w172, w173, w174, w175, w176, w177, w178, w179, w180, w181, w182, w183, w184, w185, w186, w187, w188, w189, w190, w191, w192, w193, w194, w195, w196, w197, w198, w199, w200, w201, w202, w203, w204, w205, w206, w207, w208, w209, w210, w211, w212, w213, w214, w215, w216, w217, w218, w219, w220, w221, w222, w223, w224, w225, w226, w227, w228, w229, w230, w231, w232, w233, w234, w235, w236, w237, w238, w239, w240, w241, w242, w243, w244, w245, w246, w247, w248, w249, w250, w251, w252, w253, w254, w255, w256, w257, w258, w259, w260, w261, w262, w263, w264, w265, w266, w267, w268, w269, w270, w271, w272, w273, w274, w275, w276, w277, w278, w279, w280, w281, w282, w283, w284, w285, w286, w287, w288, w289, w290, w291, w292, w293, w294, w295, w296, w297, w298, w299, w300, w301, w302, w303, w304, w305, w306, w307, w308, w309, w310, w311, w312, w313, w314, w315, w316, w317, w318, w319, w320, w321, w322, w323, w324, w325, w326, w327, w328, w329, w330, w331, w332, w333, w334, w335, w336, w337, w338, w339, w340, w341, w342, w343, w344, w345, w346, w347, w348, w349, w350, w351, w352, w353, w354, w355, w356, w357, w358, w359, w360, w361, w362, w363, w364, w365, w366, w367, w368, w369, w370, w371, w372, w373, w374, w375, w376, w377, w378, w379, w380;
@@ -4584,10 +4605,17 @@ void PKM_FN(pkm_ups_pu_integrand_4)(long n, long group, const double *const *in,
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52;
@@ -5150,10 +5178,17 @@ void PKM_FN(pkm_ups_pu_integrand_5)(long n, long group, const double *const *in,
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129, w130, w131, w132, w133, w134, w135, w136, w137, w138, w139, w140, w141, w142, w143, w144, w145, w146, w147, w148, w149, w150, w151, w152, w153, w154, w155, w156, w157, w158, w159, w160, w161, w162, w163, w164, w165, w166, w167, w168, w169, w170, w171, w172, w173, w174, w175, w176, w177, w178, w179, w180, w181, w182, w183, w184, w185, w186, w187, w188, w189, w190, w191, w192, w193, w194, w195, w196, w197, w198, w199, w200, w201, w202, w203, w204, w205, w206, w207, w208, w209, w210, w211, w212, w213, w214, w215, w216, w217, w218, w219, w220, w221, w222, w223, w224, w225, w226, w227, w228, w229, w230, w231, w232, w233, w234, w235, w236, w237, w238, w239, w240, w241, w242, w243, w244, w245, w246, w247, w248, w249, w250, w251, w252, w253, w254, w255, w256, w257, w258, w259, w260, w261, w262, w263, w264, w265, w266, w267, w268, w269, w270, w271, w272, w273, w274, w275, w276, w277, w278, w279, w280, w281, w282, w283, w284, w285, w286, w287, w288, w289, w290, w291, w292, w293, w294, w295, w296, w297, w298, w299, w300, w301, w302, w303, w304, w305, w306, w307, w308, w309, w310, w311, w312, w313, w314, w315, w316, w317, w318, w319, w320, w321, w322, w323, w324, w325, w326, w327, w328, w329, w330, w331, w332, w333, w334, w335, w336, w337, w338, w339, w340, w341, w342, w343, w344, w345, w346, w347, w348, w349, w350, w351, w352, w353, w354, w355, w356, w357, w358, w359, w360, w361, w362, w363, w364, w365, w366, w367, w368, w369, w370, w371, w372, w373, w374;
@@ -6987,10 +7022,17 @@ void PKM_FN(pkm_ups_pu_integrand_6)(long n, long group, const double *const *in,
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27;
@@ -7280,10 +7322,17 @@ void PKM_FN(pkm_ups_pu_integrand_7)(long n, long group, const double *const *in,
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129;
@@ -8140,10 +8189,17 @@ void PKM_FN(pkm_ups_pu_integrand_8)(long n, long group, const double *const *in,
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37;
@@ -8453,10 +8509,17 @@ void PKM_FN(pkm_ups_pu_integrand_9)(long n, long group, const double *const *in,
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96, w97, w98, w99, w100, w101, w102, w103, w104, w105, w106, w107, w108, w109, w110, w111, w112, w113, w114, w115, w116, w117, w118, w119, w120, w121, w122, w123, w124, w125, w126, w127, w128, w129, w130, w131, w132, w133, w134, w135, w136, w137, w138, w139, w140, w141, w142, w143, w144, w145, w146, w147, w148, w149, w150, w151, w152, w153, w154, w155, w156, w157, w158, w159, w160, w161, w162, w163, w164, w165, w166, w167, w168, w169, w170, w171, w172, w173, w174, w175, w176, w177, w178, w179, w180, w181, w182, w183, w184, w185, w186, w187, w188, w189, w190, w191, w192, w193, w194, w195, w196, w197, w198, w199, w200, w201, w202, w203, w204, w205, w206, w207, w208, w209, w210, w211, w212, w213;
@@ -9417,10 +9480,17 @@ void PKM_FN(pkm_ups_pu_integrand_10)(long n, long group, const double *const *in
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22;
@@ -9613,10 +9683,17 @@ void PKM_FN(pkm_ups_pu_integrand_11)(long n, long group, const double *const *in
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57, w58, w59, w60, w61, w62, w63, w64, w65, w66, w67, w68, w69, w70, w71, w72, w73, w74, w75, w76, w77, w78, w79, w80, w81, w82, w83, w84, w85, w86, w87, w88, w89, w90, w91, w92, w93, w94, w95, w96;
@@ -10165,10 +10242,17 @@ void PKM_FN(pkm_ups_pu_integrand_12)(long n, long group, const double *const *in
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20;
@@ -10314,10 +10398,17 @@ void PKM_FN(pkm_ups_pu_integrand_13)(long n, long group, const double *const *in
   double b1[14][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 1, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 16, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a1[0], in[1] + 0, stride[1], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[1], in[3] + 1, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[2], in[3] + 2, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[3], in[3] + 3, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[6], in[3] + 6, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[14], in[3] + 14, stride[3], p0, m);
+    PKM_FN(pkm_gather)(a3[15], in[3] + 15, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54, w55, w56, w57;
@@ -10650,9 +10741,19 @@ void PKM_FN(pkm_ups_pu_integrand_14)(long n, long group, const double *const *in
   double b0[2][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;
@@ -11326,10 +11427,20 @@ void PKM_FN(pkm_ups_pu_integrand_15)(long n, long group, const double *const *in
   double b0[6][PKM_BLOCK];
   for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {
     const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;
-    PKM_FN(pkm_gather)(a0[0], 3, in[0], stride[0], p0, m);
-    PKM_FN(pkm_gather)(a1[0], 1, in[1], stride[1], p0, m);
-    PKM_FN(pkm_gather)(a2[0], 16, in[2], stride[2], p0, m);
-    PKM_FN(pkm_gather)(a3[0], 1, in[3], stride[3], p0, m);
+    PKM_FN(pkm_gather)(a0[0], in[0] + 0, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[1], in[0] + 1, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a0[2], in[0] + 2, stride[0], p0, m);
+    PKM_FN(pkm_gather)(a2[0], in[2] + 0, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[1], in[2] + 1, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[2], in[2] + 2, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[3], in[2] + 3, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[6], in[2] + 6, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[11], in[2] + 11, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[12], in[2] + 12, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[13], in[2] + 13, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[14], in[2] + 14, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a2[15], in[2] + 15, stride[2], p0, m);
+    PKM_FN(pkm_gather)(a3[0], in[3] + 0, stride[3], p0, m);
 #pragma omp simd
     for (long q = 0; q < PKM_BLOCK; ++q) {
       double w0, w1, w2, w3, w4, w5, w6, w7, w8, w9, w10, w11, w12, w13, w14, w15, w16, w17, w18, w19, w20, w21, w22, w23, w24, w25, w26, w27, w28, w29, w30, w31, w32, w33, w34, w35, w36, w37, w38, w39, w40, w41, w42, w43, w44, w45, w46, w47, w48, w49, w50, w51, w52, w53, w54;

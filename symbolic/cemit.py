@@ -80,12 +80,11 @@ typedef void (*pkm_kernel_fn)(long n, long group, const double *const *in, const
 
 ISA_HELPERS = """PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
 
-/* rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch) into k
-   columns of a block, the last row repeated to fill it */
-static inline void PKM_FN(pkm_gather)(double *restrict a, long k, const double *in, long stride, long p0, long m)
+/* one entry of rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch;
+   in points at the entry in row 0) into a column of a block, the last row repeated to fill it */
+static inline void PKM_FN(pkm_gather)(double *restrict a, const double *in, long stride, long p0, long m)
 {
-  for (long q = 0; q < PKM_BLOCK; ++q)
-    for (long e = 0; e < k; ++e) a[e * PKM_BLOCK + q] = in[(p0 + (q < m ? q : m - 1)) * stride + e];
+  for (long q = 0; q < PKM_BLOCK; ++q) a[q] = in[(p0 + (q < m ? q : m - 1)) * stride];
 }
 
 /* the first m rows of a block's k columns, rows p0 .. p0 + m - 1 of the batch, added in row order to
@@ -136,6 +135,9 @@ def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
         raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
     n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
     n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
+    # only the entries the graph reads are gathered: a pipeline reads a few of a design's parameters
+    used = sorted({tuple(fn.instruction_input(k)) for k in range(fn.n_instructions())
+                   if fn.instruction_id(k) == ca.OP_INPUT})
     lines = [
         f"/* {fn.name()}: {fn.n_instructions()} instructions; inputs {', '.join(fn.name_in())}; "
         f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
@@ -149,7 +151,7 @@ def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
         "  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {",
         "    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;",
     ]
-    lines += [f"    PKM_FN(pkm_gather)(a{i}[0], {k}, in[{i}], stride[{i}], p0, m);" for i, k in enumerate(n_in) if k]
+    lines += [f"    PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in used]
     lines += ["#pragma omp simd", "    for (long q = 0; q < PKM_BLOCK; ++q) {"]
     if fn.sz_w():
         lines.append("      double " + ", ".join(f"w{k}" for k in range(fn.sz_w())) + ";")

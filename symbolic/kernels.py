@@ -2,8 +2,9 @@
 
 The kernels are the functions pkm evaluates over batches, built the way the runtime builds them: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
-alone and with 1/kappa_f (as the sampled regions and atlases evaluate them), and the one of its first
-order (the Jacobians), by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
+alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
+indices, the sampled regions and atlases evaluate them), and the one of its first order (the Jacobians),
+by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
 integrands of its global indices over its parametrised regions and over the regions of its synthesis
 problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
 with the Hessian for the problems that IPOPT solves with exact Hessians, for a region extreme the node
@@ -42,7 +43,7 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     order."""
     import pkm
     from pkm.compiled import key
-    from pkm.regions.pipeline import pipeline
+    from pkm.regions.pipeline import index_pipeline, pipeline
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
     mech = pkm.load(name)
@@ -51,9 +52,9 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
         fn = mech.functions[fn_name]
         if cemit.emittable(fn):
             out.append((f"pkm_{name}_{fn_name}", fn))
-    fused = {index: pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
+    fused = {index: index_pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
     condition = mech.local_spec(SAMPLED_CONDITION.name)
-    fused.update({f"{index}_{condition.name}": pipeline(mech, (mech.local_spec(index), condition))
+    fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
                   for index in mech.local_indices() if index != condition.name})
     fused["first_order"] = pipeline(mech, (), first_order=True)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]

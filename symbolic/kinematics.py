@@ -10,6 +10,11 @@ same order:
 * ``constraint(q, x, design) -> (h, H_q, H_x)``: the loop closure h(q, x) = 0 and its Jacobians;
 * ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)``: q_a_dot = J x_dot,
   x_dot = J_f q_a_dot, q_dot = Psi q_a_dot and the singularity measures (:mod:`symbolic.loops`);
+* ``first_order_from_pose(x, mode, design) -> (q, reach, J, J_f, psi, det_type1, det_type2)``: only where
+  the inverse kinematics gives the cosine and sine of every joint angle without trigonometric calls
+  (``InverseKinematics.directions``); the outputs of ``inverse_kinematics`` and ``first_order`` at
+  q = IK(x), with the first order free of trigonometric calls, so that a caller that does not read q
+  evaluates none;
 
 and the names of the design parameters, pose coordinates and actuated joints, which the runtime
 checks against its own so that a design vector means the same on both sides. A mechanism supplies the
@@ -41,6 +46,13 @@ class InverseKinematics:
         Docstring of the emitted function.
     q_doc, reach_doc : str
         Meaning and units of the outputs ``q`` and ``reach``.
+    directions : dict, optional
+        ``cos(q_k)`` and ``sin(q_k)`` of the joint angles, equal to the cosine and sine of ``q``, as
+        rational functions of the design symbols and the symbols of ``vectors`` (the components of the
+        links' position vectors); with them :func:`add_kinematics` emits ``first_order_from_pose``.
+    vectors : dict, optional
+        The symbols of ``directions`` as algebraic expressions of the pose, mode and design symbols
+        (square roots where the geometry gives them: no trigonometric call).
     """
 
     q: sp.Matrix
@@ -48,6 +60,8 @@ class InverseKinematics:
     doc: str
     q_doc: str
     reach_doc: str
+    directions: dict[sp.Expr, sp.Expr] | None = None
+    vectors: dict[sp.Symbol, sp.Expr] | None = None
 
 
 @dataclass(frozen=True)
@@ -120,7 +134,9 @@ def add_kinematics(
     ------
     ValueError
         If the ports do not match the loop's coordinates, the joint counts differ, ``forward`` and
-        ``assembly`` are not given together, or a unit is missing.
+        ``assembly`` are not given together, a unit is missing, or the directions of ``inverse`` are
+        given for something other than the cosine or sine of a joint, or leave a joint angle in the first
+        order.
     """
     _check_ports(loop, pose=pose, joints=joints, actuated=actuated)
     if (forward is None) != (assembly is None):
@@ -164,18 +180,38 @@ def add_kinematics(
         ),
         "Loop-closure residuals and their Jacobians.",
     )
-    spec.add(
-        "first_order",
-        (joints, pose, design),
-        (
-            Output("J", loop.jacobian(), f"q_a_dot = J x_dot [{units['J']}]"),
-            Output("J_f", loop.forward_jacobian(), f"x_dot = J_f q_a_dot [{units['J_f']}]"),
-            Output("psi", loop.psi(), f"q_dot = Psi q_a_dot, all joints from actuated [{units['psi']}]"),
-            Output("det_type1", sp.Matrix([loop.det_type1()]), f"serial singularity measure [{units['det']}]"),
-            Output("det_type2", sp.Matrix([loop.det_type2()]), f"parallel singularity measure [{units['det']}]"),
-        ),
-        "First-order kinematics by implicit differentiation of the loop closure.",
+    first_order = (
+        Output("J", loop.jacobian(), f"q_a_dot = J x_dot [{units['J']}]"),
+        Output("J_f", loop.forward_jacobian(), f"x_dot = J_f q_a_dot [{units['J_f']}]"),
+        Output("psi", loop.psi(), f"q_dot = Psi q_a_dot, all joints from actuated [{units['psi']}]"),
+        Output("det_type1", sp.Matrix([loop.det_type1()]), f"serial singularity measure [{units['det']}]"),
+        Output("det_type2", sp.Matrix([loop.det_type2()]), f"parallel singularity measure [{units['det']}]"),
     )
+    spec.add("first_order", (joints, pose, design), first_order,
+             "First-order kinematics by implicit differentiation of the loop closure.")
+    if inverse.directions is not None:
+        angles = {f(s) for s in joints.symbols for f in (sp.cos, sp.sin)}
+        stray = sorted(set(inverse.directions) - angles, key=sp.default_sort_key)
+        if stray:
+            raise ValueError(f"{spec.name}: directions are given for {stray}, not the cosine or sine of a joint")
+        spec.add(
+            "first_order_from_pose",
+            (pose, mode, design),
+            (
+                Output("q", inverse.q, inverse.q_doc),
+                Output("reach", inverse.reach, inverse.reach_doc),
+                *(Output(o.name, _from_vectors(o.expr, inverse), o.doc) for o in first_order),
+            ),
+            "inverse_kinematics and first_order at its q, the first order with the cosine and sine of each "
+            "joint angle from the position vectors of the links (no trigonometric call).",
+        )
+
+
+def _from_vectors(expr: sp.Matrix, inverse: InverseKinematics) -> sp.Matrix:
+    """``expr`` with the joint angles' cosines and sines replaced by ``inverse.directions``, each entry
+    cancelled as a rational function of the links' vector components (so that the links' lengths and
+    common scales cancel), then the components replaced by ``inverse.vectors``."""
+    return expr.xreplace(inverse.directions).applyfunc(sp.cancel).xreplace(inverse.vectors or {})
 
 
 def _check_ports(loop: LoopClosure, *, pose: Port, joints: Port, actuated: Port) -> None:

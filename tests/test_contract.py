@@ -17,7 +17,7 @@ from helpers import port_inputs, random_design, reachable_poses
 
 import pkm
 from pkm import registry
-from pkm.batch import evaluate
+from pkm.batch import evaluate, reached
 
 MECHANISMS = pkm.mechanisms()
 SEEDS = (0, 1, 2)
@@ -123,6 +123,44 @@ def test_jacobian_inverts_forward_jacobian(case):
         J_f = m.forward_jacobian(x, case.design, mode=mode)
         np.testing.assert_allclose(J @ J_f, np.broadcast_to(np.eye(m.n_act), (len(x), m.n_act, m.n_act)), atol=1e-9)
         np.testing.assert_allclose(J_f @ J, np.broadcast_to(np.eye(m.n_out), (len(x), m.n_out, m.n_out)), atol=1e-9)
+
+
+def test_first_order_from_the_pose_equals_inverse_kinematics_then_first_order(case):
+    """Where a mechanism derives its first order from the pose (no trigonometric call), every output
+    equals the inverse kinematics composed with ``first_order`` (the derivation through the joint
+    angles) to 1e-12 of its largest entry at regular poses of every working mode, 1/kappa_f included, with
+    the same reach margins; out of reach, local indices are NaN exactly where the composition's joints
+    are."""
+    m, d = case.mech, case.vector
+    if "first_order_from_pose" not in m.functions:
+        pytest.skip(f"{m.name} has no first_order_from_pose")
+    box = m.workspace_box(d)
+    span = box[:, 1] - box[:, 0]
+    anywhere = np.random.default_rng(5).uniform(box[:, 0] - span / 4, box[:, 1] + span / 4, size=(400, m.n_out))
+    for mode in m.modes:
+        signs = np.array(m.working_mode(mode).signs)
+        for x, regular_only in ((regular(case, mode), True), (anywhere, False)):
+            q, reach = evaluate(m.functions["inverse_kinematics"], x, signs, d)
+            want = dict(zip(m.functions["first_order"].name_out(),
+                            evaluate(m.functions["first_order"], q[:, :, 0], x, d), strict=True))
+            want.update(q=q, reach=reach)
+            got = dict(zip(m.functions["first_order_from_pose"].name_out(),
+                           evaluate(m.functions["first_order_from_pose"], x, signs, d), strict=True))
+            assert got.keys() == want.keys()
+            ok = reached(q, reach)
+            np.testing.assert_array_equal(reached(got["q"], got["reach"]), ok, err_msg=f"mode {mode}")
+            value = m.local_index("inverse_condition_f", x, case.design, mode=mode)
+            np.testing.assert_array_equal(np.isnan(value), ~ok, err_msg=f"mode {mode}: NaN of 1/kappa_f")
+            if not regular_only:
+                assert 0 < ok.sum() < len(x), f"mode {mode}: the poses anywhere are all in or all out of reach"
+                continue
+            n = m.n_act
+            want["1/kappa_f"] = n / np.sqrt(np.sum(want["J"] ** 2, axis=(1, 2)) * np.sum(want["J_f"] ** 2, axis=(1, 2)))
+            got["1/kappa_f"] = value
+            for key, expected in want.items():
+                a, b = expected.reshape(len(x), -1), got[key].reshape(len(x), -1)
+                error = np.abs(b - a) / np.abs(a).max(axis=1, keepdims=True)
+                assert np.all(error <= 1e-12), f"mode {mode}: {key}: {error.max():.1e}"
 
 
 def test_psi_lies_in_the_null_space_of_the_constraint_jacobian(case):
@@ -273,15 +311,16 @@ def test_registry_still_lists_mechanisms_after_loading_one():
 
 def _compiled_functions(mech):
     """The functions the compiled path was emitted for: the generated ones with dense ports, the fused
-    pipeline of each local index alone and with 1/kappa_f, and the one of the first order."""
-    from pkm.regions.pipeline import pipeline
+    pipeline of each local index alone and with 1/kappa_f (without the joints), and the one of the first
+    order."""
+    from pkm.regions.pipeline import index_pipeline, pipeline
 
     fns = {k: f for k, f in mech.functions.items() if f.is_a("SXFunction")
            and all(f.sparsity_in(i).is_dense() for i in range(f.n_in()))
            and all(f.sparsity_out(j).is_dense() for j in range(f.n_out()))}
-    fns.update({f"pipeline {i}": pipeline(mech, (mech.local_spec(i),)) for i in mech.local_indices()})
+    fns.update({f"pipeline {i}": index_pipeline(mech, (mech.local_spec(i),)) for i in mech.local_indices()})
     condition = mech.local_spec("inverse_condition_f")
-    fns.update({f"pipeline {i} with 1/kappa_f": pipeline(mech, (mech.local_spec(i), condition))
+    fns.update({f"pipeline {i} with 1/kappa_f": index_pipeline(mech, (mech.local_spec(i), condition))
                 for i in mech.local_indices() if i != condition.name})
     fns["pipeline first_order"] = pipeline(mech, (), first_order=True)
     return fns

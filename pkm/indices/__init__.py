@@ -4,7 +4,7 @@ reductions over regions (:mod:`pkm.indices.global_indices`). Names become indice
 catalogues here."""
 
 from pkm.indices.global_indices import GLOBAL_INDICES, GlobalIndex, reduce_samples
-from pkm.indices.local import LOCAL_INDICES, LocalIndex, epigraph_function, finish, local_function
+from pkm.indices.local import LOCAL_INDICES, LocalIndex, epigraph_function, local_function
 
 __all__ = [
     "GLOBAL_INDICES",
@@ -12,7 +12,6 @@ __all__ = [
     "GlobalIndex",
     "LocalIndex",
     "epigraph_function",
-    "finish",
     "local_function",
     "reduce_samples",
 ]

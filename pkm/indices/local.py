@@ -274,8 +274,3 @@ def epigraph_function(spec: LocalIndex, shapes: tuple[tuple[int, int], ...], upp
         g = t - value if upper else value - t
     return ca.Function(f"{spec.name}_epigraph", [*args, t], [g], [*spec.arguments, "t"], ["margin"])
 
-
-def finish(spec: LocalIndex, value: np.ndarray) -> np.ndarray:
-    """Values of a local index with the non-finite ones (singular poses) replaced by the limit
-    ``spec.at_singularity``."""
-    return np.where(np.isfinite(value), value, spec.at_singularity)

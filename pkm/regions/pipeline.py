@@ -2,9 +2,13 @@
 
 :func:`pipeline` composes a mechanism's generated ``inverse_kinematics``, the generated functions the
 local indices read (``first_order``, ``inertia``) and the indices' formulas into one ``casadi.SX``
-graph ``(x, mode, design) -> (q, reach, values...)``. Everything that evaluates a local index uses it:
-local indices at poses, the sampled regions and atlases (numerically, through :func:`evaluate_at`),
-and the quadratures of the parametrised regions (mapped over the nodes, symbolically in the design).
+graph ``(x, mode, design) -> (q, reach, values...)``. Where the mechanism has ``first_order_from_pose``
+(the inverse kinematics and the first order in one function, the first order without trigonometric
+calls), it takes the joints and the first order from it instead. Everything that evaluates a local
+index uses it: local indices at poses, the sampled regions and atlases (numerically, through
+:func:`evaluate_at` and :func:`index_pipeline`, which leaves out the joints: no angle is computed
+there when the first order comes from the pose), and the quadratures of the parametrised regions
+(mapped over the nodes, symbolically in the design).
 
 Poses that mix metres and radians are normalised by a characteristic length L of the design before any
 index is taken: each angular coordinate is replaced by the arc length L theta (Gosselin 1990; Angeles
@@ -28,11 +32,12 @@ from typing import Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate, reached
+from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.errors import PkmError
-from pkm.indices import LocalIndex, finish, local_function
+from pkm.indices import LocalIndex, local_function
 
 ANGLE = "rad"
+FROM_POSE = "first_order_from_pose"
 TRANSFORMS: dict[str, tuple[str, str]] = {
     "J": ("q", "x^-1"),
     "J_f": ("x", "q^-1"),
@@ -105,12 +110,17 @@ def pipeline(
     x = ca.SX.sym("x", mech.n_out)
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
-    q, reach = ik(x, mode, design)
+    sources: dict[str, dict[str, ca.SX]] = {}
+    from_pose = fns.get(FROM_POSE)
+    if from_pose is None:
+        q, reach = ik(x, mode, design)
+    else:
+        sources["first_order"] = dict(zip(from_pose.name_out(), from_pose.call([x, mode, design]), strict=True))
+        q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     scales = _scales(mech, design)
-    sources: dict[str, dict[str, ca.SX]] = {}
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
-    for source in dict.fromkeys(wanted):
+    for source in [name for name in dict.fromkeys(wanted) if name not in sources]:
         fn = fns.require(source, f"the {mech.name} pipeline")
         sources[source] = dict(zip(fn.name_out(), fn.call([q, x, design]), strict=True))
     outputs, names = [q, reach, reachable], ["q", "reach", "valid"]
@@ -134,12 +144,27 @@ def pipeline(
     return ca.Function(f"{mech.name}_{label}", [x, mode, design], outputs, ["x", "mode", "design"], names)
 
 
+@lru_cache(maxsize=256)
+def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...]) -> ca.Function:
+    """``(x, mode, design) -> (valid, *values)``: the local indices of :func:`pipeline` as
+    :func:`evaluate_at` returns them, without the joints: each value NaN where the pose is not reached
+    and the index's limit (``at_singularity``) where it is not finite at a reached pose."""
+    fused = pipeline(mech, locals_)
+    x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
+    _, _, valid, *values = fused(x, mode, design)
+    finished = [
+        ca.if_else(valid, ca.if_else(ca.fabs(v) < np.inf, v, spec.at_singularity), np.nan)
+        for spec, v in zip(locals_, values, strict=True)
+    ]
+    return ca.Function(f"{fused.name()}_values", [x, mode, design], [valid, *finished], fused.name_in(),
+                       ["valid", *(spec.name for spec in locals_)])
+
+
 @dataclass(frozen=True)
 class Evaluation:
-    """Local indices at a batch of poses: joints q (N, n_q), the reach mask (N,) and one (N,) array of
-    values per index, NaN where out of reach and the index's limit at singular poses."""
+    """Local indices at a batch of poses: the reach mask (N,) and one (N,) array of values per index,
+    NaN where out of reach and the index's limit at singular poses."""
 
-    q: np.ndarray
     reachable: np.ndarray
     values: tuple[np.ndarray, ...]
 
@@ -148,14 +173,5 @@ def evaluate_at(
     mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
 ) -> Evaluation:
     """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
-    q, reach, _, *values = evaluate(pipeline(mech, tuple(locals_)), x, signs, design)
-    q = q[:, :, 0]
-    ok = reached(q, reach)
-    out = []
-    with np.errstate(invalid="ignore"):
-        for spec, raw in zip(locals_, values, strict=True):
-            v = finish(spec, raw[:, 0, 0])
-            v[~ok] = np.nan
-            out.append(v)
-    q[~ok] = np.nan
-    return Evaluation(q, ok, tuple(out))
+    valid, *values = evaluate(index_pipeline(mech, tuple(locals_)), x, signs, design)
+    return Evaluation(valid[:, 0, 0] > 0, tuple(v[:, 0, 0] for v in values))

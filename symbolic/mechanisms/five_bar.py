@@ -13,6 +13,18 @@ Inverse kinematics of chain i with elbow sign sigma_i (Lara-Molina eqs. 4-5 solv
     theta_i = atan2(P - O_i) + sigma_i acos((r1^2 + |P - O_i|^2 - r2^2) / (2 r1 |P - O_i|))
 
 sigma_1 = +1 and sigma_2 = -1 put both elbows outside the chains' triangle O_i P (Gao's OABCD).
+The links are found as position vectors first, by the intersection of two circles and without
+trigonometric calls (:class:`ChainSolution`): with d = P - O_i and perp(d) = (-d_y, d_x)::
+
+    k = (r1^2 + |d|^2 - r2^2) / 2,   h = sqrt(r1^2 |d|^2 - k^2),
+    v_i = k d + sigma_i h perp(d) = r1 |d|^2 e(theta_i),   w_i = |d|^2 d - v_i = r2 |d|^2 e(phi_i),
+
+so that the acos above is atan2(h, k) and phi_i = atan2(w_i). The first order (J = -H_q^-1 H_x of the
+loop closure below, J_f, Psi and the determinants) is written in v_i, w_i and |d|^2: the cosine and
+sine of each angle replaced by the components of v_i / (r1 |d|^2) and w_i / (r2 |d|^2), each entry
+cancelled. Row i of J, for instance, is |d_i|^2 w_i^T / (v_i x w_i) (x the planar cross product): the
+same J as from the angles, to round-off, with no cos, sin, acos or atan2 (``first_order_from_pose``).
+
 Forward kinematics intersects the circles of radius r2 about the elbows; the assembly sign chooses the
 side of the directed line A1 -> A2 on which P lies.
 
@@ -25,6 +37,7 @@ viscous vm at the rotors. The plane is horizontal: no gravity.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import cache
 
 import sympy as sp
@@ -78,21 +91,62 @@ def loop_closure() -> LoopClosure:
     return LoopClosure.of(h, (theta1, theta2), (phi1, phi2), (x, y))
 
 
-def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
-    """All joint angles of the pose P for the elbow signs (sigma1, sigma2), and the reach margins."""
-    actuated, passive, margins = [], [], []
-    for base, s in zip(BASES, (sigma1, sigma2), strict=True):
+ROUNDOFF = sp.Rational(1, 2**50)  # 4 ulp of 1: the rounding error of a difference of two squares
+
+
+@dataclass(frozen=True)
+class ChainSolution:
+    """Chain i solved for the pose P on the elbow sign sigma_i, its links as position vectors.
+
+    With d = P - O_i, the elbow A_i is where the circles of radius r1 about O_i and r2 about P meet::
+
+        k = (r1^2 + |d|^2 - r2^2) / 2,   h = sqrt(r1^2 |d|^2 - k^2),   perp(d) = (-d_y, d_x),
+        v = k d + sigma_i h perp(d) = r1 |d|^2 e(theta_i),
+        w = |d|^2 d - v = |d|^2 (P - A_i) = r2 |d|^2 e(phi_i),
+
+    k and h being r1 |d| times the cosine and sine of the angle from d to the proximal link, which
+    sigma_i turns by +-atan2(h, k). The reach margin is 1 - cos^2 = h^2 / (r1 |d|)^2. Where it is at
+    most ROUNDOFF (a pose on the workspace boundary, up to the rounding of h^2) h is taken as 0, so that
+    the solution there is serial-singular, as it is where the margin is below zero by round-off only.
+    """
+
+    d: sp.Matrix
+    k: sp.Expr
+    h: sp.Expr
+    margin: sp.Expr
+    v: sp.Matrix
+    w: sp.Matrix
+    rho2: sp.Expr
+
+    @classmethod
+    def of(cls, base: sp.Matrix, s: sp.Symbol) -> ChainSolution:
         d = P - base
-        rho = sp.sqrt(d[0] ** 2 + d[1] ** 2)
-        c = (r1**2 + rho**2 - r2**2) / (2 * r1 * rho)
-        # Clamped so that a pose on the workspace boundary, where |c| exceeds 1 by round-off, keeps
-        # its (serial-singular) solution; the reach margin flags the poses truly out of reach.
-        th = sp.atan2(d[1], d[0]) + s * sp.acos(sp.Max(-1, sp.Min(1, c)))
-        elbow = base + r1 * _e(th)
-        actuated.append(th)
-        passive.append(sp.atan2(y - elbow[1], x - elbow[0]))
-        margins.append(1 - c**2)
-    return sp.Matrix(actuated + passive), sp.Matrix(margins)
+        rho2 = d[0] ** 2 + d[1] ** 2
+        k = (r1**2 + rho2 - r2**2) / 2
+        h2 = r1**2 * rho2 - k**2
+        margin = h2 / (r1**2 * rho2)
+        h = sp.sqrt(sp.Piecewise((h2, margin > ROUNDOFF), (0, True)))
+        v = k * d + s * h * sp.Matrix([-d[1], d[0]])
+        return cls(d, k, h, margin, v, rho2 * d - v, rho2)
+
+
+def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix, dict[sp.Expr, sp.Expr], dict[sp.Symbol, sp.Expr]]:
+    """All joint angles of the pose P for the elbow signs (sigma1, sigma2), the reach margins, and the
+    cosine and sine of every angle in the components of the links' position vectors, with those
+    components as functions of the pose (:class:`ChainSolution`)."""
+    actuated, passive, margins, directions, vectors = [], [], [], {}, {}
+    for i, (base, s, th, ph) in enumerate(zip(BASES, (sigma1, sigma2), (theta1, theta2), (phi1, phi2), strict=True), 1):
+        chain = ChainSolution.of(base, s)
+        actuated.append(sp.atan2(chain.d[1], chain.d[0]) + s * sp.atan2(chain.h, chain.k))
+        passive.append(sp.atan2(chain.w[1], chain.w[0]))
+        margins.append(chain.margin)
+        v = sp.symbols(f"v{i}_x v{i}_y", real=True)
+        w = sp.symbols(f"w{i}_x w{i}_y", real=True)
+        rho2 = sp.Symbol(f"rho{i}_sq", positive=True)
+        directions.update({sp.cos(th): v[0] / (r1 * rho2), sp.sin(th): v[1] / (r1 * rho2),
+                           sp.cos(ph): w[0] / (r2 * rho2), sp.sin(ph): w[1] / (r2 * rho2)})
+        vectors.update(zip((*v, *w, rho2), (*chain.v, *chain.w, chain.rho2), strict=True))
+    return sp.Matrix(actuated + passive), sp.Matrix(margins), directions, vectors
 
 
 def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
@@ -111,7 +165,7 @@ def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
 def module() -> ModuleSpec:
     """Every function pkm's ``five_bar`` loads."""
     spec = ModuleSpec("five_bar", "symbolic/mechanisms/five_bar.py", "CasADi functions of the symmetric 5R.")
-    q, margins = inverse_kinematics()
+    q, margins, directions, vectors = inverse_kinematics()
     p, q_fk, height2 = forward_kinematics()
     loop = loop_closure()
     add_kinematics(
@@ -128,6 +182,8 @@ def module() -> ModuleSpec:
             doc="Closed-form inverse kinematics of both chains for the elbow signs in mode.",
             q_doc="theta1, theta2, phi1, phi2 [rad]",
             reach_doc="1 - cos^2 of each elbow angle; >= 0 where reachable",
+            directions=directions,
+            vectors=vectors,
         ),
         forward=ForwardKinematics(
             p,
