@@ -1,7 +1,7 @@
 """The point integrands of the global indices (pkm.regions.integrand): their kernels against CasADi's
 interpreter, their sums and derivatives against the graph of the region's nodes built the other way
-(the region's quadrature mapped through the fused pipeline and reduced in CasADi), batches of designs
-against one design at a time."""
+(the region's quadrature mapped through the fused pipeline and reduced in CasADi: the baseline of
+bench.integrals), batches of designs against one design at a time."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import pkm
+from bench.integrals import node_graph
 from pkm import compiled
 from pkm.batch import COMPILED_CHUNK, interpreted, total
 from pkm.indices import epigraph_function
@@ -63,20 +64,6 @@ def test_integrand_kernels_agree_with_the_interpreter(name):
                 assert np.all(error <= tolerance), f"{fn.name()}: {fn.name_out(j)}: {np.max(error / tolerance):.1e}"
 
 
-def _node_graph(mech, spec, region, branch, design: ca.MX, resolution: int) -> ca.MX:
-    """A global index as the reduction of the local index at the region's quadrature nodes, in CasADi."""
-    points, weights = region.quadrature(mech.functions, design, resolution, spec.reduce)
-    n = points.size2()
-    _, _, valid, values = pipeline(mech, (spec.local,)).map(n)(points, ca.DM(branch.signs), design)
-    w = ca.vec(weights)
-    if spec.reduce == "measure":
-        return ca.mtimes(valid, w)
-    mean = ca.mtimes(values, w) / ca.sum1(w)
-    if spec.reduce == "std":
-        return ca.sqrt(ca.mtimes((values - mean) ** 2, w) / ca.sum1(w))
-    return mean
-
-
 @pytest.mark.parametrize(
     ("name", "index", "region"),
     [("five_bar", "gci", "miw"), ("five_bar", "dynamic_dexterity", "miw"), ("five_bar", "region_measure", "miw"),
@@ -89,7 +76,7 @@ def test_global_indices_have_the_value_gradient_and_hessian_of_the_node_graph(na
     design = mech.design_vector(mech.design())
     results = []
     for value in (quadrature_value(mech, spec, where, branch, d, resolution=RESOLUTION),
-                  _node_graph(mech, spec, where, branch, d, RESOLUTION)):
+                  node_graph(mech, spec, where, branch, design=d, resolution=RESOLUTION)):
         gradient, hessian = ca.gradient(value, d), ca.hessian(value, d)[0]
         results.append([np.asarray(v) for v in ca.Function("f", [d], [value, gradient, hessian])(design)])
     for what, got, want in zip(("value", "gradient", "hessian"), *results, strict=True):
