@@ -212,9 +212,8 @@ def refined_extremes(
 ) -> Refined:
     """The refined extremes of the local index over the region for a batch of designs (D, n_p)."""
     designs = np.atleast_2d(np.asarray(designs, dtype=float))
-    n = region.node_count(resolution, spec.reduce)
-    values = np.stack([region_rows(mech, spec.local, region, spec.reduce, signs=np.array(branch.signs), z=d,
-                                   resolution=resolution, order=0, epigraph=False)[0][:n] for d in designs])
+    values, _ = batch_rows(mech, spec.local, region, spec.reduce, signs=np.array(branch.signs, dtype=float),
+                           designs=designs, resolution=resolution)
     return refine(mech, spec, region, branch, designs, values=values, resolution=resolution)
 
 

@@ -217,7 +217,7 @@ class ProblemModel:
         the direction its epigraph represents (otherwise the optimiser moved t away from it)."""
         if not self.extremes:
             return True
-        named = {name: float(v[0]) for name, v in self.quantity_values(np.atleast_2d(w), resolution).items()}
+        named = self._quantities_at(w, resolution)
         return all(
             abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
             for name, t in zip(self.extremes, bounds, strict=True)
@@ -227,7 +227,7 @@ class ProblemModel:
         """A starting point of the NLP: the variables and each extreme a little inside its bound."""
         if not self.extremes:
             return list(point)
-        named = {name: float(v[0]) for name, v in self.quantity_values(np.atleast_2d(point), resolution).items()}
+        named = self._quantities_at(point, resolution)
         starts = []
         for name in self.extremes:
             value = named[name]
@@ -238,7 +238,7 @@ class ProblemModel:
     def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
         """The objective and the feasibility at ``point`` with the quadratures at ``resolution`` and
         each region extreme refined between the nodes (:mod:`pkm.regions.extremes`)."""
-        named = {name: float(v[0]) for name, v in self.quantity_values(point[None], resolution).items()}
+        named = self._quantities_at(point, resolution)
         for name in self.extremes:
             quantity = self.problem.quantities[name]
             named[name] = float(parametrised_global(
@@ -291,6 +291,10 @@ class ProblemModel:
             name: node_quadrature(self.mech, q.index, q.region, designs, branch=self.branch, resolution=resolution)
             for name, q in self.problem.quantities.items()
         }
+
+    def _quantities_at(self, point: np.ndarray, resolution: int) -> dict[str, float]:
+        """Each quantity at one point of the variables (:meth:`quantity_values`)."""
+        return {name: float(v[0]) for name, v in self.quantity_values(np.atleast_2d(point), resolution).items()}
 
     def _with_quantities(self) -> ca.Function:
         """``(w, *quantities) -> (objective, constraints)`` with the quantity values given."""
