@@ -160,9 +160,10 @@ def through_angles(m: pkm.Mechanism) -> ca.Function:
     return index_pipeline(angles, (m.local_spec(INDEX),))
 
 
-def build_kernel(fn: ca.Function, workdir: str) -> Callable[[list[np.ndarray], list[int], list[np.ndarray]], None]:
+def build_kernel(fn: ca.Function, workdir: str) -> Callable[..., None]:
     """``fn`` emitted by pkm's C emitter and built with setup.py's flags for the instruction set pkm's own
-    kernels run with here: ``run(inputs, strides, outputs)`` as :func:`pkm.compiled.kernel` gives it."""
+    kernels run with here: ``run(inputs, strides, outputs, n, group)`` as :func:`pkm.compiled.kernel` gives
+    it."""
     isa = pkm.compiled.status()["instruction_set"]
     target = ['#pragma GCC target("avx2")'] if isa == "avx2" else []
     source = Path(workdir) / f"{fn.name()}.c"
@@ -174,10 +175,10 @@ def build_kernel(fn: ca.Function, workdir: str) -> Callable[[list[np.ndarray], l
                    check=True, capture_output=True)
     call = getattr(ctypes.CDLL(str(library)), f"bench_kernel_{isa}")
 
-    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray]) -> None:
+    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray], n: int, group: int = 1) -> None:
         ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
         outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
-        call(ctypes.c_long(len(outputs[0])), ins, (ctypes.c_long * len(strides))(*strides), outs)
+        call(ctypes.c_long(n), ctypes.c_long(group), ins, (ctypes.c_long * len(strides))(*strides), outs)
 
     return run
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from functools import lru_cache
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -18,7 +19,7 @@ from pkm.compiled import kernel
 REACH_TOLERANCE = 1e-12
 THREADS = max(1, min(os.cpu_count() or 1, 8))
 CHUNK = 1 << 16
-COMPILED_CHUNK = 1 << 14  # rows per thread at least: smaller batches run on the calling thread
+COMPILED_WORK = 1 << 20  # instructions times rows per thread at least: smaller batches run on the calling thread
 
 
 @lru_cache(maxsize=256)
@@ -102,25 +103,52 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     run = kernel(f, summed=True)
     if run is None:
         sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
-    elif group is None:
-        bounds = _chunks(n)
-        partial = [np.zeros((max(1, len(bounds)), f.numel_out(j))) for j in range(f.n_out())]
-        _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=n)
-        sums = _shaped(f, [o.sum(axis=0, keepdims=True) for o in partial], 1)
-    else:
-        outputs = [np.zeros((n // size, f.numel_out(j))) for j in range(f.n_out())]
-        _run_chunks(f, run, arrays, _chunks(n, size),
+        return sums if group is not None else tuple(s[0] for s in sums)
+    groups = n // size
+    outputs = [np.zeros((groups, f.numel_out(j))) for j in range(f.n_out())]
+    bounds = _chunks(f, n, size)
+    if len(bounds) <= groups:
+        _run_chunks(f, run, arrays, bounds,
                     lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
-        sums = _shaped(f, outputs, n // size)
+    else:  # fewer groups than threads: each group split into chunks whose partial sums are added in order
+        partial = [np.zeros((len(bounds), f.numel_out(j))) for j in range(f.n_out())]
+        _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
+        owner = np.array([start // size for start, _ in bounds])
+        for o, p in zip(outputs, partial, strict=True):
+            for k, g in enumerate(owner):
+                o[g] += p[k]
+    sums = _shaped(f, outputs, groups)
     return sums if group is not None else tuple(s[0] for s in sums)
 
 
-def _chunks(n: int, unit: int = 1) -> list[tuple[int, int]]:
-    """Chunks of a batch of n rows, one per thread and of at least COMPILED_CHUNK rows, each a multiple of
-    ``unit`` rows."""
-    step = max(COMPILED_CHUNK, -(-n // THREADS))
-    step = -(-step // unit) * unit
-    return [(start, min(n, start + step)) for start in range(0, n, step)]
+def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
+    """Chunks of a batch of n rows, one per thread and of at least COMPILED_WORK / (f's instructions) rows;
+    each a multiple of ``unit`` rows, or where there are fewer runs of ``unit`` rows than threads, pieces of
+    one run each."""
+    least = -(-COMPILED_WORK // max(1, f.n_instructions()))
+    step = max(least, -(-n // THREADS))
+    if unit == 1 or n // unit >= THREADS:
+        step = -(-step // unit) * unit
+        return [(start, min(n, start + step)) for start in range(0, n, step)]
+    bounds = []
+    for first in range(0, n, unit):
+        last = min(n, first + unit)
+        pieces = max(1, min(THREADS, (last - first) // least))
+        edges = np.linspace(first, last, pieces + 1).astype(int)
+        bounds += list(zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True))
+    return bounds
+
+
+_pool: list[Any] = []
+
+
+def _threads() -> Any:
+    """The threads that run a batch's chunks, started at first use and kept (a new process starts its own)."""
+    if not _pool or _pool[0][0] != os.getpid() or _pool[0][1]._max_workers != THREADS:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _pool[:] = [(os.getpid(), ThreadPoolExecutor(THREADS, thread_name_prefix="pkm-batch"))]
+    return _pool[0][1]
 
 
 def _run_chunks(
@@ -130,33 +158,31 @@ def _run_chunks(
     bounds: list[tuple[int, int]],
     outputs_of: Callable[[int, int, int], list[np.ndarray]],
     *,
-    group: int = 1,
+    group: int | None = 1,
 ) -> None:
     """The kernel over each chunk of the batch on its own thread (the kernel runs without the GIL), shared
     inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a summing
-    kernel adds runs of ``group`` rows)."""
+    kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
     strides = [f.numel_in(i) if a.ndim == 2 else 0 for i, a in enumerate(inputs)]
 
     def chunk(k: int) -> None:
         start, stop = bounds[k]
         run([a[start:stop] if a.ndim == 2 else a for a in inputs], strides, outputs_of(k, start, stop), stop - start,
-            group)
+            stop - start if group is None else group)
 
-    if len(bounds) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(len(bounds)) as pool:
-            list(pool.map(chunk, range(len(bounds))))
-    elif bounds:
+    others = [_threads().submit(chunk, k) for k in range(1, len(bounds))]
+    if bounds:
         chunk(0)
+    for other in others:
+        other.result()
 
 
 def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
     """``f`` over the batch by its compiled kernel."""
     n = _batch_size(f, arrays)
     outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
-    _run_chunks(f, run, arrays, _chunks(n), lambda _, start, stop: [o[start:stop] for o in outputs])
+    _run_chunks(f, run, arrays, _chunks(f, n), lambda _, start, stop: [o[start:stop] for o in outputs])
     return _shaped(f, outputs, n)
 
 

@@ -12,9 +12,10 @@ import pytest
 import pkm
 from bench.integrals import node_graph
 from pkm import compiled
-from pkm.batch import COMPILED_CHUNK, interpreted, total
+from pkm.batch import COMPILED_WORK, interpreted, total
 from pkm.indices import epigraph_function
 from pkm.regions import node_quadrature, quadrature_value
+from pkm.regions.integrand import sum_function
 from pkm.regions.pipeline import pipeline
 from pkm.regions.quadrature import epigraph_margins
 from symbolic.kernels import integrands
@@ -111,12 +112,33 @@ def test_a_batch_of_designs_gives_each_designs_value():
     rng = np.random.default_rng(3)
     base = mech.design_vector(mech.design())
     nodes = region.node_count(8, spec.reduce)
-    designs = np.tile(base, (2 * COMPILED_CHUNK // nodes + 3, 1))
+    instructions = sum_function(mech, spec.local, region.pieces()[0], spec.reduce, 0)[0].n_instructions()
+    designs = np.tile(base, (2 * COMPILED_WORK // instructions // nodes + 3, 1))
     designs[:, :3] *= rng.uniform(0.95, 1.05, size=(len(designs), 3))
     together = node_quadrature(mech, spec, region, designs, branch=branch, resolution=8)
     alone = [node_quadrature(mech, spec, region, d, branch=branch, resolution=8)[0] for d in designs[::9]]
     np.testing.assert_allclose(together[::9], alone, rtol=1e-14)
     assert np.all(np.isfinite(together))
+
+
+@pytest.mark.parametrize("order", [0, 1])
+def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypatch, order):
+    """A design whose nodes are more work than one thread's share is split over the threads (partial
+    sums added in chunk order): the same sums as one thread to round-off, every output."""
+    from pkm import batch
+
+    mech = pkm.load("five_bar")
+    spec, region, branch = mech.global_spec("gci"), mech.region("miw"), mech.working_mode(None)
+    piece = region.pieces()[0]
+    fn, _ = sum_function(mech, spec.local, piece, spec.reduce, order)
+    nodes, weights = piece.reference(100, spec.reduce)
+    args = (nodes, weights[:, None], np.array(branch.signs, dtype=float), mech.design_vector(mech.design()))
+    monkeypatch.setattr(batch, "THREADS", 2)
+    assert len(batch._chunks(fn, len(nodes), len(nodes))) == 2
+    split = total(fn, *args)
+    monkeypatch.setattr(batch, "THREADS", 1)
+    for a, b in zip(split, total(fn, *args), strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-13, atol=0)
 
 
 def test_the_architecture_states_the_compiled_paths_constants():

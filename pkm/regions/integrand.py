@@ -228,10 +228,12 @@ def reduce_sums(sums: Any, reduce: str) -> Any:
 
 
 class _Cached:
-    """The last evaluation of a numeric function ``(z, order) -> Derivatives``, reused by lower orders."""
+    """The last evaluation of a numeric function ``(z, order) -> Derivatives``, reused by lower orders;
+    evaluated to ``eager`` order at least, where the caller asks for those derivatives at every point."""
 
-    def __init__(self, fn: Callable[[np.ndarray, int], Derivatives]) -> None:
+    def __init__(self, fn: Callable[[np.ndarray, int], Derivatives], eager: int = 0) -> None:
         self.fn = fn
+        self.eager = eager
         self.key: bytes | None = None
         self.order = -1
         self.result: Derivatives | None = None
@@ -239,6 +241,7 @@ class _Cached:
     def __call__(self, z: np.ndarray, order: int) -> Derivatives:
         key = z.tobytes()
         if key != self.key or order > self.order:
+            order = max(order, self.eager)
             self.result = self.fn(z, order)
             self.key, self.order = key, order
         return self.result
@@ -247,12 +250,13 @@ class _Cached:
 class Smooth(ca.Callback):
     """A CasADi function z (n x 1) -> y (m x 1) evaluated by ``fn(z, order) -> (y (m,), J (m, n),
     H (m, n, n))``, whose Jacobian (``level`` 1) and the Jacobian of that (``level`` 2, the Hessians) are
-    Smooth functions of their own, so that CasADi and IPOPT use its exact derivatives."""
+    Smooth functions of their own, so that CasADi and IPOPT use its exact derivatives. With ``eager`` 1,
+    a value is evaluated with its Jacobian in one pass, for callers that ask for both at every point."""
 
     def __init__(self, name: str, fn: Callable[[np.ndarray, int], Derivatives] | _Cached, n: int, m: int,
-                 level: int = 0) -> None:
+                 level: int = 0, *, eager: int = 0) -> None:
         ca.Callback.__init__(self)
-        self.fn = fn if isinstance(fn, _Cached) else _Cached(fn)
+        self.fn = fn if isinstance(fn, _Cached) else _Cached(fn, eager)
         self.n, self.m, self.level = n, m, level
         self.derivative: Smooth | None = None
         self.construct(f"{name}_d{level}" if level else name, {})

@@ -49,16 +49,17 @@ ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
 
 @cache
 def _sums(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int,
+    eager: int = 0,
 ) -> Smooth:
     """CasADi ``design -> S``: the sums of the reduction's components over the region's nodes
-    (:mod:`pkm.regions.integrand`), with exact derivatives."""
+    (:mod:`pkm.regions.integrand`), with exact derivatives (evaluated with the value from ``eager`` 1)."""
     def fn(design: np.ndarray, order: int) -> Any:
         return region_sums(mech, local, region, reduce, signs=np.array(signs), design=design, resolution=resolution,
                            order=order)
 
     return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_sums", fn, _design_size(mech),
-                  len(COMPONENTS[reduce]))
+                  len(COMPONENTS[reduce]), eager=eager)
 
 
 @cache
@@ -107,11 +108,12 @@ def epigraph_values(
 
 
 def quadrature_value(
-    mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int, eager: int = 0
 ) -> ca.MX:
     """The global index over the region as a CasADi expression of the design, with exact derivatives:
     the reduction of the sums of :mod:`pkm.regions.integrand`, or a region extreme over the nodes (NaN
-    where a node is not reached)."""
+    where a node is not reached); with ``eager`` 1 the sums are evaluated with their gradient in one pass
+    (for a function that returns both)."""
     resolution = check_resolution(resolution, 1)
     signs = tuple(branch.signs)
     if spec.reduce in EXTREMES_REDUCE:
@@ -121,7 +123,7 @@ def quadrature_value(
         extreme = ca.mmin(values) if spec.reduce == "min" else ca.mmax(values)
         value = ca.if_else(ca.mmin(reached) > 0, extreme, np.nan)
     else:
-        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution)(design)
+        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution, eager=eager)(design)
         value = reduce_sums(sums, spec.reduce)
     if region.guard is not None:
         value = ca.if_else(guard_holds(mech, region, branch, design) > 0, value, np.nan)
@@ -197,7 +199,7 @@ def guard_index(region: Any) -> LocalIndex | None:
 def quadrature_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
     """CasADi function ``design -> (value, gradient)`` of a global index over a parametrised region."""
     design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution)
+    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution, eager=1)
     return ca.Function(
         f"{spec.name}_{region.name}_{branch.name}_{resolution}",
         [design],
