@@ -12,10 +12,12 @@
   calls, the four cases interleaved call by call. Each call takes a different design (the default one
   scaled by 1 + k 1e-9), because the integrands' CasADi callback reuses its last evaluation at an
   unchanged design.
-* Every registered synthesis, run first, ``pkm.synthesize(name)`` at its defaults: the wall time of the
-  call (screening, IPOPT, polishing, baselines and verification) at its first call in the process and at a
-  second call, the optimiser's wall time and evaluations, status, objective and verified objective, and
-  the first baseline's wall time, evaluations and verified objective.
+* Every registered synthesis, run first, ``pkm.synthesize(name)`` at its defaults, at its first call in the
+  process and at a second call: the synthesis's wall time as the result reports it (screening, IPOPT,
+  polishing and the verification of every converged run, the issue's "< 1 s including verification"),
+  the wall time of the whole call (with the baselines, which run in the same call), the evaluations,
+  status, objective and verified objective, and the first baseline's wall time, evaluations and verified
+  objective.
 
 The issue's targets: value + gradient of the GCI <= 0.5 ms and of the dynamic dexterity <= 1 ms, every
 synthesis < 1 s including verification. Nothing asserts on time. :func:`markdown` renders the tables that
@@ -129,7 +131,7 @@ def index_bench(name: str, *, repeats: int, log: Callable[[str], None]) -> dict[
 
 def synthesis_bench(name: str, *, calls: int, log: Callable[[str], None]) -> dict[str, Any]:
     """Wall time of ``pkm.synthesize(name)`` (first and later calls) and the first call's record."""
-    walls, result = [], None
+    walls, synthesis, result = [], [], None
     for _ in range(calls):
         start = time.perf_counter()
         try:
@@ -137,12 +139,14 @@ def synthesis_bench(name: str, *, calls: int, log: Callable[[str], None]) -> dic
         except Exception as exc:  # report the failure with the other figures
             return {"problem": name, "error": f"{type(exc).__name__}: {exc}", "wall_time_s": walls}
         walls.append(time.perf_counter() - start)
+        synthesis.append(record["optimizer"]["wall_time_s"])
         result = result or record
     opt, base = result["optimizer"], result["baseline"]
     log(f"{name}: {', '.join(f'{w:.2f}' for w in walls)} s, {result['status']}")
     return {
         "problem": name,
         "wall_time_s": walls,
+        "synthesis_wall_time_s": synthesis,
         "status": result["status"],
         "iterations": result["iterations"],
         "objective": result["objective"],
@@ -223,25 +227,24 @@ def markdown(report: Mapping[str, Any]) -> str:
         f"Median of {report['repeats']} calls per case, the cases interleaved, a different design per call; pkm "
         f"and the node graph agree to {worst:.1e} (relative, value and gradient) before timing.",
         "",
-        "| synthesis | status | wall, first call (s) | wall, second call (s) | IPOPT (s) | IPOPT evaluations "
-        "| objective | verified | baseline | baseline (s) | baseline evaluations | baseline verified "
-        f"| < {SYNTHESIS_TARGET_S:g} s (first / second call) |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---|",
+        "| synthesis | status | synthesis with verification, first / second call (s) "
+        f"| < {SYNTHESIS_TARGET_S:g} s | evaluations | objective | verified | whole call with the baselines, first / "
+        "second (s) | baseline | baseline (s) | baseline evaluations | baseline verified |",
+        "|---|---|---:|---|---:|---:|---:|---:|---|---:|---:|---:|",
     ]
     for syn in report["syntheses"]:
         if "error" in syn:
-            lines.append(f"| {syn['problem']} | failed: {syn['error']} |" + " - |" * 11)
+            lines.append(f"| {syn['problem']} | failed: {syn['error']} |" + " - |" * 10)
             continue
-        walls = syn["wall_time_s"]
-        second = walls[1] if len(walls) > 1 else None
-        met = " / ".join("yes" if w < SYNTHESIS_TARGET_S else "no" for w in walls)
+        own = syn["synthesis_wall_time_s"]
+        met = " / ".join("yes" if w < SYNTHESIS_TARGET_S else "no" for w in own)
         base = syn["baseline"] or {}
         lines.append(
-            f"| {syn['problem']} | {syn['status']} | {walls[0]:.2f} | {_fmt(second, '.2f')} "
-            f"| {syn['optimizer']['wall_time_s']:.2f} | {syn['optimizer']['evaluations']} "
-            f"| {syn['objective']:.6g} | {_fmt(syn['verified_objective'], '.6g')} | {base.get('name', '-')} "
+            f"| {syn['problem']} | {syn['status']} | {' / '.join(f'{w:.2f}' for w in own)} | {met} "
+            f"| {syn['optimizer']['evaluations']} | {syn['objective']:.6g} | {_fmt(syn['verified_objective'], '.6g')} "
+            f"| {' / '.join(f'{w:.2f}' for w in syn['wall_time_s'])} | {base.get('name', '-')} "
             f"| {_fmt(base.get('wall_time_s'), '.2f')} | {_fmt(base.get('evaluations'), 'd')} "
-            f"| {_fmt(base.get('verified_objective'), '.6g')} | {met} |"
+            f"| {_fmt(base.get('verified_objective'), '.6g')} |"
         )
     return "\n".join(lines)
 

@@ -22,6 +22,7 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -162,8 +163,8 @@ def through_angles(m: pkm.Mechanism) -> ca.Function:
 
 def build_kernel(fn: ca.Function, workdir: str) -> Callable[..., None]:
     """``fn`` emitted by pkm's C emitter and built with setup.py's flags for the instruction set pkm's own
-    kernels run with here: ``run(inputs, strides, outputs, n, group)`` as :func:`pkm.compiled.kernel` gives
-    it."""
+    kernels run with here: ``run(strides, chunks, threads)`` as :func:`pkm.compiled.kernel` gives it (the
+    chunks on Python threads)."""
     isa = pkm.compiled.status()["instruction_set"]
     target = ['#pragma GCC target("avx2")'] if isa == "avx2" else []
     source = Path(workdir) / f"{fn.name()}.c"
@@ -175,10 +176,17 @@ def build_kernel(fn: ca.Function, workdir: str) -> Callable[..., None]:
                    check=True, capture_output=True)
     call = getattr(ctypes.CDLL(str(library)), f"bench_kernel_{isa}")
 
-    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray], n: int, group: int = 1) -> None:
+    Chunk = tuple[list[np.ndarray], list[np.ndarray], int, int]
+
+    def one(strides: list[int], chunk: Chunk) -> None:
+        inputs, outputs, n, group = chunk
         ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
         outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
         call(ctypes.c_long(n), ctypes.c_long(group), ins, (ctypes.c_long * len(strides))(*strides), outs)
+
+    def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
+        with ThreadPoolExecutor(max(1, min(threads, len(chunks)))) as pool:
+            list(pool.map(lambda chunk: one(strides, chunk), chunks))
 
     return run
 

@@ -87,6 +87,7 @@ void pkm_passive_leg_pipeline_velocity_min_inverse_condition_f_generic(long, lon
 void pkm_passive_leg_pipeline_manipulability_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_region_margins_min_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_first_order_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_integrand_0_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_integrand_1_generic(long, long, const double *const *, const long *, double *const *);
@@ -410,6 +411,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_passive_leg_pipeline_manipulability_inverse_condition_f_generic,
   pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_generic,
   pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_generic,
+  pkm_passive_leg_pipeline_region_margins_min_inverse_condition_f_generic,
   pkm_passive_leg_pipeline_first_order_generic,
   pkm_passive_leg_integrand_0_generic,
   pkm_passive_leg_integrand_1_generic,
@@ -735,6 +737,7 @@ void pkm_passive_leg_pipeline_velocity_min_inverse_condition_f_avx2(long, long, 
 void pkm_passive_leg_pipeline_manipulability_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_passive_leg_pipeline_region_margins_min_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_pipeline_first_order_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_integrand_0_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_passive_leg_integrand_1_avx2(long, long, const double *const *, const long *, double *const *);
@@ -1058,6 +1061,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_passive_leg_pipeline_manipulability_inverse_condition_f_avx2,
   pkm_passive_leg_pipeline_jacobian_determinant_inverse_condition_f_avx2,
   pkm_passive_leg_pipeline_velocity_ratio_inverse_condition_f_avx2,
+  pkm_passive_leg_pipeline_region_margins_min_inverse_condition_f_avx2,
   pkm_passive_leg_pipeline_first_order_avx2,
   pkm_passive_leg_integrand_0_avx2,
   pkm_passive_leg_integrand_1_avx2,
@@ -1384,6 +1388,7 @@ static const char *const KEYS[] = {
   "passive_leg_manipulability_inverse_condition_f_values:d7052385c3a42ef9",
   "passive_leg_jacobian_determinant_inverse_condition_f_values:7b20969680889a1b",
   "passive_leg_velocity_ratio_inverse_condition_f_values:98bf2a0b23337e4b",
+  "passive_leg_region_margins_min_inverse_condition_f_values:66b23da0e15db0e0",
   "passive_leg_first_order:f6fac8df8420024c",
   "passive_leg_region_margins_min_node_0:53b4d769e33d4116",
   "passive_leg_region_margins_min_node_1:9ed44ec605dd183e",

@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 ccfa7050be3413b6).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 d8cca5ca0378922e).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "ccfa7050be3413b6"
+SOURCE_HASH = "d8cca5ca0378922e"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
 POSE = ("x", "y", )

@@ -9,7 +9,6 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from functools import lru_cache
-from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -94,7 +93,9 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     """The sums of each output of ``f`` over the batch (arguments as for :func:`evaluate`): one (rows, cols)
     array per output; or with ``group`` over each run of ``group`` consecutive rows: one (N / group, rows,
     cols) array per output. By ``f``'s summing kernel where it has one (rows added in order), else by
-    CasADi's interpreter and numpy."""
+    CasADi's interpreter and numpy. A summing kernel reads its inputs named in
+    ``symbolic.cemit.GROUP_SHARED`` (``mode``, ``design``, ``t``) from the first row of each group: they must
+    be the same on every row of a group."""
     arrays = [np.asarray(a, dtype=float) for a in args]
     n = _batch_size(f, arrays)
     size = n if group is None else group
@@ -139,18 +140,6 @@ def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
     return bounds
 
 
-_pool: list[Any] = []
-
-
-def _threads() -> Any:
-    """The threads that run a batch's chunks, started at first use and kept (a new process starts its own)."""
-    if not _pool or _pool[0][0] != os.getpid() or _pool[0][1]._max_workers != THREADS:
-        from concurrent.futures import ThreadPoolExecutor
-
-        _pool[:] = [(os.getpid(), ThreadPoolExecutor(THREADS, thread_name_prefix="pkm-batch"))]
-    return _pool[0][1]
-
-
 def _run_chunks(
     f: ca.Function,
     run: Callable[..., None],
@@ -160,22 +149,15 @@ def _run_chunks(
     *,
     group: int | None = 1,
 ) -> None:
-    """The kernel over each chunk of the batch on its own thread (the kernel runs without the GIL), shared
-    inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a summing
-    kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
+    """The kernel over the chunks of the batch on up to THREADS threads (:func:`pkm.compiled.kernel`),
+    shared inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a
+    summing kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
     strides = [f.numel_in(i) if a.ndim == 2 else 0 for i, a in enumerate(inputs)]
-
-    def chunk(k: int) -> None:
-        start, stop = bounds[k]
-        run([a[start:stop] if a.ndim == 2 else a for a in inputs], strides, outputs_of(k, start, stop), stop - start,
-            stop - start if group is None else group)
-
-    others = [_threads().submit(chunk, k) for k in range(1, len(bounds))]
-    if bounds:
-        chunk(0)
-    for other in others:
-        other.result()
+    chunks = [([a[start:stop] if a.ndim == 2 else a for a in inputs], outputs_of(k, start, stop), stop - start,
+               stop - start if group is None else group) for k, (start, stop) in enumerate(bounds)]
+    if chunks:
+        run(strides, chunks, THREADS)
 
 
 def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:

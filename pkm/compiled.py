@@ -43,6 +43,7 @@ def _library() -> tuple[ctypes.CDLL | None, dict[str, int], str]:
     lib.pkm_kernel_key.restype = ctypes.c_char_p
     lib.pkm_kernel_key.argtypes = [ctypes.c_long]
     lib.pkm_kernel_call.restype = None
+    lib.pkm_kernel_run.restype = None
     lib.pkm_kernel_isa.restype = ctypes.c_char_p
     keys = {lib.pkm_kernel_key(i).decode(): i for i in range(lib.pkm_kernel_count())}
     return lib, keys, ""
@@ -66,14 +67,16 @@ def key(fn: ca.Function, summed: bool = False) -> str:
 _noticed = []
 
 
+Chunk = tuple[list[np.ndarray], list[np.ndarray], int, int]
+
+
 @lru_cache(maxsize=1024)
-def kernel(
-    fn: ca.Function, summed: bool = False
-) -> Callable[[list[np.ndarray], list[int], list[np.ndarray]], None] | None:
-    """``run(inputs, strides, outputs, n, group)`` evaluating ``fn`` compiled over a batch of n rows (inputs
-    (n or 1, k_i) with their row strides, outputs (n, k_j), C order), or None where ``fn`` has no kernel.
-    With ``summed`` the kernel adds the sums of each output over consecutive groups of ``group`` rows to
-    the rows of (n / group, k_j) outputs instead."""
+def kernel(fn: ca.Function, summed: bool = False) -> Callable[[list[int], list[Chunk], int], None] | None:
+    """``run(strides, chunks, threads)`` evaluating ``fn`` compiled over the chunks of a batch, each chunk
+    ``(inputs, outputs, n, group)``: n rows, inputs (n or 1, k_i) with the row strides ``strides``, outputs
+    (n, k_j), C order; the chunks on up to ``threads`` threads (the caller's and threads the library keeps),
+    without the GIL. None where ``fn`` has no kernel. With ``summed`` the kernel adds the sums of each
+    output over consecutive groups of ``group`` rows to the rows of (n / group, k_j) outputs instead."""
     lib, keys, reason = _library()
     if lib is None:
         if not _noticed:
@@ -86,10 +89,15 @@ def kernel(
     if index is None:
         return None
 
-    def run(inputs: list[np.ndarray], strides: list[int], outputs: list[np.ndarray], n: int, group: int = 1) -> None:
-        ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
-        step = (ctypes.c_long * len(strides))(*strides)
-        outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
-        lib.pkm_kernel_call(ctypes.c_long(index), ctypes.c_long(n), ctypes.c_long(group), ins, step, outs)
+    def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
+        count = len(chunks)
+        ins = [(_DOUBLES * len(c[0]))(*[a.ctypes.data_as(_DOUBLES) for a in c[0]]) for c in chunks]
+        outs = [(_DOUBLES * len(c[1]))(*[o.ctypes.data_as(_DOUBLES) for o in c[1]]) for c in chunks]
+        lib.pkm_kernel_run(
+            ctypes.c_long(index), ctypes.c_long(count), ctypes.c_long(threads),
+            (ctypes.c_long * count)(*[c[2] for c in chunks]), (ctypes.c_long * count)(*[c[3] for c in chunks]),
+            (ctypes.POINTER(_DOUBLES) * count)(*ins), (ctypes.c_long * len(strides))(*strides),
+            (ctypes.POINTER(_DOUBLES) * count)(*outs),
+        )
 
     return run

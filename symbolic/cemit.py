@@ -127,52 +127,89 @@ def emittable(fn: ca.Function) -> bool:
     return all(fn.instruction_id(k) in known for k in range(fn.n_instructions()))
 
 
+GROUP_SHARED = ("mode", "design", "t")  # the inputs a summing kernel reads once per group
+
+
+def _expression(fn: ca.Function, k: int, ref: list[str]) -> str:
+    """The C expression of instruction k (not an input or output) with its operands named by ``ref``."""
+    op, ins = fn.instruction_id(k), fn.instruction_input(k)
+    if op == ca.OP_CONST:
+        return literal(fn.instruction_constant(k))
+    if op in UNARY:
+        return UNARY[op].format(ref[ins[0]])
+    return BINARY[op].format(ref[ins[0]], ref[ins[1]])
+
+
 def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
     """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring), or with ``summed``
     adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
-    ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``."""
+    ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``.
+
+    A summing kernel reads the inputs named in GROUP_SHARED once per group, from its first row (they are
+    the same on every row of a group: one design per group), and computes what depends on them alone once
+    per group, before the loop over the group's rows."""
     if not emittable(fn):
         raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
     n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
     n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
-    # only the entries the graph reads are gathered: a pipeline reads a few of a design's parameters
-    used = sorted({tuple(fn.instruction_input(k)) for k in range(fn.n_instructions())
-                   if fn.instruction_id(k) == ca.OP_INPUT})
+    shared = {i for i in range(fn.n_in()) if summed and fn.name_in(i) in GROUP_SHARED}
+    # each work variable's current name: a column of the block (w) or a value once per group (h)
+    ref = [f"w{k}" for k in range(fn.sz_w())]
+    varies = [True] * fn.sz_w()
+    hoisted, body, gathered = [], [], set()
+    for k in range(fn.n_instructions()):
+        op, ins, outs = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
+        if op == ca.OP_OUTPUT:
+            body.append(f"b{outs[0]}[{outs[1]}][q] = {ref[ins[0]]};")
+            continue
+        if op == ca.OP_INPUT:
+            once = ins[0] in shared
+            expression = f"in[{ins[0]}][g0 * stride[{ins[0]}] + {ins[1]}]" if once else f"a{ins[0]}[{ins[1]}][q]"
+            if not once:
+                gathered.add((ins[0], ins[1]))
+        else:
+            once = summed and not any(varies[i] for i in ins if i >= 0)
+            expression = _expression(fn, k, ref)
+        if once:
+            hoisted.append(f"const double h{k} = {expression};")
+            ref[outs[0]], varies[outs[0]] = f"h{k}", False
+        else:
+            body.append(f"w{outs[0]} = {expression};")
+            ref[outs[0]], varies[outs[0]] = f"w{outs[0]}", True
+    written = sorted({int(line[1:line.index(" ")]) for line in body if line.startswith("w")})
     lines = [
-        f"/* {fn.name()}: {fn.n_instructions()} instructions; inputs {', '.join(fn.name_in())}; "
-        f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
+        f"/* {fn.name()}: {fn.n_instructions()} instructions"
+        + (f", {len(hoisted)} once per group" if summed else "")
+        + f"; inputs {', '.join(fn.name_in())}; outputs {', '.join(fn.name_out())}"
+        + f"{' summed over the batch' if summed else ''} */",
         f"void PKM_FN({symbol})(long n, long group, const double *const *in, const long *stride, "
         "double *const *out)",
         "{",
     ]
-    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k]
+    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and i not in shared]
     lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
-    lines += [
-        "  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {",
-        "    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;",
-    ]
-    lines += [f"    PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in used]
-    lines += ["#pragma omp simd", "    for (long q = 0; q < PKM_BLOCK; ++q) {"]
-    if fn.sz_w():
-        lines.append("      double " + ", ".join(f"w{k}" for k in range(fn.sz_w())) + ";")
-    for k in range(fn.n_instructions()):
-        op, ins, outs = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
-        if op == ca.OP_INPUT:
-            statement = f"w{outs[0]} = a{ins[0]}[{ins[1]}][q];"
-        elif op == ca.OP_OUTPUT:
-            statement = f"b{outs[0]}[{outs[1]}][q] = w{ins[0]};"
-        elif op == ca.OP_CONST:
-            statement = f"w{outs[0]} = {literal(fn.instruction_constant(k))};"
-        elif op in UNARY:
-            statement = f"w{outs[0]} = {UNARY[op].format(f'w{ins[0]}')};"
-        else:
-            statement = f"w{outs[0]} = {BINARY[op].format(f'w{ins[0]}', f'w{ins[1]}')};"
-        lines.append("      " + statement)
-    lines.append("    }")
+    indent = "    "
     if summed:
-        lines += [f"    PKM_FN(pkm_accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);"
-                  for j, k in enumerate(n_out) if k]
+        lines += ["  for (long g0 = 0; g0 < n; g0 += group) {",
+                  "    const long g1 = n - g0 < group ? n : g0 + group;"]
+        lines += ["    " + line for line in hoisted]
+        lines += ["    for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {",
+                  "      const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
+        indent = "      "
     else:
-        lines += [f"    PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
-    lines += ["  }", "}", ""]
+        lines += ["  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {",
+                  "    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;"]
+    lines += [f"{indent}PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    lines += ["#pragma omp simd", f"{indent}for (long q = 0; q < PKM_BLOCK; ++q) {{"]
+    if written:
+        lines.append(f"{indent}  double " + ", ".join(f"w{k}" for k in written) + ";")
+    lines += [f"{indent}  {line}" for line in body]
+    lines.append(f"{indent}}}")
+    if summed:
+        lines += [f"{indent}PKM_FN(pkm_accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);"
+                  for j, k in enumerate(n_out) if k]
+        lines += ["    }", "  }", "}", ""]
+    else:
+        lines += [f"{indent}PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
+        lines += ["  }", "}", ""]
     return "\n".join(lines)

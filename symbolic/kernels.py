@@ -3,7 +3,8 @@
 The kernels are the functions pkm evaluates over batches, built the way the runtime builds them: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
 alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
-indices, the sampled regions and atlases evaluate them), and the one of its first order (the Jacobians),
+indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
+a sampled check evaluates it), and the one of its first order (the Jacobians),
 by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
 integrands of its global indices over its parametrised regions and over the regions of its synthesis
 problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
@@ -44,6 +45,7 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     import pkm
     from pkm.compiled import key
     from pkm.regions.pipeline import index_pipeline, pipeline
+    from pkm.regions.quadrature import guard_index
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
     mech = pkm.load(name)
@@ -56,6 +58,10 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     condition = mech.local_spec(SAMPLED_CONDITION.name)
     fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
                   for index in mech.local_indices() if index != condition.name})
+    for region in dict.fromkeys(region for _, region, _ in _pairs(mech)):
+        guard = guard_index(region)
+        if guard is not None:
+            fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
     fused["first_order"] = pipeline(mech, (), first_order=True)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
     out = [(symbol, fn, False) for symbol, fn in out]
@@ -77,17 +83,25 @@ class Integrand:
     reduce: str
 
 
-def integrands(mech: Any) -> list[Integrand]:
-    """The integrand kernels of a mechanism (module docstring), in a fixed order."""
+def _pairs(mech: Any) -> list[tuple[Any, Any, bool]]:
+    """(global index, region, whether IPOPT takes its exact Hessian) of every global index over every
+    region of the mechanism and of every quantity of its synthesis problems, in a fixed order."""
     from pkm import registry
-    from pkm.regions.integrand import SUMMED, rows_function, sum_function
-    from pkm.regions.quadrature import guard_index
 
     pairs = [(mech.global_spec(index), region, False) for region in mech.regions.values()
              for index in mech.global_indices()]
     for problem in (registry.problem(p) for p in sorted(registry.problems())):
         if problem.mechanism.name == mech.name:
             pairs += [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
+    return pairs
+
+
+def integrands(mech: Any) -> list[Integrand]:
+    """The integrand kernels of a mechanism (module docstring), in a fixed order."""
+    from pkm.regions.integrand import SUMMED, rows_function, sum_function
+    from pkm.regions.quadrature import guard_index
+
+    pairs = _pairs(mech)
     out = []
     for region in dict.fromkeys(region for _, region, _ in pairs):
         if region.guard is not None:

@@ -5,6 +5,8 @@ bench.integrals), batches of designs against one design at a time."""
 
 from __future__ import annotations
 
+import re
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -14,10 +16,11 @@ from bench.integrals import node_graph
 from pkm import compiled
 from pkm.batch import COMPILED_WORK, interpreted, total
 from pkm.indices import epigraph_function
-from pkm.regions import node_quadrature, quadrature_value
-from pkm.regions.integrand import sum_function
+from pkm.regions import node_quadrature, quadrature_function, quadrature_value
+from pkm.regions.integrand import region_rows, sum_function
 from pkm.regions.pipeline import pipeline
 from pkm.regions.quadrature import epigraph_margins
+from symbolic.cemit import GROUP_SHARED
 from symbolic.kernels import integrands
 
 RESOLUTION = 4
@@ -71,6 +74,8 @@ def test_integrand_kernels_agree_with_the_interpreter(name):
      ("slider_gantry", "kappa_d_std", "task"), ("slider_gantry", "kappa_d_mean", "task"), ("ups_pu", "gci", "task")],
 )
 def test_global_indices_have_the_value_gradient_and_hessian_of_the_node_graph(name, index, region):
+    """The reduction in CasADi (as IPOPT takes it) and numerically (quadrature_function: value and gradient)
+    against the node graph."""
     mech = pkm.load(name)
     spec, where, branch = mech.global_spec(index), mech.region(region), mech.working_mode(None)
     d = ca.MX.sym("d", len(mech.parameter_names()))
@@ -80,9 +85,12 @@ def test_global_indices_have_the_value_gradient_and_hessian_of_the_node_graph(na
                   node_graph(mech, spec, where, branch, design=d, resolution=RESOLUTION)):
         gradient, hessian = ca.gradient(value, d), ca.hessian(value, d)[0]
         results.append([np.asarray(v) for v in ca.Function("f", [d], [value, gradient, hessian])(design)])
-    for what, got, want in zip(("value", "gradient", "hessian"), *results, strict=True):
+    numeric = quadrature_function(mech, spec, where, branch, RESOLUTION)(design)
+    checks = [*zip(("value", "gradient", "hessian"), results[0], results[1], strict=True),
+              *zip(("numeric value", "numeric gradient"), numeric, results[1][:2], strict=True)]
+    for what, got, want in checks:
         scale = max(1e-300, float(np.max(np.abs(want))))
-        assert np.max(np.abs(got - want)) <= 1e-10 * scale, f"{index}: {what}"
+        assert np.max(np.abs(np.ravel(got) - np.ravel(want))) <= 1e-10 * scale, f"{index}: {what}"
     assert np.max(np.abs(results[0][1])) > 0
 
 
@@ -103,6 +111,20 @@ def test_epigraph_margins_have_the_values_and_jacobian_of_the_node_graph():
                  for g in (smooth, graph))
     for a, b in zip(got, want, strict=True):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-10 * float(np.max(np.abs(b))))
+
+
+def test_chosen_epigraph_rows_are_those_rows_of_every_row():
+    """An exchange step's rows, evaluated at their nodes alone, with their derivatives."""
+    mech = pkm.load("ups_pu")
+    spec, region, branch = mech.global_spec("actuator_force_max"), mech.region("task"), mech.working_mode(None)
+    z = np.append(mech.design_vector(mech.design()), 2000.0)
+    kwargs = {"signs": np.array(branch.signs, dtype=float), "z": z, "resolution": RESOLUTION, "order": 2,
+              "epigraph": True}
+    every = region_rows(mech, spec.local, region, spec.reduce, **kwargs)
+    rows = np.random.default_rng(5).choice(len(every[0]), size=40, replace=False)
+    chosen = region_rows(mech, spec.local, region, spec.reduce, rows=tuple(rows.tolist()), **kwargs)
+    for a, b in zip(chosen, every, strict=True):
+        np.testing.assert_array_equal(a, b[rows])
 
 
 def test_a_batch_of_designs_gives_each_designs_value():
@@ -150,3 +172,7 @@ def test_the_architecture_states_the_compiled_paths_constants():
     text = (Path(__file__).parent.parent / "docs" / "architecture.md").read_text()
     assert f"more than {EXCHANGE_LIMIT} rows" in text
     assert f"parts of about {PART_INSTRUCTIONS:,} instructions" in text
+    assert f"2^{COMPILED_WORK.bit_length() - 1} instructions times rows" in text
+    assert f"`{', '.join(f'`{name}`' for name in GROUP_SHARED)[1:]}" in text
+    spin = re.search(r"#define PKM_SPIN_NS (\d+)L", (Path(__file__).parent.parent / "pkm" / "_kernels.c").read_text())
+    assert f"for {int(spin[1]) / 1e6:g} ms before they sleep" in text

@@ -24,7 +24,7 @@ so that IPOPT's objective, constraints, gradient and Hessian are evaluated by th
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import lru_cache
 from typing import Any
 
@@ -147,31 +147,42 @@ def region_sums(
 
 def region_rows(
     mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, z: np.ndarray,
-    resolution: int, order: int, epigraph: bool,
+    resolution: int, order: int, epigraph: bool, rows: Sequence[int] | None = None,
 ) -> Derivatives:
     """At every node of the region's rule for ``reduce``, in node order: the local index and then whether
     the node is reached (2n values), or with ``epigraph`` the epigraph margins (n values, z = (design,
-    t)); with the Jacobian (values, len(z)) and the Hessians (values, len(z), len(z)) up to ``order``."""
+    t)); with the Jacobian (values, len(z)) and the Hessians (values, len(z), len(z)) up to ``order``.
+    With ``rows``, only those values, evaluated at their nodes alone."""
+    pieces = [(piece, piece.reference(resolution, reduce)[0]) for piece in region.pieces()]
+    count = sum(len(nodes) for _, nodes in pieces)
+    m = rows_function(mech, local, pieces[0][0], reduce if epigraph else None, 0)[0].numel_out(0)
+    wanted = np.arange(m * count) if rows is None else np.asarray(rows, dtype=int)
+    node, output = wanted % count, wanted // count
+    taken = np.unique(node)
     values, jacobians, hessians = [], [], []
-    for piece in region.pieces():
-        nodes, _ = piece.reference(resolution, reduce)
+    offset = 0
+    for piece, nodes in pieces:
+        local_nodes = taken[(taken >= offset) & (taken < offset + len(nodes))] - offset
+        offset += len(nodes)
+        if not len(local_nodes):
+            continue
         fn, active = rows_function(mech, local, piece, reduce if epigraph else None, order)
-        out = evaluate(fn, *((nodes, signs, z[:-1], z[-1:]) if epigraph else (nodes, signs, z)))
+        at = nodes[local_nodes]
+        out = evaluate(fn, *((at, signs, z[:-1], z[-1:]) if epigraph else (at, signs, z)))
         values.append(out[0][:, :, 0])
         if order >= 1:
             jacobian = np.zeros((*out[1].shape[:2], len(z)))
             jacobian[:, :, list(active)] = out[1]
             jacobians.append(jacobian)
         if order >= 2:
-            n, m, t = out[2].shape
-            hessians.append(_unpack(out[2].reshape(n * m, t), active, len(z)).reshape(n, m, len(z), len(z)))
+            n, k, t = out[2].shape
+            hessians.append(_unpack(out[2].reshape(n * k, t), active, len(z)).reshape(n, k, len(z), len(z)))
+    position = np.searchsorted(taken, node)
 
-    def by_output(parts: list[np.ndarray]) -> np.ndarray:
-        stacked = np.concatenate(parts)
-        return stacked.transpose(1, 0, *range(2, stacked.ndim)).reshape(-1, *stacked.shape[2:])
+    def picked(parts: list[np.ndarray]) -> np.ndarray:
+        return np.concatenate(parts)[position, output]
 
-    return (by_output(values), by_output(jacobians) if order >= 1 else None,
-            by_output(hessians) if order >= 2 else None)
+    return (picked(values), picked(jacobians) if order >= 1 else None, picked(hessians) if order >= 2 else None)
 
 
 BATCH_ROWS = 1 << 16  # rows (nodes times designs) per evaluation of a batch of designs
@@ -227,13 +238,25 @@ def reduce_sums(sums: Any, reduce: str) -> Any:
     return sums[0]
 
 
-class _Cached:
-    """The last evaluation of a numeric function ``(z, order) -> Derivatives``, reused by lower orders;
-    evaluated to ``eager`` order at least, where the caller asks for those derivatives at every point."""
+def reduce_gradient(sums: np.ndarray, jacobian: np.ndarray, reduce: str) -> np.ndarray:
+    """The gradient (n_p,) of :func:`reduce_sums` from the sums (k,) and their Jacobian (k, n_p) in the
+    design (the deviation's gradient 0 where its variance is clipped at 0, as CasADi's fmax gives it)."""
+    if reduce == "mean":
+        return (jacobian[0] - sums[0] / sums[1] * jacobian[1]) / sums[1]
+    if reduce == "std":
+        mean = sums[0] / sums[2]
+        d_mean = (jacobian[0] - mean * jacobian[2]) / sums[2]
+        variance = sums[1] / sums[2] - mean**2
+        d_variance = (jacobian[1] - sums[1] / sums[2] * jacobian[2]) / sums[2] - 2 * mean * d_mean
+        return d_variance / (2 * np.sqrt(variance)) if variance > 0 else np.zeros_like(d_variance)
+    return jacobian[0]
 
-    def __init__(self, fn: Callable[[np.ndarray, int], Derivatives], eager: int = 0) -> None:
+
+class _Cached:
+    """The last evaluation of a numeric function ``(z, order) -> Derivatives``, reused by lower orders."""
+
+    def __init__(self, fn: Callable[[np.ndarray, int], Derivatives]) -> None:
         self.fn = fn
-        self.eager = eager
         self.key: bytes | None = None
         self.order = -1
         self.result: Derivatives | None = None
@@ -241,7 +264,6 @@ class _Cached:
     def __call__(self, z: np.ndarray, order: int) -> Derivatives:
         key = z.tobytes()
         if key != self.key or order > self.order:
-            order = max(order, self.eager)
             self.result = self.fn(z, order)
             self.key, self.order = key, order
         return self.result
@@ -250,13 +272,12 @@ class _Cached:
 class Smooth(ca.Callback):
     """A CasADi function z (n x 1) -> y (m x 1) evaluated by ``fn(z, order) -> (y (m,), J (m, n),
     H (m, n, n))``, whose Jacobian (``level`` 1) and the Jacobian of that (``level`` 2, the Hessians) are
-    Smooth functions of their own, so that CasADi and IPOPT use its exact derivatives. With ``eager`` 1,
-    a value is evaluated with its Jacobian in one pass, for callers that ask for both at every point."""
+    Smooth functions of their own, so that CasADi and IPOPT use its exact derivatives."""
 
     def __init__(self, name: str, fn: Callable[[np.ndarray, int], Derivatives] | _Cached, n: int, m: int,
-                 level: int = 0, *, eager: int = 0) -> None:
+                 level: int = 0) -> None:
         ca.Callback.__init__(self)
-        self.fn = fn if isinstance(fn, _Cached) else _Cached(fn, eager)
+        self.fn = fn if isinstance(fn, _Cached) else _Cached(fn)
         self.n, self.m, self.level = n, m, level
         self.derivative: Smooth | None = None
         self.construct(f"{name}_d{level}" if level else name, {})

@@ -13,6 +13,7 @@ with the gradient of the active node. Syntheses maximise it in the smooth epigra
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from functools import cache, lru_cache
 from typing import Any
@@ -30,6 +31,7 @@ from pkm.regions.integrand import (
     Smooth,
     batch_rows,
     batch_sums,
+    reduce_gradient,
     reduce_sums,
     region_rows,
     region_sums,
@@ -49,17 +51,16 @@ ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
 
 @cache
 def _sums(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int,
-    eager: int = 0,
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int
 ) -> Smooth:
     """CasADi ``design -> S``: the sums of the reduction's components over the region's nodes
-    (:mod:`pkm.regions.integrand`), with exact derivatives (evaluated with the value from ``eager`` 1)."""
+    (:mod:`pkm.regions.integrand`), with exact derivatives."""
     def fn(design: np.ndarray, order: int) -> Any:
         return region_sums(mech, local, region, reduce, signs=np.array(signs), design=design, resolution=resolution,
                            order=order)
 
     return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_sums", fn, _design_size(mech),
-                  len(COMPONENTS[reduce]), eager=eager)
+                  len(COMPONENTS[reduce]))
 
 
 @cache
@@ -69,9 +70,8 @@ def _rows(mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tupl
     ``epigraph`` ``(design, t) -> margins`` (:func:`pkm.regions.integrand.region_rows`), only the ``rows``
     of them where given."""
     def fn(z: np.ndarray, order: int) -> Any:
-        out = region_rows(mech, local, region, reduce, signs=np.array(signs), z=z, resolution=resolution,
-                          order=order, epigraph=epigraph)
-        return out if rows is None else tuple(None if a is None else a[list(rows)] for a in out)
+        return region_rows(mech, local, region, reduce, signs=np.array(signs), z=z, resolution=resolution,
+                           order=order, epigraph=epigraph, rows=rows)
 
     values = sum(piece.node_count(resolution, reduce) * rows_function(mech, local, piece, reduce if epigraph else None,
                                                                       0)[0].numel_out(0)
@@ -108,12 +108,11 @@ def epigraph_values(
 
 
 def quadrature_value(
-    mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int, eager: int = 0
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
 ) -> ca.MX:
     """The global index over the region as a CasADi expression of the design, with exact derivatives:
     the reduction of the sums of :mod:`pkm.regions.integrand`, or a region extreme over the nodes (NaN
-    where a node is not reached); with ``eager`` 1 the sums are evaluated with their gradient in one pass
-    (for a function that returns both)."""
+    where a node is not reached)."""
     resolution = check_resolution(resolution, 1)
     signs = tuple(branch.signs)
     if spec.reduce in EXTREMES_REDUCE:
@@ -123,7 +122,7 @@ def quadrature_value(
         extreme = ca.mmin(values) if spec.reduce == "min" else ca.mmax(values)
         value = ca.if_else(ca.mmin(reached) > 0, extreme, np.nan)
     else:
-        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution, eager=eager)(design)
+        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution)(design)
         value = reduce_sums(sums, spec.reduce)
     if region.guard is not None:
         value = ca.if_else(guard_holds(mech, region, branch, design) > 0, value, np.nan)
@@ -196,17 +195,38 @@ def guard_index(region: Any) -> LocalIndex | None:
 
 
 @lru_cache(maxsize=64)
-def quadrature_function(mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int) -> ca.Function:
-    """CasADi function ``design -> (value, gradient)`` of a global index over a parametrised region."""
-    design = ca.MX.sym("design", mech.functions["inverse_kinematics"].numel_in(2))
-    value = quadrature_value(mech, spec, region, branch, design, resolution=resolution, eager=1)
-    return ca.Function(
-        f"{spec.name}_{region.name}_{branch.name}_{resolution}",
-        [design],
-        [value, ca.gradient(value, design)],
-        ["design"],
-        [spec.name, "gradient"],
-    )
+def quadrature_function(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, resolution: int
+) -> Callable[[np.ndarray], tuple[float, np.ndarray]]:
+    """``design (n_p,) -> (value, gradient (n_p,))`` of a global index over a parametrised region, as
+    :func:`quadrature_value` defines it. A mean, deviation or measure is reduced numerically from its
+    sums and their Jacobian (:func:`pkm.regions.integrand.region_sums`, one evaluation of the integrands
+    with their gradient); a region extreme through the CasADi graph of its nodes."""
+    if spec.reduce in EXTREMES_REDUCE:
+        symbol = ca.MX.sym("design", _design_size(mech))
+        value = quadrature_value(mech, spec, region, branch, symbol, resolution=resolution)
+        graph = ca.Function(f"{spec.name}_{region.name}_{branch.name}_{resolution}", [symbol],
+                            [value, ca.gradient(value, symbol)], ["design"], [spec.name, "gradient"])
+
+        def extreme(design: np.ndarray) -> tuple[float, np.ndarray]:
+            value, gradient = graph(np.asarray(design, dtype=float).ravel())
+            return float(value), np.asarray(gradient, dtype=float).ravel()
+
+        return extreme
+    signs = np.array(branch.signs, dtype=float)
+
+    def summed(design: np.ndarray) -> tuple[float, np.ndarray]:
+        design = np.asarray(design, dtype=float).ravel()
+        sums, jacobian, _ = region_sums(mech, spec.local, region, spec.reduce, signs=signs, design=design,
+                                        resolution=check_resolution(resolution, 1), order=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            value, gradient = float(reduce_sums(sums, spec.reduce)), reduce_gradient(sums, jacobian, spec.reduce)
+        if region.guard is not None and not admissible(mech, region, design[None], branch=branch)[0]:
+            return float("nan"), np.full(len(design), np.nan)
+        (size,), (size_gradient,) = _sizes(mech, spec, design[None])
+        return value / size, gradient / size - value * size_gradient / size**2
+
+    return summed
 
 
 def refined_extremes(
