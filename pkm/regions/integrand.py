@@ -123,6 +123,16 @@ def _unpack(lower: np.ndarray, active: tuple[int, ...], size: int) -> np.ndarray
     return full
 
 
+@lru_cache(maxsize=256)
+def reference(piece: Any, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+    """A region piece's reference nodes (n, d) and weights (n,) for a reduction's rule, computed once (read
+    only): a solver asks for them at every evaluation."""
+    nodes, weights = piece.reference(resolution, reduce)
+    for array in (nodes, weights):
+        array.setflags(write=False)
+    return nodes, weights
+
+
 def region_sums(
     mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, design: np.ndarray,
     resolution: int, order: int,
@@ -134,7 +144,7 @@ def region_sums(
     jacobian = np.zeros((k, p)) if order >= 1 else None
     hessian = np.zeros((k, p, p)) if order >= 2 else None
     for piece in region.pieces():
-        nodes, weights = piece.reference(resolution, reduce)
+        nodes, weights = reference(piece, resolution, reduce)
         fn, active = sum_function(mech, local, piece, reduce, order)
         out = total(fn, nodes, weights[:, None], signs, design)
         sums += out[0][:, 0]
@@ -153,7 +163,7 @@ def region_rows(
     the node is reached (2n values), or with ``epigraph`` the epigraph margins (n values, z = (design,
     t)); with the Jacobian (values, len(z)) and the Hessians (values, len(z), len(z)) up to ``order``.
     With ``rows``, only those values, evaluated at their nodes alone."""
-    pieces = [(piece, piece.reference(resolution, reduce)[0]) for piece in region.pieces()]
+    pieces = [(piece, reference(piece, resolution, reduce)[0]) for piece in region.pieces()]
     count = sum(len(nodes) for _, nodes in pieces)
     m = rows_function(mech, local, pieces[0][0], reduce if epigraph else None, 0)[0].numel_out(0)
     wanted = np.arange(m * count) if rows is None else np.asarray(rows, dtype=int)
@@ -199,7 +209,7 @@ def batch_sums(
     the nodes of each design are one group of the summing kernel."""
     sums = np.zeros((len(designs), len(COMPONENTS[reduce])))
     for piece in region.pieces():
-        nodes, weights = piece.reference(resolution, reduce)
+        nodes, weights = reference(piece, resolution, reduce)
         fn, _ = sum_function(mech, local, piece, reduce, 0)
         parts = []
         for batch in _design_batches(designs, len(nodes)):
@@ -217,7 +227,7 @@ def batch_rows(
     (D, n), for each of the designs (D, n_p)."""
     values, reached = [], []
     for piece in region.pieces():
-        nodes, _ = piece.reference(resolution, reduce)
+        nodes, _ = reference(piece, resolution, reduce)
         fn, _ = rows_function(mech, local, piece, None, 0)
         parts = [evaluate(fn, np.tile(nodes, (len(batch), 1)), signs, np.repeat(batch, len(nodes), axis=0))[0]
                  .reshape(len(batch), len(nodes), 2) for batch in _design_batches(designs, len(nodes))]
@@ -298,13 +308,22 @@ class Smooth(ca.Callback):
             return ca.Sparsity.dense(self.m, self.n)
         return ca.Sparsity.dense(self.m * self.n, self.n) if j == 0 else ca.Sparsity(self.m * self.n, self.m)
 
-    def eval(self, arg: list[ca.DM]) -> list[ca.DM]:
-        y, jacobian, hessian = self.fn(np.asarray(arg[0], dtype=float).ravel(), self.level)
+    def has_eval_buffer(self) -> bool:
+        return True
+
+    def eval_buffer(self, arg: list[memoryview], res: list[memoryview]) -> int:
+        """The outputs written into CasADi's buffers (column-major), without a DM between."""
+        y, jacobian, hessian = self.fn(np.frombuffer(arg[0], dtype=float).copy(), self.level)
+        out = None if res[0] is None else np.frombuffer(res[0], dtype=float)
+        if out is None or not out.size:
+            return 0
         if self.level == 0:
-            return [ca.DM(y)]
-        if self.level == 1:
-            return [ca.DM(jacobian)]
-        return [ca.DM(hessian.transpose(1, 0, 2).reshape(self.m * self.n, self.n)), ca.DM(self.m * self.n, self.m)]
+            out[:] = y
+        elif self.level == 1:
+            out[:] = jacobian.T.ravel()
+        else:
+            out[:] = hessian.transpose(1, 0, 2).reshape(self.m * self.n, self.n).T.ravel()
+        return 0
 
     def has_jacobian(self) -> bool:
         return self.level < 2
