@@ -42,3 +42,33 @@ def test_the_interpreter_fallback_says_so_once_and_gives_the_same_values(interpr
         fast = m.local_index("inverse_condition_f", x)
     np.testing.assert_array_equal(np.isnan(fast), np.isnan(slow))
     np.testing.assert_allclose(fast[:2], slow[:2], rtol=1e-13)
+
+
+def test_calls_from_several_threads_at_once_give_each_its_own_sums(monkeypatch):
+    """Kernels called from several Python threads at once, each call split into chunks (the library's kept
+    threads take one call at a time, the others run on their own thread): every result as alone."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pkm import batch
+    from pkm.regions.integrand import sum_function
+
+    if compiled.status()["path"] != "compiled":
+        pytest.skip("the kernels are not built")
+    mech = pkm.load("five_bar")
+    spec, region, branch = mech.global_spec("gci"), mech.region("miw"), mech.working_mode(None)
+    piece = region.pieces()[0]
+    fn, _ = sum_function(mech, spec.local, piece, spec.reduce, 1)
+    nodes, weights = piece.reference(60, spec.reduce)
+    base = mech.design_vector(mech.design())
+    designs = [base * (1 + 0.01 * k) for k in range(8)]
+    monkeypatch.setattr(batch, "THREADS", 2)
+
+    def sums(design):
+        return batch.total(fn, nodes, weights[:, None], np.array(branch.signs, dtype=float), design)
+
+    alone = [sums(d) for d in designs]
+    with ThreadPoolExecutor(4) as pool:
+        together = list(pool.map(sums, designs * 25))
+    for k, got in enumerate(together):
+        for a, b in zip(got, alone[k % len(designs)], strict=True):
+            np.testing.assert_array_equal(a, b)
