@@ -43,6 +43,7 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     order."""
     import pkm
     from pkm.compiled import key
+    from pkm.dynamics.rigid import inverse_dynamics_pipeline
     from pkm.regions.pipeline import index_pipeline, pipeline
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
@@ -57,6 +58,8 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
                   for index in mech.local_indices() if index != condition.name})
     fused["first_order"] = pipeline(mech, (), first_order=True)
+    if "inverse_dynamics" in mech.functions:
+        fused["inverse_dynamics"] = inverse_dynamics_pipeline(mech)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
     out = [(symbol, fn, False) for symbol, fn in out]
     kernels = {}
