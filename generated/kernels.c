@@ -9,6 +9,7 @@ void pkm_five_bar_first_order_generic(long, long, const double *const *, const l
 void pkm_five_bar_first_order_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_forward_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_inertia_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_five_bar_inertia_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_inverse_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_joint_dynamics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_maximum_inscribed_circle_generic(long, long, const double *const *, const long *, double *const *);
@@ -166,9 +167,12 @@ void pkm_passive_leg_integrand_97_generic(long, long, const double *const *, con
 void pkm_slider_gantry_constraint_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_energy_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_first_order_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_first_order_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_forward_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inertia_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_inertia_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inverse_dynamics_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_inverse_dynamics_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inverse_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_lagrange_dynamics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_partial_velocities_generic(long, long, const double *const *, const long *, double *const *);
@@ -192,6 +196,7 @@ void pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f_generic(long,
 void pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_first_order_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_inverse_dynamics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_0_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_1_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_2_generic(long, long, const double *const *, const long *, double *const *);
@@ -223,9 +228,12 @@ void pkm_slider_gantry_integrand_27_generic(long, long, const double *const *, c
 void pkm_slider_gantry_symmetric_constraint_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_energy_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_first_order_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_first_order_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_forward_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inertia_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_inertia_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inverse_dynamics_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_inverse_dynamics_from_pose_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inverse_kinematics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_lagrange_dynamics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_partial_velocities_generic(long, long, const double *const *, const long *, double *const *);
@@ -249,6 +257,7 @@ void pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_condition_f_gen
 void pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_first_order_generic(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_inverse_dynamics_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_0_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_1_generic(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_2_generic(long, long, const double *const *, const long *, double *const *);
@@ -333,6 +342,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_five_bar_first_order_from_pose_generic,
   pkm_five_bar_forward_kinematics_generic,
   pkm_five_bar_inertia_generic,
+  pkm_five_bar_inertia_from_pose_generic,
   pkm_five_bar_inverse_kinematics_generic,
   pkm_five_bar_joint_dynamics_generic,
   pkm_five_bar_maximum_inscribed_circle_generic,
@@ -490,9 +500,12 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_constraint_generic,
   pkm_slider_gantry_energy_generic,
   pkm_slider_gantry_first_order_generic,
+  pkm_slider_gantry_first_order_from_pose_generic,
   pkm_slider_gantry_forward_kinematics_generic,
   pkm_slider_gantry_inertia_generic,
+  pkm_slider_gantry_inertia_from_pose_generic,
   pkm_slider_gantry_inverse_dynamics_generic,
+  pkm_slider_gantry_inverse_dynamics_from_pose_generic,
   pkm_slider_gantry_inverse_kinematics_generic,
   pkm_slider_gantry_lagrange_dynamics_generic,
   pkm_slider_gantry_partial_velocities_generic,
@@ -516,6 +529,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_generic,
   pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_generic,
   pkm_slider_gantry_pipeline_first_order_generic,
+  pkm_slider_gantry_pipeline_inverse_dynamics_generic,
   pkm_slider_gantry_integrand_0_generic,
   pkm_slider_gantry_integrand_1_generic,
   pkm_slider_gantry_integrand_2_generic,
@@ -547,9 +561,12 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_symmetric_constraint_generic,
   pkm_slider_gantry_symmetric_energy_generic,
   pkm_slider_gantry_symmetric_first_order_generic,
+  pkm_slider_gantry_symmetric_first_order_from_pose_generic,
   pkm_slider_gantry_symmetric_forward_kinematics_generic,
   pkm_slider_gantry_symmetric_inertia_generic,
+  pkm_slider_gantry_symmetric_inertia_from_pose_generic,
   pkm_slider_gantry_symmetric_inverse_dynamics_generic,
+  pkm_slider_gantry_symmetric_inverse_dynamics_from_pose_generic,
   pkm_slider_gantry_symmetric_inverse_kinematics_generic,
   pkm_slider_gantry_symmetric_lagrange_dynamics_generic,
   pkm_slider_gantry_symmetric_partial_velocities_generic,
@@ -573,6 +590,7 @@ static const pkm_kernel_fn KERNELS_generic[] = {
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_generic,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_generic,
   pkm_slider_gantry_symmetric_pipeline_first_order_generic,
+  pkm_slider_gantry_symmetric_pipeline_inverse_dynamics_generic,
   pkm_slider_gantry_symmetric_integrand_0_generic,
   pkm_slider_gantry_symmetric_integrand_1_generic,
   pkm_slider_gantry_symmetric_integrand_2_generic,
@@ -659,6 +677,7 @@ void pkm_five_bar_first_order_avx2(long, long, const double *const *, const long
 void pkm_five_bar_first_order_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_forward_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_inertia_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_five_bar_inertia_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_inverse_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_joint_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_five_bar_maximum_inscribed_circle_avx2(long, long, const double *const *, const long *, double *const *);
@@ -816,9 +835,12 @@ void pkm_passive_leg_integrand_97_avx2(long, long, const double *const *, const 
 void pkm_slider_gantry_constraint_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_energy_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_first_order_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_first_order_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_forward_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inertia_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_inertia_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inverse_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_inverse_dynamics_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_inverse_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_lagrange_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_partial_velocities_avx2(long, long, const double *const *, const long *, double *const *);
@@ -842,6 +864,7 @@ void pkm_slider_gantry_pipeline_velocity_ratio_inverse_condition_f_avx2(long, lo
 void pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_pipeline_first_order_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_pipeline_inverse_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_0_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_1_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_integrand_2_avx2(long, long, const double *const *, const long *, double *const *);
@@ -873,9 +896,12 @@ void pkm_slider_gantry_integrand_27_avx2(long, long, const double *const *, cons
 void pkm_slider_gantry_symmetric_constraint_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_energy_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_first_order_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_first_order_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_forward_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inertia_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_inertia_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inverse_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_inverse_dynamics_from_pose_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_inverse_kinematics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_lagrange_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_partial_velocities_avx2(long, long, const double *const *, const long *, double *const *);
@@ -899,6 +925,7 @@ void pkm_slider_gantry_symmetric_pipeline_velocity_ratio_inverse_condition_f_avx
 void pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_pipeline_first_order_avx2(long, long, const double *const *, const long *, double *const *);
+void pkm_slider_gantry_symmetric_pipeline_inverse_dynamics_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_0_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_1_avx2(long, long, const double *const *, const long *, double *const *);
 void pkm_slider_gantry_symmetric_integrand_2_avx2(long, long, const double *const *, const long *, double *const *);
@@ -983,6 +1010,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_five_bar_first_order_from_pose_avx2,
   pkm_five_bar_forward_kinematics_avx2,
   pkm_five_bar_inertia_avx2,
+  pkm_five_bar_inertia_from_pose_avx2,
   pkm_five_bar_inverse_kinematics_avx2,
   pkm_five_bar_joint_dynamics_avx2,
   pkm_five_bar_maximum_inscribed_circle_avx2,
@@ -1140,9 +1168,12 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_constraint_avx2,
   pkm_slider_gantry_energy_avx2,
   pkm_slider_gantry_first_order_avx2,
+  pkm_slider_gantry_first_order_from_pose_avx2,
   pkm_slider_gantry_forward_kinematics_avx2,
   pkm_slider_gantry_inertia_avx2,
+  pkm_slider_gantry_inertia_from_pose_avx2,
   pkm_slider_gantry_inverse_dynamics_avx2,
+  pkm_slider_gantry_inverse_dynamics_from_pose_avx2,
   pkm_slider_gantry_inverse_kinematics_avx2,
   pkm_slider_gantry_lagrange_dynamics_avx2,
   pkm_slider_gantry_partial_velocities_avx2,
@@ -1166,6 +1197,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_pipeline_dynamic_dexterity_inverse_condition_f_avx2,
   pkm_slider_gantry_pipeline_kappa_d_inverse_condition_f_avx2,
   pkm_slider_gantry_pipeline_first_order_avx2,
+  pkm_slider_gantry_pipeline_inverse_dynamics_avx2,
   pkm_slider_gantry_integrand_0_avx2,
   pkm_slider_gantry_integrand_1_avx2,
   pkm_slider_gantry_integrand_2_avx2,
@@ -1197,9 +1229,12 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_symmetric_constraint_avx2,
   pkm_slider_gantry_symmetric_energy_avx2,
   pkm_slider_gantry_symmetric_first_order_avx2,
+  pkm_slider_gantry_symmetric_first_order_from_pose_avx2,
   pkm_slider_gantry_symmetric_forward_kinematics_avx2,
   pkm_slider_gantry_symmetric_inertia_avx2,
+  pkm_slider_gantry_symmetric_inertia_from_pose_avx2,
   pkm_slider_gantry_symmetric_inverse_dynamics_avx2,
+  pkm_slider_gantry_symmetric_inverse_dynamics_from_pose_avx2,
   pkm_slider_gantry_symmetric_inverse_kinematics_avx2,
   pkm_slider_gantry_symmetric_lagrange_dynamics_avx2,
   pkm_slider_gantry_symmetric_partial_velocities_avx2,
@@ -1223,6 +1258,7 @@ static const pkm_kernel_fn KERNELS_avx2[] = {
   pkm_slider_gantry_symmetric_pipeline_dynamic_dexterity_inverse_condition_f_avx2,
   pkm_slider_gantry_symmetric_pipeline_kappa_d_inverse_condition_f_avx2,
   pkm_slider_gantry_symmetric_pipeline_first_order_avx2,
+  pkm_slider_gantry_symmetric_pipeline_inverse_dynamics_avx2,
   pkm_slider_gantry_symmetric_integrand_0_avx2,
   pkm_slider_gantry_symmetric_integrand_1_avx2,
   pkm_slider_gantry_symmetric_integrand_2_avx2,
@@ -1310,6 +1346,7 @@ static const char *const KEYS[] = {
   "first_order_from_pose:89ed642350d3ee69",
   "forward_kinematics:8cec46884ea6724d",
   "inertia:c763aaf5b93db0ec",
+  "inertia_from_pose:08086729b56d552a",
   "inverse_kinematics:aa190e4fd2bdbd9f",
   "joint_dynamics:f9b837d1b43e41a1",
   "maximum_inscribed_circle:f2ac96a6df33ee8c",
@@ -1321,16 +1358,16 @@ static const char *const KEYS[] = {
   "five_bar_manipulability_values:1fc2409f26047580",
   "five_bar_jacobian_determinant_values:f8ddf45cdc3a972b",
   "five_bar_velocity_ratio_values:76d1cd48a3f73d0d",
-  "five_bar_dynamic_dexterity_values:3e4562e4753c4ae1",
-  "five_bar_natural_frequency_values:a22d347c34bf4cde",
+  "five_bar_dynamic_dexterity_values:4bd60d8b42c70e9b",
+  "five_bar_natural_frequency_values:171b1724df290afa",
   "five_bar_inverse_condition_2_inverse_condition_f_values:65a223c08cd8c264",
   "five_bar_velocity_max_inverse_condition_f_values:a4cd732338218987",
   "five_bar_velocity_min_inverse_condition_f_values:d7ae912aba653de1",
   "five_bar_manipulability_inverse_condition_f_values:e8fbc6d1714dfa4a",
   "five_bar_jacobian_determinant_inverse_condition_f_values:fe3c6e17da7c3ee7",
   "five_bar_velocity_ratio_inverse_condition_f_values:c0c1b770be087c1a",
-  "five_bar_dynamic_dexterity_inverse_condition_f_values:aa1bc272cd162ed0",
-  "five_bar_natural_frequency_inverse_condition_f_values:332516aad5137d24",
+  "five_bar_dynamic_dexterity_inverse_condition_f_values:f2cea97c4c7a6355",
+  "five_bar_natural_frequency_inverse_condition_f_values:0cd0418488805f37",
   "five_bar_first_order:fc07138f748fc75b",
   "five_bar_inverse_condition_f_mean_integrand_0:67bf3e1356b2dffe:sum",
   "five_bar_inverse_condition_f_mean_integrand_1:065c21f1c362fc47:sum",
@@ -1344,16 +1381,16 @@ static const char *const KEYS[] = {
   "five_bar_manipulability_mean_integrand_1:eda273b76d791676:sum",
   "five_bar_jacobian_determinant_mean_integrand_0:0dc3f43609b64dc0:sum",
   "five_bar_jacobian_determinant_mean_integrand_1:4c0771fe4dd79de0:sum",
-  "five_bar_dynamic_dexterity_mean_integrand_0:d8b78309d569ce01:sum",
-  "five_bar_dynamic_dexterity_mean_integrand_1:23246dffdde63763:sum",
-  "five_bar_natural_frequency_node_0:a45fc3016c763e7e",
-  "five_bar_natural_frequency_min_epigraph_0:d64495332d22ab32",
-  "five_bar_natural_frequency_min_epigraph_1:67ee4787c330cbf0",
+  "five_bar_dynamic_dexterity_mean_integrand_0:ee4337a455bf4b94:sum",
+  "five_bar_dynamic_dexterity_mean_integrand_1:6f920b21fd613cff:sum",
+  "five_bar_natural_frequency_node_0:fac6e44aa405a5f4",
+  "five_bar_natural_frequency_min_epigraph_0:866a0a9edd5ac2a3",
+  "five_bar_natural_frequency_min_epigraph_1:25e1678f0fb87a50",
   "five_bar_velocity_ratio_mean_integrand_0:c7883a42d1f69010:sum",
   "five_bar_velocity_ratio_mean_integrand_1:86638f6897e204df:sum",
   "five_bar_inverse_condition_f_measure_integrand_0:411e94de8972e7e2:sum",
   "five_bar_inverse_condition_f_measure_integrand_1:5f60583cb8d64bbf:sum",
-  "five_bar_dynamic_dexterity_mean_integrand_2:4ecda3025a76e5ba:sum",
+  "five_bar_dynamic_dexterity_mean_integrand_2:8ea3b36e4ba2b5d4:sum",
   "five_bar_inverse_condition_f_mean_integrand_2:f77f5812c278b2b8:sum",
   "constraint:90b413ea5244cd6d",
   "first_order:540f39c989e5c137",
@@ -1467,111 +1504,119 @@ static const char *const KEYS[] = {
   "constraint:324c2b370dc1a12c",
   "energy:33724a7014f7ea96",
   "first_order:c8c4b69e2e06a69d",
+  "first_order_from_pose:9e1976f01d8c19c6",
   "forward_kinematics:08b6828c0b9fed0f",
   "inertia:1c78950300dd5c22",
+  "inertia_from_pose:307b791e29ab53df",
   "inverse_dynamics:c5d96f3c2cdf0fb3",
+  "inverse_dynamics_from_pose:524aaf6f7bbca81e",
   "inverse_kinematics:74a3d08c4525f6ca",
   "lagrange_dynamics:11607dafaf79f9b1",
   "partial_velocities:a6575a88cc9d5f92",
   "task_rectangle:b4ef1a8398836f4f",
   "virtual_work:6d846590b6b572f0",
-  "slider_gantry_inverse_condition_f_values:e5810fed63266de1",
-  "slider_gantry_inverse_condition_2_values:71a7c6453ae348f7",
-  "slider_gantry_velocity_max_values:b7f803a29c004ee9",
-  "slider_gantry_velocity_min_values:ecdb25badbafcb41",
-  "slider_gantry_manipulability_values:70a07ea93c98bb8d",
-  "slider_gantry_jacobian_determinant_values:2024713045ee6c3c",
-  "slider_gantry_velocity_ratio_values:c364734fc6c273a4",
-  "slider_gantry_dynamic_dexterity_values:16a4b52fe7d45e82",
-  "slider_gantry_kappa_d_values:5e32abfc907748de",
-  "slider_gantry_inverse_condition_2_inverse_condition_f_values:350fe1f2cc526cfb",
-  "slider_gantry_velocity_max_inverse_condition_f_values:7c639fbf02c77fbd",
-  "slider_gantry_velocity_min_inverse_condition_f_values:e91e21ccbf9e549d",
-  "slider_gantry_manipulability_inverse_condition_f_values:7ddabdfb31e97de3",
-  "slider_gantry_jacobian_determinant_inverse_condition_f_values:821205497b4c2ec5",
-  "slider_gantry_velocity_ratio_inverse_condition_f_values:55589c9a86051cc7",
-  "slider_gantry_dynamic_dexterity_inverse_condition_f_values:fb715477c7979dfc",
-  "slider_gantry_kappa_d_inverse_condition_f_values:792f81676ad5263b",
-  "slider_gantry_first_order:13b5652d54578977",
-  "slider_gantry_inverse_condition_f_mean_integrand_0:117fe41bf6a44194:sum",
-  "slider_gantry_inverse_condition_f_mean_integrand_1:f1e7e6e72604f059:sum",
-  "slider_gantry_inverse_condition_2_mean_integrand_0:28303055c595f78d:sum",
-  "slider_gantry_inverse_condition_2_mean_integrand_1:5ca5893ef5871a5d:sum",
-  "slider_gantry_velocity_max_mean_integrand_0:eb43c181df856889:sum",
-  "slider_gantry_velocity_max_mean_integrand_1:6a233f0441b3e0b4:sum",
-  "slider_gantry_velocity_min_mean_integrand_0:0d5da74ca4968e59:sum",
-  "slider_gantry_velocity_min_mean_integrand_1:d88692cd8dfd122f:sum",
-  "slider_gantry_manipulability_mean_integrand_0:ea803c1be030b7da:sum",
-  "slider_gantry_manipulability_mean_integrand_1:1957925191ae7f79:sum",
-  "slider_gantry_jacobian_determinant_mean_integrand_0:330a8472276b210e:sum",
-  "slider_gantry_jacobian_determinant_mean_integrand_1:489cf9fb4df21129:sum",
-  "slider_gantry_dynamic_dexterity_mean_integrand_0:10ba05dd3f1d247c:sum",
-  "slider_gantry_dynamic_dexterity_mean_integrand_1:2622769d6e9368bf:sum",
-  "slider_gantry_velocity_ratio_mean_integrand_0:e5805527fd6e1a88:sum",
-  "slider_gantry_velocity_ratio_mean_integrand_1:6f140416f4cc8012:sum",
-  "slider_gantry_kappa_d_mean_integrand_0:234620d6dd4f6cf4:sum",
-  "slider_gantry_kappa_d_mean_integrand_1:045aeb9d10d403eb:sum",
-  "slider_gantry_kappa_d_std_integrand_0:a43a836449265853:sum",
-  "slider_gantry_kappa_d_std_integrand_1:f78f85014440077d:sum",
-  "slider_gantry_inverse_condition_f_measure_integrand_0:3dd602f723534401:sum",
-  "slider_gantry_inverse_condition_f_measure_integrand_1:4d11f213b62d8505:sum",
-  "slider_gantry_kappa_d_mean_integrand_0:21e723776eb8fc5f:sum",
-  "slider_gantry_kappa_d_mean_integrand_1:3f7afb0eba18966f:sum",
-  "slider_gantry_kappa_d_mean_integrand_2:8a1bc0e980605679:sum",
-  "slider_gantry_velocity_ratio_mean_integrand_0:2c1b8b43a0c94f11:sum",
-  "slider_gantry_velocity_ratio_mean_integrand_1:c6deabfd355148da:sum",
-  "slider_gantry_velocity_ratio_mean_integrand_2:0516c21dfe6e4f69:sum",
+  "slider_gantry_inverse_condition_f_values:879fe62ffad8fa79",
+  "slider_gantry_inverse_condition_2_values:01dadc1e1df7b827",
+  "slider_gantry_velocity_max_values:b6c3ec74906b4955",
+  "slider_gantry_velocity_min_values:65f13766baaf9266",
+  "slider_gantry_manipulability_values:5fafdacbd98ed82b",
+  "slider_gantry_jacobian_determinant_values:31e445924da8c439",
+  "slider_gantry_velocity_ratio_values:2b60cf0c653f5ff0",
+  "slider_gantry_dynamic_dexterity_values:974d8ca5c69a52f0",
+  "slider_gantry_kappa_d_values:0a080524d3a003c7",
+  "slider_gantry_inverse_condition_2_inverse_condition_f_values:a874756530acce46",
+  "slider_gantry_velocity_max_inverse_condition_f_values:3daf316c9abdf91b",
+  "slider_gantry_velocity_min_inverse_condition_f_values:1108a14251b8dec2",
+  "slider_gantry_manipulability_inverse_condition_f_values:e964751d6145a048",
+  "slider_gantry_jacobian_determinant_inverse_condition_f_values:44ed4722e2515338",
+  "slider_gantry_velocity_ratio_inverse_condition_f_values:aca2ec2151fe93d2",
+  "slider_gantry_dynamic_dexterity_inverse_condition_f_values:a92c96efbed9e3dc",
+  "slider_gantry_kappa_d_inverse_condition_f_values:0d46393c9b4f1ed3",
+  "slider_gantry_first_order:8fd6e53927bbcd4f",
+  "slider_gantry_inverse_dynamics_pipeline:3d4f06ec9581da0f",
+  "slider_gantry_inverse_condition_f_mean_integrand_0:e1734fbe41b46a66:sum",
+  "slider_gantry_inverse_condition_f_mean_integrand_1:6646c2353a3ff60d:sum",
+  "slider_gantry_inverse_condition_2_mean_integrand_0:b75c71b86235e6f8:sum",
+  "slider_gantry_inverse_condition_2_mean_integrand_1:3bb1cfa7fe175b86:sum",
+  "slider_gantry_velocity_max_mean_integrand_0:a5696ce7ce6f392a:sum",
+  "slider_gantry_velocity_max_mean_integrand_1:4a1a7abab2baba68:sum",
+  "slider_gantry_velocity_min_mean_integrand_0:29a1a376f8f32856:sum",
+  "slider_gantry_velocity_min_mean_integrand_1:df6e183b8bacd010:sum",
+  "slider_gantry_manipulability_mean_integrand_0:0dc4c6a911a034ad:sum",
+  "slider_gantry_manipulability_mean_integrand_1:c3e5ff461a67b191:sum",
+  "slider_gantry_jacobian_determinant_mean_integrand_0:153e8f1cc18b4c3f:sum",
+  "slider_gantry_jacobian_determinant_mean_integrand_1:68f881e41d4056d6:sum",
+  "slider_gantry_dynamic_dexterity_mean_integrand_0:327eef2aa72347c1:sum",
+  "slider_gantry_dynamic_dexterity_mean_integrand_1:958e5b4e1f866726:sum",
+  "slider_gantry_velocity_ratio_mean_integrand_0:5aca51a71ef5c0e2:sum",
+  "slider_gantry_velocity_ratio_mean_integrand_1:178737a1b9aac266:sum",
+  "slider_gantry_kappa_d_mean_integrand_0:64e360e4881959cf:sum",
+  "slider_gantry_kappa_d_mean_integrand_1:48428828e139566b:sum",
+  "slider_gantry_kappa_d_std_integrand_0:7da80ed3643936fa:sum",
+  "slider_gantry_kappa_d_std_integrand_1:c6ae89f2e00aa958:sum",
+  "slider_gantry_inverse_condition_f_measure_integrand_0:29ec30467bfb0f1f:sum",
+  "slider_gantry_inverse_condition_f_measure_integrand_1:f00a1dee7705aa42:sum",
+  "slider_gantry_kappa_d_mean_integrand_0:a0983afe3c065252:sum",
+  "slider_gantry_kappa_d_mean_integrand_1:3a915d5445f23ce7:sum",
+  "slider_gantry_kappa_d_mean_integrand_2:5fa452e91a406f5d:sum",
+  "slider_gantry_velocity_ratio_mean_integrand_0:271763317a6f0c89:sum",
+  "slider_gantry_velocity_ratio_mean_integrand_1:a581474a2fa14445:sum",
+  "slider_gantry_velocity_ratio_mean_integrand_2:71048b4a03823d10:sum",
   "constraint:78158b9fb17e4de7",
   "energy:953a6881f5646552",
   "first_order:6f47ba6e09afac3a",
+  "first_order_from_pose:41587833ca577e79",
   "forward_kinematics:328924f21652d2a8",
   "inertia:b8c19d62ebc0f224",
+  "inertia_from_pose:a0950f48069ebab5",
   "inverse_dynamics:fd4a8c2f076b1742",
+  "inverse_dynamics_from_pose:a72de542f2f62f61",
   "inverse_kinematics:ade5252eee945fff",
   "lagrange_dynamics:f6270048a96f9a71",
   "partial_velocities:ad65a836067a845a",
   "task_rectangle:9adab66c6e55a5a7",
   "virtual_work:6a8797d1dac6594d",
-  "slider_gantry_symmetric_inverse_condition_f_values:d58ae380a1cbea62",
-  "slider_gantry_symmetric_inverse_condition_2_values:0925f0af846e29b2",
-  "slider_gantry_symmetric_velocity_max_values:74ca826050fcf139",
-  "slider_gantry_symmetric_velocity_min_values:40e86c30bdb9c382",
-  "slider_gantry_symmetric_manipulability_values:46a4f5c995040857",
-  "slider_gantry_symmetric_jacobian_determinant_values:dd79576bf42b1608",
-  "slider_gantry_symmetric_velocity_ratio_values:89c4d97886ccd1fa",
-  "slider_gantry_symmetric_dynamic_dexterity_values:97e0d790a6a416b3",
-  "slider_gantry_symmetric_kappa_d_values:1cdd12f03a827c43",
-  "slider_gantry_symmetric_inverse_condition_2_inverse_condition_f_values:0fa0409277fa6fa4",
-  "slider_gantry_symmetric_velocity_max_inverse_condition_f_values:ed1c5688354ea37b",
-  "slider_gantry_symmetric_velocity_min_inverse_condition_f_values:63dc31cdc42d4646",
-  "slider_gantry_symmetric_manipulability_inverse_condition_f_values:2b6247ec9b08b86a",
-  "slider_gantry_symmetric_jacobian_determinant_inverse_condition_f_values:811f595b12b49600",
-  "slider_gantry_symmetric_velocity_ratio_inverse_condition_f_values:cba0d3548816b700",
-  "slider_gantry_symmetric_dynamic_dexterity_inverse_condition_f_values:5ce1d46bc2fa4d7c",
-  "slider_gantry_symmetric_kappa_d_inverse_condition_f_values:ad4fe8ae93c6b169",
-  "slider_gantry_symmetric_first_order:8594474780232d6c",
-  "slider_gantry_symmetric_inverse_condition_f_mean_integrand_0:a1271ea184f69ab8:sum",
-  "slider_gantry_symmetric_inverse_condition_f_mean_integrand_1:943224b39487ae64:sum",
-  "slider_gantry_symmetric_inverse_condition_2_mean_integrand_0:44a6358113c92b93:sum",
-  "slider_gantry_symmetric_inverse_condition_2_mean_integrand_1:512804365d8d30e3:sum",
-  "slider_gantry_symmetric_velocity_max_mean_integrand_0:322b27a322f43980:sum",
-  "slider_gantry_symmetric_velocity_max_mean_integrand_1:e37c04973511271a:sum",
-  "slider_gantry_symmetric_velocity_min_mean_integrand_0:14845cd329453476:sum",
-  "slider_gantry_symmetric_velocity_min_mean_integrand_1:61a50cf22de7279d:sum",
-  "slider_gantry_symmetric_manipulability_mean_integrand_0:961bf63704c418b6:sum",
-  "slider_gantry_symmetric_manipulability_mean_integrand_1:c755fc9c45751d9f:sum",
-  "slider_gantry_symmetric_jacobian_determinant_mean_integrand_0:e70d4b6bc6b6d6de:sum",
-  "slider_gantry_symmetric_jacobian_determinant_mean_integrand_1:e9788f69de384422:sum",
-  "slider_gantry_symmetric_dynamic_dexterity_mean_integrand_0:6c7ac66b8f624d79:sum",
-  "slider_gantry_symmetric_dynamic_dexterity_mean_integrand_1:bf1c0ed156187a2b:sum",
-  "slider_gantry_symmetric_velocity_ratio_mean_integrand_0:0cfc7278cb2fadb7:sum",
-  "slider_gantry_symmetric_velocity_ratio_mean_integrand_1:3a3381ca25eca330:sum",
-  "slider_gantry_symmetric_kappa_d_mean_integrand_0:20433c211c4509f3:sum",
-  "slider_gantry_symmetric_kappa_d_mean_integrand_1:3bc251d81a2b8944:sum",
-  "slider_gantry_symmetric_kappa_d_std_integrand_0:dabdc0b28d94cc81:sum",
-  "slider_gantry_symmetric_kappa_d_std_integrand_1:c12485638d5d093a:sum",
-  "slider_gantry_symmetric_inverse_condition_f_measure_integrand_0:2490821061896afc:sum",
-  "slider_gantry_symmetric_inverse_condition_f_measure_integrand_1:6b39f7fad01f95ef:sum",
+  "slider_gantry_symmetric_inverse_condition_f_values:0559eb71929b48e8",
+  "slider_gantry_symmetric_inverse_condition_2_values:6e1c66437a927a88",
+  "slider_gantry_symmetric_velocity_max_values:bb3a9a9b100afe04",
+  "slider_gantry_symmetric_velocity_min_values:0650846abf3c7c24",
+  "slider_gantry_symmetric_manipulability_values:266b098dbbd6492d",
+  "slider_gantry_symmetric_jacobian_determinant_values:aee230a08f332175",
+  "slider_gantry_symmetric_velocity_ratio_values:77877bc08e7f0944",
+  "slider_gantry_symmetric_dynamic_dexterity_values:88c1febf2badfddf",
+  "slider_gantry_symmetric_kappa_d_values:8258c4f91145b516",
+  "slider_gantry_symmetric_inverse_condition_2_inverse_condition_f_values:8ad0cc23d1be8ea4",
+  "slider_gantry_symmetric_velocity_max_inverse_condition_f_values:a8874ab4b1e3cb98",
+  "slider_gantry_symmetric_velocity_min_inverse_condition_f_values:0ff46089e9915508",
+  "slider_gantry_symmetric_manipulability_inverse_condition_f_values:14d8ab46321bdbc2",
+  "slider_gantry_symmetric_jacobian_determinant_inverse_condition_f_values:6516695abd0eb89b",
+  "slider_gantry_symmetric_velocity_ratio_inverse_condition_f_values:108c5e9d4b659666",
+  "slider_gantry_symmetric_dynamic_dexterity_inverse_condition_f_values:8324acb31a78acc3",
+  "slider_gantry_symmetric_kappa_d_inverse_condition_f_values:1faa00de4aa5b191",
+  "slider_gantry_symmetric_first_order:3e57257ccf8b2195",
+  "slider_gantry_symmetric_inverse_dynamics_pipeline:b2061b808b34edf4",
+  "slider_gantry_symmetric_inverse_condition_f_mean_integrand_0:bcad04a66728b2d7:sum",
+  "slider_gantry_symmetric_inverse_condition_f_mean_integrand_1:c5a903d2b94bb7c5:sum",
+  "slider_gantry_symmetric_inverse_condition_2_mean_integrand_0:f1351c6083a820ca:sum",
+  "slider_gantry_symmetric_inverse_condition_2_mean_integrand_1:438f88bdc5555d31:sum",
+  "slider_gantry_symmetric_velocity_max_mean_integrand_0:b6f334abec0f10c1:sum",
+  "slider_gantry_symmetric_velocity_max_mean_integrand_1:8a2fef5dcd229f34:sum",
+  "slider_gantry_symmetric_velocity_min_mean_integrand_0:36f6c375b6280c9a:sum",
+  "slider_gantry_symmetric_velocity_min_mean_integrand_1:b00ea7321dbf4af9:sum",
+  "slider_gantry_symmetric_manipulability_mean_integrand_0:d72408ba790c14d8:sum",
+  "slider_gantry_symmetric_manipulability_mean_integrand_1:7500b4ed1c30c2e8:sum",
+  "slider_gantry_symmetric_jacobian_determinant_mean_integrand_0:46a46516ad2feb44:sum",
+  "slider_gantry_symmetric_jacobian_determinant_mean_integrand_1:0fc4165b43a4f8f5:sum",
+  "slider_gantry_symmetric_dynamic_dexterity_mean_integrand_0:e5efaaeca4929108:sum",
+  "slider_gantry_symmetric_dynamic_dexterity_mean_integrand_1:3c0e07958d64c8ac:sum",
+  "slider_gantry_symmetric_velocity_ratio_mean_integrand_0:46a5979314259386:sum",
+  "slider_gantry_symmetric_velocity_ratio_mean_integrand_1:abf06df6b3af9d54:sum",
+  "slider_gantry_symmetric_kappa_d_mean_integrand_0:c106a5f009cb8e2c:sum",
+  "slider_gantry_symmetric_kappa_d_mean_integrand_1:8b3aba7bab37290c:sum",
+  "slider_gantry_symmetric_kappa_d_std_integrand_0:95fb5562a0b00e97:sum",
+  "slider_gantry_symmetric_kappa_d_std_integrand_1:682ab25783d4fc50:sum",
+  "slider_gantry_symmetric_inverse_condition_f_measure_integrand_0:537ea7c2f14ce598:sum",
+  "slider_gantry_symmetric_inverse_condition_f_measure_integrand_1:626121d32cda66bd:sum",
   "actuator_forces:5559a8a5dcdea307",
   "constraint:dadb563899453a73",
   "first_order:3fe014cd8fe9e158",

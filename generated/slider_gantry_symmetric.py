@@ -1,12 +1,12 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 d8cca5ca0378922e).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 f5ec4b9b0625cc39).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry with the fourth link A4B4 (Wu section 6.3)."""
 
 import casadi as ca
 
-SOURCE_HASH = "d8cca5ca0378922e"
-FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", )
+SOURCE_HASH = "f5ec4b9b0625cc39"
+FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "m5", "I5", "s5", "g", )
 POSE = ("x", "y", )
 ACTUATORS = ("q1", "q2", )
@@ -263,6 +263,84 @@ def first_order():
     det_type1 = ca.reshape(ca.vertcat(-_t1*_t12*_t3), 1, 1)
     det_type2 = ca.reshape(ca.vertcat(_t12*_t5), 1, 1)
     return ca.Function("first_order", [q, x, design], [J, J_f, psi, det_type1, det_type2], ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
+
+
+def first_order_from_pose():
+    """inverse_kinematics and first_order at its q, first_order with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call). first_order: First-order kinematics by implicit differentiation of the loop closure.
+
+    Inputs:
+        x (2): [x, y] platform reference point O' [m]
+        mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, m5, I5, s5, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; m5 [kg], I5 [kg m^2], s5 [m] of link A4B4; g [m/s^2]
+    Outputs:
+        q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
+        reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
+        J (2x2, column-major): q_a_dot = J x_dot [-]
+        J_f (2x2, column-major): x_dot = J_f q_a_dot [-]
+        psi (4x2, column-major): q_dot = Psi q_a_dot, all joints from actuated [-, rad/m]
+        det_type1 (1x1, column-major): serial singularity measure [m^2]
+        det_type2 (1x1, column-major): parallel singularity measure [m^2]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 18 common subexpressions, 53 operations
+    _t0 = design_0**2
+    _t1 = design_1 + x_0
+    _t2 = _t0 - _t1**2
+    _t3 = ca.sqrt(ca.fmax(0, _t2))
+    _t4 = _t3*mode_0
+    _t5 = (1/2)*design_3 - x_1
+    _t6 = _t4 + _t5
+    _t7 = -design_1 + x_0
+    _t8 = _t0 - _t7**2
+    _t9 = ca.sqrt(ca.fmax(0, _t8))
+    _t10 = _t9*mode_1
+    _t11 = _t10 + _t5
+    _t12 = _t4*_t7
+    _t13 = -_t1*_t9*mode_1 + _t12
+    _t14 = -1/_t13
+    _t15 = _t10*_t14
+    _t16 = _t15*_t4
+    _t17 = _t14*_t4
+    q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t2, _t8, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
+    J = ca.reshape(ca.vertcat(_t1/(_t3*mode_0), _t7/(_t9*mode_1), 1, 1), 2, 2)
+    J_f = ca.reshape(ca.vertcat(_t16, -_t12*_t14, -_t16, _t1*_t10*_t14), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, _t15, _t17, 0, 1, -_t15, -_t17), 4, 2)
+    det_type1 = ca.reshape(ca.vertcat(-_t10*_t4), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(_t13), 1, 1)
+    return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
 def task_rectangle():
@@ -935,6 +1013,275 @@ def inertia():
     M_w = ca.reshape(ca.vertcat(_t35, _t26, _t17, _t9), 2, 2)
     M_d = ca.reshape(ca.vertcat(-_t38, _t37 + _t41, _t19, _t40), 2, 2)
     return ca.Function("inertia", [q, x, design], [M_t, M_w, M_d], ["q", "x", "design"], ["M_t", "M_w", "M_d"])
+
+
+def inertia_from_pose():
+    """inverse_kinematics and inertia at its q, inertia with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call). inertia: Inertia matrices of a posture (Wu eqs. 41-43).
+
+    Inputs:
+        x (2): [x, y] platform reference point O' [m]
+        mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, m5, I5, s5, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; m5 [kg], I5 [kg m^2], s5 [m] of link A4B4; g [m/s^2]
+    Outputs:
+        q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
+        reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
+        M_t (2x2, column-major): slider-space mass matrix [kg]
+        M_w (2x2, column-major): task-space mass matrix M of eq. 41 [kg]
+        M_d (2x2, column-major): Wu's inertia matrix (J^T)^-1 M of eq. 42: tau = M_d x_ddot [kg]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 81 common subexpressions, 386 operations
+    _t0 = design_0**2
+    _t1 = design_1 + x_0
+    _t2 = _t1**2
+    _t3 = _t0 - _t2
+    _t4 = ca.fmax(0, _t3)
+    _t5 = ca.sqrt(_t4)
+    _t6 = _t5*mode_0
+    _t7 = (1/2)*design_3 - x_1
+    _t8 = _t6 + _t7
+    _t9 = -design_1 + x_0
+    _t10 = _t9**2
+    _t11 = _t0 - _t10
+    _t12 = ca.fmax(0, _t11)
+    _t13 = ca.sqrt(_t12)
+    _t14 = _t13*mode_1
+    _t15 = _t14 + _t7
+    _t16 = mode_0**2
+    _t17 = _t16*_t4*design_0
+    _t18 = _t10*_t17
+    _t19 = mode_1**2
+    _t20 = _t12*_t19
+    _t21 = _t20*design_0
+    _t22 = _t2*_t21
+    _t23 = _t1*_t14
+    _t24 = _t23*design_0
+    _t25 = _t6*_t9
+    _t26 = 2*_t25
+    _t27 = 1/(_t18 + _t22 - _t24*_t26)
+    _t28 = _t24*design_8
+    _t29 = _t24*design_10
+    _t30 = _t24*design_12
+    _t31 = _t24*design_14
+    _t32 = design_10*design_19
+    _t33 = _t23*_t32
+    _t34 = design_14*design_21
+    _t35 = _t23*_t34
+    _t36 = design_16*_t21 + design_17*_t17 + design_18*_t21 + design_23*_t17 + _t17*_t20*design_15
+    _t37 = _t2*_t20
+    _t38 = _t22*design_8 + _t22*design_10 + _t22*design_12 + _t22*design_14 - 2*_t32*_t37 - 2*_t34*_t37
+    _t39 = _t24*design_15
+    _t40 = design_11*design_20
+    _t41 = _t10*_t16*_t4
+    _t42 = _t40*_t41
+    _t43 = design_22*design_24
+    _t44 = _t41*_t43
+    _t45 = _t25*_t33 + _t25*_t35 + _t36 - _t42 - _t44
+    _t46 = _t25*_t40
+    _t47 = _t23*_t46
+    _t48 = _t25*_t43
+    _t49 = _t23*_t48
+    _t50 = -_t12*_t19*_t2*design_10*design_19 - _t12*_t19*_t2*design_14*design_21 + _t47 + _t49
+    _t51 = _t27*(-_t25*_t39 - _t45 - _t50)
+    _t52 = _t24*design_9
+    _t53 = _t24*design_11
+    _t54 = _t24*design_13
+    _t55 = _t24*design_22
+    _t56 = _t18*design_9 + _t18*design_11 + _t18*design_13 + _t18*design_22 + _t36 - 2*_t42 - 2*_t44
+    _t57 = _t2/(_t16*_t4)
+    _t58 = _t10/(_t12*_t19)
+    _t59 = 1/(_t5*mode_0)
+    _t60 = 1/design_0
+    _t61 = _t2*_t59*_t60
+    _t62 = _t1*_t59
+    _t63 = _t60*_t62
+    _t64 = design_10*(_t62 - _t63*design_19)
+    _t65 = design_14*(_t62 - _t63*design_21)
+    _t66 = 1/(_t13*mode_1)
+    _t67 = _t10*_t60*_t66
+    _t68 = _t66*_t9
+    _t69 = _t60*_t68
+    _t70 = design_11*(_t68 - _t69*design_20)
+    _t71 = design_22*(_t68 - _t69*design_24)
+    _t72 = _t62*design_8 + _t62*design_12 + _t68*design_9 + _t68*design_13
+    _t73 = _t62*design_10
+    _t74 = _t68*design_11
+    _t75 = _t62*design_14
+    _t76 = _t68*design_22
+    _t77 = 1/(_t1*_t12*_t19*_t5*design_0*mode_0 - _t14*_t17*_t9)
+    _t78 = _t25*design_0
+    _t79 = 1/(_t1*_t13*design_0*mode_1 - _t78)
+    _t80 = _t33 + _t35 + _t46 + _t48
+    q = ca.reshape(ca.vertcat(-_t8, -_t15, ca.atan2(_t1, _t6), ca.atan2(_t9, _t14)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t3, _t11, (-_t8 - design_4)*(_t8 + design_5), (-_t15 - design_4)*(_t15 + design_5)), 4, 1)
+    M_t = ca.reshape(ca.vertcat(_t27*(_t18*design_8 + _t18*design_10 + _t18*design_12 + _t18*design_14 + _t18*design_15 - _t26*_t28 - _t26*_t29 - _t26*_t30 - _t26*_t31 + _t26*_t33 + _t26*_t35 + _t36 + _t38), _t51, _t51, _t27*(_t22*design_9 + _t22*design_11 + _t22*design_13 + _t22*design_22 + _t22*design_15 - _t26*_t52 - _t26*_t53 - _t26*_t54 - _t26*_t55 + 2*_t47 + 2*_t49 + _t56)), 2, 2)
+    M_w = ca.reshape(ca.vertcat(_t57*design_8 + _t57*design_12 + _t58*design_9 + _t58*design_13 + _t59*(design_16*_t59 - _t32*_t61) + _t59*(design_18*_t59 - _t34*_t61) + _t62*_t64 + _t62*_t65 + _t66*(design_17*_t66 - _t40*_t67) + _t66*(design_23*_t66 - _t43*_t67) + _t68*_t70 + _t68*_t71 + design_15, _t64 + _t65 + _t70 + _t71 + _t72, -_t60*_t73*design_19 - _t60*_t74*design_20 - _t60*_t75*design_21 - _t60*_t76*design_24 + _t72 + _t73 + _t74 + _t75 + _t76, design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15), 2, 2)
+    M_d = ca.reshape(ca.vertcat(_t77*(-_t25*_t28 - _t25*_t29 - _t25*_t30 - _t25*_t31 + _t38 + _t45), _t77*(_t1*_t13*_t5*_t9*design_0*design_9*mode_0*mode_1 + _t1*_t13*_t5*_t9*design_0*design_11*mode_0*mode_1 + _t1*_t13*_t5*_t9*design_0*design_13*mode_0*mode_1 + _t1*_t13*_t5*_t9*design_0*design_22*mode_0*mode_1 - _t50 - _t56), _t79*(_t1*_t13*design_0*design_8*mode_1 + _t1*_t13*design_0*design_10*mode_1 + _t1*_t13*design_0*design_12*mode_1 + _t1*_t13*design_0*design_14*mode_1 - _t78*design_8 - _t78*design_10 - _t78*design_12 - _t78*design_14 - _t78*design_15 - _t80), _t79*(_t39 + _t52 + _t53 + _t54 + _t55 - _t78*design_9 - _t78*design_11 - _t78*design_13 - _t78*design_22 + _t80)), 2, 2)
+    return ca.Function("inertia_from_pose", [x, mode, design], [q, reach, M_t, M_w, M_d], ["x", "mode", "design"], ["q", "reach", "M_t", "M_w", "M_d"])
+
+
+def inverse_dynamics_from_pose():
+    """inverse_kinematics and inverse_dynamics at its q, inverse_dynamics with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call). inverse_dynamics: Driving forces of a platform motion by virtual work (Wu eq. 41).
+
+    Inputs:
+        x (2): [x, y] platform reference point O' [m]
+        mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
+        x_dot (2): [x_dot, y_dot] platform velocity [m/s]
+        x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, m5, I5, s5, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; m5 [kg], I5 [kg m^2], s5 [m] of link A4B4; g [m/s^2]
+    Outputs:
+        q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
+        reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
+        tau (2x1, column-major): slider driving forces F1, F2 [N]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    x_dot = ca.SX.sym("x_dot", 2)
+    x_dot_0 = x_dot[0]
+    x_dot_1 = x_dot[1]
+    x_ddot = ca.SX.sym("x_ddot", 2)
+    x_ddot_0 = x_ddot[0]
+    x_ddot_1 = x_ddot[1]
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 72 common subexpressions, 256 operations
+    _t0 = design_0**2
+    _t1 = design_1 + x_0
+    _t2 = _t1**2
+    _t3 = _t0 - _t2
+    _t4 = ca.fmax(0, _t3)
+    _t5 = ca.sqrt(_t4)
+    _t6 = _t5*mode_0
+    _t7 = (1/2)*design_3 - x_1
+    _t8 = _t6 + _t7
+    _t9 = -design_1 + x_0
+    _t10 = _t9**2
+    _t11 = _t0 - _t10
+    _t12 = ca.fmax(0, _t11)
+    _t13 = ca.sqrt(_t12)
+    _t14 = _t13*mode_1
+    _t15 = _t14 + _t7
+    _t16 = 1/(_t13*mode_1)
+    _t17 = _t16*_t9
+    _t18 = 1/mode_0
+    _t19 = 1/_t5
+    _t20 = 1/(_t1*_t18*_t19 - _t17)
+    _t21 = _t2/(_t4*mode_0**2)
+    _t22 = x_dot_0**2
+    _t23 = _t18*_t19
+    _t24 = _t22*_t23
+    _t25 = _t24*(_t21 + 1)
+    _t26 = _t25 + design_25
+    _t27 = _t26*design_8
+    _t28 = design_12*(-_t25 + design_25)
+    _t29 = _t10/(_t12*mode_1**2)
+    _t30 = _t16*_t22
+    _t31 = _t30*(_t29 + 1)
+    _t32 = _t31 + design_25
+    _t33 = _t32*design_9
+    _t34 = design_13*(-_t31 + design_25)
+    _t35 = 1/design_0
+    _t36 = _t35*design_19
+    _t37 = _t22/(_t4**(3/2)*mode_0**3)
+    _t38 = _t2*_t37
+    _t39 = design_10*(-_t24*_t36 + _t26 - _t36*_t38)
+    _t40 = _t35*design_21
+    _t41 = design_14*(-_t24*_t40 + _t26 - _t38*_t40)
+    _t42 = _t35*design_20
+    _t43 = _t22/(_t12**(3/2)*mode_1**3)
+    _t44 = _t10*_t43
+    _t45 = design_11*(-_t30*_t42 + _t32 - _t42*_t44)
+    _t46 = _t35*design_24
+    _t47 = design_22*(-_t30*_t46 + _t32 - _t44*_t46)
+    _t48 = _t1*_t23
+    _t49 = _t35*_t48
+    _t50 = design_10*(_t48 - _t49*design_19)
+    _t51 = _t17*_t35
+    _t52 = design_11*(_t17 - _t51*design_20)
+    _t53 = design_14*(_t48 - _t49*design_21)
+    _t54 = design_22*(_t17 - _t51*design_24)
+    _t55 = _t17*design_9 + _t17*design_13 + _t48*design_8 + _t48*design_12
+    _t56 = _t27 - _t28 + _t33 - _t34 + _t39 + _t41 + _t45 + _t47 + design_25*design_15 + x_ddot_0*(_t50 + _t52 + _t53 + _t54 + _t55) + x_ddot_1*(design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15)
+    _t57 = _t1*_t37
+    _t58 = _t1*_t26
+    _t59 = _t36*design_10
+    _t60 = _t40*design_14
+    _t61 = _t43*_t9
+    _t62 = _t32*_t9
+    _t63 = _t42*design_11
+    _t64 = _t46*design_22
+    _t65 = _t48*design_10
+    _t66 = _t17*design_11
+    _t67 = _t48*design_14
+    _t68 = _t17*design_22
+    _t69 = _t2*_t23
+    _t70 = _t10*_t16
+    _t71 = _t20*(_t16*(design_17*_t61 - _t62*_t63) + _t16*(design_23*_t61 - _t62*_t64) + _t17*_t33 - _t17*_t34 + _t17*_t45 + _t17*_t47 + _t23*(design_16*_t57 - _t58*_t59) + _t23*(design_18*_t57 - _t58*_t60) + _t27*_t48 - _t28*_t48 + _t39*_t48 + _t41*_t48 + x_ddot_0*(_t16*(design_17*_t16 - _t63*_t70) + _t16*(design_23*_t16 - _t64*_t70) + _t17*_t52 + _t17*_t54 + _t21*design_8 + _t21*design_12 + _t23*(design_16*_t23 - _t59*_t69) + _t23*(design_18*_t23 - _t60*_t69) + _t29*design_9 + _t29*design_13 + _t48*_t50 + _t48*_t53 + design_15) + x_ddot_1*(-_t36*_t65 - _t40*_t67 - _t42*_t66 - _t46*_t68 + _t55 + _t65 + _t66 + _t67 + _t68))
+    q = ca.reshape(ca.vertcat(-_t8, -_t15, ca.atan2(_t1, _t6), ca.atan2(_t9, _t14)), 4, 1)
+    reach = ca.reshape(ca.vertcat(_t3, _t11, (-_t8 - design_4)*(_t8 + design_5), (-_t15 - design_4)*(_t15 + design_5)), 4, 1)
+    tau = ca.reshape(ca.vertcat(-_t17*_t20*_t56 + _t71, _t1*_t18*_t19*_t20*_t56 - _t71), 2, 1)
+    return ca.Function("inverse_dynamics_from_pose", [x, mode, x_dot, x_ddot, design], [q, reach, tau], ["x", "mode", "x_dot", "x_ddot", "design"], ["q", "reach", "tau"])
 
 
 def build():

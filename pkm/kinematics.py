@@ -7,6 +7,8 @@ Every mechanism's generated module follows one port convention (written by ``sym
 * ``forward_kinematics(q_a, assembly, design) -> (x, q, reach)`` where a closed form exists;
 * ``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` with q_a_dot = J x_dot;
 * ``constraint(q, x, design) -> (h, H_q, H_x)``;
+* where the inverse kinematics gives the joint angles' cosines and sines without trigonometric calls,
+  twins of functions of the joints that take the pose instead (:func:`from_pose`);
 
 and carries the names of its design parameters, pose coordinates and actuators (``PARAMETERS``,
 ``POSE``, ``ACTUATORS``), which :class:`GeneratedFunctions` checks against the runtime's on loading.
@@ -95,6 +97,13 @@ def as_batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
     if not np.all(np.isfinite(arr)):
         raise PoseError(f"{what} contains non-finite values")
     return arr, single
+
+
+def from_pose(name: str) -> str:
+    """The name of the twin of the generated function ``name(q, x, ...)`` that takes the pose and the
+    working mode instead of the joints: ``name_from_pose(x, mode, ...) -> (q, reach, outputs of name...)``,
+    equal to the inverse kinematics composed with ``name`` (``symbolic.kinematics.add_from_pose``)."""
+    return f"{name}_from_pose"
 
 
 def unbatch(arr: np.ndarray, single: bool) -> np.ndarray:

@@ -44,6 +44,7 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
     order."""
     import pkm
     from pkm.compiled import key
+    from pkm.dynamics.rigid import inverse_dynamics_pipeline
     from pkm.regions.pipeline import index_pipeline, pipeline
     from pkm.regions.quadrature import guard_index
     from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
@@ -63,6 +64,8 @@ def mechanism_kernels(name: str) -> list[tuple[str, ca.Function, bool]]:
         if guard is not None:
             fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
     fused["first_order"] = pipeline(mech, (), first_order=True)
+    if "inverse_dynamics" in mech.functions:
+        fused["inverse_dynamics"] = inverse_dynamics_pipeline(mech)
     out += [(f"pkm_{name}_pipeline_{label}", fn) for label, fn in fused.items() if cemit.emittable(fn)]
     out = [(symbol, fn, False) for symbol, fn in out]
     kernels = {}

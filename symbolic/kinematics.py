@@ -20,6 +20,11 @@ and the names of the design parameters, pose coordinates and actuated joints, wh
 checks against its own so that a design vector means the same on both sides. A mechanism supplies the
 maths (:class:`LoopClosure`, :class:`InverseKinematics`, optionally :class:`ForwardKinematics`) and
 its ports; :func:`add_kinematics` emits the rest.
+
+Any other function of the joints, such as a mechanism's ``inertia(q, x, design)`` or
+``inverse_dynamics(q, x, x_dot, x_ddot, design)``, gets the same twin from the pose with
+:func:`add_from_pose`: ``<name>_from_pose`` takes (x, mode, ...) in place of (q, x, ...) and returns
+(q, reach, outputs...) with the joints replaced as in ``first_order_from_pose``.
 """
 
 from __future__ import annotations
@@ -92,6 +97,7 @@ class ForwardKinematics:
 
 
 FIRST_ORDER_UNITS = ("h", "H_q", "H_x", "J", "J_f", "psi", "det")
+CANCEL_LIMIT = 400  # operations of an entry beyond which add_from_pose does not try to cancel it
 
 
 def add_kinematics(
@@ -190,28 +196,90 @@ def add_kinematics(
     spec.add("first_order", (joints, pose, design), first_order,
              "First-order kinematics by implicit differentiation of the loop closure.")
     if inverse.directions is not None:
-        angles = {f(s) for s in joints.symbols for f in (sp.cos, sp.sin)}
-        stray = sorted(set(inverse.directions) - angles, key=sp.default_sort_key)
-        if stray:
-            raise ValueError(f"{spec.name}: directions are given for {stray}, not the cosine or sine of a joint")
-        spec.add(
-            "first_order_from_pose",
-            (pose, mode, design),
-            (
-                Output("q", inverse.q, inverse.q_doc),
-                Output("reach", inverse.reach, inverse.reach_doc),
-                *(Output(o.name, _from_vectors(o.expr, inverse), o.doc) for o in first_order),
-            ),
-            "inverse_kinematics and first_order at its q, the first order with the cosine and sine of each "
-            "joint angle from the position vectors of the links (no trigonometric call).",
-        )
+        add_from_pose(spec, "first_order", inverse=inverse, joints=joints, pose=pose, mode=mode)
 
 
-def _from_vectors(expr: sp.Matrix, inverse: InverseKinematics) -> sp.Matrix:
-    """``expr`` with the joint angles' cosines and sines replaced by ``inverse.directions``, each entry
-    cancelled as a rational function of the links' vector components (so that the links' lengths and
-    common scales cancel), then the components replaced by ``inverse.vectors``."""
-    return expr.xreplace(inverse.directions).applyfunc(sp.cancel).xreplace(inverse.vectors or {})
+def add_from_pose(
+    spec: ModuleSpec, name: str, *, inverse: InverseKinematics, joints: Port, pose: Port, mode: Port
+) -> None:
+    """Emit ``<name>_from_pose``: the function ``name`` of ``spec`` at q = IK(x), from the pose.
+
+    ``name`` takes the joints q among its inputs; its twin takes the pose and the working mode in their
+    place, ``(x, mode, *others)`` with ``others`` the remaining inputs in their order, and returns
+    ``(q, reach, *outputs)``: the inverse kinematics' outputs, then each output of ``name`` with
+
+        cos(q_k), sin(q_k) -> directions[cos(q_k)], directions[sin(q_k)]   (the joint angles),
+        q_j -> IK(x)_j                                                      (the other joints),
+
+    after the trigonometric functions of sums of joint angles are expanded (cos(a - b) = cos a cos b +
+    sin a sin b), each entry cancelled as a rational function of the links' vector components (the
+    links' lengths and common scales cancel) where that takes fewer operations than the entry as it is,
+    and then the components replaced by ``inverse.vectors``: the same values as ``name`` at q = IK(x),
+    to round-off, with no trigonometric call.
+
+    Parameters
+    ----------
+    spec : ModuleSpec
+        The module that already holds ``name``.
+    name : str
+        The function of the joints to derive from the pose.
+    inverse : InverseKinematics
+        The closed-form inverse kinematics, with ``directions`` and ``vectors``.
+    joints, pose, mode : Port
+        The ports ``q`` (n_a + n_p), ``x`` (n_x) and ``mode`` of :func:`add_kinematics`.
+
+    Raises
+    ------
+    ValueError
+        If ``spec`` has no function ``name``, it does not take ``joints`` and ``pose``, ``inverse`` has no
+        directions or has them for something other than the cosine or sine of a joint, or a joint angle is
+        left in an output (:meth:`ModuleSpec.add` names it).
+    """
+    found = [f for f in spec.functions if f.name == name]
+    if not found:
+        raise ValueError(f"{spec.name}: no function {name} to derive from the pose")
+    fn = found[0]
+    if joints not in fn.inputs or pose not in fn.inputs:
+        raise ValueError(f"{spec.name}.{name}: takes no {joints.name} and {pose.name} to replace by the pose")
+    if inverse.directions is None:
+        raise ValueError(f"{spec.name}.{name}: the inverse kinematics gives no directions of the joint angles")
+    angles = {f(s) for s in joints.symbols for f in (sp.cos, sp.sin)}
+    stray = sorted(set(inverse.directions) - angles, key=sp.default_sort_key)
+    if stray:
+        raise ValueError(f"{spec.name}: directions are given for {stray}, not the cosine or sine of a joint")
+    others = [p for p in fn.inputs if p not in (joints, pose)]
+    spec.add(
+        f"{name}_from_pose",
+        (pose, mode, *others),
+        (
+            Output("q", inverse.q, inverse.q_doc),
+            Output("reach", inverse.reach, inverse.reach_doc),
+            *(Output(o.name, _from_vectors(o.expr, inverse, joints), o.doc) for o in fn.outputs),
+        ),
+        f"inverse_kinematics and {name} at its q, {name} with the cosine and sine of each joint angle from the "
+        f"position vectors of the links (no trigonometric call). {name}: {fn.doc}",
+    )
+
+
+def _from_vectors(expr: sp.Matrix, inverse: InverseKinematics, joints: Port) -> sp.Matrix:
+    """``expr`` from the pose (:func:`add_from_pose`): trigonometric functions of the joints expanded, the
+    angles' cosines and sines replaced by ``inverse.directions`` and the other joints by their inverse
+    kinematics, each entry cancelled where that is shorter, the vector components replaced by
+    ``inverse.vectors``."""
+    angles = {s for s in joints.symbols if sp.cos(s) in inverse.directions}
+    others = {s: inverse.q[k] for k, s in enumerate(joints.symbols) if s not in angles}
+    return expr.applyfunc(lambda e: _shorter(sp.expand_trig(e).xreplace(inverse.directions))
+                          .xreplace(others).xreplace(inverse.vectors or {}))
+
+
+def _shorter(expr: sp.Expr) -> sp.Expr:
+    """``expr`` cancelled as a rational function where that takes fewer operations, else as it is; an
+    entry of more than CANCEL_LIMIT operations is kept as it is (cancelling it would take minutes and
+    expand it: a product of matrices such as J^T M_t J is shorter as the product)."""
+    if sp.count_ops(expr) > CANCEL_LIMIT:
+        return expr
+    cancelled = sp.cancel(expr)
+    return cancelled if sp.count_ops(cancelled) <= sp.count_ops(expr) else expr
 
 
 def _check_ports(loop: LoopClosure, *, pose: Port, joints: Port, actuated: Port) -> None:

@@ -18,6 +18,7 @@ from helpers import port_inputs, random_design, reachable_poses
 import pkm
 from pkm import registry
 from pkm.batch import evaluate, reached
+from pkm.kinematics import from_pose
 
 MECHANISMS = pkm.mechanisms()
 SEEDS = (0, 1, 2)
@@ -134,9 +135,7 @@ def test_first_order_from_the_pose_equals_inverse_kinematics_then_first_order(ca
     m, d = case.mech, case.vector
     if "first_order_from_pose" not in m.functions:
         pytest.skip(f"{m.name} has no first_order_from_pose")
-    box = m.workspace_box(d)
-    span = box[:, 1] - box[:, 0]
-    anywhere = np.random.default_rng(5).uniform(box[:, 0] - span / 4, box[:, 1] + span / 4, size=(400, m.n_out))
+    anywhere = _anywhere(case)
     for mode in m.modes:
         signs = np.array(m.working_mode(mode).signs)
         for x, regular_only in ((regular(case, mode), True), (anywhere, False)):
@@ -158,9 +157,77 @@ def test_first_order_from_the_pose_equals_inverse_kinematics_then_first_order(ca
             want["1/kappa_f"] = n / np.sqrt(np.sum(want["J"] ** 2, axis=(1, 2)) * np.sum(want["J_f"] ** 2, axis=(1, 2)))
             got["1/kappa_f"] = value
             for key, expected in want.items():
-                a, b = expected.reshape(len(x), -1), got[key].reshape(len(x), -1)
-                error = np.abs(b - a) / np.abs(a).max(axis=1, keepdims=True)
+                error = _relative_errors(got[key], expected)
                 assert np.all(error <= 1e-12), f"mode {mode}: {key}: {error.max():.1e}"
+
+
+def _anywhere(case: Case) -> np.ndarray:
+    """400 poses (400, n_out) in the workspace box widened by a quarter of its span on every side: some in
+    reach of each working mode, some out."""
+    box = case.mech.workspace_box(case.vector)
+    span = box[:, 1] - box[:, 0]
+    return np.random.default_rng(5).uniform(box[:, 0] - span / 4, box[:, 1] + span / 4, size=(400, case.mech.n_out))
+
+
+def _relative_errors(got: np.ndarray, want: np.ndarray) -> np.ndarray:
+    """Per row (N,): the largest difference of the entries relative to the largest |entry| of ``want``."""
+    a, b = want.reshape(len(want), -1), got.reshape(len(got), -1)
+    return np.max(np.abs(b - a), axis=1) / np.abs(a).max(axis=1)
+
+
+def test_every_function_from_the_pose_equals_inverse_kinematics_then_the_function(case):
+    """Every twin ``f_from_pose(x, mode, ...)`` of a function ``f(q, x, ...)`` (the cosines and sines of
+    the joint angles from the links' position vectors, symbolic.kinematics.add_from_pose) returns the
+    inverse kinematics' q and reach and every output of ``f`` at q = IK(x), within 1e-12 of its largest
+    entry at regular poses of every working mode; the other inputs (velocities, accelerations) random."""
+    m, d = case.mech, case.vector
+    twins = [name for name in m.functions if from_pose(name) in m.functions]
+    if not twins:
+        pytest.skip(f"{m.name} derives no function from the pose")
+    rng = np.random.default_rng(6)
+    for mode in m.modes:
+        signs = np.array(m.working_mode(mode).signs)
+        x = regular(case, mode)
+        q, reach = evaluate(m.functions["inverse_kinematics"], x, signs, d)
+        inputs = {"x": x, "q": q[:, :, 0], "mode": signs, "design": d}
+        for name in twins:
+            fn, twin = m.functions[name], m.functions[from_pose(name)]
+            for i, port in enumerate(fn.name_in()):
+                inputs.setdefault(port, rng.normal(size=(len(x), fn.numel_in(i))))
+            want = dict(zip(fn.name_out(), evaluate(fn, *(inputs[p] for p in fn.name_in())), strict=True))
+            want.update(q=q, reach=reach)
+            got = dict(zip(twin.name_out(), evaluate(twin, *(inputs[p] for p in twin.name_in())), strict=True))
+            assert got.keys() == want.keys(), name
+            for key, expected in want.items():
+                error = _relative_errors(got[key], expected)
+                assert np.all(error <= 1e-12), f"mode {mode}: {from_pose(name)}: {key}: {error.max():.1e}"
+
+
+def test_inverse_dynamics_of_a_virtual_work_model_is_inverse_kinematics_then_the_model(case):
+    """``Mechanism.inverse_dynamics`` of a model that generates ``inverse_dynamics(q, x, x_dot, x_ddot,
+    design)`` (one fused pass, from the pose where the model has the twin) equals the inverse kinematics
+    composed with it: NaN in exactly the rows whose pose is out of reach, and within 1e-12 of each row's
+    largest force at regular poses."""
+    m, d = case.mech, case.vector
+    if "inverse_dynamics" not in m.functions:
+        pytest.skip(f"{m.name} has no virtual-work inverse dynamics")
+    rng = np.random.default_rng(8)
+    for mode in m.modes:
+        signs = np.array(m.working_mode(mode).signs)
+        for x, regular_only in ((regular(case, mode), True), (_anywhere(case), False)):
+            x_dot, x_ddot = rng.normal(size=(2, len(x), m.n_out))
+            q, reach = evaluate(m.functions["inverse_kinematics"], x, signs, d)
+            (want,) = evaluate(m.functions["inverse_dynamics"], q[:, :, 0], x, x_dot, x_ddot, d)
+            got = m.inverse_dynamics(x, x_dot, x_ddot, case.design, mode=mode)
+            assert got.shape == (len(x), m.n_act)
+            ok = reached(q, reach)
+            np.testing.assert_array_equal(np.isnan(got), np.broadcast_to(~ok[:, None], got.shape),
+                                          err_msg=f"mode {mode}")
+            if regular_only:
+                error = _relative_errors(got, want[:, :, 0])
+                assert np.all(error <= 1e-12), f"mode {mode}: {error.max():.1e}"
+            else:
+                assert 0 < ok.sum() < len(x), f"mode {mode}: the poses anywhere are all in or all out of reach"
 
 
 def test_psi_lies_in_the_null_space_of_the_constraint_jacobian(case):
@@ -311,8 +378,9 @@ def test_registry_still_lists_mechanisms_after_loading_one():
 
 def _compiled_functions(mech):
     """The functions the compiled path was emitted for: the generated ones with dense ports, the fused
-    pipeline of each local index alone and with 1/kappa_f (without the joints), and the one of the first
-    order."""
+    pipeline of each local index alone and with 1/kappa_f (without the joints), the one of the first
+    order and the fused inverse dynamics of a virtual-work model."""
+    from pkm.dynamics.rigid import inverse_dynamics_pipeline
     from pkm.regions.pipeline import index_pipeline, pipeline
 
     fns = {k: f for k, f in mech.functions.items() if f.is_a("SXFunction")
@@ -323,6 +391,8 @@ def _compiled_functions(mech):
     fns.update({f"pipeline {i} with 1/kappa_f": index_pipeline(mech, (mech.local_spec(i), condition))
                 for i in mech.local_indices() if i != condition.name})
     fns["pipeline first_order"] = pipeline(mech, (), first_order=True)
+    if "inverse_dynamics" in mech.functions:
+        fns["pipeline inverse_dynamics"] = inverse_dynamics_pipeline(mech)
     return fns
 
 

@@ -5,7 +5,9 @@ Generic over the mechanisms whose generated module emits dynamic functions besid
 * ``inertia(q, x, design) -> (M_t, M_w, ...)``, with ``S_e`` for a flexible-joint model and ``M_d``
   for a virtual-work model;
 * ``inverse_dynamics(q, x, x_dot, x_ddot, design) -> tau``, a rigid model by virtual work (Wu 2008
-  eq. 41, see ``symbolic/virtual_work.py``), used as it is; or otherwise the Lagrange chain functions
+  eq. 41, see ``symbolic/virtual_work.py``), fused with the inverse kinematics into one function of the
+  pose (:func:`inverse_dynamics_pipeline`; from ``inverse_dynamics_from_pose`` where the mechanism has
+  it, without trigonometric calls); or otherwise the Lagrange chain functions
   (see ``symbolic/lagrange.py``): ``second_order(q, x, x_dot, design) -> (q_dot, q_ddot_bias)`` and the
   flexible-joint model ``elastic_dynamics`` (eq. 31 of Lara-Molina 2016, see :mod:`pkm.dynamics.flexible`)
   with the rotors moving with the actuated joints.
@@ -13,14 +15,16 @@ Generic over the mechanisms whose generated module emits dynamic functions besid
 
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
+import casadi as ca
 import numpy as np
 
-from pkm.batch import evaluate
+from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.dynamics.flexible import elastic_dynamics
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
-from pkm.kinematics import as_batch, solve_joints, unbatch
+from pkm.kinematics import as_batch, from_pose, solve_joints, unbatch
 
 if TYPE_CHECKING:
     from pkm.kinematics import DesignLike, KinematicModel
@@ -60,6 +64,39 @@ def inertia_matrix(
     out = evaluate(fn, joints.q, joints.x, joints.design)[fn.name_out().index(SPACES[space])]
     out[~joints.reachable] = np.nan
     return joints.unbatch(out)
+
+
+@lru_cache(maxsize=64)
+def inverse_dynamics_pipeline(mech: KinematicModel) -> ca.Function:
+    """``(x, x_dot, x_ddot, mode, design) -> (valid, tau)``: the rigid virtual-work model fused with the
+    inverse kinematics into one SX graph.
+
+    ``valid`` (1 x 1) is 1 where the pose is reached on the working mode's branch (every reach margin
+    >= -``REACH_TOLERANCE``) and 0 elsewhere; ``tau`` (n_act x 1) is the generated
+    ``inverse_dynamics(q, x, x_dot, x_ddot, design)`` at q = IK(x) (Wu 2008 eq. 41,
+    tau = (J^T)^-1 (M x_ddot + n)), NaN where the pose is not reached. Where the mechanism has
+    ``inverse_dynamics_from_pose`` the forces come from it, with no joint angle and no trigonometric call.
+    """
+    fns = mech.functions
+    ik = fns["inverse_kinematics"]
+    x, x_dot, x_ddot = (ca.SX.sym(name, mech.n_out) for name in ("x", "x_dot", "x_ddot"))
+    mode = ca.SX.sym("mode", ik.numel_in(1))
+    design = ca.SX.sym("design", ik.numel_in(2))
+    twin = fns.get(from_pose("inverse_dynamics"))
+    if twin is None:
+        q, reach = ik(x, mode, design)
+        (tau,) = fns["inverse_dynamics"].call([q, x, x_dot, x_ddot, design])
+    else:
+        out = dict(zip(twin.name_out(), twin.call([x, mode, x_dot, x_ddot, design]), strict=True))
+        reach, tau = out["reach"], out["tau"]
+    valid = ca.mmin(reach) >= -REACH_TOLERANCE
+    return ca.Function(
+        f"{mech.name}_inverse_dynamics_pipeline",
+        [x, x_dot, x_ddot, mode, design],
+        [valid, ca.if_else(valid, tau, ca.DM.nan(tau.shape))],
+        ["x", "x_dot", "x_ddot", "mode", "design"],
+        ["valid", "tau"],
+    )
 
 
 def _motion_batch(
@@ -119,16 +156,16 @@ def inverse_dynamics(
         NaN where the pose is out of reach.
 
     A mechanism with a rigid virtual-work model (``inverse_dynamics`` generated:
-    tau = (J^T)^-1 M x_ddot + N, Wu 2008 eq. 41) uses it; it has no transmissions, so
-    ``joint_torques`` returns the same forces.
+    tau = (J^T)^-1 M x_ddot + N, Wu 2008 eq. 41) uses it, in one pass of
+    :func:`inverse_dynamics_pipeline` over the batch; it has no transmissions, so ``joint_torques``
+    returns the same forces.
     """
     if "inverse_dynamics" in mech.functions:
         pose, x_dot, x_ddot, single = _motion_batch(mech, pose, velocity, acceleration)
-        joints = solve_joints(mech, pose, design, mode)
-        (tau,) = evaluate(mech.functions["inverse_dynamics"], joints.q, joints.x, x_dot, x_ddot, joints.design)
-        tau = tau[:, :, 0]
-        tau[~joints.reachable] = np.nan
-        return unbatch(tau, single)
+        d = mech.design_vector(design)
+        signs = np.array(mech.working_mode(mode).signs, dtype=float)
+        _, tau = evaluate(inverse_dynamics_pipeline(mech), pose, x_dot, x_ddot, signs, d)
+        return unbatch(tau[:, :, 0], single)
     purpose = f"the inverse dynamics of the {mech.name}"
     first, second, elastic = (
         mech.functions.require("first_order", purpose),

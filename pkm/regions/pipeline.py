@@ -4,7 +4,9 @@
 local indices read (``first_order``, ``inertia``) and the indices' formulas into one ``casadi.SX``
 graph ``(x, mode, design) -> (q, reach, values...)``. Where the mechanism has ``first_order_from_pose``
 (the inverse kinematics and the first order in one function, the first order without trigonometric
-calls), it takes the joints and the first order from it instead. Everything that evaluates a local
+calls), it takes the joints and the first order from it instead, and likewise any other source ``f``
+from ``f_from_pose(x, mode, design)`` where the mechanism has it (``inertia_from_pose``: the inertia
+matrices without the joint angles). Everything that evaluates a local
 index uses it: local indices at poses, the sampled regions and atlases (numerically, through
 :func:`evaluate_at` and :func:`index_pipeline`, which leaves out the joints: no angle is computed
 there when the first order comes from the pose), and the quadratures of the parametrised regions
@@ -35,9 +37,10 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
+from pkm.kinematics import from_pose
 
 ANGLE = "rad"
-FROM_POSE = "first_order_from_pose"
+FROM_POSE = from_pose("first_order")
 TRANSFORMS: dict[str, tuple[str, str]] = {
     "J": ("q", "x^-1"),
     "J_f": ("x", "q^-1"),
@@ -97,6 +100,11 @@ def normalise(name: str, matrix: ca.SX, scales: dict[str, ca.SX] | None) -> ca.S
     return _side(scales, left) @ matrix @ _side(scales, right)
 
 
+def _outputs(fn: ca.Function, args: list[ca.SX]) -> dict[str, ca.SX]:
+    """The outputs of ``fn`` called on symbolic arguments, by name."""
+    return dict(zip(fn.name_out(), fn.call(args), strict=True))
+
+
 @lru_cache(maxsize=256)
 def pipeline(
     mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False
@@ -111,18 +119,21 @@ def pipeline(
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
     sources: dict[str, dict[str, ca.SX]] = {}
-    from_pose = fns.get(FROM_POSE)
-    if from_pose is None:
-        q, reach = ik(x, mode, design)
-    else:
-        sources["first_order"] = dict(zip(from_pose.name_out(), from_pose.call([x, mode, design]), strict=True))
+    if FROM_POSE in fns:
+        sources["first_order"] = _outputs(fns[FROM_POSE], [x, mode, design])
         q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
+    else:
+        q, reach = ik(x, mode, design)
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     scales = _scales(mech, design)
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
     for source in [name for name in dict.fromkeys(wanted) if name not in sources]:
-        fn = fns.require(source, f"the {mech.name} pipeline")
-        sources[source] = dict(zip(fn.name_out(), fn.call([q, x, design]), strict=True))
+        if from_pose(source) in fns:
+            sources[source] = _outputs(fns[from_pose(source)], [x, mode, design])
+            del sources[source]["q"], sources[source]["reach"]
+        else:
+            fn = fns.require(source, f"the {mech.name} pipeline")
+            sources[source] = _outputs(fn, [q, x, design])
     outputs, names = [q, reach, reachable], ["q", "reach", "valid"]
     arguments = {}
     for spec in locals_:

@@ -24,6 +24,8 @@ loop closure below, J_f, Psi and the determinants) is written in v_i, w_i and |d
 sine of each angle replaced by the components of v_i / (r1 |d|^2) and w_i / (r2 |d|^2), each entry
 cancelled. Row i of J, for instance, is |d_i|^2 w_i^T / (v_i x w_i) (x the planar cross product): the
 same J as from the angles, to round-off, with no cos, sin, acos or atan2 (``first_order_from_pose``).
+The inertia matrices are emitted from the pose the same way (``inertia_from_pose``), the cosines of
+theta_i - phi_i in the mass matrix expanded into products of the vectors' components.
 
 Forward kinematics intersects the circles of radius r2 about the elbows; the assembly sign chooses the
 side of the directed line A1 -> A2 on which P lies.
@@ -43,7 +45,7 @@ from functools import cache
 import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
-from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_kinematics
+from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_from_pose, add_kinematics
 from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
 
@@ -168,6 +170,15 @@ def module() -> ModuleSpec:
     q, margins, directions, vectors = inverse_kinematics()
     p, q_fk, height2 = forward_kinematics()
     loop = loop_closure()
+    inverse = InverseKinematics(
+        q,
+        margins,
+        doc="Closed-form inverse kinematics of both chains for the elbow signs in mode.",
+        q_doc="theta1, theta2, phi1, phi2 [rad]",
+        reach_doc="1 - cos^2 of each elbow angle; >= 0 where reachable",
+        directions=directions,
+        vectors=vectors,
+    )
     add_kinematics(
         spec,
         loop,
@@ -176,15 +187,7 @@ def module() -> ModuleSpec:
         actuated=ACTUATED,
         design=DESIGN,
         mode=MODE,
-        inverse=InverseKinematics(
-            q,
-            margins,
-            doc="Closed-form inverse kinematics of both chains for the elbow signs in mode.",
-            q_doc="theta1, theta2, phi1, phi2 [rad]",
-            reach_doc="1 - cos^2 of each elbow angle; >= 0 where reachable",
-            directions=directions,
-            vectors=vectors,
-        ),
+        inverse=inverse,
         forward=ForwardKinematics(
             p,
             q_fk,
@@ -199,6 +202,7 @@ def module() -> ModuleSpec:
     )
     _add_mic(spec)
     _add_dynamics(spec, loop)
+    add_from_pose(spec, "inertia", inverse=inverse, joints=JOINTS, pose=POSE, mode=MODE)
     return spec
 
 

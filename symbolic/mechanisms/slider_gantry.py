@@ -16,7 +16,11 @@ theta_i is the angle of link A_iB_i from the vertical, positive when A_i lies to
 which is Wu's eq. 1 with x_B1 = -d1, x_B2 = d1: the platform half-width d2 cancels, so d1 is the
 column half-distance minus d2 (Wu eq. 15's d1 = (b + 2d)/2 then reproduces Table 1). Inverse
 kinematics (eq. 2) with the branch sign sigma_i: q_i = y - l2/2 - sigma_i sqrt(l^2 - (x +- d1)^2);
-Wu's machine uses sigma_i = +1 (each slider below its platform joint).
+Wu's machine uses sigma_i = +1 (each slider below its platform joint). The link A_iB_i is the vector
+(u_i, w_i) = (x +- d1, sigma_i sqrt(l^2 - (x +- d1)^2)) = l (sin(theta_i), cos(theta_i)), so that the
+first order, the inertia matrices and the inverse dynamics are also emitted from the pose with u_i / l and
+w_i / l for the sine and cosine (``first_order_from_pose``, ``inertia_from_pose``,
+``inverse_dynamics_from_pose``; J's row i is (u_i / w_i, 1)): no angle and no trigonometric call.
 
 Counterweight i hangs from a pulley on top of column i and moves opposite to slider i (its height is
 -q_i up to a constant). Gravity g acts along -y. Bodies and masses follow Wu's Table 2.
@@ -29,7 +33,7 @@ from functools import cache
 import sympy as sp
 
 from symbolic.codegen import ModuleSpec, Output, Port
-from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_kinematics
+from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_from_pose, add_kinematics
 from symbolic.lagrange import Body, Chain, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
 from symbolic.virtual_work import Motion, PivotBody, virtual_work
@@ -85,10 +89,13 @@ def loop_closure() -> LoopClosure:
     return LoopClosure.of(h, (q1, q2), (theta1, theta2), (x, y))
 
 
-def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
-    """Slider positions (eq. 2) and link angles for the branch signs; reach and stroke margins."""
-    sliders, angles, reach, stroke = [], [], [], []
-    for offset, s in ((d1, sigma1), (-d1, sigma2)):
+def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix, dict[sp.Expr, sp.Expr], dict[sp.Symbol, sp.Expr]]:
+    """Slider positions (eq. 2) and link angles for the branch signs; reach and stroke margins; the
+    cosine and sine of each link angle in the components of its position vector A_i - B_i = (u_i, w_i),
+    with u_i = x +- d1 and w_i = sigma_i sqrt(l^2 - u_i^2), so that cos(theta_i) = w_i / l and
+    sin(theta_i) = u_i / l (no trigonometric call)."""
+    sliders, angles, reach, stroke, directions, vectors = [], [], [], [], {}, {}
+    for i, (offset, s, th) in enumerate(((d1, sigma1, theta1), (-d1, sigma2, theta2)), 1):
         u = x + offset
         # Clamped so that a pose on the reach boundary keeps its (serial-singular) solution; the
         # reach margin flags the poses truly out of reach.
@@ -98,7 +105,10 @@ def inverse_kinematics() -> tuple[sp.Matrix, sp.Matrix]:
         angles.append(sp.atan2(u, w))
         reach.append(ell**2 - u**2)
         stroke.append((q - qs) * (ql - q))
-    return sp.Matrix(sliders + angles), sp.Matrix(reach + stroke)
+        u_i, w_i = sp.symbols(f"u{i} w{i}", real=True)
+        directions.update({sp.cos(th): w_i / ell, sp.sin(th): u_i / ell})
+        vectors.update({u_i: u, w_i: w})
+    return sp.Matrix(sliders + angles), sp.Matrix(reach + stroke), directions, vectors
 
 
 def forward_kinematics() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
@@ -205,8 +215,17 @@ def module(symmetric: bool = False) -> ModuleSpec:
     variant = "with the fourth link A4B4 (Wu section 6.3)" if symmetric else "of Wu's Fig. 1"
     spec = ModuleSpec(name, "symbolic/mechanisms/slider_gantry.py", f"CasADi functions of the slider gantry {variant}.")
     design = design_port(symmetric)
-    q, margins = inverse_kinematics()
+    q, margins, directions, vectors = inverse_kinematics()
     p, q_fk, height2 = forward_kinematics()
+    inverse = InverseKinematics(
+        q,
+        margins,
+        doc="Closed-form inverse kinematics (Wu eq. 2) for the branch signs in mode, with the slider strokes.",
+        q_doc="q1, q2 [m], theta1, theta2 [rad]",
+        reach_doc="l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable",
+        directions=directions,
+        vectors=vectors,
+    )
     add_kinematics(
         spec,
         loop_closure(),
@@ -215,13 +234,7 @@ def module(symmetric: bool = False) -> ModuleSpec:
         actuated=ACTUATED,
         design=design,
         mode=MODE,
-        inverse=InverseKinematics(
-            q,
-            margins,
-            doc="Closed-form inverse kinematics (Wu eq. 2) for the branch signs in mode, with the slider strokes.",
-            q_doc="q1, q2 [m], theta1, theta2 [rad]",
-            reach_doc="l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable",
-        ),
+        inverse=inverse,
         forward=ForwardKinematics(
             p,
             q_fk,
@@ -245,6 +258,8 @@ def module(symmetric: bool = False) -> ModuleSpec:
         "Task rectangle Q1Q2Q3Q4 of the design within the angle margins and the strokes (Wu Fig. 2).",
     )
     _add_dynamics(spec, symmetric)
+    for name in ("inertia", "inverse_dynamics"):
+        add_from_pose(spec, name, inverse=inverse, joints=JOINTS, pose=POSE, mode=MODE)
     return spec
 
 
