@@ -265,11 +265,13 @@ def _from_vectors(expr: sp.Matrix, inverse: InverseKinematics, joints: Port) -> 
     """``expr`` from the pose (:func:`add_from_pose`): trigonometric functions of the joints expanded, the
     angles' cosines and sines replaced by ``inverse.directions`` and the other joints by their inverse
     kinematics, each entry cancelled where that is shorter, the vector components replaced by
-    ``inverse.vectors``."""
+    ``inverse.vectors``; a component that is a product is kept whole, for sympy would distribute a
+    power over its factors ((sigma sqrt(m))^3 = sigma^3 m^(3/2), a call of pow)."""
     angles = {s for s in joints.symbols if sp.cos(s) in inverse.directions}
     others = {s: inverse.q[k] for k, s in enumerate(joints.symbols) if s not in angles}
+    vectors = {s: sp.UnevaluatedExpr(v) if v.is_Mul else v for s, v in (inverse.vectors or {}).items()}
     return expr.applyfunc(lambda e: _shorter(sp.expand_trig(e).xreplace(inverse.directions))
-                          .xreplace(others).xreplace(inverse.vectors or {}))
+                          .xreplace(others).xreplace(vectors))
 
 
 def _shorter(expr: sp.Expr) -> sp.Expr:
