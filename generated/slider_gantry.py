@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 500a5d635398bb8f).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 15390ed4e70bfabe).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "500a5d635398bb8f"
+SOURCE_HASH = "15390ed4e70bfabe"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
 POSE = ("x", "y", )
@@ -299,7 +299,7 @@ def first_order_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 18 common subexpressions, 50 operations
+    # 17 common subexpressions, 49 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t0 - _t1**2
@@ -312,19 +312,18 @@ def first_order_from_pose():
     _t9 = _t4 + _t8
     _t10 = _t3
     _t11 = _t8
-    _t12 = _t1*_t11
-    _t13 = _t10*_t6
-    _t14 = 1/(_t12 - _t13)
-    _t15 = _t10*_t11*_t14
-    _t16 = _t10*_t14
-    _t17 = _t11*_t14
+    _t12 = -_t1*_t11 + _t10*_t6
+    _t13 = 1/_t12
+    _t14 = _t10*_t11*_t13
+    _t15 = _t10*_t13
+    _t16 = _t11*_t13
     q = ca.reshape(ca.vertcat(-_t5, -_t9, ca.atan2(_t1, _t3), ca.atan2(_t6, _t8)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t2, _t7, (-_t5 - design_4)*(_t5 + design_5), (-_t9 - design_4)*(_t9 + design_5)), 4, 1)
     J = ca.reshape(ca.vertcat(_t1/_t10, _t6/_t11, 1, 1), 2, 2)
-    J_f = ca.reshape(ca.vertcat(_t15, -_t16*_t6, -_t15, _t1*_t17), 2, 2)
-    psi = ca.reshape(ca.vertcat(1, 0, _t17, _t16, 0, 1, -_t17, -_t16), 4, 2)
+    J_f = ca.reshape(ca.vertcat(-_t14, _t15*_t6, _t14, -_t1*_t16), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, -_t16, -_t15, 0, 1, _t16, _t15), 4, 2)
     det_type1 = ca.reshape(ca.vertcat(-_t10*_t11), 1, 1)
-    det_type2 = ca.reshape(ca.vertcat(-_t12 + _t13), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(_t12), 1, 1)
     return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
@@ -999,7 +998,7 @@ def inertia_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 64 common subexpressions, 385 operations
+    # 41 common subexpressions, 195 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1012,63 +1011,40 @@ def inertia_from_pose():
     _t9 = _t0 - _t8
     _t10 = mode_1*ca.sqrt(ca.fmax(0, _t9))
     _t11 = _t10 + _t5
-    _t12 = _t8*design_0
-    _t13 = _t4
-    _t14 = _t13**2
-    _t15 = _t2*design_0
-    _t16 = _t10
-    _t17 = _t16**2
-    _t18 = _t1*design_0
-    _t19 = 2*_t7
-    _t20 = _t13*_t16
-    _t21 = 1/(_t12*_t14 + _t15*_t17 - _t18*_t19*_t20)
-    _t22 = _t1*design_8
-    _t23 = _t7*design_0
-    _t24 = _t22*_t23
-    _t25 = _t1*design_10
-    _t26 = _t23*_t25
-    _t27 = _t1*design_12
-    _t28 = _t23*_t27
-    _t29 = _t1*design_14
-    _t30 = _t23*_t29
-    _t31 = _t25*design_19
-    _t32 = _t29*design_21
-    _t33 = _t2*design_10*design_19
-    _t34 = _t2*design_14*design_21
-    _t35 = design_0*design_15
-    _t36 = design_16*_t17*design_0 + design_17*_t14*design_0 + design_18*_t17*design_0 + _t14*_t17*_t35
-    _t37 = _t15*_t17*design_8 + _t15*_t17*design_10 + _t15*_t17*design_12 + _t15*_t17*design_14 - 2*_t17*_t33 - 2*_t17*_t34 + _t36
-    _t38 = _t35*_t7
-    _t39 = _t7*design_11
-    _t40 = _t39*design_20
-    _t41 = _t1*_t40
-    _t42 = -_t17*_t2*design_10*design_19 - _t17*_t2*design_14*design_21 + _t20*_t41 + _t36
-    _t43 = _t8*design_11*design_20
-    _t44 = -_t14*_t43 + _t20*_t31*_t7 + _t20*_t32*_t7
-    _t45 = _t21*(-_t1*_t20*_t38 - _t42 - _t44)
-    _t46 = _t7*design_9
-    _t47 = _t7*design_13
-    _t48 = _t12*_t14*design_9 + _t12*_t14*design_11 + _t12*_t14*design_13 - 2*_t14*_t43
-    _t49 = 1/_t14
-    _t50 = 1/_t17
-    _t51 = 1/_t13
-    _t52 = 1/design_0
-    _t53 = _t1*_t51
-    _t54 = _t1*_t52
-    _t55 = -_t51*_t54*design_19 + _t53
-    _t56 = -_t51*_t54*design_21 + _t53
-    _t57 = 1/_t16
-    _t58 = _t52*design_20
-    _t59 = -_t57*_t58*_t7 + _t57*_t7
-    _t60 = _t22*_t51 + _t27*_t51 + _t46*_t57 + _t47*_t57
-    _t61 = 1/(_t13*_t17*_t18 - _t14*_t16*_t23)
-    _t62 = 1/(-_t13*_t23 + _t16*_t18)
-    _t63 = _t13*_t40 + _t16*_t31 + _t16*_t32
+    _t12 = 1/design_0
+    _t13 = _t10
+    _t14 = _t4
+    _t15 = _t1*_t13 - _t14*_t7
+    _t16 = _t15**(-2)
+    _t17 = design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_15
+    _t18 = _t7*design_0
+    _t19 = _t1*design_0
+    _t20 = design_10*design_19
+    _t21 = design_11*design_20
+    _t22 = design_14*design_21
+    _t23 = _t13*_t19*design_8 + _t13*_t19*design_12 + _t14*_t18*design_9 + _t14*_t18*design_13
+    _t24 = -_t1*_t13*_t20 - _t1*_t13*_t22 + _t13*_t19*design_10 + _t13*_t19*design_14 + _t14*_t18*design_11 - _t14*_t21*_t7 + _t23
+    _t25 = -_t14*_t17*_t18 + _t24
+    _t26 = design_10*(design_0 - design_19)
+    _t27 = design_11*(design_0 - design_20)
+    _t28 = design_14*(design_0 - design_21)
+    _t29 = _t1*_t13*_t26 + _t1*_t13*_t28 + _t14*_t27*_t7 + _t23
+    _t30 = _t2*design_0
+    _t31 = _t13**2
+    _t32 = _t8*design_0
+    _t33 = _t14**2
+    _t34 = _t2*_t26*_t31 + _t2*_t28*_t31 + _t27*_t33*_t8 + _t30*_t31*design_8 + _t30*_t31*design_12 + _t31*_t33*design_0*design_15 + _t31*(design_16*design_0 - _t2*_t20) + _t31*(design_18*design_0 - _t2*_t22) + _t32*_t33*design_9 + _t32*_t33*design_13 + _t33*(design_17*design_0 - _t21*_t8)
+    _t35 = -_t14*_t29*_t7 + _t34
+    _t36 = _t1*_t13*_t17*design_0 - _t24
+    _t37 = -_t1*_t13*_t29 + _t34
+    _t38 = 1/_t14
+    _t39 = 1/_t13
+    _t40 = 1/_t15
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    M_t = ca.reshape(ca.vertcat(_t21*(_t12*_t14*design_8 + _t12*_t14*design_10 + _t12*_t14*design_12 + _t12*_t14*design_14 + _t12*_t14*design_15 + _t19*_t20*_t31 + _t19*_t20*_t32 - 2*_t20*_t24 - 2*_t20*_t26 - 2*_t20*_t28 - 2*_t20*_t30 + _t37), _t45, _t45, _t21*(_t15*_t17*design_9 + _t15*_t17*design_11 + _t15*_t17*design_13 + _t15*_t17*design_15 - 2*_t18*_t20*_t39 - 2*_t18*_t20*_t46 - 2*_t18*_t20*_t47 + 2*_t20*_t41 + _t36 + _t48)), 2, 2)
-    M_w = ca.reshape(ca.vertcat(_t2*_t49*design_8 + _t2*_t49*design_12 + _t25*_t51*_t55 + _t29*_t51*_t56 + _t39*_t57*_t59 + _t50*_t8*design_9 + _t50*_t8*design_13 + _t51*(design_16*_t51 - _t33*_t51*_t52) + _t51*(design_18*_t51 - _t34*_t51*_t52) + _t57*(design_17*_t57 - _t43*_t52*_t57) + design_15, _t55*design_10 + _t56*design_14 + _t59*design_11 + _t60, _t25*_t51 + _t29*_t51 - _t31*_t51*_t52 - _t32*_t51*_t52 - _t39*_t57*_t58 + _t39*_t57 + _t60, design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_15), 2, 2)
-    M_d = ca.reshape(ca.vertcat(_t61*(-_t20*_t24 - _t20*_t26 - _t20*_t28 - _t20*_t30 + _t37 + _t44), _t61*(_t1*_t13*_t16*_t7*design_0*design_9 + _t1*_t13*_t16*_t7*design_0*design_11 + _t1*_t13*_t16*_t7*design_0*design_13 - _t42 - _t48), _t62*(_t1*_t16*design_0*design_8 + _t1*_t16*design_0*design_10 + _t1*_t16*design_0*design_12 + _t1*_t16*design_0*design_14 - _t13*_t23*design_8 - _t13*_t23*design_10 - _t13*_t23*design_12 - _t13*_t23*design_14 - _t13*_t38 - _t63), _t62*(_t1*_t16*_t35 - _t13*_t39*design_0 - _t13*_t46*design_0 - _t13*_t47*design_0 + _t16*_t18*design_9 + _t16*_t18*design_11 + _t16*_t18*design_13 + _t63)), 2, 2)
+    M_t = ca.reshape(ca.vertcat(_t12*_t16*(-_t14*_t25*_t7 + _t35), _t12*_t16*(-_t14*_t36*_t7 - _t37), _t12*_t16*(_t1*_t13*_t25 - _t35), _t12*_t16*(_t1*_t13*_t36 + _t37)), 2, 2)
+    M_w = ca.reshape(ca.vertcat(_t12*_t34/(_t31*_t33), _t12*_t29*_t38*_t39, _t12*_t24*_t38*_t39, _t17), 2, 2)
+    M_d = ca.reshape(ca.vertcat(_t12*_t35*_t38*_t39*_t40, -_t12*_t37*_t38*_t39*_t40, _t12*_t25*_t40, _t12*_t36*_t40), 2, 2)
     return ca.Function("inertia_from_pose", [x, mode, design], [q, reach, M_t, M_w, M_d], ["x", "mode", "design"], ["q", "reach", "M_t", "M_w", "M_d"])
 
 
@@ -1122,7 +1098,7 @@ def inverse_dynamics_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 58 common subexpressions, 248 operations
+    # 65 common subexpressions, 270 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1135,55 +1111,62 @@ def inverse_dynamics_from_pose():
     _t9 = _t0 - _t8
     _t10 = mode_1*ca.sqrt(ca.fmax(0, _t9))
     _t11 = _t10 + _t5
-    _t12 = _t10
-    _t13 = 1/_t12
-    _t14 = _t4
+    _t12 = 1/design_0
+    _t13 = _t4
+    _t14 = _t13**3
     _t15 = 1/_t14
-    _t16 = _t1*_t15
-    _t17 = _t13*_t7
-    _t18 = 1/(_t16 - _t17)
-    _t19 = x_dot_0**2
-    _t20 = _t14**(-2)
-    _t21 = _t15*_t19*(_t2*_t20 + 1)
-    _t22 = _t21 + design_22
-    _t23 = -_t21 + design_22
-    _t24 = _t12**(-2)
-    _t25 = _t13*_t19*(_t24*_t8 + 1)
-    _t26 = _t25 + design_22
-    _t27 = -_t25 + design_22
-    _t28 = 1/design_0
-    _t29 = _t19*_t28
-    _t30 = _t29*design_19
-    _t31 = _t14**(-3)
-    _t32 = -_t15*_t30 - _t2*_t30*_t31 + _t22
-    _t33 = _t29*design_21
-    _t34 = -_t15*_t33 - _t2*_t31*_t33 + _t22
-    _t35 = _t28*design_20
-    _t36 = _t19*_t35
-    _t37 = _t12**(-3)
-    _t38 = -_t13*_t36 + _t26 - _t36*_t37*_t8
-    _t39 = _t1*_t28
-    _t40 = -_t15*_t39*design_19 + _t16
-    _t41 = -_t13*_t35*_t7 + _t17
-    _t42 = -_t15*_t39*design_21 + _t16
-    _t43 = _t1*design_8
-    _t44 = _t1*design_12
-    _t45 = _t7*design_9
-    _t46 = _t7*design_13
-    _t47 = _t13*_t45 + _t13*_t46 + _t15*_t43 + _t15*_t44
-    _t48 = _t22*design_8 - _t23*design_12 + _t26*design_9 - _t27*design_13 + _t32*design_10 + _t34*design_14 + _t38*design_11 + design_22*design_15 + x_ddot_0*(_t40*design_10 + _t41*design_11 + _t42*design_14 + _t47) + x_ddot_1*(design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_15)
-    _t49 = _t1*_t19
-    _t50 = _t1*design_10
-    _t51 = _t28*_t50*design_19
+    _t16 = _t10
+    _t17 = _t16**3
+    _t18 = 1/_t17
+    _t19 = 1/(_t1*_t16 - _t13*_t7)
+    _t20 = design_22*design_0
+    _t21 = _t14*_t17
+    _t22 = design_0*design_8
+    _t23 = _t14*design_22
+    _t24 = x_dot_0**2
+    _t25 = _t13**2
+    _t26 = _t2 + _t25
+    _t27 = _t24*_t26
+    _t28 = _t23 + _t27
+    _t29 = design_0*design_12
+    _t30 = _t23 - _t27
+    _t31 = design_0*design_9
+    _t32 = _t17*design_22
+    _t33 = _t16**2
+    _t34 = _t33 + _t8
+    _t35 = _t24*_t34
+    _t36 = _t32 + _t35
+    _t37 = design_0*design_13
+    _t38 = _t32 - _t35
+    _t39 = _t24*design_19
+    _t40 = _t24*design_0
+    _t41 = _t14*_t20 + _t26*_t40
+    _t42 = -_t2*_t39 - _t25*_t39 + _t41
+    _t43 = _t24*design_21
+    _t44 = -_t2*_t43 - _t25*_t43 + _t41
+    _t45 = _t24*design_20
+    _t46 = _t17*_t20 - _t33*_t45 + _t34*_t40 - _t45*_t8
+    _t47 = design_0 - design_19
+    _t48 = _t1*design_10
+    _t49 = design_0 - design_20
+    _t50 = _t7*design_11
+    _t51 = design_0 - design_21
     _t52 = _t1*design_14
-    _t53 = _t28*_t52*design_21
-    _t54 = _t7*design_11
-    _t55 = _t35*_t54
-    _t56 = _t2*_t28
-    _t57 = _t18*(_t13*_t26*_t45 - _t13*_t27*_t46 + _t13*_t38*_t54 + _t13*(design_17*_t19*_t37*_t7 - _t26*_t55) + _t15*_t22*_t43 - _t15*_t23*_t44 + _t15*_t32*_t50 + _t15*_t34*_t52 + _t15*(design_16*_t31*_t49 - _t22*_t51) + _t15*(design_18*_t31*_t49 - _t22*_t53) + x_ddot_0*(_t13*_t41*_t54 + _t13*(design_17*_t13 - _t13*_t35*_t8*design_11) + _t15*_t40*_t50 + _t15*_t42*_t52 + _t15*(design_16*_t15 - _t15*_t56*design_10*design_19) + _t15*(design_18*_t15 - _t15*_t56*design_14*design_21) + _t2*_t20*design_8 + _t2*_t20*design_12 + _t24*_t8*design_9 + _t24*_t8*design_13 + design_15) + x_ddot_1*(_t13*_t54 - _t13*_t55 + _t15*_t50 - _t15*_t51 + _t15*_t52 - _t15*_t53 + _t47))
+    _t53 = _t1*_t22
+    _t54 = _t1*_t29
+    _t55 = _t31*_t7
+    _t56 = _t37*_t7
+    _t57 = _t13*_t55 + _t13*_t56 + _t16*_t53 + _t16*_t54
+    _t58 = _t14*_t31*_t36 - _t14*_t37*_t38 + _t14*_t46*design_11 + _t17*_t22*_t28 - _t17*_t29*_t30 + _t17*_t42*design_10 + _t17*_t44*design_14 + _t20*_t21*design_15 + _t21*design_0*x_ddot_1*(design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_15) + _t25*_t33*x_ddot_0*(_t13*_t49*_t50 + _t16*_t47*_t48 + _t16*_t51*_t52 + _t57)
+    _t59 = _t16**4
+    _t60 = design_10*design_19
+    _t61 = design_14*design_21
+    _t62 = _t13**4
+    _t63 = design_11*design_20
+    _t64 = _t1*_t59*(design_16*_t40 - _t28*_t60) + _t1*_t59*(design_18*_t40 - _t28*_t61) + _t14*_t17*x_ddot_1*(-_t1*_t16*_t60 - _t1*_t16*_t61 + _t13*_t50*design_0 - _t13*_t63*_t7 + _t16*_t48*design_0 + _t16*_t52*design_0 + _t57) + _t25*_t33*x_ddot_0*(_t2*_t22*_t33 + _t2*_t29*_t33 + _t2*_t33*_t47*design_10 + _t2*_t33*_t51*design_14 + _t25*_t31*_t8 + _t25*_t33*design_0*design_15 + _t25*_t37*_t8 + _t25*_t49*_t8*design_11 + _t25*(design_17*design_0 - _t63*_t8) + _t33*(design_16*design_0 - _t2*_t60) + _t33*(design_18*design_0 - _t2*_t61)) + _t28*_t53*_t59 - _t30*_t54*_t59 + _t36*_t55*_t62 - _t38*_t56*_t62 + _t42*_t48*_t59 + _t44*_t52*_t59 + _t46*_t50*_t62 + _t62*_t7*(design_17*_t40 - _t36*_t63)
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    tau = ca.reshape(ca.vertcat(-_t13*_t18*_t48*_t7 + _t57, _t1*_t15*_t18*_t48 - _t57), 2, 1)
+    tau = ca.reshape(ca.vertcat(_t12*_t15*_t18*_t19*(-_t13*_t58*_t7 + _t64), _t12*_t15*_t18*_t19*(_t1*_t16*_t58 - _t64)), 2, 1)
     return ca.Function("inverse_dynamics_from_pose", [x, mode, x_dot, x_ddot, design], [q, reach, tau], ["x", "mode", "x_dot", "x_ddot", "design"], ["q", "reach", "tau"])
 
 

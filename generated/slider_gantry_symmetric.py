@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 500a5d635398bb8f).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 15390ed4e70bfabe).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry with the fourth link A4B4 (Wu section 6.3)."""
 
 import casadi as ca
 
-SOURCE_HASH = "500a5d635398bb8f"
+SOURCE_HASH = "15390ed4e70bfabe"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "m5", "I5", "s5", "g", )
 POSE = ("x", "y", )
@@ -314,7 +314,7 @@ def first_order_from_pose():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 18 common subexpressions, 50 operations
+    # 17 common subexpressions, 49 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t0 - _t1**2
@@ -327,19 +327,18 @@ def first_order_from_pose():
     _t9 = _t4 + _t8
     _t10 = _t3
     _t11 = _t8
-    _t12 = _t1*_t11
-    _t13 = _t10*_t6
-    _t14 = 1/(_t12 - _t13)
-    _t15 = _t10*_t11*_t14
-    _t16 = _t10*_t14
-    _t17 = _t11*_t14
+    _t12 = -_t1*_t11 + _t10*_t6
+    _t13 = 1/_t12
+    _t14 = _t10*_t11*_t13
+    _t15 = _t10*_t13
+    _t16 = _t11*_t13
     q = ca.reshape(ca.vertcat(-_t5, -_t9, ca.atan2(_t1, _t3), ca.atan2(_t6, _t8)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t2, _t7, (-_t5 - design_4)*(_t5 + design_5), (-_t9 - design_4)*(_t9 + design_5)), 4, 1)
     J = ca.reshape(ca.vertcat(_t1/_t10, _t6/_t11, 1, 1), 2, 2)
-    J_f = ca.reshape(ca.vertcat(_t15, -_t16*_t6, -_t15, _t1*_t17), 2, 2)
-    psi = ca.reshape(ca.vertcat(1, 0, _t17, _t16, 0, 1, -_t17, -_t16), 4, 2)
+    J_f = ca.reshape(ca.vertcat(-_t14, _t15*_t6, _t14, -_t1*_t16), 2, 2)
+    psi = ca.reshape(ca.vertcat(1, 0, -_t16, -_t15, 0, 1, _t16, _t15), 4, 2)
     det_type1 = ca.reshape(ca.vertcat(-_t10*_t11), 1, 1)
-    det_type2 = ca.reshape(ca.vertcat(-_t12 + _t13), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(_t12), 1, 1)
     return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
@@ -1062,7 +1061,7 @@ def inertia_from_pose():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 70 common subexpressions, 447 operations
+    # 43 common subexpressions, 216 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1075,69 +1074,42 @@ def inertia_from_pose():
     _t9 = _t0 - _t8
     _t10 = mode_1*ca.sqrt(ca.fmax(0, _t9))
     _t11 = _t10 + _t5
-    _t12 = _t8*design_0
-    _t13 = _t4
-    _t14 = _t13**2
-    _t15 = _t2*design_0
-    _t16 = _t10
-    _t17 = _t16**2
-    _t18 = _t1*design_0
-    _t19 = 2*_t7
-    _t20 = _t13*_t16
-    _t21 = 1/(_t12*_t14 + _t15*_t17 - _t18*_t19*_t20)
-    _t22 = _t1*design_8
-    _t23 = _t7*design_0
-    _t24 = _t22*_t23
-    _t25 = _t1*design_10
-    _t26 = _t23*_t25
-    _t27 = _t1*design_12
-    _t28 = _t23*_t27
-    _t29 = _t1*design_14
-    _t30 = _t23*_t29
-    _t31 = _t25*design_19
-    _t32 = _t29*design_21
-    _t33 = design_0*design_15
-    _t34 = design_16*_t17*design_0 + design_17*_t14*design_0 + design_18*_t17*design_0 + design_23*_t14*design_0 + _t14*_t17*_t33
-    _t35 = _t2*design_10*design_19
-    _t36 = _t2*design_14*design_21
-    _t37 = _t15*_t17*design_8 + _t15*_t17*design_10 + _t15*_t17*design_12 + _t15*_t17*design_14 - 2*_t17*_t35 - 2*_t17*_t36
-    _t38 = _t33*_t7
-    _t39 = _t8*design_11*design_20
-    _t40 = _t8*design_22*design_24
-    _t41 = -_t14*_t39 - _t14*_t40 + _t20*_t31*_t7 + _t20*_t32*_t7 + _t34
-    _t42 = _t7*design_11
-    _t43 = _t42*design_20
-    _t44 = _t1*_t43
-    _t45 = _t7*design_22
-    _t46 = _t45*design_24
-    _t47 = _t1*_t46
-    _t48 = -_t17*_t2*design_10*design_19 - _t17*_t2*design_14*design_21 + _t20*_t44 + _t20*_t47
-    _t49 = _t21*(-_t1*_t20*_t38 - _t41 - _t48)
-    _t50 = _t7*design_9
-    _t51 = _t7*design_13
-    _t52 = _t12*_t14*design_9 + _t12*_t14*design_11 + _t12*_t14*design_13 + _t12*_t14*design_22 - 2*_t14*_t39 - 2*_t14*_t40 + _t34
-    _t53 = 1/_t14
-    _t54 = 1/_t17
-    _t55 = 1/_t13
-    _t56 = 1/design_0
-    _t57 = _t1*_t55
-    _t58 = _t1*_t56
-    _t59 = -_t55*_t58*design_19 + _t57
-    _t60 = -_t55*_t58*design_21 + _t57
-    _t61 = 1/_t16
-    _t62 = _t61*_t7
-    _t63 = _t56*_t7
-    _t64 = -_t61*_t63*design_20 + _t62
-    _t65 = -_t61*_t63*design_24 + _t62
-    _t66 = _t22*_t55 + _t27*_t55 + _t50*_t61 + _t51*_t61
-    _t67 = 1/(_t13*_t17*_t18 - _t14*_t16*_t23)
-    _t68 = 1/(-_t13*_t23 + _t16*_t18)
-    _t69 = _t13*_t43 + _t13*_t46 + _t16*_t31 + _t16*_t32
+    _t12 = 1/design_0
+    _t13 = _t10
+    _t14 = _t4
+    _t15 = _t1*_t13 - _t14*_t7
+    _t16 = _t15**(-2)
+    _t17 = design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15
+    _t18 = _t7*design_0
+    _t19 = _t1*design_0
+    _t20 = design_10*design_19
+    _t21 = design_11*design_20
+    _t22 = design_14*design_21
+    _t23 = design_22*design_24
+    _t24 = _t13*_t19*design_8 + _t13*_t19*design_12 + _t14*_t18*design_9 + _t14*_t18*design_13
+    _t25 = -_t1*_t13*_t20 - _t1*_t13*_t22 + _t13*_t19*design_10 + _t13*_t19*design_14 + _t14*_t18*design_11 + _t14*_t18*design_22 - _t14*_t21*_t7 - _t14*_t23*_t7 + _t24
+    _t26 = -_t14*_t17*_t18 + _t25
+    _t27 = design_10*(design_0 - design_19)
+    _t28 = design_11*(design_0 - design_20)
+    _t29 = design_14*(design_0 - design_21)
+    _t30 = design_22*(design_0 - design_24)
+    _t31 = _t1*_t13*_t27 + _t1*_t13*_t29 + _t14*_t28*_t7 + _t14*_t30*_t7 + _t24
+    _t32 = _t2*design_0
+    _t33 = _t13**2
+    _t34 = _t8*design_0
+    _t35 = _t14**2
+    _t36 = _t2*_t27*_t33 + _t2*_t29*_t33 + _t28*_t35*_t8 + _t30*_t35*_t8 + _t32*_t33*design_8 + _t32*_t33*design_12 + _t33*_t35*design_0*design_15 + _t33*(design_16*design_0 - _t2*_t20) + _t33*(design_18*design_0 - _t2*_t22) + _t34*_t35*design_9 + _t34*_t35*design_13 + _t35*(design_17*design_0 - _t21*_t8) + _t35*(design_23*design_0 - _t23*_t8)
+    _t37 = -_t14*_t31*_t7 + _t36
+    _t38 = _t1*_t13*_t17*design_0 - _t25
+    _t39 = -_t1*_t13*_t31 + _t36
+    _t40 = 1/_t14
+    _t41 = 1/_t13
+    _t42 = 1/_t15
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    M_t = ca.reshape(ca.vertcat(_t21*(_t12*_t14*design_8 + _t12*_t14*design_10 + _t12*_t14*design_12 + _t12*_t14*design_14 + _t12*_t14*design_15 + _t19*_t20*_t31 + _t19*_t20*_t32 - 2*_t20*_t24 - 2*_t20*_t26 - 2*_t20*_t28 - 2*_t20*_t30 + _t34 + _t37), _t49, _t49, _t21*(_t15*_t17*design_9 + _t15*_t17*design_11 + _t15*_t17*design_13 + _t15*_t17*design_22 + _t15*_t17*design_15 - 2*_t18*_t20*_t42 - 2*_t18*_t20*_t45 - 2*_t18*_t20*_t50 - 2*_t18*_t20*_t51 + 2*_t20*_t44 + 2*_t20*_t47 + _t52)), 2, 2)
-    M_w = ca.reshape(ca.vertcat(_t2*_t53*design_8 + _t2*_t53*design_12 + _t25*_t55*_t59 + _t29*_t55*_t60 + _t42*_t61*_t64 + _t45*_t61*_t65 + _t54*_t8*design_9 + _t54*_t8*design_13 + _t55*(design_16*_t55 - _t35*_t55*_t56) + _t55*(design_18*_t55 - _t36*_t55*_t56) + _t61*(design_17*_t61 - _t39*_t56*_t61) + _t61*(design_23*_t61 - _t40*_t56*_t61) + design_15, _t59*design_10 + _t60*design_14 + _t64*design_11 + _t65*design_22 + _t66, _t25*_t55 + _t29*_t55 - _t31*_t55*_t56 - _t32*_t55*_t56 + _t42*_t61 - _t43*_t56*_t61 + _t45*_t61 - _t46*_t56*_t61 + _t66, design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15), 2, 2)
-    M_d = ca.reshape(ca.vertcat(_t67*(-_t20*_t24 - _t20*_t26 - _t20*_t28 - _t20*_t30 + _t37 + _t41), _t67*(_t1*_t13*_t16*_t7*design_0*design_9 + _t1*_t13*_t16*_t7*design_0*design_11 + _t1*_t13*_t16*_t7*design_0*design_13 + _t1*_t13*_t16*_t7*design_0*design_22 - _t48 - _t52), _t68*(_t1*_t16*design_0*design_8 + _t1*_t16*design_0*design_10 + _t1*_t16*design_0*design_12 + _t1*_t16*design_0*design_14 - _t13*_t23*design_8 - _t13*_t23*design_10 - _t13*_t23*design_12 - _t13*_t23*design_14 - _t13*_t38 - _t69), _t68*(_t1*_t16*_t33 - _t13*_t42*design_0 - _t13*_t45*design_0 - _t13*_t50*design_0 - _t13*_t51*design_0 + _t16*_t18*design_9 + _t16*_t18*design_11 + _t16*_t18*design_13 + _t16*_t18*design_22 + _t69)), 2, 2)
+    M_t = ca.reshape(ca.vertcat(_t12*_t16*(-_t14*_t26*_t7 + _t37), _t12*_t16*(-_t14*_t38*_t7 - _t39), _t12*_t16*(_t1*_t13*_t26 - _t37), _t12*_t16*(_t1*_t13*_t38 + _t39)), 2, 2)
+    M_w = ca.reshape(ca.vertcat(_t12*_t36/(_t33*_t35), _t12*_t31*_t40*_t41, _t12*_t25*_t40*_t41, _t17), 2, 2)
+    M_d = ca.reshape(ca.vertcat(_t12*_t37*_t40*_t41*_t42, -_t12*_t39*_t40*_t41*_t42, _t12*_t26*_t42, _t12*_t38*_t42), 2, 2)
     return ca.Function("inertia_from_pose", [x, mode, design], [q, reach, M_t, M_w, M_d], ["x", "mode", "design"], ["q", "reach", "M_t", "M_w", "M_d"])
 
 
@@ -1194,7 +1166,7 @@ def inverse_dynamics_from_pose():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 65 common subexpressions, 290 operations
+    # 71 common subexpressions, 309 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1207,62 +1179,68 @@ def inverse_dynamics_from_pose():
     _t9 = _t0 - _t8
     _t10 = mode_1*ca.sqrt(ca.fmax(0, _t9))
     _t11 = _t10 + _t5
-    _t12 = _t10
-    _t13 = 1/_t12
-    _t14 = _t4
+    _t12 = 1/design_0
+    _t13 = _t4
+    _t14 = _t13**3
     _t15 = 1/_t14
-    _t16 = _t1*_t15
-    _t17 = _t13*_t7
-    _t18 = 1/(_t16 - _t17)
-    _t19 = x_dot_0**2
-    _t20 = _t14**(-2)
-    _t21 = _t15*_t19*(_t2*_t20 + 1)
-    _t22 = _t21 + design_25
-    _t23 = -_t21 + design_25
-    _t24 = _t12**(-2)
-    _t25 = _t13*_t19*(_t24*_t8 + 1)
-    _t26 = _t25 + design_25
-    _t27 = -_t25 + design_25
-    _t28 = 1/design_0
-    _t29 = _t19*_t28
-    _t30 = _t29*design_19
-    _t31 = _t14**(-3)
-    _t32 = -_t15*_t30 - _t2*_t30*_t31 + _t22
-    _t33 = _t29*design_21
-    _t34 = -_t15*_t33 - _t2*_t31*_t33 + _t22
-    _t35 = _t29*design_20
-    _t36 = _t12**(-3)
-    _t37 = -_t13*_t35 + _t26 - _t35*_t36*_t8
-    _t38 = _t29*design_24
-    _t39 = -_t13*_t38 + _t26 - _t36*_t38*_t8
-    _t40 = _t1*_t28
-    _t41 = -_t15*_t40*design_19 + _t16
-    _t42 = _t28*_t7
-    _t43 = -_t13*_t42*design_20 + _t17
-    _t44 = -_t15*_t40*design_21 + _t16
-    _t45 = -_t13*_t42*design_24 + _t17
-    _t46 = _t1*design_8
-    _t47 = _t1*design_12
-    _t48 = _t7*design_9
-    _t49 = _t7*design_13
-    _t50 = _t13*_t48 + _t13*_t49 + _t15*_t46 + _t15*_t47
-    _t51 = _t22*design_8 - _t23*design_12 + _t26*design_9 - _t27*design_13 + _t32*design_10 + _t34*design_14 + _t37*design_11 + _t39*design_22 + design_25*design_15 + x_ddot_0*(_t41*design_10 + _t43*design_11 + _t44*design_14 + _t45*design_22 + _t50) + x_ddot_1*(design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15)
-    _t52 = _t1*_t19
-    _t53 = _t1*design_10
-    _t54 = _t28*_t53*design_19
+    _t16 = _t10
+    _t17 = _t16**3
+    _t18 = 1/_t17
+    _t19 = 1/(_t1*_t16 - _t13*_t7)
+    _t20 = design_25*design_0
+    _t21 = _t14*_t17
+    _t22 = design_0*design_8
+    _t23 = _t14*design_25
+    _t24 = x_dot_0**2
+    _t25 = _t13**2
+    _t26 = _t2 + _t25
+    _t27 = _t24*_t26
+    _t28 = _t23 + _t27
+    _t29 = design_0*design_12
+    _t30 = _t23 - _t27
+    _t31 = design_0*design_9
+    _t32 = _t17*design_25
+    _t33 = _t16**2
+    _t34 = _t33 + _t8
+    _t35 = _t24*_t34
+    _t36 = _t32 + _t35
+    _t37 = design_0*design_13
+    _t38 = _t32 - _t35
+    _t39 = _t24*design_19
+    _t40 = _t24*design_0
+    _t41 = _t14*_t20 + _t26*_t40
+    _t42 = -_t2*_t39 - _t25*_t39 + _t41
+    _t43 = _t24*design_21
+    _t44 = -_t2*_t43 - _t25*_t43 + _t41
+    _t45 = _t24*design_20
+    _t46 = _t17*_t20 + _t34*_t40
+    _t47 = -_t33*_t45 - _t45*_t8 + _t46
+    _t48 = _t24*design_24
+    _t49 = -_t33*_t48 + _t46 - _t48*_t8
+    _t50 = design_0 - design_19
+    _t51 = _t1*design_10
+    _t52 = design_0 - design_20
+    _t53 = _t7*design_11
+    _t54 = design_0 - design_21
     _t55 = _t1*design_14
-    _t56 = _t28*_t55*design_21
-    _t57 = _t19*_t7
-    _t58 = _t7*design_11
-    _t59 = _t28*_t58*design_20
-    _t60 = _t7*design_22
-    _t61 = _t28*_t60*design_24
-    _t62 = _t2*_t28
-    _t63 = _t28*_t8
-    _t64 = _t18*(_t13*_t26*_t48 - _t13*_t27*_t49 + _t13*_t37*_t58 + _t13*_t39*_t60 + _t13*(design_17*_t36*_t57 - _t26*_t59) + _t13*(design_23*_t36*_t57 - _t26*_t61) + _t15*_t22*_t46 - _t15*_t23*_t47 + _t15*_t32*_t53 + _t15*_t34*_t55 + _t15*(design_16*_t31*_t52 - _t22*_t54) + _t15*(design_18*_t31*_t52 - _t22*_t56) + x_ddot_0*(_t13*_t43*_t58 + _t13*_t45*_t60 + _t13*(design_17*_t13 - _t13*_t63*design_11*design_20) + _t13*(design_23*_t13 - _t13*_t63*design_22*design_24) + _t15*_t41*_t53 + _t15*_t44*_t55 + _t15*(design_16*_t15 - _t15*_t62*design_10*design_19) + _t15*(design_18*_t15 - _t15*_t62*design_14*design_21) + _t2*_t20*design_8 + _t2*_t20*design_12 + _t24*_t8*design_9 + _t24*_t8*design_13 + design_15) + x_ddot_1*(_t13*_t58 - _t13*_t59 + _t13*_t60 - _t13*_t61 + _t15*_t53 - _t15*_t54 + _t15*_t55 - _t15*_t56 + _t50))
+    _t56 = design_0 - design_24
+    _t57 = _t7*design_22
+    _t58 = _t1*_t22
+    _t59 = _t1*_t29
+    _t60 = _t31*_t7
+    _t61 = _t37*_t7
+    _t62 = _t13*_t60 + _t13*_t61 + _t16*_t58 + _t16*_t59
+    _t63 = _t14*_t31*_t36 - _t14*_t37*_t38 + _t14*_t47*design_11 + _t14*_t49*design_22 + _t17*_t22*_t28 - _t17*_t29*_t30 + _t17*_t42*design_10 + _t17*_t44*design_14 + _t20*_t21*design_15 + _t21*design_0*x_ddot_1*(design_8 + design_10 + design_12 + design_9 + design_11 + design_13 + design_14 + design_22 + design_15) + _t25*_t33*x_ddot_0*(_t13*_t52*_t53 + _t13*_t56*_t57 + _t16*_t50*_t51 + _t16*_t54*_t55 + _t62)
+    _t64 = _t16**4
+    _t65 = design_10*design_19
+    _t66 = design_14*design_21
+    _t67 = _t13**4
+    _t68 = design_11*design_20
+    _t69 = design_22*design_24
+    _t70 = _t1*_t64*(design_16*_t40 - _t28*_t65) + _t1*_t64*(design_18*_t40 - _t28*_t66) + _t14*_t17*x_ddot_1*(-_t1*_t16*_t65 - _t1*_t16*_t66 + _t13*_t53*design_0 + _t13*_t57*design_0 - _t13*_t68*_t7 - _t13*_t69*_t7 + _t16*_t51*design_0 + _t16*_t55*design_0 + _t62) + _t25*_t33*x_ddot_0*(_t2*_t22*_t33 + _t2*_t29*_t33 + _t2*_t33*_t50*design_10 + _t2*_t33*_t54*design_14 + _t25*_t31*_t8 + _t25*_t33*design_0*design_15 + _t25*_t37*_t8 + _t25*_t52*_t8*design_11 + _t25*_t56*_t8*design_22 + _t25*(design_17*design_0 - _t68*_t8) + _t25*(design_23*design_0 - _t69*_t8) + _t33*(design_16*design_0 - _t2*_t65) + _t33*(design_18*design_0 - _t2*_t66)) + _t28*_t58*_t64 - _t30*_t59*_t64 + _t36*_t60*_t67 - _t38*_t61*_t67 + _t42*_t51*_t64 + _t44*_t55*_t64 + _t47*_t53*_t67 + _t49*_t57*_t67 + _t67*_t7*(design_17*_t40 - _t36*_t68) + _t67*_t7*(design_23*_t40 - _t36*_t69)
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    tau = ca.reshape(ca.vertcat(-_t13*_t18*_t51*_t7 + _t64, _t1*_t15*_t18*_t51 - _t64), 2, 1)
+    tau = ca.reshape(ca.vertcat(_t12*_t15*_t18*_t19*(-_t13*_t63*_t7 + _t70), _t12*_t15*_t18*_t19*(_t1*_t16*_t63 - _t70)), 2, 1)
     return ca.Function("inverse_dynamics_from_pose", [x, mode, x_dot, x_ddot, design], [q, reach, tau], ["x", "mode", "x_dot", "x_ddot", "design"], ["q", "reach", "tau"])
 
 

@@ -97,7 +97,6 @@ class ForwardKinematics:
 
 
 FIRST_ORDER_UNITS = ("h", "H_q", "H_x", "J", "J_f", "psi", "det")
-CANCEL_LIMIT = 400  # operations of an entry beyond which add_from_pose does not try to cancel it
 
 
 def add_kinematics(
@@ -212,10 +211,10 @@ def add_from_pose(
         q_j -> IK(x)_j                                                      (the other joints),
 
     after the trigonometric functions of sums of joint angles are expanded (cos(a - b) = cos a cos b +
-    sin a sin b), each entry cancelled as a rational function of the links' vector components (the
-    links' lengths and common scales cancel) where that takes fewer operations than the entry as it is,
-    and then the components replaced by ``inverse.vectors``: the same values as ``name`` at q = IK(x),
-    to round-off, with no trigonometric call.
+    sin a sin b), each entry brought over one denominator in the links' vector components (CasADi
+    evaluates every product with a reciprocal as a division: a sum of fractions would cost a division
+    per term), and then the components replaced by ``inverse.vectors``: the same values as ``name`` at
+    q = IK(x), to round-off, with no trigonometric call.
 
     Parameters
     ----------
@@ -264,24 +263,14 @@ def add_from_pose(
 def _from_vectors(expr: sp.Matrix, inverse: InverseKinematics, joints: Port) -> sp.Matrix:
     """``expr`` from the pose (:func:`add_from_pose`): trigonometric functions of the joints expanded, the
     angles' cosines and sines replaced by ``inverse.directions`` and the other joints by their inverse
-    kinematics, each entry cancelled where that is shorter, the vector components replaced by
-    ``inverse.vectors``; a component that is a product is kept whole, for sympy would distribute a
-    power over its factors ((sigma sqrt(m))^3 = sigma^3 m^(3/2), a call of pow)."""
+    kinematics, each entry over one denominator, the vector components replaced by ``inverse.vectors``;
+    a component that is a product is kept whole, for sympy would distribute a power over its factors
+    ((sigma sqrt(m))^3 = sigma^3 m^(3/2), a call of pow)."""
     angles = {s for s in joints.symbols if sp.cos(s) in inverse.directions}
     others = {s: inverse.q[k] for k, s in enumerate(joints.symbols) if s not in angles}
     vectors = {s: sp.UnevaluatedExpr(v) if v.is_Mul else v for s, v in (inverse.vectors or {}).items()}
-    return expr.applyfunc(lambda e: _shorter(sp.expand_trig(e).xreplace(inverse.directions))
+    return expr.applyfunc(lambda e: sp.together(sp.expand_trig(e).xreplace(inverse.directions))
                           .xreplace(others).xreplace(vectors))
-
-
-def _shorter(expr: sp.Expr) -> sp.Expr:
-    """``expr`` cancelled as a rational function where that takes fewer operations, else as it is; an
-    entry of more than CANCEL_LIMIT operations is kept as it is (cancelling it would take minutes and
-    expand it: a product of matrices such as J^T M_t J is shorter as the product)."""
-    if sp.count_ops(expr) > CANCEL_LIMIT:
-        return expr
-    cancelled = sp.cancel(expr)
-    return cancelled if sp.count_ops(cancelled) <= sp.count_ops(expr) else expr
 
 
 def _check_ports(loop: LoopClosure, *, pose: Port, joints: Port, actuated: Port) -> None:

@@ -22,7 +22,7 @@ trigonometric calls (:class:`ChainSolution`): with d = P - O_i and perp(d) = (-d
 so that the acos above is atan2(h, k) and phi_i = atan2(w_i). The first order (J = -H_q^-1 H_x of the
 loop closure below, J_f, Psi and the determinants) is written in v_i, w_i and |d|^2: the cosine and
 sine of each angle replaced by the components of v_i / (r1 |d|^2) and w_i / (r2 |d|^2), each entry
-cancelled. Row i of J, for instance, is |d_i|^2 w_i^T / (v_i x w_i) (x the planar cross product): the
+over one denominator. Row i of J, for instance, is |d_i|^2 w_i^T / (v_i x w_i) (x the planar cross product): the
 same J as from the angles, to round-off, with no cos, sin, acos or atan2 (``first_order_from_pose``).
 The inertia matrices are emitted from the pose the same way (``inertia_from_pose``), the cosines of
 theta_i - phi_i in the mass matrix expanded into products of the vectors' components.
