@@ -50,3 +50,9 @@ def test_integrals_tables_are_quoted_from_the_committed_run():
 
     report = json.loads((RUNS / "integrals.json").read_text())
     assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_targets_table_is_quoted_from_the_committed_runs():
+    from bench.targets import committed
+
+    assert committed() in (ROOT / "docs" / "benchmarks.md").read_text()
