@@ -17,7 +17,7 @@
 void pkm_kernel_call(long i, long n, long group, const double *const *in, const long *stride, double *const *out);
 
 #define PKM_MAX_THREADS 64
-#define PKM_SPIN_NS 200000L
+#define PKM_SPIN_NS 1000000L
 
 static pthread_mutex_t job_lock = PTHREAD_MUTEX_INITIALIZER;  /* one call at a time uses the threads */
 static pthread_mutex_t wake_lock = PTHREAD_MUTEX_INITIALIZER;

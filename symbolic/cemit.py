@@ -140,27 +140,16 @@ def _expression(fn: ca.Function, k: int, ref: list[str]) -> str:
     return BINARY[op].format(ref[ins[0]], ref[ins[1]])
 
 
-def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
-    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring), or with ``summed``
-    adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
-    ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``.
-
-    A summing kernel reads the inputs named in GROUP_SHARED once per group, from its first row (they are
-    the same on every row of a group: one design per group), and computes what depends on them alone once
-    per group, before the loop over the group's rows."""
-    if not emittable(fn):
-        raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
-    n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
-    n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
-    shared = {i for i in range(fn.n_in()) if summed and fn.name_in(i) in GROUP_SHARED}
-    # each work variable's current name: a column of the block (w) or a value once per group (h)
-    ref = [f"w{k}" for k in range(fn.sz_w())]
+def _split(fn: ca.Function, shared: set[int]) -> tuple[list[str], list[str], set[tuple[int, int]]]:
+    """The statements that depend on the ``shared`` inputs alone (once, ``const double h<k>``), the others
+    (per row of a block, ``w<k>`` and the outputs ``b<j>``), and the entries of the other inputs they read."""
+    ref = [f"w{k}" for k in range(fn.sz_w())]  # each work variable's current name: w (per row) or h (once)
     varies = [True] * fn.sz_w()
-    hoisted, body, gathered = [], [], set()
+    once_lines, row_lines, gathered = [], [], set()
     for k in range(fn.n_instructions()):
         op, ins, outs = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
         if op == ca.OP_OUTPUT:
-            body.append(f"b{outs[0]}[{outs[1]}][q] = {ref[ins[0]]};")
+            row_lines.append(f"b{outs[0]}[{outs[1]}][q] = {ref[ins[0]]};")
             continue
         if op == ca.OP_INPUT:
             once = ins[0] in shared
@@ -168,48 +157,69 @@ def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
             if not once:
                 gathered.add((ins[0], ins[1]))
         else:
-            once = summed and not any(varies[i] for i in ins if i >= 0)
+            once = bool(shared) and not any(varies[i] for i in ins if i >= 0)
             expression = _expression(fn, k, ref)
         if once:
-            hoisted.append(f"const double h{k} = {expression};")
+            once_lines.append(f"const double h{k} = {expression};")
             ref[outs[0]], varies[outs[0]] = f"h{k}", False
         else:
-            body.append(f"w{outs[0]} = {expression};")
+            row_lines.append(f"w{outs[0]} = {expression};")
             ref[outs[0]], varies[outs[0]] = f"w{outs[0]}", True
-    written = sorted({int(line[1:line.index(" ")]) for line in body if line.startswith("w")})
+    return once_lines, row_lines, gathered
+
+
+def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[str]:
+    """The loop over groups of rows (one group, the whole batch, for a kernel that is not summed) with
+    what depends on the ``shared`` inputs alone computed once per group, then over each group's blocks."""
+    once_lines, row_lines, gathered = _split(fn, shared)
+    n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
+    written = sorted({int(line[1:line.index(" ")]) for line in row_lines if line.startswith("w")})
+    inner = indent + "    "
+    lines = [f"{indent}for (long g0 = 0; g0 < n; g0 += {'group' if summed else 'n'}) {{",
+             f"{indent}  const long g1 = {'n - g0 < group ? n : g0 + group' if summed else 'n'};"]
+    lines += [f"{indent}  {line}" for line in once_lines]
+    lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
+              f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
+    lines += [f"{inner}PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    lines += ["#pragma omp simd", f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{"]
+    if written:
+        lines.append(f"{inner}  double " + ", ".join(f"w{k}" for k in written) + ";")
+    lines += [f"{inner}  {line}" for line in row_lines]
+    lines.append(f"{inner}}}")
+    store = ("accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);" if summed
+             else "scatter)(out[{j}], {k}, b{j}[0], p0, m);")
+    lines += [f"{inner}PKM_FN(pkm_{store.format(j=j, k=k)}" for j, k in enumerate(n_out) if k]
+    return [*lines, f"{indent}  }}", f"{indent}}}"]
+
+
+def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
+    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring), or with ``summed``
+    adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
+    ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``.
+
+    The inputs named in GROUP_SHARED (the mode, the design) are read once, and what depends on them alone
+    is computed once, before the loop over the rows: by a summing kernel once per group, from the group's
+    first row (they are the same on every row of a group: one design per group); by one that is not summed
+    once per call where every one of them is shared by the batch (stride 0), else row by row."""
+    if not emittable(fn):
+        raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
+    n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
+    n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
+    shared = {i for i in range(fn.n_in()) if fn.name_in(i) in GROUP_SHARED and n_in[i]}
     lines = [
-        f"/* {fn.name()}: {fn.n_instructions()} instructions"
-        + (f", {len(hoisted)} once per group" if summed else "")
-        + f"; inputs {', '.join(fn.name_in())}; outputs {', '.join(fn.name_out())}"
-        + f"{' summed over the batch' if summed else ''} */",
+        f"/* {fn.name()}: {fn.n_instructions()} instructions, {len(_split(fn, shared)[0])} once per "
+        f"{'group' if summed else 'call where the design is shared'}; inputs {', '.join(fn.name_in())}; "
+        f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
         f"void PKM_FN({symbol})(long n, long group, const double *const *in, const long *stride, "
         "double *const *out)",
         "{",
     ]
-    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and i not in shared]
+    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and (i not in shared or not summed)]
     lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
-    indent = "    "
-    if summed:
-        lines += ["  for (long g0 = 0; g0 < n; g0 += group) {",
-                  "    const long g1 = n - g0 < group ? n : g0 + group;"]
-        lines += ["    " + line for line in hoisted]
-        lines += ["    for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {",
-                  "      const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
-        indent = "      "
+    if summed or not shared:
+        lines += _loop(fn, shared if summed else set(), summed, "  ")
     else:
-        lines += ["  for (long p0 = 0; p0 < n; p0 += PKM_BLOCK) {",
-                  "    const long m = n - p0 < PKM_BLOCK ? n - p0 : PKM_BLOCK;"]
-    lines += [f"{indent}PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
-    lines += ["#pragma omp simd", f"{indent}for (long q = 0; q < PKM_BLOCK; ++q) {{"]
-    if written:
-        lines.append(f"{indent}  double " + ", ".join(f"w{k}" for k in written) + ";")
-    lines += [f"{indent}  {line}" for line in body]
-    lines.append(f"{indent}}}")
-    if summed:
-        lines += [f"{indent}PKM_FN(pkm_accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);"
-                  for j, k in enumerate(n_out) if k]
-        lines += ["    }", "  }", "}", ""]
-    else:
-        lines += [f"{indent}PKM_FN(pkm_scatter)(out[{j}], {k}, b{j}[0], p0, m);" for j, k in enumerate(n_out) if k]
-        lines += ["  }", "}", ""]
-    return "\n".join(lines)
+        condition = " && ".join(f"stride[{i}] == 0" for i in sorted(shared))
+        lines += [f"  if ({condition}) {{", *_loop(fn, shared, False, "    "), "  } else {",
+                  *_loop(fn, set(), False, "    "), "  }"]
+    return "\n".join([*lines, "}", ""])
