@@ -206,7 +206,10 @@ def batch_sums(
     mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, designs: np.ndarray, resolution: int
 ) -> np.ndarray:
     """The sums (D, k) of the reduction ``reduce`` over the region's nodes for each of the designs (D, n_p):
-    the nodes of each design are one group of the summing kernel."""
+    the nodes of each design are one group of the summing kernel (one design is shared by the nodes)."""
+    if len(designs) == 1:
+        return region_sums(mech, local, region, reduce, signs=signs, design=designs[0], resolution=resolution,
+                           order=0)[0][None]
     sums = np.zeros((len(designs), len(COMPONENTS[reduce])))
     for piece in region.pieces():
         nodes, weights = reference(piece, resolution, reduce)
