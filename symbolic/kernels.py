@@ -4,7 +4,8 @@ The kernels are the functions pkm evaluates over batches, built the way the runt
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
 alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
 indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
-a sampled check evaluates it), and the one of its first order (the Jacobians),
+a sampled check evaluates it), the one of its first order (the Jacobians) and, for a virtual-work model,
+its fused inverse dynamics (:func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`),
 by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
 integrands of its global indices over its parametrised regions and over the regions of its synthesis
 problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
