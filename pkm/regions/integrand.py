@@ -45,6 +45,15 @@ def _name(mech: Any, local: LocalIndex, what: str, order: int) -> str:
     return f"{mech.name}_{local.name}_{what}_{order}"
 
 
+def _cheaper_jacobian(inputs: list[ca.SX], values: ca.SX, za: ca.SX) -> ca.SX:
+    """The Jacobian of ``values`` in ``za`` by forward or by reverse mode, whichever graph has fewer
+    instructions (casadi.jacobian's own choice goes by the sizes alone)."""
+    forward = ca.jacobian(values, za)
+    reverse = ca.jtimes(values, za, ca.SX.eye(values.numel()), True).T
+    size = [ca.Function("j", inputs, [values, ca.densify(j)]).n_instructions() for j in (forward, reverse)]
+    return forward if size[0] <= size[1] else reverse
+
+
 def _with_derivatives(
     name: str, inputs: dict[str, ca.SX], values: ca.SX, z: ca.SX, *, order: int
 ) -> tuple[ca.Function, tuple[int, ...]]:
@@ -55,7 +64,7 @@ def _with_derivatives(
     za = ca.vertcat(*[z[k] for k in active])
     outputs, out_names = [values], ["value"]
     if order >= 1:
-        jacobian = ca.jacobian(values, za)
+        jacobian = _cheaper_jacobian(list(inputs.values()), values, za)
         outputs.append(ca.densify(jacobian))
         out_names.append("jacobian")
     if order >= 2:
