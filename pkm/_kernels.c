@@ -1,5 +1,6 @@
 /* The Python module that carries the compiled path's kernels (generated/kernels.c): pkm.compiled loads
-   this library with ctypes and calls pkm_kernel_count, pkm_kernel_key, pkm_kernel_call and pkm_kernel_run.
+   this library with ctypes and calls pkm_kernel_count, pkm_kernel_key, pkm_kernel_isa and pkm_kernel_run,
+   which runs pkm_kernel_call (the dispatch of generated/kernels.c) over the chunks of a batch.
 
    pkm_kernel_run evaluates one kernel over several chunks of a batch at once: the calling thread takes
    chunks itself while threads kept from earlier calls take the others. A kept thread waits for the next

@@ -104,22 +104,30 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     run = kernel(f, summed=True)
     if run is None:
         sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
-        return sums if group is not None else tuple(s[0] for s in sums)
+    else:
+        sums = _shaped(f, _compiled_sums(f, run, arrays, n, size), n // size)
+    return sums if group is not None else tuple(s[0] for s in sums)
+
+
+def _compiled_sums(
+    f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray], n: int, size: int
+) -> list[np.ndarray]:
+    """The sums (n / size, numel_j) of each output over each run of ``size`` rows by the summing kernel;
+    where there are fewer runs than threads, each is split into chunks whose partial sums are added in
+    chunk order."""
     groups = n // size
     outputs = [np.zeros((groups, f.numel_out(j))) for j in range(f.n_out())]
     bounds = _chunks(f, n, size)
     if len(bounds) <= groups:
         _run_chunks(f, run, arrays, bounds,
                     lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
-    else:  # fewer groups than threads: each group split into chunks whose partial sums are added in order
-        partial = [np.zeros((len(bounds), f.numel_out(j))) for j in range(f.n_out())]
-        _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
-        owner = np.array([start // size for start, _ in bounds])
+        return outputs
+    partial = [np.zeros((len(bounds), f.numel_out(j))) for j in range(f.n_out())]
+    _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
+    for k, (start, _) in enumerate(bounds):
         for o, p in zip(outputs, partial, strict=True):
-            for k, g in enumerate(owner):
-                o[g] += p[k]
-    sums = _shaped(f, outputs, groups)
-    return sums if group is not None else tuple(s[0] for s in sums)
+            o[start // size] += p[k]
+    return outputs
 
 
 def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:

@@ -42,7 +42,6 @@ def _library() -> tuple[ctypes.CDLL | None, dict[str, int], str]:
     lib.pkm_kernel_count.restype = ctypes.c_long
     lib.pkm_kernel_key.restype = ctypes.c_char_p
     lib.pkm_kernel_key.argtypes = [ctypes.c_long]
-    lib.pkm_kernel_call.restype = None
     lib.pkm_kernel_run.restype = None
     lib.pkm_kernel_isa.restype = ctypes.c_char_p
     keys = {lib.pkm_kernel_key(i).decode(): i for i in range(lib.pkm_kernel_count())}
