@@ -12,7 +12,8 @@ extreme on the boundary is found on it. The search needs no derivative and conve
 kinks of the local index (an eigenvalue crossing) as well.
 
 The reference domain does not depend on the design, so by the envelope theorem the extreme's gradient
-in the design is the local index's at the refined reference point held fixed: one CasADi gradient.
+in the design is the local index's at the refined reference point held fixed: one row of the node function's
+Jacobian (:func:`pkm.regions.integrand.rows_function`, compiled where its kernel is built).
 """
 
 from __future__ import annotations
@@ -22,12 +23,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
-import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.indices import GlobalIndex, LocalIndex
-from pkm.regions.pipeline import pipeline
+from pkm.indices import GlobalIndex
+from pkm.regions.integrand import rows_function
 
 REFINE_STARTS = 4  # best nodes refined per design
 REFINE_STEP = 1e-8  # the compass search stops at this step in reference coordinates
@@ -43,21 +43,6 @@ class Refined:
     values: np.ndarray
     piece: np.ndarray
     point: np.ndarray
-
-
-@lru_cache(maxsize=64)
-def piece_function(mech: Any, local: LocalIndex, piece: Any, branch: Any, *, gradient: bool = False) -> ca.Function:
-    """CasADi function ``(u, design) -> value``: the local index at the piece's reference point u (NaN
-    out of reach); with ``gradient`` also its gradient in the design with u held fixed."""
-    n_design = mech.functions["inverse_kinematics"].numel_in(2)
-    u = ca.SX.sym("u", piece.dimension)
-    design = ca.SX.sym("design", n_design)
-    x = piece.to_pose(mech.functions, design, u)
-    _, _, _, value = pipeline(mech, (local,))(x, ca.DM(branch.signs), design)
-    outputs, names = [value], [local.name]
-    if gradient:
-        outputs, names = [value, ca.gradient(value, design)], [local.name, "gradient"]
-    return ca.Function(f"{local.name}_{branch.name}_at_reference", [u, design], outputs, ["u", "design"], names)
 
 
 @lru_cache(maxsize=8)
@@ -104,8 +89,8 @@ def refine(
         nodes = starts[rows, cols]
         u = references[k][nodes - offset[k]].copy()
         f = scores[rows, nodes].copy()
-        u, f = _compass(piece_function(mech, spec.local, piece, branch), piece, designs[rows], sign=sign, u=u, f=f,
-                        step=step)
+        u, f = _compass(rows_function(mech, spec.local, piece, None, 0)[0], piece, designs[rows],
+                        signs=np.array(branch.signs, dtype=float), sign=sign, u=u, f=f, step=step)
         for j, d in enumerate(rows):
             if f[j] < best[d]:
                 best[d], where_piece[d], where_point[d] = f[j], k, u[j]
@@ -113,9 +98,11 @@ def refine(
 
 
 def _compass(
-    fn: ca.Function, piece: Any, designs: np.ndarray, *, sign: float, u: np.ndarray, f: np.ndarray, step: float
+    fn: Any, piece: Any, designs: np.ndarray, *, signs: np.ndarray, sign: float, u: np.ndarray, f: np.ndarray,
+    step: float,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Compass search from the points u (B, d) with scores f (B,) for the designs (B, n_p)."""
+    """Compass search from the points u (B, d) with scores f (B,) for the designs (B, n_p), ``fn`` the
+    local index at the nodes (:func:`pkm.regions.integrand.rows_function`) with the working mode's ``signs``."""
     stencil = _stencil(u.shape[1])
     h = np.full(len(u), step)
     for _ in range(REFINE_ITERATIONS):
@@ -124,7 +111,7 @@ def _compass(
             break
         trial = u[active, None, :] + h[active, None, None] * stencil[None]
         trial = piece.project(trial.reshape(-1, u.shape[1]))
-        score = sign * _padded(fn, trial, np.repeat(designs[active], len(stencil), axis=0))
+        score = sign * _padded(fn, trial, signs, np.repeat(designs[active], len(stencil), axis=0))
         score = score.reshape(len(active), len(stencil))
         score = np.where(np.isfinite(score), score, np.inf)
         pick = np.argmin(score, axis=1)
@@ -136,12 +123,13 @@ def _compass(
     return u, f
 
 
-def _padded(fn: ca.Function, u: np.ndarray, designs: np.ndarray) -> np.ndarray:
-    """``fn`` over a batch padded to a power of two (a few mapped functions serve every search)."""
+def _padded(fn: Any, u: np.ndarray, signs: np.ndarray, designs: np.ndarray) -> np.ndarray:
+    """The local index of ``fn`` over a batch padded to a power of two (where the interpreter evaluates,
+    a few mapped functions serve every search)."""
     n = len(u)
     size = 1 << max(0, (n - 1).bit_length())
-    (value,) = evaluate(fn, np.concatenate([u, np.repeat(u[-1:], size - n, axis=0)]),
-                        np.concatenate([designs, np.repeat(designs[-1:], size - n, axis=0)]))
+    value = evaluate(fn, np.concatenate([u, np.repeat(u[-1:], size - n, axis=0)]), signs,
+                     np.concatenate([designs, np.repeat(designs[-1:], size - n, axis=0)]))[0]
     return value[:n, 0, 0]
 
 
@@ -150,5 +138,8 @@ def refined_gradient(
 ) -> np.ndarray:
     """The gradient (n_p,) in the design of the refined extreme of one design (the first of ``refined``)."""
     piece = region.pieces()[int(refined.piece[0])]
-    _, grad = piece_function(mech, spec.local, piece, branch, gradient=True)(refined.point[0], design)
-    return np.asarray(grad, dtype=float).ravel()
+    fn, active = rows_function(mech, spec.local, piece, None, 1)
+    _, jacobian = evaluate(fn, refined.point[0], np.array(branch.signs, dtype=float), design)
+    grad = np.zeros(len(design))
+    grad[list(active)] = jacobian[0, 0]
+    return grad
