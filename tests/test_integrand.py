@@ -166,11 +166,13 @@ def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypa
 def test_the_architecture_states_the_compiled_paths_constants():
     from pathlib import Path
 
-    from pkm.synthesis.model import EXCHANGE_LIMIT
+    from pkm.synthesis.model import EXCHANGE_LIMIT, EXCHANGE_ROWS
     from symbolic.kernels import PART_INSTRUCTIONS
 
-    text = (Path(__file__).parent.parent / "docs" / "architecture.md").read_text()
+    text = " ".join((Path(__file__).parent.parent / "docs" / "architecture.md").read_text().split())
     assert f"more than {EXCHANGE_LIMIT} rows" in text
+    assert f"it holds the {EXCHANGE_ROWS} rows of least margin of each output" in text
+    assert f"adds the {EXCHANGE_ROWS} rows of each output" in text
     assert f"parts of about {PART_INSTRUCTIONS:,} instructions" in text
     assert f"2^{COMPILED_WORK.bit_length() - 1} instructions times rows" in text
     assert f"`{', '.join(f'`{name}`' for name in GROUP_SHARED)[1:]}" in text

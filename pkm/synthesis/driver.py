@@ -3,8 +3,10 @@
 :func:`synthesize` evaluates the problem on a screening grid over the variables' bounds (plus the
 problem's own starting points), runs IPOPT through ``casadi.nlpsol`` with exact first and (unless the
 problem says otherwise) second derivatives from the best feasible screening points, verifies every
-converged optimum with a quadrature 4x denser and by sampling each quantity on a grid of its region,
-and reports the best by its verified objective, never by the optimiser's quadrature. At the problem's own
+converged optimum with a quadrature 4x denser and by sampling each quantity on a grid of its region
+(runs that end at the same point, within ``SAME_POINT``, share one verification), and reports the best
+by its verified objective, never by the optimiser's quadrature. The optimiser's wall time covers the
+screening, the starts and these verifications (and the polishing below). At the problem's own
 resolution the best optimum is then polished: IPOPT runs again from it at twice the resolution until the
 verified objective agrees with the optimised one to ``ACCURACY`` (relative above 1) or POLISH_LIMIT is
 reached; the result states the accuracy reached. A problem with region extremes is not polished: its
@@ -39,6 +41,7 @@ from pkm.synthesis.problem import Problem, grid_points
 ACCURACY = INDEX_ACCURACY
 POLISH_LIMIT = 64  # the largest quadrature resolution a polishing run uses
 EXCHANGE_ROUNDS = 20  # IPOPT solves of one start of a problem with region extremes at most
+SAME_POINT = 1e-8  # runs that end this close (relative to each variable's range) share one verification
 
 
 @dataclass
@@ -246,9 +249,12 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
     exchange: IPOPT holds the rows of least margin at the start, then again from its solution with the rows
     that solution violates most added, until it violates none (:meth:`ProblemModel.exchange_rows`). Where
     a step fails (a relaxation too loose to be bounded) or the exchange takes more than EXCHANGE_ROUNDS
-    steps, ``solver``, the NLP with every row, solves from the start."""
+    steps, ``solver``, the NLP with every row, solves from the start. The extremes' variables are scaled
+    by their start's :meth:`ProblemModel.scale` in every step."""
     problem, res = model.problem, task.resolution
     start = np.asarray(model.start(task.start, res), dtype=float)
+    nv, scale = len(problem.variables), model.scale(start)
+    given = {"p": scale} if model.extremes else {}
     x0, rows = start, (model.exchange_rows(start, res) if model.extremes else None)
     iterations = calls = 0
     for round_ in range(EXCHANGE_ROUNDS + 1):
@@ -256,11 +262,12 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
             rows, x0 = None, start
         step = (solver, bounds) if rows is None else _nlp(model, res, json.loads(task.options), rows)
         with interruptible():
-            sol = step[0](x0=x0, **step[1])
+            sol = step[0](x0=np.concatenate([x0[:nv], x0[nv:] / scale]), **given, **step[1])
         stats = step[0].stats()
         iterations += int(stats["iter_count"])
         calls += int(stats.get("n_call_nlp_f", 0)) + int(stats.get("n_call_nlp_grad_f", 0))
         x = np.asarray(sol["x"]).ravel()
+        x[nv:] *= scale
         if rows is None:
             break
         rows = model.exchange_rows(x, res, rows) if stats["success"] else None
@@ -428,12 +435,17 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             f"IPOPT did not converge from any of {len(runs)} starts of {problem.name}; status {last.status}, "
             f"last iterate {last.variables}, design {cand.design}, objective {last.objective:.6g}", last, cand)
 
-    candidates = []
-    for run in good:
-        cand = model.candidate(np.array(list(run.variables.values())), run.objective, res)
+    candidates: list[tuple[Run, Candidate]] = []
+    span = np.array([v.upper - v.lower for v in problem.variables])
+    for run in sorted(good, key=lambda r: model.sign * r.objective):
+        point = np.array(list(run.variables.values()))
+        same = [cand for _, cand in candidates
+                if np.all(np.abs(point - np.array(list(cand.variables.values()))) <= SAME_POINT * span)]
+        cand = same[0] if same else model.candidate(point, run.objective, res)
         run.verified_objective = cand.verified_objective
         candidates.append((run, cand))
     best_run, optimum = min(candidates, key=lambda rc: _rank(model, rc[1]))
+    opt_time = time.perf_counter() - t0
     step()
     if not optimum.feasible:
         raise failed(

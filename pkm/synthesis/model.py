@@ -30,7 +30,7 @@ TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a
 EPIGRAPH_SLACK = 1e-3  # an extreme's variable starts this far (relative) inside its node bounds
 SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quadrature resolution
 SAMPLED_LIMIT = 512**2  # cells of a sampled check at most
-EXCHANGE_ROWS = 32  # epigraph rows of least margin an exchange step adds for each extreme
+EXCHANGE_ROWS = 2  # least (and after a solve most violated) epigraph rows of each margin output an exchange adds
 EXCHANGE_LIMIT = 2048  # epigraph rows that IPOPT holds all at once
 
 
@@ -151,15 +151,19 @@ class ProblemModel:
     def nlp(
         self, resolution: int, held: dict[str, tuple[int, ...]] | None = None
     ) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
-        """The NLP in (w, t for each of :attr:`extremes`) with the bounds on its constraints; with ``held``
-        only those rows of each extreme's epigraph margins (:func:`pkm.regions.epigraph_values`)."""
+        """The NLP in (w, s for each of :attr:`extremes`) with the bounds on its constraints; with ``held``
+        only those rows of each extreme's epigraph margins (:func:`pkm.regions.epigraph_values`). Each
+        extreme's variable is t = p s, its scale p a parameter of the NLP (:meth:`scale`), so that IPOPT
+        steps in variables of one size (a force of 2000 N beside lengths of 0.2 m)."""
         prob = self.problem
         w = ca.MX.sym("w", len(prob.variables))
         if not self.extremes:
             f, g = self.function(resolution)(w)[:2]
             return {"x": w, "f": self.sign * f, "g": g}, self.nlp_lower, self.nlp_upper
         design = self.design(w)
-        t = {name: ca.MX.sym(f"t_{name}") for name in self.extremes}
+        scale = ca.MX.sym("scale", len(self.extremes))
+        s = [ca.MX.sym(f"s_{name}") for name in self.extremes]
+        t = {name: scale[k] * s[k] for k, name in enumerate(self.extremes)}
         values = self.quantities(design, resolution)
         f, g = self.expressions(w, {**values, **t})
         rows, lower, upper = [g], [self.nlp_lower], [self.nlp_upper]
@@ -170,8 +174,14 @@ class ProblemModel:
             rows.append(ca.vec(nodes))
             lower.append(np.zeros(nodes.numel()))
             upper.append(np.full(nodes.numel(), np.inf))
-        nlp = {"x": ca.vertcat(w, *t.values()), "f": self.sign * f, "g": ca.vertcat(*rows)}
+        nlp = {"x": ca.vertcat(w, *s), "p": scale, "f": self.sign * f, "g": ca.vertcat(*rows)}
         return nlp, np.concatenate(lower), np.concatenate(upper)
+
+    def scale(self, x: np.ndarray) -> np.ndarray:
+        """The scales p of the extremes' variables at a point x = (w, t for each extreme) of the NLP: the
+        power of ten nearest to each |t| (1 where t is 0)."""
+        t = np.abs(np.asarray(x, dtype=float)[len(self.problem.variables):])
+        return 10.0 ** np.round(np.log10(np.where(t > 0, t, 1.0)))
 
     def margins(self, x: np.ndarray, resolution: int) -> dict[str, np.ndarray]:
         """Every epigraph margin of each extreme at a point x = (w, t for each extreme) of the NLP."""
@@ -187,29 +197,36 @@ class ProblemModel:
         self, x: np.ndarray, resolution: int, rows: dict[str, tuple[int, ...]] | None = None
     ) -> dict[str, tuple[int, ...]] | None:
         """The epigraph rows an NLP solved from x should hold (the exchange method of semi-infinite
-        programming): at a start (``rows`` None) the EXCHANGE_ROWS least margins of each extreme; after a
-        solve, ``rows``, the EXCHANGE_ROWS rows that x violates most (an undefined one first) and the
-        EXCHANGE_ROWS least; None when x violates no row, so that x solves the NLP with every row, and at
-        a start where the extremes have EXCHANGE_LIMIT rows or fewer (IPOPT then holds every row)."""
+        programming), chosen in each output of an extreme's margins (:func:`pkm.regions.epigraph_values`:
+        one per actuator, workspace constraint, ...) so that every constraint that can become active is
+        represented, not only the neighbours of the worst node: at a start (``rows`` None) the EXCHANGE_ROWS
+        least margins of each output; after a solve, ``rows``, the EXCHANGE_ROWS rows of each output that
+        x violates most (an undefined one first) and the EXCHANGE_ROWS least; None when x violates no
+        row, so that x solves the NLP with every row, and at a start where the extremes have
+        EXCHANGE_LIMIT rows or fewer (IPOPT then holds every row)."""
         margins = self.margins(x, resolution)
         if rows is None and sum(len(m) for m in margins.values()) <= EXCHANGE_LIMIT:
             return None
         out, grown = {}, rows is None
         tol = self.problem.feasibility_tolerance
         for name, margin in margins.items():
-            least = np.argsort(np.where(np.isnan(margin), np.inf, margin), kind="stable")[:EXCHANGE_ROWS]
-            held = np.zeros(len(margin), dtype=bool)
-            held[least] = True
+            quantity = self.problem.quantities[name]
+            count = quantity.region.node_count(resolution, quantity.index.reduce)
+            per = margin.reshape(-1, count)
+            held = np.zeros(per.shape, dtype=bool)
+            least = np.argsort(np.where(np.isnan(per), np.inf, per), axis=1, kind="stable")[:, :EXCHANGE_ROWS]
+            np.put_along_axis(held, least, True, axis=1)
             if rows is not None:
-                before = np.zeros(len(margin), dtype=bool)
+                before = np.zeros(margin.shape, dtype=bool)
                 before[list(rows[name])] = True
-                violated = ~before & ~(margin >= -tol)
+                before = before.reshape(per.shape)
+                violated = ~before & ~(per >= -tol)
                 grown |= bool(violated.any())
-                worst = np.argsort(np.where(violated, np.nan_to_num(margin, nan=-np.inf), np.inf),
-                                   kind="stable")[:min(EXCHANGE_ROWS, int(violated.sum()))]
                 held |= before
-                held[worst] = True
-            out[name] = tuple(np.flatnonzero(held).tolist())
+                worst = np.argsort(np.where(violated, np.nan_to_num(per, nan=-np.inf), np.inf), axis=1,
+                                   kind="stable")[:, :EXCHANGE_ROWS]
+                np.put_along_axis(held, worst, np.take_along_axis(violated, worst, axis=1), axis=1)
+            out[name] = tuple(np.flatnonzero(held.ravel()).tolist())
         return out if grown else None
 
     def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int) -> bool:
