@@ -1,6 +1,6 @@
-/* The Python module that carries the compiled path's kernels (generated/kernels.c): pkm.compiled loads
-   this library with ctypes and calls pkm_kernel_count, pkm_kernel_key, pkm_kernel_isa and pkm_kernel_run,
-   which runs pkm_kernel_call (the dispatch of generated/kernels.c) over the chunks of a batch.
+/* pkm._kernels: the kernels of generated/ and the Python functions that call them. pkm.compiled calls
+   keys(), isa() and run(), which runs pkm_kernel_call (the dispatch of generated/kernels.c) over the
+   chunks of a batch, reading and writing the numpy arrays it is given through the buffer protocol.
 
    pkm_kernel_run evaluates one kernel over several chunks of a batch at once: the calling thread takes
    chunks itself while threads kept from earlier calls take the others. A kept thread waits for the next
@@ -13,9 +13,13 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdint.h>
+#include <string.h>
 #include <time.h>
 
 void pkm_kernel_call(long i, long n, long group, const double *const *in, const long *stride, double *const *out);
+long pkm_kernel_count(void);
+const char *pkm_kernel_key(long i);
+const char *pkm_kernel_isa(void);
 
 #define PKM_MAX_THREADS 64
 #define PKM_SPIN_NS 1000000L
@@ -123,7 +127,138 @@ void pkm_kernel_run(long i, long chunks, long threads, const long *n, const long
   pthread_mutex_unlock(&job_lock);
 }
 
-static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernels", "pkm's compiled kernels", -1, NULL};
+/* the address of a C-contiguous array of doubles (writable for an output), its buffer held in view */
+static double *buffer_of(PyObject *array, Py_buffer *view, int writable)
+{
+  if (PyObject_GetBuffer(array, view, PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (writable ? PyBUF_WRITABLE : 0)) != 0)
+    return NULL;
+  if (view->itemsize != sizeof(double) || view->format == NULL || strcmp(view->format, "d") != 0) {
+    PyBuffer_Release(view);
+    PyErr_SetString(PyExc_TypeError, "pkm._kernels.run takes C-contiguous arrays of float64");
+    return NULL;
+  }
+  return (double *)view->buf;
+}
+
+/* run(kernel, threads, strides, chunks): pkm_kernel_run over chunks, a sequence of (inputs, outputs, n,
+   group) with inputs and outputs sequences of arrays, without the GIL */
+static PyObject *run(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
+{
+  (void)self;
+  if (nargs != 4) {
+    PyErr_SetString(PyExc_TypeError, "run(kernel, threads, strides, chunks) takes 4 arguments");
+    return NULL;
+  }
+  long kernel = PyLong_AsLong(args[0]), threads = PyLong_AsLong(args[1]);
+  PyObject *strides = PySequence_Fast(args[2], "strides must be a sequence");
+  PyObject *chunks = strides ? PySequence_Fast(args[3], "chunks must be a sequence") : NULL;
+  if (chunks == NULL || PyErr_Occurred()) {
+    Py_XDECREF(strides);
+    Py_XDECREF(chunks);
+    return NULL;
+  }
+  Py_ssize_t count = PySequence_Fast_GET_SIZE(chunks), n_in = PySequence_Fast_GET_SIZE(strides), n_out = -1;
+  Py_ssize_t slots = 0, held = 0;
+  long *numbers = PyMem_Malloc(sizeof(long) * (size_t)(n_in + 2 * count + 1));
+  const double **ins = PyMem_Malloc(sizeof(double *) * (size_t)(count * n_in + 1));
+  const double *const **in_rows = PyMem_Malloc(sizeof(double **) * (size_t)(count + 1));
+  double *const **out_rows = PyMem_Malloc(sizeof(double **) * (size_t)(count + 1));
+  double **outs = NULL;
+  Py_buffer *views = NULL;
+  PyObject *result = NULL;
+  if (!numbers || !ins || !in_rows || !out_rows) {
+    PyErr_NoMemory();
+    goto done;
+  }
+  long *stride = numbers, *n = numbers + n_in, *group = numbers + n_in + count;
+  for (Py_ssize_t j = 0; j < n_in; ++j) stride[j] = PyLong_AsLong(PySequence_Fast_ITEMS(strides)[j]);
+  for (Py_ssize_t k = 0; k < count; ++k) {
+    PyObject *chunk = PySequence_Fast_ITEMS(chunks)[k];
+    if (!PyTuple_Check(chunk) || PyTuple_GET_SIZE(chunk) != 4) {
+      PyErr_SetString(PyExc_TypeError, "a chunk is a tuple (inputs, outputs, n, group)");
+      goto done;
+    }
+    PyObject *in_list = PyTuple_GET_ITEM(chunk, 0), *out_list = PyTuple_GET_ITEM(chunk, 1);
+    if (!PyList_Check(in_list) || !PyList_Check(out_list) || PyList_GET_SIZE(in_list) != n_in ||
+        (n_out >= 0 && PyList_GET_SIZE(out_list) != n_out)) {
+      PyErr_SetString(PyExc_TypeError, "a chunk's inputs (one per stride) and outputs are lists of one length");
+      goto done;
+    }
+    if (n_out < 0) {
+      n_out = PyList_GET_SIZE(out_list);
+      slots = count * (n_in + n_out);
+      outs = PyMem_Malloc(sizeof(double *) * (size_t)(count * n_out + 1));
+      views = PyMem_Malloc(sizeof(Py_buffer) * (size_t)(slots + 1));
+      if (!outs || !views) {
+        PyErr_NoMemory();
+        goto done;
+      }
+    }
+    n[k] = PyLong_AsLong(PyTuple_GET_ITEM(chunk, 2));
+    group[k] = PyLong_AsLong(PyTuple_GET_ITEM(chunk, 3));
+    for (Py_ssize_t j = 0; j < n_in; ++j) {
+      if (!(ins[k * n_in + j] = buffer_of(PyList_GET_ITEM(in_list, j), &views[held], 0))) goto done;
+      ++held;
+    }
+    for (Py_ssize_t j = 0; j < n_out; ++j) {
+      if (!(outs[k * n_out + j] = buffer_of(PyList_GET_ITEM(out_list, j), &views[held], 1))) goto done;
+      ++held;
+    }
+    in_rows[k] = ins + k * n_in;
+    out_rows[k] = outs + k * n_out;
+  }
+  if (PyErr_Occurred()) goto done;
+  Py_BEGIN_ALLOW_THREADS
+  pkm_kernel_run(kernel, (long)count, threads, n, group, in_rows, stride, out_rows);
+  Py_END_ALLOW_THREADS
+  result = Py_NewRef(Py_None);
+done:
+  for (Py_ssize_t v = 0; v < held; ++v) PyBuffer_Release(&views[v]);
+  PyMem_Free(views);
+  PyMem_Free(outs);
+  PyMem_Free(out_rows);
+  PyMem_Free(in_rows);
+  PyMem_Free(ins);
+  PyMem_Free(numbers);
+  Py_DECREF(strides);
+  Py_DECREF(chunks);
+  return result;
+}
+
+/* keys(): the kernels' keys (pkm.compiled.key) in the order of their indices */
+static PyObject *keys(PyObject *self, PyObject *unused)
+{
+  (void)self;
+  (void)unused;
+  long count = pkm_kernel_count();
+  PyObject *out = PyList_New(count);
+  for (long i = 0; out && i < count; ++i) {
+    PyObject *key = PyUnicode_FromString(pkm_kernel_key(i));
+    if (!key) {
+      Py_CLEAR(out);
+      break;
+    }
+    PyList_SET_ITEM(out, i, key);
+  }
+  return out;
+}
+
+/* isa(): the instruction set the kernels run with on this processor */
+static PyObject *isa(PyObject *self, PyObject *unused)
+{
+  (void)self;
+  (void)unused;
+  return PyUnicode_FromString(pkm_kernel_isa());
+}
+
+static PyMethodDef methods[] = {
+  {"run", (PyCFunction)(void (*)(void))run, METH_FASTCALL, "run(kernel, threads, strides, chunks)"},
+  {"keys", keys, METH_NOARGS, "the kernels' keys in the order of their indices"},
+  {"isa", isa, METH_NOARGS, "the instruction set the kernels run with"},
+  {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernels", "pkm's compiled kernels", -1, methods};
 
 PyMODINIT_FUNC PyInit__kernels(void)
 {

@@ -9,6 +9,8 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from functools import lru_cache
+from itertools import pairwise
+from typing import NamedTuple
 
 import casadi as ca
 import numpy as np
@@ -71,22 +73,38 @@ def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     return _shaped(f, outputs, n)
 
 
+class _Layout(NamedTuple):
+    """What a batch evaluation reads of a function, read from CasADi once."""
+
+    widths_in: tuple[int, ...]
+    widths_out: tuple[int, ...]
+    sizes_out: tuple[tuple[int, int], ...]
+
+
+@lru_cache(maxsize=1024)
+def _layout(f: ca.Function) -> _Layout:
+    return _Layout(tuple(f.numel_in(i) for i in range(f.n_in())), tuple(f.numel_out(j) for j in range(f.n_out())),
+                   tuple(f.size_out(j) for j in range(f.n_out())))
+
+
+@lru_cache(maxsize=1024)
+def _instructions(f: ca.Function) -> int:
+    return f.n_instructions()
+
+
 def _batch_size(f: ca.Function, arrays: list[np.ndarray]) -> int:
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
     if len(sizes) > 1:
         raise ValueError(f"{f.name()}: batch sizes differ: {sorted(sizes)}")
-    for i, a in enumerate(arrays):
-        if a.shape[-1] != f.numel_in(i):
-            raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {f.numel_in(i)}")
+    for i, (a, width) in enumerate(zip(arrays, _layout(f).widths_in, strict=True)):
+        if a.shape[-1] != width:
+            raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {width}")
     return sizes.pop() if sizes else 1
 
 
 def _shaped(f: ca.Function, outputs: list[np.ndarray], n: int) -> tuple[np.ndarray, ...]:
-    out = []
-    for j, o in enumerate(outputs):
-        rows, cols = f.size_out(j)
-        out.append(o.reshape(n, cols, rows).transpose(0, 2, 1))
-    return tuple(out)
+    return tuple(o.reshape(n, cols, rows).transpose(0, 2, 1)
+                 for o, (rows, cols) in zip(outputs, _layout(f).sizes_out, strict=True))
 
 
 def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[np.ndarray, ...]:
@@ -115,14 +133,14 @@ def _compiled_sums(
     """The sums (n / size, numel_j) of each output over each run of ``size`` rows by the summing kernel;
     where there are fewer runs than threads, each is split into chunks whose partial sums are added in
     chunk order."""
-    groups = n // size
-    outputs = [np.zeros((groups, f.numel_out(j))) for j in range(f.n_out())]
+    groups, widths = n // size, _layout(f).widths_out
+    outputs = [np.zeros((groups, width)) for width in widths]
     bounds = _chunks(f, n, size)
     if len(bounds) <= groups:
         _run_chunks(f, run, arrays, bounds,
                     lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
         return outputs
-    partial = [np.zeros((len(bounds), f.numel_out(j))) for j in range(f.n_out())]
+    partial = [np.zeros((len(bounds), width)) for width in widths]
     _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
     for k, (start, _) in enumerate(bounds):
         for o, p in zip(outputs, partial, strict=True):
@@ -134,7 +152,7 @@ def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
     """Chunks of a batch of n rows, one per thread and of at least COMPILED_WORK / (f's instructions) rows;
     each a multiple of ``unit`` rows, or where there are fewer runs of ``unit`` rows than threads, pieces of
     one run each."""
-    least = -(-COMPILED_WORK // max(1, f.n_instructions()))
+    least = -(-COMPILED_WORK // max(1, _instructions(f)))
     step = max(least, -(-n // THREADS))
     if unit == 1 or n // unit >= THREADS:
         step = -(-step // unit) * unit
@@ -143,8 +161,8 @@ def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
     for first in range(0, n, unit):
         last = min(n, first + unit)
         pieces = max(1, min(THREADS, (last - first) // least))
-        edges = np.linspace(first, last, pieces + 1).astype(int)
-        bounds += list(zip(edges[:-1].tolist(), edges[1:].tolist(), strict=True))
+        edges = [first + (last - first) * k // pieces for k in range(pieces + 1)]
+        bounds += list(pairwise(edges))
     return bounds
 
 
@@ -161,7 +179,7 @@ def _run_chunks(
     shared inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a
     summing kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
-    strides = [f.numel_in(i) if a.ndim == 2 else 0 for i, a in enumerate(inputs)]
+    strides = [width if a.ndim == 2 else 0 for a, width in zip(inputs, _layout(f).widths_in, strict=True)]
     chunks = [([a[start:stop] if a.ndim == 2 else a for a in inputs], outputs_of(k, start, stop), stop - start,
                stop - start if group is None else group) for k, (start, stop) in enumerate(bounds)]
     if chunks:
@@ -171,7 +189,7 @@ def _run_chunks(
 def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
     """``f`` over the batch by its compiled kernel."""
     n = _batch_size(f, arrays)
-    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
+    outputs = [np.empty((n, width)) for width in _layout(f).widths_out]
     _run_chunks(f, run, arrays, _chunks(f, n), lambda _, start, stop: [o[start:stop] for o in outputs])
     return _shaped(f, outputs, n)
 

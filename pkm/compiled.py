@@ -10,7 +10,6 @@ the interpreter and a :class:`CompiledPathWarning` says so once; :func:`status` 
 
 from __future__ import annotations
 
-import ctypes
 import hashlib
 import importlib
 import os
@@ -22,30 +21,21 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-_DOUBLES = ctypes.POINTER(ctypes.c_double)
-
 
 class CompiledPathWarning(UserWarning):
     """pkm evaluates with CasADi's interpreter because its compiled kernels are off or not built."""
 
 
 @lru_cache(maxsize=1)
-def _library() -> tuple[ctypes.CDLL | None, dict[str, int], str]:
-    """The kernels' library, its kernels by key, and why it is not used (empty when it is)."""
+def _library() -> tuple[Any, dict[str, int], str]:
+    """The kernels' extension module, its kernels by key, and why it is not used (empty when it is)."""
     if os.environ.get("PKM_COMPILED", "1") == "0":
         return None, {}, "PKM_COMPILED=0"
     try:
-        library = importlib.import_module("pkm._kernels").__file__
+        lib = importlib.import_module("pkm._kernels")
     except ImportError:
         return None, {}, "pkm._kernels was not built at install (no C compiler?)"
-    lib = ctypes.CDLL(library)
-    lib.pkm_kernel_count.restype = ctypes.c_long
-    lib.pkm_kernel_key.restype = ctypes.c_char_p
-    lib.pkm_kernel_key.argtypes = [ctypes.c_long]
-    lib.pkm_kernel_run.restype = None
-    lib.pkm_kernel_isa.restype = ctypes.c_char_p
-    keys = {lib.pkm_kernel_key(i).decode(): i for i in range(lib.pkm_kernel_count())}
-    return lib, keys, ""
+    return lib, {key: i for i, key in enumerate(lib.keys())}, ""
 
 
 def status() -> dict[str, Any]:
@@ -54,7 +44,7 @@ def status() -> dict[str, Any]:
     lib, keys, reason = _library()
     if lib is None:
         return {"path": "interpreter", "kernels": 0, "instruction_set": None, "reason": reason}
-    return {"path": "compiled", "kernels": len(keys), "instruction_set": lib.pkm_kernel_isa().decode(), "reason": ""}
+    return {"path": "compiled", "kernels": len(keys), "instruction_set": lib.isa(), "reason": ""}
 
 
 def key(fn: ca.Function, summed: bool = False) -> str:
@@ -88,15 +78,11 @@ def kernel(fn: ca.Function, summed: bool = False) -> Callable[[list[int], list[C
     if index is None:
         return None
 
+    n_in, n_out = fn.n_in(), fn.n_out()
+
     def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
-        count = len(chunks)
-        ins = [(_DOUBLES * len(c[0]))(*[a.ctypes.data_as(_DOUBLES) for a in c[0]]) for c in chunks]
-        outs = [(_DOUBLES * len(c[1]))(*[o.ctypes.data_as(_DOUBLES) for o in c[1]]) for c in chunks]
-        lib.pkm_kernel_run(
-            ctypes.c_long(index), ctypes.c_long(count), ctypes.c_long(threads),
-            (ctypes.c_long * count)(*[c[2] for c in chunks]), (ctypes.c_long * count)(*[c[3] for c in chunks]),
-            (ctypes.POINTER(_DOUBLES) * count)(*ins), (ctypes.c_long * len(strides))(*strides),
-            (ctypes.POINTER(_DOUBLES) * count)(*outs),
-        )
+        if len(strides) != n_in or any(len(c[0]) != n_in or len(c[1]) != n_out for c in chunks):
+            raise ValueError(f"{fn.name()}'s kernel takes {n_in} inputs and {n_out} outputs per chunk")
+        lib.run(index, threads, strides, chunks)
 
     return run

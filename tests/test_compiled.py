@@ -72,3 +72,38 @@ def test_calls_from_several_threads_at_once_give_each_its_own_sums(monkeypatch):
     for k, got in enumerate(together):
         for a, b in zip(got, alone[k % len(designs)], strict=True):
             np.testing.assert_array_equal(a, b)
+
+
+def test_the_kernels_are_built_wherever_there_is_a_c_compiler():
+    """The build is optional (pkm installs without a compiler), so a kernel that fails to compile would
+    pass unseen onto the interpreter: where a compiler is present the library must be there."""
+    import os
+    import shutil
+
+    if os.environ.get("PKM_COMPILED", "1") == "0" or not (shutil.which("cc") or shutil.which("gcc")):
+        pytest.skip("the interpreter is asked for, or there is no C compiler")
+    assert compiled.status()["path"] == "compiled", compiled.status()["reason"]
+
+
+def test_the_kernels_reject_arrays_they_cannot_read():
+    if compiled.status()["path"] != "compiled":
+        pytest.skip("the kernels are not built")
+    m = pkm.load("five_bar")
+    fn = m.functions["inverse_kinematics"]
+    run = compiled.kernel(fn)
+    strides = [fn.numel_in(0), 0, 0]
+    given = [np.array([[0.1, 1.5], [-0.3, 1.9]]), np.ones(fn.numel_in(1)), m.design_vector(m.design())]
+    q, reach = np.zeros((2, fn.numel_out(0))), np.zeros((2, fn.numel_out(1)))
+    run(strides, [(given, [q, reach], 2, 1)], 1)
+    np.testing.assert_allclose(q, m.functions["inverse_kinematics"].map(2)(given[0].T, *given[1:])[0].T.full(),
+                               rtol=1e-13)
+    with pytest.raises(TypeError, match="float64"):
+        run(strides, [(given, [q.astype(np.float32), reach], 2, 1)], 1)
+    with pytest.raises(ValueError, match="takes 3 inputs and 2 outputs"):
+        run(strides, [(given, [q], 2, 1)], 1)
+    with pytest.raises(ValueError, match="not C-contiguous"):
+        run(strides, [(given, [np.zeros((fn.numel_out(0), 2)).T, reach], 2, 1)], 1)
+    frozen = reach.copy()
+    frozen.setflags(write=False)
+    with pytest.raises(ValueError, match="read-only"):
+        run(strides, [(given, [q, frozen], 2, 1)], 1)
