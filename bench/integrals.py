@@ -177,7 +177,7 @@ def _git(*args: str) -> str:
 def run(*, quick: bool, log: Callable[[str], None]) -> dict[str, Any]:
     from bench.run import machine  # here, not at the top: bench.run imports this module
 
-    repeats = 5 if quick else 20
+    repeats = 5 if quick else 100
     report: dict[str, Any] = {
         "machine": machine(),
         "commit": _git("rev-parse", "--short", "HEAD"),

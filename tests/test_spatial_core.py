@@ -245,6 +245,23 @@ def test_3x3_singular_values_keep_their_relative_accuracy_when_ill_conditioned()
         assert smallest == pytest.approx(1 / condition, rel=1e-15 * condition)
 
 
+def test_inverse_condition_f_of_a_2x2_jacobian_from_j_alone_is_gaos_formula():
+    """1/kappa_f of a 2 x 2 J is taken as 2 |det J| / ||J||_F^2, without J^-1: it equals
+    n / sqrt(tr(J J^T) tr(J^-1 J^-T)) of Gao's eqs. 8-11, and is 0 where J is singular or not finite."""
+    from pkm.indices.local import INVERSE_CONDITION_F
+
+    J, J_f = ca.SX.sym("J", 2, 2), ca.SX.sym("J_f", 2, 2)
+    f = ca.Function("f", [J, J_f], [INVERSE_CONDITION_F.formula(J, J_f)])
+    rng = np.random.default_rng(2)
+    for _ in range(200):
+        A = rng.normal(size=(2, 2)) * rng.uniform(0.01, 100)
+        inverse = np.linalg.inv(A)
+        want = 2 / math.sqrt(np.sum(A**2) * np.sum(inverse**2))
+        assert float(f(A, inverse)) == pytest.approx(want, rel=1e-13)
+    assert float(f(np.array([[1.0, 2.0], [2.0, 4.0]]), np.full((2, 2), np.inf))) == 0.0
+    assert float(f(np.array([[np.inf, 1.0], [0.0, 1.0]]), np.zeros((2, 2)))) == 0.0
+
+
 def test_polynomial_roots_drop_vanishing_leading_coefficients():
     """q t^2 + t - 1 = 0: two roots for q != 0, the one root t = 1 at q = 0, none out at infinity."""
     q, d = ca.SX.sym("q_a", 1), ca.SX.sym("design", 1)

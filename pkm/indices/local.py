@@ -122,7 +122,12 @@ def largest_singular_value(A: ca.SX) -> ca.SX:
 
 
 def _inverse_condition_f(J: ca.SX, J_f: ca.SX) -> ca.SX:
-    """1/kappa_f = n / sqrt(tr(J J^T) tr(J^-1 J^-T)) with J^-1 = J_f (Gao eqs. 8-11)."""
+    """1/kappa_f = n / sqrt(tr(J J^T) tr(J^-1 J^-T)) with J^-1 = J_f (Gao eqs. 8-11). For n = 2,
+    tr(J^-1 J^-T) = tr(J J^T) / det(J)^2 (the adjugate of a 2 x 2 matrix has its entries), so that
+    1/kappa_f = 2 |det J| / tr(J J^T) from J alone, 0 where J is not finite (J_f singular)."""
+    if _check_square(J) == 2:
+        frob2 = ca.sumsqr(J)
+        return ca.if_else(frob2 < np.inf, 2 * ca.fabs(J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]) / frob2, 0)
     return J.size1() / ca.sqrt(ca.sumsqr(J) * ca.sumsqr(J_f))
 
 
