@@ -50,15 +50,16 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     """
     run = kernel(f)
     if run is not None:
-        return _compiled(f, run, [np.asarray(a, dtype=float) for a in args])
+        return _compiled(f, _layout(f), run, [np.asarray(a, dtype=float) for a in args])
     return interpreted(f, *args)
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     """:func:`evaluate` by CasADi's interpreter (``map`` over the batch), whatever kernels there are."""
     f = _dense(f)
+    layout = _layout(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
-    n = _batch_size(f, arrays)
+    n = _batch_size(f, layout, arrays)
     inputs = [np.ascontiguousarray(np.broadcast_to(a, (n, f.numel_in(i)))) for i, a in enumerate(arrays)]
     outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
     for start in range(0, n, CHUNK):
@@ -70,41 +71,38 @@ def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
         for j, o in enumerate(outputs):
             buf.set_res(j, memoryview(o[start:stop]))
         run_mapped()
-    return _shaped(f, outputs, n)
+    return _shaped(layout, outputs, n)
 
 
 class _Layout(NamedTuple):
-    """What a batch evaluation reads of a function, read from CasADi once."""
+    """What a batch evaluation reads of a function, read from CasADi once per function (and passed
+    down, as looking a CasADi function up costs more than a small batch's arithmetic)."""
 
     widths_in: tuple[int, ...]
     widths_out: tuple[int, ...]
     sizes_out: tuple[tuple[int, int], ...]
+    instructions: int  # of an SX function (what a kernel runs), else 0
 
 
 @lru_cache(maxsize=1024)
 def _layout(f: ca.Function) -> _Layout:
     return _Layout(tuple(f.numel_in(i) for i in range(f.n_in())), tuple(f.numel_out(j) for j in range(f.n_out())),
-                   tuple(f.size_out(j) for j in range(f.n_out())))
+                   tuple(f.size_out(j) for j in range(f.n_out())), f.n_instructions() if f.is_a("SXFunction") else 0)
 
 
-@lru_cache(maxsize=1024)
-def _instructions(f: ca.Function) -> int:
-    return f.n_instructions()
-
-
-def _batch_size(f: ca.Function, arrays: list[np.ndarray]) -> int:
+def _batch_size(f: ca.Function, layout: _Layout, arrays: list[np.ndarray]) -> int:
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
     if len(sizes) > 1:
         raise ValueError(f"{f.name()}: batch sizes differ: {sorted(sizes)}")
-    for i, (a, width) in enumerate(zip(arrays, _layout(f).widths_in, strict=True)):
+    for i, (a, width) in enumerate(zip(arrays, layout.widths_in, strict=True)):
         if a.shape[-1] != width:
             raise ValueError(f"{f.name()}: input {f.name_in(i)} has width {a.shape[-1]}, expected {width}")
     return sizes.pop() if sizes else 1
 
 
-def _shaped(f: ca.Function, outputs: list[np.ndarray], n: int) -> tuple[np.ndarray, ...]:
+def _shaped(layout: _Layout, outputs: list[np.ndarray], n: int) -> tuple[np.ndarray, ...]:
     return tuple(o.reshape(n, cols, rows).transpose(0, 2, 1)
-                 for o, (rows, cols) in zip(outputs, _layout(f).sizes_out, strict=True))
+                 for o, (rows, cols) in zip(outputs, layout.sizes_out, strict=True))
 
 
 def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[np.ndarray, ...]:
@@ -115,7 +113,8 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     ``symbolic.cemit.GROUP_SHARED`` (``mode``, ``design``, ``t``) from the first row of each group: they must
     be the same on every row of a group."""
     arrays = [np.asarray(a, dtype=float) for a in args]
-    n = _batch_size(f, arrays)
+    layout = _layout(f)
+    n = _batch_size(f, layout, arrays)
     size = n if group is None else group
     if size < 1 or n % size:
         raise ValueError(f"{f.name()}: a batch of {n} rows does not split into groups of {size}")
@@ -123,36 +122,36 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     if run is None:
         sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
     else:
-        sums = _shaped(f, _compiled_sums(f, run, arrays, n, size), n // size)
+        sums = _shaped(layout, _compiled_sums(layout, run, arrays, n, size), n // size)
     return sums if group is not None else tuple(s[0] for s in sums)
 
 
 def _compiled_sums(
-    f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray], n: int, size: int
+    layout: _Layout, run: Callable[..., None], arrays: list[np.ndarray], n: int, size: int
 ) -> list[np.ndarray]:
     """The sums (n / size, numel_j) of each output over each run of ``size`` rows by the summing kernel;
     where there are fewer runs than threads, each is split into chunks whose partial sums are added in
     chunk order."""
-    groups, widths = n // size, _layout(f).widths_out
+    groups, widths = n // size, layout.widths_out
     outputs = [np.zeros((groups, width)) for width in widths]
-    bounds = _chunks(f, n, size)
+    bounds = _chunks(layout, n, size)
     if len(bounds) <= groups:
-        _run_chunks(f, run, arrays, bounds,
+        _run_chunks(layout, run, arrays, bounds,
                     lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
         return outputs
     partial = [np.zeros((len(bounds), width)) for width in widths]
-    _run_chunks(f, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
+    _run_chunks(layout, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
     for k, (start, _) in enumerate(bounds):
         for o, p in zip(outputs, partial, strict=True):
             o[start // size] += p[k]
     return outputs
 
 
-def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
-    """Chunks of a batch of n rows, one per thread and of at least COMPILED_WORK / (f's instructions) rows;
+def _chunks(layout: _Layout, n: int, unit: int = 1) -> list[tuple[int, int]]:
+    """Chunks of a batch of n rows, one per thread and of at least COMPILED_WORK / (the instructions) rows;
     each a multiple of ``unit`` rows, or where there are fewer runs of ``unit`` rows than threads, pieces of
     one run each."""
-    least = -(-COMPILED_WORK // max(1, _instructions(f)))
+    least = -(-COMPILED_WORK // max(1, layout.instructions))
     step = max(least, -(-n // THREADS))
     if unit == 1 or n // unit >= THREADS:
         step = -(-step // unit) * unit
@@ -167,7 +166,7 @@ def _chunks(f: ca.Function, n: int, unit: int = 1) -> list[tuple[int, int]]:
 
 
 def _run_chunks(
-    f: ca.Function,
+    layout: _Layout,
     run: Callable[..., None],
     arrays: list[np.ndarray],
     bounds: list[tuple[int, int]],
@@ -179,19 +178,21 @@ def _run_chunks(
     shared inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a
     summing kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
-    strides = [width if a.ndim == 2 else 0 for a, width in zip(inputs, _layout(f).widths_in, strict=True)]
+    strides = [width if a.ndim == 2 else 0 for a, width in zip(inputs, layout.widths_in, strict=True)]
     chunks = [([a[start:stop] if a.ndim == 2 else a for a in inputs], outputs_of(k, start, stop), stop - start,
                stop - start if group is None else group) for k, (start, stop) in enumerate(bounds)]
     if chunks:
         run(strides, chunks, THREADS)
 
 
-def _compiled(f: ca.Function, run: Callable[..., None], arrays: list[np.ndarray]) -> tuple[np.ndarray, ...]:
+def _compiled(
+    f: ca.Function, layout: _Layout, run: Callable[..., None], arrays: list[np.ndarray]
+) -> tuple[np.ndarray, ...]:
     """``f`` over the batch by its compiled kernel."""
-    n = _batch_size(f, arrays)
-    outputs = [np.empty((n, width)) for width in _layout(f).widths_out]
-    _run_chunks(f, run, arrays, _chunks(f, n), lambda _, start, stop: [o[start:stop] for o in outputs])
-    return _shaped(f, outputs, n)
+    n = _batch_size(f, layout, arrays)
+    outputs = [np.empty((n, width)) for width in layout.widths_out]
+    _run_chunks(layout, run, arrays, _chunks(layout, n), lambda _, start, stop: [o[start:stop] for o in outputs])
+    return _shaped(layout, outputs, n)
 
 
 def reached(values: np.ndarray, reach: np.ndarray) -> np.ndarray:

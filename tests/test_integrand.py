@@ -156,7 +156,7 @@ def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypa
     nodes, weights = piece.reference(100, spec.reduce)
     args = (nodes, weights[:, None], np.array(branch.signs, dtype=float), mech.design_vector(mech.design()))
     monkeypatch.setattr(batch, "THREADS", 2)
-    assert len(batch._chunks(fn, len(nodes), len(nodes))) == 2
+    assert len(batch._chunks(batch._layout(fn), len(nodes), len(nodes))) == 2
     split = total(fn, *args)
     monkeypatch.setattr(batch, "THREADS", 1)
     for a, b in zip(split, total(fn, *args), strict=True):

@@ -214,15 +214,18 @@ def quadrature_function(
 
         return extreme
     signs = np.array(branch.signs, dtype=float)
+    resolution = check_resolution(resolution, 1)
 
     def summed(design: np.ndarray) -> tuple[float, np.ndarray]:
         design = np.asarray(design, dtype=float).ravel()
         sums, jacobian, _ = region_sums(mech, spec.local, region, spec.reduce, signs=signs, design=design,
-                                        resolution=check_resolution(resolution, 1), order=1)
+                                        resolution=resolution, order=1)
         with np.errstate(invalid="ignore", divide="ignore"):
             value, gradient = float(reduce_sums(sums, spec.reduce)), reduce_gradient(sums, jacobian, spec.reduce)
         if region.guard is not None and not admissible(mech, region, design[None], branch=branch)[0]:
             return float("nan"), np.full(len(design), np.nan)
+        if spec.per is None:
+            return value, gradient
         (size,), (size_gradient,) = _sizes(mech, spec, design[None])
         return value / size, gradient / size - value * size_gradient / size**2
 
