@@ -90,8 +90,8 @@ static void forget_threads(void)
 
 /* kernel i over chunks k = 0 .. chunks - 1 (at most 65535) of n[k] rows in groups of group[k], inputs
    in[k] with the row strides stride, outputs out[k]; on at most threads threads, the caller's included */
-void pkm_kernel_run(long i, long chunks, long threads, const long *n, const long *group,
-                    const double *const *const *in, const long *stride, double *const *const *out)
+static void pkm_kernel_run(long i, long chunks, long threads, const long *n, const long *group,
+                           const double *const *const *in, const long *stride, double *const *const *out)
 {
   if (chunks < 2 || threads < 2 || chunks > 0xffff || pthread_mutex_trylock(&job_lock) != 0) {
     for (long k = 0; k < chunks; ++k) pkm_kernel_call(i, n[k], group[k], in[k], stride, out[k]);
@@ -158,7 +158,7 @@ static PyObject *run(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     return NULL;
   }
   Py_ssize_t count = PySequence_Fast_GET_SIZE(chunks), n_in = PySequence_Fast_GET_SIZE(strides), n_out = -1;
-  Py_ssize_t slots = 0, held = 0;
+  Py_ssize_t held = 0;
   long *numbers = PyMem_Malloc(sizeof(long) * (size_t)(n_in + 2 * count + 1));
   const double **ins = PyMem_Malloc(sizeof(double *) * (size_t)(count * n_in + 1));
   const double *const **in_rows = PyMem_Malloc(sizeof(double **) * (size_t)(count + 1));
@@ -186,9 +186,8 @@ static PyObject *run(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
     }
     if (n_out < 0) {
       n_out = PyList_GET_SIZE(out_list);
-      slots = count * (n_in + n_out);
       outs = PyMem_Malloc(sizeof(double *) * (size_t)(count * n_out + 1));
-      views = PyMem_Malloc(sizeof(Py_buffer) * (size_t)(slots + 1));
+      views = PyMem_Malloc(sizeof(Py_buffer) * (size_t)(count * (n_in + n_out) + 1));
       if (!outs || !views) {
         PyErr_NoMemory();
         goto done;

@@ -60,8 +60,9 @@ def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     layout = _layout(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     n = _batch_size(f, layout, arrays)
-    inputs = [np.ascontiguousarray(np.broadcast_to(a, (n, f.numel_in(i)))) for i, a in enumerate(arrays)]
-    outputs = [np.empty((n, f.numel_out(j))) for j in range(f.n_out())]
+    inputs = [np.ascontiguousarray(np.broadcast_to(a, (n, width)))
+              for a, width in zip(arrays, layout.widths_in, strict=True)]
+    outputs = [np.empty((n, width)) for width in layout.widths_out]
     for start in range(0, n, CHUNK):
         stop = min(n, start + CHUNK)
         mapped = _mapped(f, stop - start)

@@ -224,8 +224,6 @@ def quadrature_function(
             value, gradient = float(reduce_sums(sums, spec.reduce)), reduce_gradient(sums, jacobian, spec.reduce)
         if region.guard is not None and not admissible(mech, region, design[None], branch=branch)[0]:
             return float("nan"), np.full(len(design), np.nan)
-        if spec.per is None:
-            return value, gradient
         (size,), (size_gradient,) = _sizes(mech, spec, design[None])
         return value / size, gradient / size - value * size_gradient / size**2
 
