@@ -3,9 +3,9 @@ VENV := .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 
-.PHONY: generate check-generated test test-interpreted lint bench demo clean
+.PHONY: generate check-generated build test test-interpreted lint bench demo clean
 
-$(STAMP): pyproject.toml setup.py pkm/_kernels.c $(wildcard generated/*.c) $(wildcard generated/*.h)
+$(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e ".[test]"
@@ -17,6 +17,9 @@ generate: $(STAMP)
 check-generated: $(STAMP)
 	PYTHONHASHSEED=0 $(PY) -m symbolic.generate --check
 	PYTHONHASHSEED=1 $(PY) -m symbolic.generate --check
+
+build: $(STAMP)
+	$(VENV)/bin/pkm build
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check .

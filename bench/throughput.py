@@ -5,25 +5,20 @@ reaches them. Every path is checked against numpy to 1e-9 before timing; figures
 ``repeats``; nothing asserts on time. The experiments (not part of pkm) evaluate the same CasADi graph
 in one pass: on CasADi's VM, JIT-compiled per pose, and as a whole mapped chunk compiled to C; and pkm's
 local-index pipeline as it is built without the five-bar's ``first_order_from_pose`` (through the joint
-angles: acos and atan2 in the inverse kinematics, cos and sin in ``first_order``), emitted by pkm's C
-emitter and built as setup.py builds pkm's kernels, so that the gain of the derivation without
+angles: acos and atan2 in the inverse kinematics, cos and sin in ``first_order``), compiled at first use
+like any graph pkm evaluates, so that the gain of the derivation without
 trigonometric calls is measured in the same run.
 """
 
 from __future__ import annotations
 
 import copy
-import ctypes
 import os
-import platform
 import shutil
 import subprocess
-import sys
 import tempfile
 import time
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 from typing import Any
 
 import casadi as ca
@@ -36,7 +31,6 @@ from pkm.indices import local_function
 from pkm.kinematics import FunctionTable
 from pkm.regions.pipeline import FROM_POSE, index_pipeline
 from pkm.registry import local_index
-from symbolic import cemit
 
 DESIGN = {"r1": 1.2, "r2": 1.0, "r3": 0.8}
 MODE = "out_out"
@@ -45,10 +39,6 @@ SEED = 20261121
 TOL = 1e-9
 SERIAL_MARGIN = 1e-3
 CC = shutil.which("gcc") or shutil.which("cc")
-BUILD_FLAGS = ("-O3", "-fopenmp-simd", "-fno-math-errno", "-fno-trapping-math", "-fno-tree-sink", "-fno-thread-jumps",
-               "-ffp-contract=off")
-LIBMVEC = sys.platform == "linux" and platform.machine() == "x86_64"
-_DOUBLES = ctypes.POINTER(ctypes.c_double)
 
 
 def sample_poses(m: pkm.Mechanism, n: int, seed: int = SEED) -> np.ndarray:
@@ -161,56 +151,26 @@ def through_angles(m: pkm.Mechanism) -> ca.Function:
     return index_pipeline(angles, (m.local_spec(INDEX),))
 
 
-def build_kernel(fn: ca.Function, workdir: str) -> Callable[..., None]:
-    """``fn`` emitted by pkm's C emitter and built with setup.py's flags for the instruction set pkm's own
-    kernels run with here: ``run(strides, chunks, threads)`` as :func:`pkm.compiled.kernel` gives it (the
-    chunks on Python threads)."""
-    isa = pkm.compiled.status()["instruction_set"]
-    target = ['#pragma GCC target("avx2")'] if isa == "avx2" else []
-    source = Path(workdir) / f"{fn.name()}.c"
-    source.write_text("\n".join([*target, f"#define PKM_ISA {isa}", cemit.PRELUDE, cemit.ISA_HELPERS,
-                                  cemit.kernel(fn, "bench_kernel")]))
-    library = source.with_suffix(".so")
-    libraries = ["-lmvec", "-lm"] if LIBMVEC else ["-lm"]
-    subprocess.run([CC, *BUILD_FLAGS, "-shared", "-fPIC", str(source), "-o", str(library), *libraries],
-                   check=True, capture_output=True)
-    call = getattr(ctypes.CDLL(str(library)), f"bench_kernel_{isa}")
-
-    Chunk = tuple[list[np.ndarray], list[np.ndarray], int, int]
-
-    def one(strides: list[int], chunk: Chunk) -> None:
-        inputs, outputs, n, group = chunk
-        ins = (_DOUBLES * len(inputs))(*[a.ctypes.data_as(_DOUBLES) for a in inputs])
-        outs = (_DOUBLES * len(outputs))(*[o.ctypes.data_as(_DOUBLES) for o in outputs])
-        call(ctypes.c_long(n), ctypes.c_long(group), ins, (ctypes.c_long * len(strides))(*strides), outs)
-
-    def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
-        with ThreadPoolExecutor(max(1, min(threads, len(chunks)))) as pool:
-            list(pool.map(lambda chunk: one(strides, chunk), chunks))
-
-    return run
-
-
-def angle_route(m: pkm.Mechanism, X: np.ndarray, ref, timer: Timer, tmp: str) -> list[str]:
-    """The rows of :func:`through_angles`, compiled (module docstring) and run by pkm.batch's compiled path."""
+def angle_route(m: pkm.Mechanism, X: np.ndarray, ref, timer: Timer) -> list[str]:
+    """The rows of :func:`through_angles`, compiled at first use like any graph (module docstring)."""
     fn = through_angles(m)
     status = pkm.compiled.status()
-    if status["path"] != "compiled" or CC is None:
-        return [f"the local index through the joint angles was not timed: {status['reason'] or 'no C compiler'}"]
+    if status["path"] != "compiled":
+        return [f"the local index through the joint angles was not timed: {status['reason']}"]
     start = time.perf_counter()
-    run = build_kernel(fn, tmp)
-    notes = [f"the local index through the joint angles built in {time.perf_counter() - start:.2f} s"]
+    pkm.compiled.build([(fn, False)])
+    notes = [f"the local index through the joint angles compiled in {time.perf_counter() - start:.2f} s"]
     sig, d = np.asarray(m.working_mode(MODE).signs, dtype=float), m.design(DESIGN).vector()
 
     def value() -> np.ndarray:
-        return pkm.batch._compiled(fn, run, [X, sig, d])[1][:, 0, 0]
+        return pkm.batch.evaluate(fn, X, sig, d)[1][:, 0, 0]
 
     err = float(np.max(np.abs(value() - ref[1])))
     if not err <= TOL:
         raise AssertionError(f"the local index through the joint angles differs from numpy by {err:.3g} > {TOL:g}")
     for t in sorted({pkm.batch.THREADS, 1}, reverse=True):
         timer.add("experiment: pkm local_index through the joint angles (IK -> first_order -> 1/kappa_f)", t, value,
-                  err, "the pipeline without first_order_from_pose, same emitter and build", batch=t)
+                  err, "the pipeline without first_order_from_pose, same emitter and flags", batch=t)
     return notes
 
 
@@ -316,7 +276,7 @@ def run(n: int = 1_000_000, repeats: int = 3, *, compiled: bool = True, log=prin
     with tempfile.TemporaryDirectory(prefix="pkm-bench-") as tmp:
         notes = experiments(m, X, ref, timer, tmp if compiled else None)
         if compiled:
-            notes += angle_route(m, X, ref, timer, tmp)
+            notes += angle_route(m, X, ref, timer)
         load = os.getloadavg()
         rows = timer.run()
     notes.append(f"J compared at {n - near} poses; {near} close to a serial singularity: 1/kappa_f only")

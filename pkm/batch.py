@@ -32,11 +32,13 @@ def _mapped(f: ca.Function, n: int) -> ca.Function:
 
 @lru_cache(maxsize=256)
 def _dense(f: ca.Function) -> ca.Function:
-    """``f`` with dense inputs and outputs: buffers hold every entry, structural zeros included."""
+    """``f`` with dense inputs and outputs: buffers hold every entry, structural zeros included. An SX
+    function stays one (so that it compiles)."""
     dense_in = all(f.sparsity_in(i).is_dense() for i in range(f.n_in()))
     if dense_in and all(f.sparsity_out(j).is_dense() for j in range(f.n_out())):
         return f
-    args = [ca.MX.sym(f.name_in(i), *f.size_in(i)) for i in range(f.n_in())]
+    symbol = ca.SX.sym if f.is_a("SXFunction") else ca.MX.sym
+    args = [symbol(f.name_in(i), *f.size_in(i)) for i in range(f.n_in())]
     outs = [ca.densify(o) for o in f.call(args)]
     return ca.Function(f.name(), args, outs, f.name_in(), f.name_out())
 
@@ -48,10 +50,13 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
     Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
     """
-    run = kernel(f)
+    f = _dense(f)
+    arrays = [np.asarray(a, dtype=float) for a in args]
+    layout = _layout(f)
+    run = kernel(f, work=layout.instructions * _rows(arrays))
     if run is not None:
-        return _compiled(f, _layout(f), run, [np.asarray(a, dtype=float) for a in args])
-    return interpreted(f, *args)
+        return _compiled(f, layout, run, arrays)
+    return interpreted(f, *arrays)
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -91,6 +96,11 @@ def _layout(f: ca.Function) -> _Layout:
                    tuple(f.size_out(j) for j in range(f.n_out())), f.n_instructions() if f.is_a("SXFunction") else 0)
 
 
+def _rows(arrays: list[np.ndarray]) -> int:
+    """The rows of a batch (one where every argument is shared), without checking them."""
+    return max((len(a) for a in arrays if a.ndim == 2), default=1)
+
+
 def _batch_size(f: ca.Function, layout: _Layout, arrays: list[np.ndarray]) -> int:
     sizes = {a.shape[0] for a in arrays if a.ndim == 2}
     if len(sizes) > 1:
@@ -111,15 +121,16 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     array per output; or with ``group`` over each run of ``group`` consecutive rows: one (N / group, rows,
     cols) array per output. By ``f``'s summing kernel where it has one (rows added in order), else by
     CasADi's interpreter and numpy. A summing kernel reads its inputs named in
-    ``symbolic.cemit.GROUP_SHARED`` (``mode``, ``design``, ``t``) from the first row of each group: they must
+    ``pkm.compiled.emit.GROUP_SHARED`` (``mode``, ``design``, ``t``) from the first row of each group: they must
     be the same on every row of a group."""
+    f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     layout = _layout(f)
     n = _batch_size(f, layout, arrays)
     size = n if group is None else group
     if size < 1 or n % size:
         raise ValueError(f"{f.name()}: a batch of {n} rows does not split into groups of {size}")
-    run = kernel(f, summed=True)
+    run = kernel(f, summed=True, work=layout.instructions * n)
     if run is None:
         sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
     else:

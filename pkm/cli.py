@@ -11,6 +11,7 @@ import os
 import re
 import shutil
 import sys
+import time
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, redirect_stdout
@@ -99,10 +100,60 @@ def cmd_list(args: argparse.Namespace) -> None:
     lines.append("problems: " + ", ".join(out["problems"]))
     lines.append("papers:")
     lines += [f"  {key}: {title}" for key, title in out["papers"].items()]
-    path = out["evaluation"]
-    lines.append(f"evaluation: compiled kernels ({path['kernels']}, {path['instruction_set']})" if path["path"] ==
-                 "compiled" else f"evaluation: CasADi's interpreter ({path['reason']})")
+    lines += _evaluation_lines(out["evaluation"])
     _emit(args, out, "\n".join(lines))
+
+
+def _evaluation_lines(path: dict[str, Any]) -> list[str]:
+    """What ``pkm.compiled.status()`` says, in words."""
+    if path["path"] == "compiled":
+        lines = [f"evaluation: compiled at first use by {path['compiler']} for {path['instruction_set']} into "
+                 f"{path['cache']}" + (f" (read only: {path['cache_unwritable']})" if path["cache_unwritable"] else "")]
+    else:
+        lines = [f"evaluation: CasADi's interpreter ({path['reason']})"]
+    counts = path["evaluations"]
+    interpreted = ", ".join(f"{n} {reason}" for reason, n in counts["interpreter"].items())
+    lines.append(f"  this process: {counts['compiled']} evaluations compiled, {sum(counts['interpreter'].values())} "
+                 "on the interpreter" + (f" ({interpreted})" if interpreted else ""))
+    if "note" in path["casadi"]:
+        lines.append(f"  {path['casadi']['note']}")
+    return lines
+
+
+def cmd_build(args: argparse.Namespace) -> None:
+    from pkm.catalogue import warm
+    from pkm.progress import Progress
+
+    status = compiled_status()
+    if status["path"] != "compiled":
+        raise ComputationError(f"nothing can be compiled: {status['reason']}")
+    names = args.mechanisms or registry.mechanisms()
+    mechanisms = [registry.mechanism(name) for name in names]
+    data = {}
+    for mech in mechanisms:
+        wall, cpu = time.perf_counter(), _children_cpu()
+        with Progress(1, f"pkm build {mech.name}") as bar:
+            def progress(done: int, total: int, bar: Progress = bar) -> None:
+                bar.total = max(total, 1)
+                bar.done = 0
+                bar.advance(done)
+
+            counts = warm([mech], progress=progress)
+        data[mech.name] = {**counts, "wall_s": round(time.perf_counter() - wall, 2),
+                           "compiler_cpu_s": round(_children_cpu() - cpu, 2)}
+    lines = [f"{name}: {d['cached']} kernels in the cache, {d['compiled']} compiled, {d['interpreted']} left on the "
+             f"interpreter; {d['wall_s']:.1f} s ({d['compiler_cpu_s']:.1f} s of compiler CPU)"
+             for name, d in data.items()]
+    _emit(args, {"mechanisms": data, "evaluation": compiled_status()},
+          "\n".join([*lines, *_evaluation_lines(compiled_status())[:1]]))
+    if any(d["interpreted"] for d in data.values()):
+        raise ComputationError("some kernels did not compile (the warnings above name them)")
+
+
+def _children_cpu() -> float:
+    """CPU seconds of the finished child processes (the compilers)."""
+    times = os.times()
+    return times.children_user + times.children_system
 
 
 def cmd_eval(args: argparse.Namespace) -> None:
@@ -473,7 +524,10 @@ def build_parser() -> argparse.ArgumentParser:
                   f"resolution of a parametrised region (default {QUADRATURE_RESOLUTION}); e.g. 32")
 
     command("list", cmd_list, "mechanisms with their parameters, units, modes, regions and design spaces; indices; "
-                              "problems; papers")
+                              "problems; papers; the evaluation path")
+    p = command("build", cmd_build, "compile the kernels of mechanisms ahead of time into the kernel cache, in "
+                                    "parallel (everything else compiles at first use)")
+    listed(p, "mechanisms", key="mechanism", nargs="*")
     p = command("eval", cmd_eval, "inverse kinematics, Jacobian and local indices at poses")
     listed(p, "mechanism", key="mechanism")
     listed(p, "--pose", key="pose", action="append")
@@ -586,10 +640,17 @@ def _check_out(folder: str | None) -> None:
             raise PkmError(f"--out {folder} violates: a folder (or a path to one); {part} is a file")
 
 
+def _one_line_warning(message: Warning | str, *_args: Any, **_kwargs: Any) -> None:
+    print(f"pkm: warning: {message}", file=sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """The command line; its output is its own (``pkm list`` says which evaluation path is active, so no
-    warning of the interpreter fallback is printed)."""
-    warnings.filterwarnings("ignore", category=CompiledPathWarning)
+    """The command line. Warnings are one line each on standard error (the interpreter answering where a
+    kernel did not compile, for instance), but none where ``PKM_COMPILED=0`` asks for the interpreter."""
+    if os.environ.get("PKM_COMPILED") == "0":
+        warnings.filterwarnings("ignore", category=CompiledPathWarning)
+    else:
+        warnings.showwarning = _one_line_warning
     try:
         args = build_parser().parse_args(_negative_values(sys.argv[1:] if argv is None else list(argv)))
         _check_out(getattr(args, "out", None))

@@ -6,11 +6,11 @@ import argparse
 import multiprocessing
 import os
 import platform
-import subprocess
 import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+import casadi
 import sympy as sp
 
 from symbolic import codegen
@@ -39,10 +39,10 @@ def derive(name: str) -> codegen.RenderedModule:
 
 
 def write(out: Path) -> None:
-    """Derive every registered mechanism and write the generated tree into ``out``, then the C kernels
-    of the compiled path from it (:mod:`symbolic.kernels`, in a process of its own that imports pkm with
-    this tree). On Linux the derivations run in forked processes, one per core (each is independent and
-    deterministic); elsewhere one after the other."""
+    """Derive every registered mechanism and write the generated tree into ``out``. On Linux the
+    derivations run in forked processes, one per core (each is independent and deterministic); elsewhere
+    one after the other. The manifest records the tools, CasADi's version among them (the builders are
+    written for its API; pkm.compiled.status() reports a runtime with another)."""
     names = sorted(MECHANISMS)
     workers = min(len(names), os.cpu_count() or 1)
     if workers > 1 and sys.platform == "linux":
@@ -50,9 +50,8 @@ def write(out: Path) -> None:
             modules = list(pool.map(derive, names))
     else:
         modules = [derive(name) for name in names]
-    tools = {"python": platform.python_version(), "sympy": sp.__version__}
+    tools = {"casadi": casadi.__version__, "python": platform.python_version(), "sympy": sp.__version__}
     codegen.write_tree(out, modules, tools)
-    subprocess.run([sys.executable, "-m", "symbolic.kernels", str(out)], cwd=ROOT, check=True)
 
 
 def main(argv: list[str] | None = None) -> int:

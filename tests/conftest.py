@@ -15,10 +15,10 @@ def fresh_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
     The derivation takes seconds; the byte comparison and the numeric comparison of
     tests/test_generated_is_current.py share it. It is kept in the user's cache under the sha256 of every
-    Python file of symbolic/ and pkm/ and the versions of Python, sympy and CasADi: the same sources give the same bytes
+    Python file of symbolic/ and the versions of Python, sympy and CasADi: the same sources give the same bytes
     (``make check-generated`` derives twice, under two hash seeds, and compares), so a session whose
     derivation did not change compares with the derivation of an earlier one, and any edit of symbolic/
-    or pkm/ derives again. sympy is imported here, not at the top of this module, so that tests that never ask
+    derives again. sympy is imported here, not at the top of this module, so that tests that never ask
     for the fixture do not pay for it.
     """
     import hashlib
@@ -32,8 +32,7 @@ def fresh_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from symbolic import generate
 
     digest = hashlib.sha256(f"{platform.python_version()} {sympy.__version__} {casadi.__version__}".encode())
-    # the kernels are emitted from pkm's own graphs (indices, regions) as well as from symbolic/
-    for path in sorted([*(generate.ROOT / "symbolic").rglob("*.py"), *(generate.ROOT / "pkm").rglob("*.py")]):
+    for path in sorted((generate.ROOT / "symbolic").rglob("*.py")):
         digest.update(path.relative_to(generate.ROOT).as_posix().encode())
         digest.update(path.read_bytes())
     cache = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "pkm" / "fresh-generated"

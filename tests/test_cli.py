@@ -448,15 +448,41 @@ def test_list_says_which_evaluation_path_is_active(capsys, monkeypatch):
     assert main(["list", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["evaluation"] == compiled.status()
     monkeypatch.setenv("PKM_COMPILED", "0")
-    compiled._library.cache_clear()
+    compiled.reset()
     try:
+        assert main(["list"]) == 0
+        text = capsys.readouterr().out
         assert main(["list", "--json"]) == 0
         evaluation = json.loads(capsys.readouterr().out)["evaluation"]
     finally:
-        monkeypatch.delenv("PKM_COMPILED")
-        compiled._library.cache_clear()
-        compiled.kernel.cache_clear()
-    assert evaluation == {"path": "interpreter", "kernels": 0, "instruction_set": None, "reason": "PKM_COMPILED=0"}
+        monkeypatch.undo()
+        compiled.reset()
+    assert evaluation["path"] == "interpreter"
+    assert evaluation["reason"] == "disabled by PKM_COMPILED=0"
+    assert "evaluation: CasADi's interpreter (disabled by PKM_COMPILED=0)" in text
+    assert "this process: 0 evaluations compiled, 0 on the interpreter" in text
+
+
+def test_build_compiles_a_mechanisms_kernels_ahead_of_time(capsys):
+    """Into the suite's cache (the contract suite compiles the same kernels, so none is compiled twice)."""
+    from pkm import compiled
+    from pkm.catalogue import kernels
+
+    if compiled.status()["path"] != "compiled":
+        pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
+    assert main(["build", "slider_gantry", "--json"]) == 0
+    first = json.loads(capsys.readouterr().out)["mechanisms"]["slider_gantry"]
+    compiled.reset()
+    assert main(["build", "slider_gantry"]) == 0
+    second = capsys.readouterr().out
+    count = len(kernels(pkm.load("slider_gantry")))
+    assert (first["cached"] + first["compiled"], first["interpreted"]) == (count, 0)
+    assert f"slider_gantry: {count} kernels in the cache, 0 compiled, 0 left on the interpreter" in second
+
+
+def test_build_of_an_unknown_mechanism_exits_2(capsys):
+    assert main(["build", "nonsense"]) == 2
+    assert "nonsense" in capsys.readouterr().err
 
 
 def _swallowed_interrupt(check) -> None:

@@ -15,13 +15,13 @@ import pkm
 from bench.integrals import node_graph
 from pkm import compiled
 from pkm.batch import COMPILED_WORK, interpreted, total
+from pkm.catalogue import integrands
+from pkm.compiled.emit import GROUP_SHARED
 from pkm.indices import epigraph_function
 from pkm.regions import node_quadrature, quadrature_function, quadrature_value
 from pkm.regions.integrand import region_rows, sum_function
 from pkm.regions.pipeline import pipeline
 from pkm.regions.quadrature import epigraph_margins
-from symbolic.cemit import GROUP_SHARED
-from symbolic.kernels import integrands
 
 RESOLUTION = 4
 
@@ -44,6 +44,7 @@ def test_integrand_kernels_agree_with_the_interpreter(name):
     if compiled.status()["path"] != "compiled":
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
     mech = pkm.load(name)
+    assert compiled.build([(k.function, k.summed) for k in integrands(mech)])["interpreted"] == 0
     for integrand in integrands(mech):
         fn = integrand.function
         assert compiled.kernel(fn, integrand.summed) is not None, fn.name()
@@ -166,15 +167,18 @@ def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypa
 def test_the_architecture_states_the_compiled_paths_constants():
     from pathlib import Path
 
+    from pkm.compiled import WAIT_WORK
+    from pkm.compiled.cache import LIMIT_MB
     from pkm.synthesis.model import EXCHANGE_LIMIT, EXCHANGE_ROWS
-    from symbolic.kernels import PART_INSTRUCTIONS
 
     text = " ".join((Path(__file__).parent.parent / "docs" / "architecture.md").read_text().split())
     assert f"more than {EXCHANGE_LIMIT} rows" in text
     assert f"it holds the {EXCHANGE_ROWS} rows of least margin of each output" in text
     assert f"adds the {EXCHANGE_ROWS} rows of each output" in text
-    assert f"parts of about {PART_INSTRUCTIONS:,} instructions" in text
+    assert f"from 2^{WAIT_WORK.bit_length() - 1} instructions times rows" in text
+    assert f"at most {LIMIT_MB} MiB" in text
     assert f"2^{COMPILED_WORK.bit_length() - 1} instructions times rows" in text
     assert f"`{', '.join(f'`{name}`' for name in GROUP_SHARED)[1:]}" in text
-    spin = re.search(r"#define PKM_SPIN_NS (\d+)L", (Path(__file__).parent.parent / "pkm" / "_kernels.c").read_text())
+    runner = Path(__file__).parent.parent / "pkm" / "compiled" / "_runner.c"
+    spin = re.search(r"#define PKM_SPIN_NS (\d+)L", runner.read_text())
     assert f"for {int(spin[1]) / 1e6:g} ms before they sleep" in text

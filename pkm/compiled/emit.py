@@ -1,13 +1,14 @@
-"""CasADi SX function -> C loop over a batch: the emitter of the compiled path (DESIGN.md section 6a).
+"""CasADi SX function -> C: the emitter of the compiled path (DESIGN.md section 6a).
 
-:func:`kernel` writes a function's instruction list, one C statement per instruction, as the body of a
-loop over the rows of pkm's batch arrays: input ``i`` of row ``p`` is read from ``in[i] + p * stride[i]``
-(a stride of 0 shares one row with the whole batch), output ``j`` written to ``out[j] + p * numel_j``,
-both in CasADi's column-major order of the matrix entries, as :func:`pkm.batch.evaluate` lays them out.
-Each operation is the C library's or IEEE arithmetic (no fast-math, no contraction: the build says so;
-comparisons and logic as selects, so that the loop vectorises), so the compiled kernel agrees with
-CasADi's interpreter to round-off; constants are written as hexadecimal floats, so
-they are exact. The text depends only on the graph: the same function gives the same bytes.
+:func:`source` writes a function's instruction list, one C statement per instruction, as the body of a
+loop over the rows of pkm's batch arrays, in a translation unit of its own that exports one function,
+``pkm_kernel``: input ``i`` of row ``p`` is read from ``in[i] + p * stride[i]`` (a stride of 0 shares one
+row with the whole batch), output ``j`` written to ``out[j] + p * numel_j``, both in CasADi's
+column-major order of the matrix entries, as :func:`pkm.batch.evaluate` lays them out. Each operation is
+the C library's or IEEE arithmetic (no fast-math, no contraction: :mod:`pkm.compiled.toolchain` compiles
+with those flags; comparisons and logic as selects, so that the loop vectorises), so the compiled kernel
+agrees with CasADi's interpreter to round-off; constants are written as hexadecimal floats, so they are
+exact. The text depends only on the graph: the same function gives the same bytes.
 """
 
 from __future__ import annotations
@@ -64,25 +65,17 @@ PKM_SIMD double pow(double, double);
 #define PKM_SIMD
 #endif
 
-/* kernels are compiled once per instruction set: PKM_FN(name) is name_<PKM_ISA> */
-#define PKM_CAT(a, b) a##_##b
-#define PKM_XCAT(a, b) PKM_CAT(a, b)
-#define PKM_FN(name) PKM_XCAT(name, PKM_ISA)
-
 /* cos goes through a wrapper of its own, or the compiler would merge sin and cos of one argument into a
    complex exponential that does not vectorise */
-#define PKM_COS PKM_FN(pkm_cos)
+#define PKM_COS pkm_cos
 
 #define PKM_BLOCK 64 /* poses a kernel transposes into columns and evaluates at a time */
 
-typedef void (*pkm_kernel_fn)(long n, long group, const double *const *in, const long *stride, double *const *out);
-"""
-
-ISA_HELPERS = """PKM_SIMD __attribute__((noinline)) static double PKM_FN(pkm_cos)(double x) { return cos(x); }
+PKM_SIMD __attribute__((noinline)) static double pkm_cos(double x) { return cos(x); }
 
 /* one entry of rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch;
    in points at the entry in row 0) into a column of a block, the last row repeated to fill it */
-static inline void PKM_FN(pkm_gather)(double *restrict a, const double *in, long stride, long p0, long m)
+static inline void pkm_gather(double *restrict a, const double *in, long stride, long p0, long m)
 {
   for (long q = 0; q < PKM_BLOCK; ++q) a[q] = in[(p0 + (q < m ? q : m - 1)) * stride];
 }
@@ -92,8 +85,7 @@ static inline void PKM_FN(pkm_gather)(double *restrict a, const double *in, long
    are added in registers, up to PKM_SUMS columns at a time side by side (k independent chains instead of
    one through memory, and one division per output row instead of one per batch row) */
 #define PKM_SUMS 16
-static inline void PKM_FN(pkm_accumulate)(double *out, long k, const double *restrict b, long p0, long m,
-                                          long group)
+static inline void pkm_accumulate(double *out, long k, const double *restrict b, long p0, long m, long group)
 {
   double s[PKM_SUMS];
   for (long q = 0; q < m;) {
@@ -112,7 +104,7 @@ static inline void PKM_FN(pkm_accumulate)(double *out, long k, const double *res
 }
 
 /* the first m rows of a block's k columns into rows p0 .. p0 + m - 1 of an (N, k) output */
-static inline void PKM_FN(pkm_scatter)(double *out, long k, const double *restrict b, long p0, long m)
+static inline void pkm_scatter(double *out, long k, const double *restrict b, long p0, long m)
 {
   for (long q = 0; q < m; ++q)
     for (long e = 0; e < k; ++e) out[(p0 + q) * k + e] = b[e * PKM_BLOCK + q];
@@ -193,20 +185,24 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
     lines += [f"{indent}  {line}" for line in once_lines]
     lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
               f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
-    lines += [f"{inner}PKM_FN(pkm_gather)(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    lines += [f"{inner}pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
     lines += ["#pragma omp simd", f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{"]
     if written:
         lines.append(f"{inner}  double " + ", ".join(f"w{k}" for k in written) + ";")
     lines += [f"{inner}  {line}" for line in row_lines]
     lines.append(f"{inner}}}")
-    store = ("accumulate)(out[{j}], {k}, b{j}[0], p0, m, group);" if summed
-             else "scatter)(out[{j}], {k}, b{j}[0], p0, m);")
-    lines += [f"{inner}PKM_FN(pkm_{store.format(j=j, k=k)}" for j, k in enumerate(n_out) if k]
+    store = ("accumulate(out[{j}], {k}, b{j}[0], p0, m, group);" if summed
+             else "scatter(out[{j}], {k}, b{j}[0], p0, m);")
+    lines += [f"{inner}pkm_{store.format(j=j, k=k)}" for j, k in enumerate(n_out) if k]
     return [*lines, f"{indent}  }}", f"{indent}}}"]
 
 
-def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
-    """The C function ``symbol`` that evaluates ``fn`` over a batch (module docstring), or with ``summed``
+SYMBOL = "pkm_kernel"  # the one function a kernel's translation unit exports
+
+
+def source(fn: ca.Function, summed: bool = False) -> str:
+    """The translation unit of ``fn``'s kernel: :data:`PRELUDE` and the function :data:`SYMBOL` that
+    evaluates ``fn`` over a batch (module docstring), or with ``summed``
     adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
     ``out[j]`` (N / group rows of numel_j); a kernel that is not summed ignores ``group``.
 
@@ -220,10 +216,11 @@ def kernel(fn: ca.Function, symbol: str, summed: bool = False) -> str:
     n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
     shared = {i for i in range(fn.n_in()) if fn.name_in(i) in GROUP_SHARED and n_in[i]}
     lines = [
+        PRELUDE,
         f"/* {fn.name()}: {fn.n_instructions()} instructions, {len(_split(fn, shared)[0])} once per "
         f"{'group' if summed else 'call where the design is shared'}; inputs {', '.join(fn.name_in())}; "
         f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
-        f"void PKM_FN({symbol})(long n, long group, const double *const *in, const long *stride, "
+        f"void {SYMBOL}(long n, long group, const double *const *in, const long *stride, "
         "double *const *out)",
         "{",
     ]

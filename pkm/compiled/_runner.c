@@ -1,6 +1,7 @@
-/* pkm._kernels: the kernels of generated/ and the Python functions that call them. pkm.compiled calls
-   keys(), isa() and run(), which runs pkm_kernel_call (the dispatch of generated/kernels.c) over the
-   chunks of a batch, reading and writing the numpy arrays it is given through the buffer protocol.
+/* pkm's kernel runner, compiled by pkm.compiled into its cache at first use: load(path) opens a kernel's
+   shared library and returns the address of its pkm_kernel; run(address, threads, strides, chunks) runs
+   it over the chunks of a batch, reading and writing the numpy arrays it is given through the buffer
+   protocol.
 
    pkm_kernel_run evaluates one kernel over several chunks of a batch at once: the calling thread takes
    chunks itself while threads kept from earlier calls take the others. A kept thread waits for the next
@@ -10,16 +11,14 @@
    and makes its own. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
+#include <dlfcn.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdint.h>
 #include <string.h>
 #include <time.h>
 
-void pkm_kernel_call(long i, long n, long group, const double *const *in, const long *stride, double *const *out);
-long pkm_kernel_count(void);
-const char *pkm_kernel_key(long i);
-const char *pkm_kernel_isa(void);
+typedef void (*pkm_kernel_fn)(long n, long group, const double *const *in, const long *stride, double *const *out);
 
 #define PKM_MAX_THREADS 64
 #define PKM_SPIN_NS 1000000L
@@ -34,7 +33,7 @@ static long started;                                           /* threads runnin
 static atomic_ullong ticket;
 
 static struct {
-  long kernel;
+  pkm_kernel_fn kernel;
   const long *n, *group, *stride;
   const double *const *const *in;
   double *const *const *out;
@@ -55,7 +54,7 @@ static void take_chunks(unsigned long long gen)
   while (t >> 32 == gen && (t & 0xffff) < (t >> 16 & 0xffff)) {
     if (atomic_compare_exchange_weak(&ticket, &t, t + 1)) {
       long k = (long)(t & 0xffff);
-      pkm_kernel_call(job.kernel, job.n[k], job.group[k], job.in[k], job.stride, job.out[k]);
+      job.kernel(job.n[k], job.group[k], job.in[k], job.stride, job.out[k]);
       atomic_fetch_sub(&job.left, 1);
       t = atomic_load(&ticket);
     }
@@ -88,13 +87,13 @@ static void forget_threads(void)
   started = 0;
 }
 
-/* kernel i over chunks k = 0 .. chunks - 1 (at most 65535) of n[k] rows in groups of group[k], inputs
+/* kernel over chunks k = 0 .. chunks - 1 (at most 65535) of n[k] rows in groups of group[k], inputs
    in[k] with the row strides stride, outputs out[k]; on at most threads threads, the caller's included */
-static void pkm_kernel_run(long i, long chunks, long threads, const long *n, const long *group,
+static void pkm_kernel_run(pkm_kernel_fn kernel, long chunks, long threads, const long *n, const long *group,
                            const double *const *const *in, const long *stride, double *const *const *out)
 {
   if (chunks < 2 || threads < 2 || chunks > 0xffff || pthread_mutex_trylock(&job_lock) != 0) {
-    for (long k = 0; k < chunks; ++k) pkm_kernel_call(i, n[k], group[k], in[k], stride, out[k]);
+    for (long k = 0; k < chunks; ++k) kernel(n[k], group[k], in[k], stride, out[k]);
     return;
   }
   long wanted = (threads < chunks ? threads : chunks) - 1;
@@ -110,7 +109,7 @@ static void pkm_kernel_run(long i, long chunks, long threads, const long *n, con
     if (failed) break;
     ++started;
   }
-  job.kernel = i;
+  job.kernel = kernel;
   job.n = n;
   job.group = group;
   job.in = in;
@@ -134,22 +133,24 @@ static double *buffer_of(PyObject *array, Py_buffer *view, int writable)
     return NULL;
   if (view->itemsize != sizeof(double) || view->format == NULL || strcmp(view->format, "d") != 0) {
     PyBuffer_Release(view);
-    PyErr_SetString(PyExc_TypeError, "pkm._kernels.run takes C-contiguous arrays of float64");
+    PyErr_SetString(PyExc_TypeError, "pkm's kernels take C-contiguous arrays of float64");
     return NULL;
   }
   return (double *)view->buf;
 }
 
-/* run(kernel, threads, strides, chunks): pkm_kernel_run over chunks, a sequence of (inputs, outputs, n,
-   group) with inputs and outputs sequences of arrays, without the GIL */
+/* run(address, threads, strides, chunks): pkm_kernel_run of the kernel at address (from load) over
+   chunks, a sequence of (inputs, outputs, n, group) with inputs and outputs lists of arrays, without
+   the GIL */
 static PyObject *run(PyObject *self, PyObject *const *args, Py_ssize_t nargs)
 {
   (void)self;
   if (nargs != 4) {
-    PyErr_SetString(PyExc_TypeError, "run(kernel, threads, strides, chunks) takes 4 arguments");
+    PyErr_SetString(PyExc_TypeError, "run(address, threads, strides, chunks) takes 4 arguments");
     return NULL;
   }
-  long kernel = PyLong_AsLong(args[0]), threads = PyLong_AsLong(args[1]);
+  pkm_kernel_fn kernel = (pkm_kernel_fn)PyLong_AsVoidPtr(args[0]);
+  long threads = PyLong_AsLong(args[1]);
   PyObject *strides = PySequence_Fast(args[2], "strides must be a sequence");
   PyObject *chunks = strides ? PySequence_Fast(args[3], "chunks must be a sequence") : NULL;
   if (chunks == NULL || PyErr_Occurred()) {
@@ -224,42 +225,36 @@ done:
   return result;
 }
 
-/* keys(): the kernels' keys (pkm.compiled.key) in the order of their indices */
-static PyObject *keys(PyObject *self, PyObject *unused)
+/* load(path): the address of pkm_kernel in the shared library at path, opened for the process's lifetime */
+static PyObject *load(PyObject *self, PyObject *arg)
 {
   (void)self;
-  (void)unused;
-  long count = pkm_kernel_count();
-  PyObject *out = PyList_New(count);
-  for (long i = 0; out && i < count; ++i) {
-    PyObject *key = PyUnicode_FromString(pkm_kernel_key(i));
-    if (!key) {
-      Py_CLEAR(out);
-      break;
-    }
-    PyList_SET_ITEM(out, i, key);
+  PyObject *bytes = NULL;
+  if (!PyUnicode_FSConverter(arg, &bytes)) return NULL;
+  void *library = dlopen(PyBytes_AS_STRING(bytes), RTLD_NOW | RTLD_LOCAL);
+  Py_DECREF(bytes);
+  if (library == NULL) {
+    PyErr_SetString(PyExc_OSError, dlerror());
+    return NULL;
   }
-  return out;
-}
-
-/* isa(): the instruction set the kernels run with on this processor */
-static PyObject *isa(PyObject *self, PyObject *unused)
-{
-  (void)self;
-  (void)unused;
-  return PyUnicode_FromString(pkm_kernel_isa());
+  void *symbol = dlsym(library, "pkm_kernel");
+  if (symbol == NULL) {
+    PyErr_SetString(PyExc_OSError, "the library has no pkm_kernel");
+    dlclose(library);
+    return NULL;
+  }
+  return PyLong_FromVoidPtr(symbol);
 }
 
 static PyMethodDef methods[] = {
-  {"run", (PyCFunction)(void (*)(void))run, METH_FASTCALL, "run(kernel, threads, strides, chunks)"},
-  {"keys", keys, METH_NOARGS, "the kernels' keys in the order of their indices"},
-  {"isa", isa, METH_NOARGS, "the instruction set the kernels run with"},
+  {"run", (PyCFunction)(void (*)(void))run, METH_FASTCALL, "run(address, threads, strides, chunks)"},
+  {"load", load, METH_O, "load(path): the address of a kernel library's pkm_kernel"},
   {NULL, NULL, 0, NULL},
 };
 
-static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_kernels", "pkm's compiled kernels", -1, methods};
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_runner", "pkm's kernel runner", -1, methods};
 
-PyMODINIT_FUNC PyInit__kernels(void)
+PyMODINIT_FUNC PyInit__runner(void)
 {
   pthread_atfork(NULL, NULL, forget_threads);
   return PyModule_Create(&module);

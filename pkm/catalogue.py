@@ -1,0 +1,116 @@
+"""The one catalogue of the compiled path: the kernels a mechanism warms up (``pkm build``), which the
+contract suite and the integrand tests compare with the interpreter.
+
+Any function pkm evaluates over a batch is compiled at first use (:mod:`pkm.compiled`); the catalogue lists
+the ones a mechanism's users meet, built the way the runtime builds them, so that they can be compiled
+ahead of time, in parallel: every
+generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
+alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
+indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
+a sampled check evaluates it), the one of its first order (the Jacobians) and, for a virtual-work model,
+its fused inverse dynamics (:func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`),
+by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
+integrands of its global indices over its parametrised regions and over the regions of its synthesis
+problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
+with the Hessian for the problems that IPOPT solves with exact Hessians, for a region extreme the node
+values and the epigraph margins with their gradient, and the margins of each region's guard.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+
+from pkm import compiled, registry
+from pkm.compiled.emit import emittable
+from pkm.dynamics.rigid import inverse_dynamics_pipeline
+from pkm.regions.integrand import SUMMED, rows_function, sum_function
+from pkm.regions.pipeline import index_pipeline, pipeline
+from pkm.regions.quadrature import guard_index
+from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """A kernel of the catalogue: a label, the function, whether it sums over the batch, and for a point
+    integrand the region piece whose reference nodes it takes and the reduction whose rule places them."""
+
+    label: str
+    function: ca.Function
+    summed: bool = False
+    piece: Any = None
+    reduce: str = ""
+
+
+def kernels(mech: Any) -> list[Kernel]:
+    """Every kernel of a mechanism (module docstring), in a fixed order, each once."""
+    out = [Kernel(name, mech.functions[name]) for name in sorted(mech.functions)
+           if emittable(mech.functions[name])]
+    fused = {index: index_pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
+    condition = mech.local_spec(SAMPLED_CONDITION.name)
+    fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
+                  for index in mech.local_indices() if index != condition.name})
+    for region in dict.fromkeys(region for _, region, _ in _pairs(mech)):
+        guard = guard_index(region)
+        if guard is not None:
+            fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
+    fused["first_order"] = pipeline(mech, (), first_order=True)
+    if "inverse_dynamics" in mech.functions:
+        fused["inverse_dynamics"] = inverse_dynamics_pipeline(mech)
+    out += [Kernel(f"pipeline {label}", fn) for label, fn in fused.items() if emittable(fn)]
+    out += integrands(mech)
+    seen: set[tuple[str, bool]] = set()
+    unique = []
+    for kernel in out:
+        identity = (kernel.function.serialize(), kernel.summed)
+        if identity not in seen:
+            seen.add(identity)
+            unique.append(kernel)
+    return unique
+
+
+def _pairs(mech: Any) -> list[tuple[Any, Any, bool]]:
+    """(global index, region, whether IPOPT takes its exact Hessian) of every global index over every
+    region of the mechanism and of every quantity of its synthesis problems, in a fixed order."""
+    pairs = [(mech.global_spec(index), region, False) for region in mech.regions.values()
+             for index in mech.global_indices()]
+    for problem in (registry.problem(p) for p in sorted(registry.problems())):
+        if problem.mechanism.name == mech.name:
+            pairs += [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
+    return pairs
+
+
+def integrands(mech: Any) -> list[Kernel]:
+    """The point integrands of a mechanism (module docstring), in a fixed order."""
+    pairs = _pairs(mech)
+    out = []
+    for region in dict.fromkeys(region for _, region, _ in pairs):
+        if region.guard is not None:
+            out += [_integrand(rows_function(mech, guard_index(region), piece, None, order)[0], False, piece, "min")
+                    for piece in region.pieces() for order in range(2)]
+    for spec, region, hessian in pairs:
+        for piece in region.pieces():
+            if spec.reduce in SUMMED:
+                out += [_integrand(sum_function(mech, spec.local, piece, spec.reduce, order)[0], True, piece,
+                                   spec.reduce) for order in range(3 if hessian else 2)]
+            else:
+                out.append(_integrand(rows_function(mech, spec.local, piece, None, 0)[0], False, piece, spec.reduce))
+                out += [_integrand(rows_function(mech, spec.local, piece, spec.reduce, order)[0], False, piece,
+                                   spec.reduce) for order in range(2)]
+    return out
+
+
+def _integrand(fn: ca.Function, summed: bool, piece: Any, reduce: str) -> Kernel:
+    return Kernel(f"integrand {fn.name()}", fn, summed, piece, reduce)
+
+
+def warm(mechanisms: Iterable[Any], *, progress: Callable[[int, int], None] | None = None) -> dict[str, int]:
+    """Compile the catalogue's kernels of ``mechanisms`` ahead of time, in parallel
+    (:func:`pkm.compiled.build`): how many were in the cache, compiled, and left on the interpreter."""
+    return compiled.build([(k.function, k.summed) for mech in mechanisms for k in kernels(mech)],
+                          progress=progress)
+
+

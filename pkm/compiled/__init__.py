@@ -1,0 +1,422 @@
+"""The compiled path: any CasADi SX function pkm evaluates over a batch is emitted as C
+(:mod:`pkm.compiled.emit`), compiled at first use by the system C compiler (:mod:`pkm.compiled.toolchain`)
+into the per-user kernel cache (:mod:`pkm.compiled.cache`), loaded, checked once against CasADi's
+interpreter, and run by the runner extension (``_runner.c``, itself compiled into the cache) in place of
+the interpreter: same inputs, same (N, k) buffers, values equal to round-off.
+
+:func:`kernel` is the one door: ``pkm.batch`` asks it for a function's kernel at every evaluation. A
+function whose kernel is in the cache runs compiled from its first evaluation. Otherwise its first
+evaluation is answered by the interpreter, unless it is large (:data:`WAIT_WORK` instructions times rows),
+and its second compiles it and waits (a graph met twice is worth its compile; one met once, such as a
+test's, costs no compile), with a progress bar on a terminal where that takes more than half a second.
+:func:`build` compiles many kernels ahead of time, in parallel (``pkm build``).
+
+Nothing is silent: :func:`status` counts, per process, the evaluations that ran compiled and those that ran
+on the interpreter with the reason (disabled by ``PKM_COMPILED=0``, no C compiler, a first evaluation, a
+compile error, a cache that cannot be written, not an SX graph). A compile that fails, a cache that cannot be
+written and a missing compiler each give one :class:`CompiledPathWarning`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import sys
+import threading
+import time
+import warnings
+from collections import Counter, OrderedDict
+from collections.abc import Callable, Iterable
+from concurrent.futures import Future, ThreadPoolExecutor, wait
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.compiled import emit
+from pkm.compiled.cache import Cache, location
+from pkm.compiled.toolchain import CompileError, Toolchain, find
+from pkm.progress import Progress
+
+WAIT_WORK = 1 << 25  # instructions times rows from which a first evaluation compiles and waits
+CHECK_ROWS = 5  # rows of the check against the interpreter after loading
+CHECK_TOLERANCE = 1e-9  # of the largest entry of an output, at the check's random inputs
+
+
+class CompiledPathWarning(UserWarning):
+    """pkm evaluates with CasADi's interpreter where it would rather run a compiled kernel."""
+
+
+_evaluations: Counter[str] = Counter()
+_warned: set[str] = set()
+_lock = threading.Lock()
+
+
+def _warn(topic: str, message: str) -> None:
+    """One warning per topic and process."""
+    with _lock:
+        if topic in _warned:
+            return
+        _warned.add(topic)
+    warnings.warn(f"pkm evaluates with CasADi's interpreter: {message}", CompiledPathWarning, stacklevel=4)
+
+
+@dataclass(frozen=True)
+class _Path:
+    """What the compiled path has in this process: the runner and toolchain, or why not."""
+
+    runner: Any
+    toolchain: Toolchain | None
+    cache: Cache
+    reason: str  # why the compiled path is off (empty when on)
+    unwritable: str  # why no kernel can be added to the cache (empty when they can)
+    label: str = ""  # the reason in a few words, as status() counts the evaluations
+
+
+RUNNER_SOURCE = Path(__file__).with_name("_runner.c")
+
+
+@lru_cache(maxsize=1)
+def _path() -> _Path:
+    cache = Cache(location())
+    if os.environ.get("PKM_COMPILED", "1") == "0":
+        return _Path(None, None, cache, "disabled by PKM_COMPILED=0", "", "disabled")
+    toolchain = find()
+    if isinstance(toolchain, str):
+        return _Path(None, None, cache, toolchain, "", "no C compiler")
+    unwritable = cache.writable()
+    try:
+        runner = _load_runner(toolchain, cache, unwritable)
+    except (CompileError, OSError, ImportError) as exc:
+        return _Path(None, toolchain, cache, f"the kernel runner could not be built: {exc}", unwritable,
+                     "no kernel runner")
+    return _Path(runner, toolchain, cache, "", unwritable)
+
+
+def _load_runner(toolchain: Toolchain, cache: Cache, unwritable: str) -> Any:
+    import importlib.machinery
+    import importlib.util
+    import sysconfig
+
+    source = RUNNER_SOURCE.read_bytes()
+    suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
+    key = hashlib.sha256(b"\0".join([b"runner", source, toolchain.identity.encode(), suffix.encode(),
+                                     sys.version.encode()])).hexdigest()
+    library = cache.find(key)
+    if library is None:
+        if unwritable:
+            raise OSError(unwritable)
+
+        def build(folder: Path) -> dict:
+            (folder / "_runner.c").write_bytes(source)
+            toolchain.compile_runner(folder / "_runner.c", folder / "kernel.so")
+            return {"function": "runner", "compiler": toolchain.identity}
+
+        library = cache.add(key, build)
+    loader = importlib.machinery.ExtensionFileLoader("_runner", str(library))
+    spec = importlib.util.spec_from_file_location("_runner", str(library), loader=loader)
+    module = importlib.util.module_from_spec(spec)
+    loader.exec_module(module)
+    return module
+
+
+_compilers: list[ThreadPoolExecutor] = []  # the threads that wait for compilers, made at the first compile
+_compiles = {"submitted": 0, "finished": 0}
+
+
+def _submit(job: Callable[[], Path]) -> Future:
+    with _lock:
+        if not _compilers:
+            _compilers.append(ThreadPoolExecutor(os.cpu_count() or 1, thread_name_prefix="pkm-compile"))
+        _compiles["submitted"] += 1
+    future = _compilers[0].submit(job)
+
+    def finished(_: Future) -> None:
+        with _lock:
+            _compiles["finished"] += 1
+
+    future.add_done_callback(finished)
+    return future
+
+
+def _forget_in_child() -> None:
+    """A forked child has none of its parent's compile threads: it starts their bookkeeping afresh."""
+    _compilers.clear()
+    _compiles.update(submitted=0, finished=0)
+    _entries.clear()
+
+
+os.register_at_fork(after_in_child=_forget_in_child)
+
+
+def _wait(futures: Iterable[Future], label: str = "compiling kernels") -> None:
+    """Wait for compiles, with a progress bar on a terminal where it takes more than half a second."""
+    pending = {f for f in futures if not f.done()}
+    if pending:
+        pending = wait(pending, timeout=0.5).not_done
+    if not pending:
+        return
+    with Progress(1, label) as bar:
+        while pending:
+            bar.total, bar.done = max(1, _compiles["submitted"]), 0
+            bar.advance(_compiles["finished"])
+            pending = wait(pending, timeout=0.2).not_done
+
+
+@lru_cache(maxsize=1)
+def _emitter() -> str:
+    return hashlib.sha256(Path(emit.__file__).read_bytes()).hexdigest()
+
+
+def key(fn: ca.Function, summed: bool = False) -> str:
+    """The cache key of ``fn``'s kernel: the sha256 of its serialised graph, whether it sums over the batch,
+    the emitter's source, the toolchain's fingerprint and CasADi's version."""
+    toolchain = _path().toolchain
+    parts = [fn.serialize(), str(summed), _emitter(), toolchain.fingerprint if toolchain else "", ca.__version__]
+    return hashlib.sha256("\0".join(parts).encode()).hexdigest()
+
+
+Chunk = tuple[list[np.ndarray], list[np.ndarray], int, int]
+Run = Callable[[list[int], list[Chunk], int], None]
+
+
+class _Kernel:
+    """One function's kernel in this process: new, met once (not in the cache), compiling, ready, or off
+    with the reason."""
+
+    def __init__(self, fn: ca.Function, summed: bool):
+        self.fn, self.summed = fn, summed
+        self.run: Run | None = None
+        self.future: Future | None = None
+        self.reason, self.key = "", ""
+        self.lock = threading.Lock()
+        self.state = "new"
+
+    def get(self, work: int) -> Run | None:
+        if self.state == "ready":
+            return self.run
+        with self.lock:
+            if self.state == "new":
+                self._look()
+                if self.state == "met" and work < WAIT_WORK:
+                    return None
+            if self.state == "met":
+                self._compile()
+            if self.state == "compiling":
+                _wait([self.future])
+                self._finish()
+        return self.run
+
+    def _look(self) -> None:
+        """Ready where the cache has the kernel; else met, or off with the reason."""
+        path = _path()
+        if path.runner is None:
+            self._off(path.label, path.reason, topic="path")
+            return
+        if not emit.emittable(self.fn):
+            self._off("not an SX graph", "")
+            return
+        self.key = key(self.fn, self.summed)
+        library = path.cache.find(self.key)
+        if library is not None:
+            self._load(library)
+            return
+        if path.unwritable:
+            self._off("cache not writable", path.unwritable, topic="cache")
+            return
+        self.state, self.reason = "met", "first evaluation"
+
+    def _compile(self) -> None:
+        """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""
+        path = _path()
+        source = emit.source(self.fn, self.summed)
+        toolchain, name, summed, instructions = path.toolchain, self.fn.name(), self.summed, self.fn.n_instructions()
+
+        def build(folder: Path) -> dict:
+            (folder / "kernel.c").write_text(source)
+            started = time.perf_counter()
+            toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so")
+            return {"function": name, "summed": summed, "instructions": instructions, "compiler": toolchain.identity,
+                    "instruction_set": toolchain.instruction_set, "seconds": round(time.perf_counter() - started, 3)}
+
+        self.future = _submit(lambda: path.cache.add(self.key, build))
+        self.state = "compiling"
+
+    def _finish(self) -> None:
+        try:
+            library = self.future.result()
+        except CompileError as exc:
+            self._off("compile error", f"{self.fn.name()}'s kernel did not compile: {exc}", topic=self.key)
+            return
+        except OSError as exc:
+            self._off("cache not writable", f"the kernel cache cannot be written ({exc})", topic="cache")
+            return
+        self._load(library)
+
+    def _load(self, library: Path) -> None:
+        runner = _path().runner
+        try:
+            address = runner.load(str(library))
+        except OSError as exc:
+            self._off("load error", f"{self.fn.name()}'s kernel did not load: {exc}", topic=self.key)
+            return
+        n_in, n_out, name = self.fn.n_in(), self.fn.n_out(), self.fn.name()
+
+        def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
+            if len(strides) != n_in or any(len(c[0]) != n_in or len(c[1]) != n_out for c in chunks):
+                raise ValueError(f"{name}'s kernel takes {n_in} inputs and {n_out} outputs per chunk")
+            runner.run(address, threads, strides, chunks)
+
+        error = _check(self.fn, self.summed, run)
+        if error:
+            self._off("check failed", f"{name}'s kernel differs from the interpreter ({error})", topic=self.key)
+            return
+        self.run, self.state, self.reason = run, "ready", ""
+
+    def _off(self, reason: str, message: str, topic: str = "") -> None:
+        self.state, self.reason, self.run = "off", reason, None
+        if message:
+            _warn(topic or reason, message)
+
+
+def _check(fn: ca.Function, summed: bool, run: Run) -> str:
+    """Empty where ``run`` gives the interpreter's values at CHECK_ROWS random rows (the inputs named in
+    ``emit.GROUP_SHARED`` shared by the rows), else what differs."""
+    rng = np.random.default_rng(0)
+    n = CHECK_ROWS
+    shared = [fn.name_in(i) in emit.GROUP_SHARED for i in range(fn.n_in())]
+    inputs = [rng.uniform(0.5, 1.5, size=fn.numel_in(i) if shared[i] else (n, fn.numel_in(i)))
+              for i in range(fn.n_in())]
+    rows = []
+    for p in range(n):
+        args = [ca.DM(a.reshape(fn.size_in(i), order="F") if shared[i] else a[p].reshape(fn.size_in(i), order="F"))
+                for i, a in enumerate(inputs)]
+        rows.append([np.asarray(o).reshape(-1, order="F") for o in fn.call(args)])
+    want = [np.array([r[j] for r in rows]) for j in range(fn.n_out())]
+    if summed:
+        got = [np.zeros((1, fn.numel_out(j))) for j in range(fn.n_out())]
+        scales = [np.abs(w).sum(axis=0) for w in want]
+        want = [w.sum(axis=0, keepdims=True) for w in want]
+    else:
+        got = [np.zeros((n, fn.numel_out(j))) for j in range(fn.n_out())]
+        scales = [np.abs(np.nan_to_num(w, posinf=0, neginf=0)).max(initial=0.0) for w in want]
+    strides = [0 if shared[i] else fn.numel_in(i) for i in range(fn.n_in())]
+    run(strides, [(inputs, got, n, n)], 1)
+    for j, (g, w, scale) in enumerate(zip(got, want, scales, strict=True)):
+        with np.errstate(invalid="ignore"):
+            close = np.abs(g - w) <= CHECK_TOLERANCE * np.maximum(1.0, np.nan_to_num(scale, posinf=0, neginf=0))
+        same = close | (np.isnan(g) & np.isnan(w)) | (np.isinf(w) & (g == w))
+        if not np.all(same):
+            return f"output {fn.name_out(j)}: {np.count_nonzero(~same)} of {same.size} entries"
+    return ""
+
+
+ENTRIES = 4096  # kernels a process keeps track of, the least recently met forgotten first
+_entries: OrderedDict[tuple[ca.Function, bool], _Kernel] = OrderedDict()
+
+
+def _entry(fn: ca.Function, summed: bool) -> _Kernel:
+    entry = _entries.get((fn, summed))
+    if entry is None:
+        with _lock:
+            entry = _entries.setdefault((fn, summed), _Kernel(fn, summed))
+            while len(_entries) > ENTRIES:
+                _entries.popitem(last=False)
+    return entry
+
+
+def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0) -> Run | None:
+    """``run(strides, chunks, threads)`` evaluating ``fn`` compiled over the chunks of a batch, each chunk
+    ``(inputs, outputs, n, group)``: n rows, inputs (n or 1, k_i) with the row strides ``strides``, outputs
+    (n, k_j), C order; the chunks on up to ``threads`` threads (the caller's and threads the runner keeps),
+    without the GIL. With ``summed`` the kernel adds the sums of each output over consecutive groups of
+    ``group`` rows to the rows of (n / group, k_j) outputs instead. None where this evaluation runs on the
+    interpreter (module docstring; ``work``, its instructions times rows, decides whether a first
+    evaluation compiles). Each call counts as one evaluation in :func:`status`."""
+    entry = _entry(fn, summed)
+    run = entry.get(work)
+    _evaluations["compiled" if run is not None else entry.reason] += 1
+    return run
+
+
+def build(functions: Iterable[tuple[ca.Function, bool]], *, progress: Callable[[int, int], None] | None = None
+          ) -> dict[str, int]:
+    """Compile the kernels of ``(function, summed)`` pairs ahead of time, in parallel (one compile per
+    core), and load them; ``progress(done, total)`` after each. Returns how many were found in the cache,
+    compiled, and left on the interpreter."""
+    entries = list(dict.fromkeys(_entry(fn, summed) for fn, summed in functions))
+    for entry in entries:
+        with entry.lock:
+            if entry.state == "new":
+                entry._look()
+            if entry.state == "met":
+                entry._compile()
+    counts = Counter({"cached": sum(e.state == "ready" for e in entries)})
+    done = counts["cached"]
+    if progress:
+        progress(done, len(entries))
+    for entry in entries:
+        if entry.state == "compiling":
+            entry.future.exception()
+            with entry.lock:
+                if entry.state == "compiling":
+                    entry._finish()
+            counts["compiled" if entry.state == "ready" else "interpreted"] += 1
+            done += 1
+            if progress:
+                progress(done, len(entries))
+    counts["interpreted"] += sum(e.state == "off" and e.future is None for e in entries)
+    return {k: counts[k] for k in ("cached", "compiled", "interpreted")}
+
+
+def casadi_versions() -> dict[str, str]:
+    """CasADi's version here and the one generated/'s builders were written with (their manifest)."""
+    try:
+        import generated
+
+        manifest = json.loads((Path(generated.__file__).with_name("manifest.json")).read_text())
+        written = manifest.get("tools", {}).get("casadi", "")
+    except (ImportError, OSError, ValueError):
+        written = ""
+    return {"running": ca.__version__, "generated_with": written}
+
+
+def status() -> dict[str, Any]:
+    """The compiled path in this process: ``path`` ("compiled" or "interpreter") and ``reason`` (why the
+    compiled path is off, empty when on), the ``compiler`` and its ``instruction_set``, the ``cache`` folder
+    (and why it cannot be written, ``cache_unwritable``), ``kernels`` loaded, ``compiling`` now, the
+    ``evaluations`` that ran ``compiled`` and on the ``interpreter`` by reason, and ``casadi``: the version
+    running and the one generated/ was written with, with a ``note`` where they differ."""
+    path = _path()
+    loaded = sum(e.state == "ready" for e in list(_entries.values()))
+    versions = casadi_versions()
+    if versions["generated_with"] and versions["generated_with"] != versions["running"]:
+        versions["note"] = (f"generated/ was written with CasADi {versions['generated_with']}, this is "
+                            f"{versions['running']}: evaluation works, kernels are compiled for this version")
+    interpreted = {reason: n for reason, n in sorted(_evaluations.items()) if reason != "compiled"}
+    return {
+        "path": "compiled" if path.runner is not None else "interpreter",
+        "reason": path.reason,
+        "compiler": path.toolchain.identity if path.toolchain else None,
+        "instruction_set": path.toolchain.instruction_set if path.toolchain else None,
+        "cache": str(path.cache.root),
+        "cache_unwritable": path.unwritable,
+        "kernels": loaded,
+        "compiling": _compiles["submitted"] - _compiles["finished"],
+        "evaluations": {"compiled": _evaluations["compiled"], "interpreter": interpreted},
+        "casadi": versions,
+    }
+
+
+def reset() -> None:
+    """Forget this process's kernels, counts and warnings, and look for the toolchain and the cache again
+    (after a change of ``PKM_COMPILED``, ``PKM_CACHE_DIR``, ``CC`` or PATH)."""
+    _path.cache_clear()
+    find.cache_clear()
+    _entries.clear()
+    _evaluations.clear()
+    _warned.clear()
