@@ -124,11 +124,10 @@ def cmd_build(args: argparse.Namespace) -> None:
     from pkm.catalogue import warm
     from pkm.progress import Progress
 
+    mechanisms = [registry.mechanism(name) for name in args.mechanisms or registry.mechanisms()]
     status = compiled_status()
     if status["path"] != "compiled":
         raise ComputationError(f"nothing can be compiled: {status['reason']}")
-    names = args.mechanisms or registry.mechanisms()
-    mechanisms = [registry.mechanism(name) for name in names]
     data = {}
     for mech in mechanisms:
         wall, cpu = time.perf_counter(), _children_cpu()

@@ -74,6 +74,20 @@ def test_a_large_first_evaluation_compiles_at_once(fresh):
     assert _evaluations() == {"compiled": 1, "interpreter": {"first evaluation": 1}}
 
 
+def test_a_graph_too_large_to_compile_quickly_stays_on_the_interpreter(fresh):
+    x = ca.SX.sym("x")
+    y = x
+    for k in range(compiled.MAX_INSTRUCTIONS // 2 + 1):
+        y = ca.sin(y) + k
+    fn = ca.Function("long_chain", [x], [y], ["x"], ["y"])
+    assert fn.n_instructions() > compiled.MAX_INSTRUCTIONS
+    assert compiled.kernel(fn, work=compiled.WAIT_WORK) is None
+    got = batch.evaluate(fn, np.array([[0.1], [0.2]]))[0]
+    np.testing.assert_array_equal(got, batch.interpreted(fn, np.array([[0.1], [0.2]]))[0])
+    if compiled.status()["path"] == "compiled":
+        assert _evaluations()["interpreter"] == {"too large to compile": 2}
+
+
 @needs_compiler
 def test_a_region_placed_by_numbers_runs_compiled_on_its_second_evaluation(fresh):
     """The five-bar's MIW disc fixed by numbers instead of its generated placement: its point integrands

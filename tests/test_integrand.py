@@ -167,7 +167,7 @@ def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypa
 def test_the_architecture_states_the_compiled_paths_constants():
     from pathlib import Path
 
-    from pkm.compiled import WAIT_WORK
+    from pkm.compiled import MAX_INSTRUCTIONS, WAIT_WORK
     from pkm.compiled.cache import LIMIT_MB
     from pkm.synthesis.model import EXCHANGE_LIMIT, EXCHANGE_ROWS
 
@@ -177,6 +177,7 @@ def test_the_architecture_states_the_compiled_paths_constants():
     assert f"adds the {EXCHANGE_ROWS} rows of each output" in text
     assert f"from 2^{WAIT_WORK.bit_length() - 1} instructions times rows" in text
     assert f"at most {LIMIT_MB} MiB" in text
+    assert f"more than {MAX_INSTRUCTIONS:,} instructions" in text
     assert f"2^{COMPILED_WORK.bit_length() - 1} instructions times rows" in text
     assert f"`{', '.join(f'`{name}`' for name in GROUP_SHARED)[1:]}" in text
     runner = Path(__file__).parent.parent / "pkm" / "compiled" / "_runner.c"

@@ -13,7 +13,8 @@ test's, costs no compile), with a progress bar on a terminal where that takes mo
 
 Nothing is silent: :func:`status` counts, per process, the evaluations that ran compiled and those that ran
 on the interpreter with the reason (disabled by ``PKM_COMPILED=0``, no C compiler, a first evaluation, a
-compile error, a cache that cannot be written, not an SX graph). A compile that fails, a cache that cannot be
+compile error, a cache that cannot be written, not an SX graph, a graph of more than
+:data:`MAX_INSTRUCTIONS` instructions). A compile that fails, a cache that cannot be
 written and a missing compiler each give one :class:`CompiledPathWarning`.
 """
 
@@ -43,6 +44,7 @@ from pkm.compiled.toolchain import CompileError, Toolchain, find
 from pkm.progress import Progress
 
 WAIT_WORK = 1 << 25  # instructions times rows from which a first evaluation compiles and waits
+MAX_INSTRUCTIONS = 50_000  # a larger graph stays on the interpreter: its compile takes minutes
 CHECK_ROWS = 5  # rows of the check against the interpreter after loading
 CHECK_TOLERANCE = 1e-9  # of the largest entry of an output, at the check's random inputs
 
@@ -219,6 +221,9 @@ class _Kernel:
             return
         if not emit.emittable(self.fn):
             self._off("not an SX graph", "")
+            return
+        if self.fn.n_instructions() > MAX_INSTRUCTIONS:
+            self._off("too large to compile", "")
             return
         self.key = key(self.fn, self.summed)
         library = path.cache.find(self.key)

@@ -12,8 +12,8 @@ index is a function of sums over the nodes of every piece:
 
 :func:`sum_function` is the integrand w c(u, d) of these components as one SX function of
 ``(u, w, mode, design)``, with (``order`` 1) its Jacobian and (``order`` 2) the lower triangle of its
-Hessian in the design entries it depends on: ``symbolic.kernels`` emits each as a C kernel that sums it
-over a block of nodes, so that one compiled function serves every resolution. :func:`rows_function` is
+Hessian in the design entries it depends on: :mod:`pkm.compiled` compiles each as a C kernel that sums
+it over a block of nodes, so that one compiled function serves every resolution. :func:`rows_function` is
 the same with one value per node: the local index itself, or for a region extreme the epigraph margin
 g(u, d, t) >= 0 (:func:`pkm.indices.epigraph_function`).
 
