@@ -72,8 +72,8 @@ def port_inputs(
     """The inputs of the generated functions by the names of the port convention (pkm.kinematics) at
     poses x (N, n_out) of a working mode, with the assembly signs (N, k) of each pose; ``root`` (the
     variable of a forward-kinematics polynomial) runs over [-0.9, 0.9], ``y`` (the coordinates of a
-    mapped region) takes the poses' values and ``a`` (the abscissa of a domain between curves) their
-    first coordinate."""
+    mapped region) takes the poses' values, ``a`` (the abscissa of a domain between curves) their
+    first coordinate and ``wrench`` (a load on the platform) a fixed wrench per pose."""
     branch = mech.working_mode(mode)
     q = mech.inverse_kinematics(x, design, mode=branch.name, passive=True)
     return {
@@ -85,6 +85,7 @@ def port_inputs(
         "root": np.linspace(-0.9, 0.9, len(x))[:, None],
         "y": x,
         "a": x[:, :1],
+        "wrench": np.outer(np.linspace(0.5, 1.5, len(x)), [10.0, -20.0, -500.0, 3.0, -2.0, 1.0]),
         "design": mech.design_vector(design),
     }
 

@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from pkm.batch import evaluate
+from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace, parameter_plane
 from pkm.errors import PoseError
@@ -92,6 +92,30 @@ def actuator_forces(statics: ca.Function) -> ca.Function:
     return ca.Function("actuator_forces", [q, x, d], [forces[:3]], ["q", "x", "design"], ["f_a"])
 
 
+SINGULAR_CONDITION = 1e12  # the Frobenius condition number of the wrench matrix from which a pose is singular
+
+
+def statics_pipeline(functions: FunctionTable, printed: bool) -> ca.Function:
+    """``(x, wrench, mode, design) -> (f)``: the inverse kinematics, the wrench matrix W of eq. 8 (as
+    printed with ``printed``), its Frobenius condition number ||W||_F ||W^-1||_F and f = W^-1 wrench in
+    one SX graph; f (6 x 1) is NaN where the pose is out of reach or the condition number is at least
+    SINGULAR_CONDITION (kappa_2 <= kappa_F <= 6 kappa_2)."""
+    ik, statics = functions["inverse_kinematics"], functions["statics"]
+    x = ca.SX.sym("x", ik.numel_in(0))
+    wrench = ca.SX.sym("wrench", 6)
+    mode = ca.SX.sym("mode", ik.numel_in(1))
+    design = ca.SX.sym("design", ik.numel_in(2))
+    q, reach = ik(x, mode, design)
+    W, W_printed, _ = statics(q, x, design)
+    matrix = W_printed if printed else W
+    inverse = ca.solve(matrix, ca.SX.eye(6))
+    condition = ca.norm_fro(matrix) * ca.norm_fro(inverse)
+    regular = ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, condition < SINGULAR_CONDITION)
+    forces = ca.if_else(regular, ca.mtimes(inverse, wrench), ca.DM.nan(6, 1))
+    name = "statics_printed_pipeline" if printed else "statics_pipeline"
+    return ca.Function(name, [x, wrench, mode, design], [forces], ["x", "wrench", "mode", "design"], ["f"])
+
+
 @dataclass(frozen=True)
 class Statics:
     """Forces that balance a wrench at U0 (Zhao eq. 8), over a batch of poses.
@@ -149,6 +173,8 @@ class UpsPu(Mechanism):
             extra=lambda generated: {
                 **workspace.functions(generated, names),
                 "actuator_forces": actuator_forces(generated["statics"]),
+                "statics_pipeline": statics_pipeline(generated, printed=False),
+                "statics_printed_pipeline": statics_pipeline(generated, printed=True),
             },
         )
 
@@ -178,20 +204,17 @@ class UpsPu(Mechanism):
 
         ``printed`` uses eq. 8 as printed (unit moment axes, the constraint torque about Z) instead of
         the physical wrench matrix; see docs/papers/zhao2008.md. A wrench (6,) is shared by the poses.
-        Rows where the wrench matrix is singular (condition number above 1e12) are NaN.
+        Rows out of reach and rows where the wrench matrix is singular (its Frobenius condition number
+        at least 1e12) are NaN. IK, W, its conditioning and the solve are one compiled pass
+        (:func:`statics_pipeline`).
         """
         x, single = as_batch(pose, self.n_out, "pose")
         w = as_real(wrench, "wrench", "(6,) or (N, 6)")
         if w.shape[-1:] != (6,) or w.ndim > 2 or not np.all(np.isfinite(w)):
             raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
-        w = np.broadcast_to(w, (len(x), 6))
-        d = self.design_vector(design)
-        q = self.inverse_kinematics(x, d, mode=mode)
-        W, W_printed, _ = evaluate(self.functions["statics"], q, x, d)
-        matrix = W_printed if printed else W
-        forces = np.full((len(x), 6), np.nan)
-        with np.errstate(invalid="ignore"):
-            regular = np.linalg.cond(matrix) < 1e12
-        if regular.any():
-            forces[regular] = np.linalg.solve(matrix[regular], w[regular][:, :, None])[:, :, 0]
+        if w.ndim == 2 and len(w) != len(x):
+            raise PoseError(f"wrench has {len(w)} rows; the poses have {len(x)}")
+        fused = self.functions["statics_printed_pipeline" if printed else "statics_pipeline"]
+        (forces,) = evaluate(fused, x, w, np.array(self.working_mode(mode).signs), self.design_vector(design))
+        forces = forces[:, :, 0]
         return Statics(unbatch(forces[:, :3], single), unbatch(forces[:, 3:], single))
