@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import evaluate, reached
+from pkm.batch import REACH_TOLERANCE, evaluate, reached
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
 
 if TYPE_CHECKING:
@@ -94,7 +94,8 @@ def as_batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
         raise PoseError(f"{what} must have shape {shape}; got {arr.shape}")
     single = arr.ndim == 1
     arr = np.atleast_2d(arr)
-    if not np.all(np.isfinite(arr)):
+    # the sum of finite values is finite unless it overflows: one vectorised pass for the usual case
+    if not np.isfinite(np.add.reduce(arr, axis=None)) and not np.all(np.isfinite(arr)):
         raise PoseError(f"{what} contains non-finite values")
     return arr, single
 
@@ -225,17 +226,30 @@ class Joints:
         return unbatch(arr, self.single)
 
 
+@lru_cache(maxsize=64)
+def with_reach(fn: ca.Function, outputs: tuple[str, ...]) -> ca.Function:
+    """``fn`` with its reach check in the graph: its inputs -> ``(valid, *outputs)``, ``valid`` 1 where
+    every margin of its output ``reach`` is >= -REACH_TOLERANCE and the first of ``outputs`` is finite,
+    else 0, and every output NaN where ``valid`` is 0. An SX function stays one, so that its kernel
+    writes the batch's results whole and nothing is left for numpy to check."""
+    symbol = ca.SX.sym if fn.is_a("SXFunction") else ca.MX.sym
+    args = [symbol(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
+    out = dict(zip(fn.name_out(), fn.call(args), strict=True))
+    first = ca.vec(ca.densify(out[outputs[0]]))
+    valid = ca.logic_and(ca.mmin(out["reach"]) >= -REACH_TOLERANCE, ca.mmin(ca.fabs(first) < np.inf))
+    finished = [ca.if_else(valid, ca.densify(out[name]), ca.DM.nan(*out[name].shape)) for name in outputs]
+    return ca.Function(f"{fn.name()}_reached", args, [valid, *finished], fn.name_in(), ["valid", *outputs])
+
+
 def as_joints(
-    x: np.ndarray, design: np.ndarray, q: np.ndarray, reach: np.ndarray, single: bool, *, strict: bool, what: str
+    x: np.ndarray, design: np.ndarray, valid: np.ndarray, q: np.ndarray, single: bool, *, strict: bool, what: str
 ) -> Joints:
-    """Joints from the inverse kinematics' outputs: NaN where out of reach, or :class:`PoseError`
-    naming ``what`` with ``strict``."""
-    ok = reached(q, reach)
+    """Joints from :func:`with_reach` of the inverse kinematics (``valid`` (N, 1, 1), q NaN where out of
+    reach), or :class:`PoseError` naming ``what`` with ``strict`` where a pose is out of reach."""
+    ok = valid[:, 0, 0] > 0
     if strict and not ok.all():
         bad = int(np.flatnonzero(~ok)[0])
         raise PoseError(f"pose {x[bad].tolist()} is out of reach of {what}")
-    q = np.array(q)
-    q[~ok] = np.nan
     return Joints(x, design, q, ok, single)
 
 
@@ -245,8 +259,8 @@ def solve_joints(mech: KinematicModel, pose: Any, design: Any, mode: str | None,
     x, single = as_batch(pose, mech.n_out, "pose")
     d = mech.design_vector(design)
     branch = mech.working_mode(mode)
-    q, reach = evaluate(mech.functions["inverse_kinematics"], x, np.array(branch.signs), d)
-    return as_joints(x, d, q[:, :, 0], reach, single, strict=strict, what=f"the {mech.name} in mode {branch.name}")
+    valid, q = evaluate(with_reach(mech.functions["inverse_kinematics"], ("q",)), x, np.array(branch.signs), d)
+    return as_joints(x, d, valid, q[:, :, 0], single, strict=strict, what=f"the {mech.name} in mode {branch.name}")
 
 
 class ForwardKinematics(Protocol):
@@ -266,9 +280,8 @@ class ClosedForm:
     function: str = "forward_kinematics"
 
     def solve(self, functions, q_a, branch, design):
-        x, q, reach = evaluate(functions[self.function], q_a, np.array(branch.signs), design)
-        x, q = x[:, :, 0], q[:, :, 0]
-        return x, q, reached(x, reach)
+        valid, x, q = evaluate(with_reach(functions[self.function], ("x", "q")), q_a, np.array(branch.signs), design)
+        return x[:, :, 0], q[:, :, 0], valid[:, 0, 0] > 0
 
 
 @lru_cache(maxsize=32)

@@ -31,7 +31,6 @@ from pkm.kinematics import (
     FunctionTable,
     GeneratedFunctions,
     as_batch,
-    as_joints,
     find_branch,
     solve_joints,
     unbatch,
@@ -194,21 +193,13 @@ class Mechanism:
         out[~ok] = np.nan
         return unbatch(out, single)
 
-    def _first_order(self, pose: Any, design: DesignLike, mode: str | None, strict: bool):
-        """Joints and the first-order kinematics at poses, in one pass of the fused pipeline."""
+    def _first_order(self, pose: Any, design: DesignLike, mode: str | None, names: tuple[str, ...]) -> list[Any]:
+        """Outputs of the first order at poses by name (NaN where out of reach), in one compiled pass of
+        the fused pipeline, each as its input was batched."""
         x, single = as_batch(pose, self.n_out, "pose")
-        d = self.design_vector(design)
-        branch = self.working_mode(mode)
-        fused = regions.pipeline(self, (), first_order=True)
-        q, reach, _, *outputs = evaluate(fused, x, np.array(branch.signs), d)
-        what = f"the {self.name} in mode {branch.name}"
-        joints = as_joints(x, d, q[:, :, 0], reach, single, strict=strict, what=what)
-        fo = dict(zip(fused.name_out()[3:], outputs, strict=True))
-        for value in fo.values():
-            value[~joints.reachable] = np.nan
-        for key in ("det_type1", "det_type2"):
-            fo[key] = fo[key][:, 0, 0]
-        return joints, fo
+        fused = regions.first_order_outputs(self, names)
+        _, *outputs = evaluate(fused, x, np.array(self.working_mode(mode).signs), self.design_vector(design))
+        return [unbatch(value, single) for value in outputs]
 
     def _check_singular(self, joints: Any, kind: str) -> None:
         """Raise SingularityError where the loop equations cannot be solved for J (type I) or J_f (type II)."""
@@ -233,10 +224,9 @@ class Mechanism:
         With ``strict`` an unreachable pose raises :class:`PoseError` and a serial singularity (the
         condition number of dh/dq above 1e12) raises :class:`SingularityError`.
         """
-        joints, fo = self._first_order(pose, design, mode, strict)
         if strict:
-            self._check_singular(joints, "type I")
-        return joints.unbatch(fo["J"])
+            self._check_singular(solve_joints(self, pose, design, mode, strict=True), "type I")
+        return self._first_order(pose, design, mode, ("J",))[0]
 
     def forward_jacobian(
         self, pose: Any, design: DesignLike = None, *, mode: str | None = None, strict: bool = False
@@ -245,20 +235,19 @@ class Mechanism:
 
         With ``strict`` a parallel singularity raises :class:`SingularityError`.
         """
-        joints, fo = self._first_order(pose, design, mode, strict)
         if strict:
-            self._check_singular(joints, "type II")
-        return joints.unbatch(fo["J_f"])
+            self._check_singular(solve_joints(self, pose, design, mode, strict=True), "type II")
+        return self._first_order(pose, design, mode, ("J_f",))[0]
 
     def psi(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """Psi (N, n_joints, n_act): all joint rates from the actuated rates."""
-        joints, fo = self._first_order(pose, design, mode, False)
-        return joints.unbatch(fo["psi"])
+        return self._first_order(pose, design, mode, ("psi",))[0]
 
     def singularity(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> dict[str, np.ndarray]:
         """Type I and type II determinants (zero at serial and parallel singularities)."""
-        joints, fo = self._first_order(pose, design, mode, False)
-        return {k: joints.unbatch(fo[k]) for k in ("det_type1", "det_type2")}
+        names = ("det_type1", "det_type2")
+        values = self._first_order(pose, design, mode, names)
+        return {k: v[..., 0, 0] for k, v in zip(names, values, strict=True)}
 
     def _has(self, spec: LocalIndex) -> bool:
         fn = self.functions.get(spec.source)

@@ -33,8 +33,8 @@ BINARY = {
     ca.OP_FMIN: "PKM_FMIN({0}, {1})", ca.OP_FMAX: "PKM_FMAX({0}, {1})", ca.OP_FMOD: "fmod({0}, {1})",
     ca.OP_COPYSIGN: "copysign({0}, {1})", ca.OP_HYPOT: "hypot({0}, {1})",
     ca.OP_LT: "(double)({0} < {1})", ca.OP_LE: "(double)({0} <= {1})", ca.OP_EQ: "(double)({0} == {1})",
-    ca.OP_NE: "(double)({0} != {1})", ca.OP_AND: "(double)(({0} != 0) & ({1} != 0))",
-    ca.OP_OR: "(double)(({0} != 0) | ({1} != 0))", ca.OP_IF_ELSE_ZERO: "{0} == 0 ? 0. : {1}",
+    ca.OP_NE: "(double)({0} != {1})", ca.OP_AND: "PKM_AND({0}, {1})", ca.OP_OR: "PKM_OR({0}, {1})",
+    ca.OP_IF_ELSE_ZERO: "{0} == 0 ? 0. : {1}",
 }
 NAMES = {getattr(ca, n): n for n in dir(ca) if n.startswith("OP_")}
 
@@ -45,6 +45,12 @@ PRELUDE = """#include <math.h>
 #define PKM_SIGN(x) ((x) < 0 ? -1. : (x) > 0 ? 1. : (x))
 #define PKM_FMIN(a, b) ((a) != (a) ? (b) : (b) != (b) ? (a) : (a) < (b) ? (a) : (b))
 #define PKM_FMAX(a, b) ((a) != (a) ? (b) : (b) != (b) ? (a) : (a) > (b) ? (a) : (b))
+
+/* logic on truth values (nonzero is true) in double arithmetic: GCC 12 does not vectorise a loop in which
+   a comparison's result, converted to double, meets another in a bitwise & or | */
+#define PKM_TRUE(a) ((double)((a) != 0))
+#define PKM_AND(a, b) (PKM_TRUE(a) * PKM_TRUE(b))
+#define PKM_OR(a, b) (PKM_TRUE(a) + PKM_TRUE(b) - PKM_TRUE(a) * PKM_TRUE(b))
 
 /* the vector variants of the C library's functions (glibc's libmvec, within 4 ulp) where it has them */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \\
@@ -186,7 +192,9 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
     lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
               f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
     lines += [f"{inner}pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
-    lines += ["#pragma omp simd", f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{"]
+    # no "omp simd": with it GCC 12 vectorises no loop that converts a comparison to double; the vector
+    # functions of the prelude's simd declarations are used without it
+    lines.append(f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{")
     if written:
         lines.append(f"{inner}  double " + ", ".join(f"w{k}" for k in written) + ";")
     lines += [f"{inner}  {line}" for line in row_lines]

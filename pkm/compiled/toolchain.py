@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
 
-COMMON_FLAGS = ("-O3", "-march=native", "-fPIC", "-shared", "-fopenmp-simd", "-fno-math-errno",
+COMMON_FLAGS = ("-O3", "-march=native", "-fPIC", "-shared", "-fno-math-errno",
                 "-fno-trapping-math", "-ffp-contract=off")
 GCC_FLAGS = ("-fno-tree-sink", "-fno-thread-jumps", "-fira-region=one", "-fira-algorithm=priority")
 RUNNER_FLAGS = ("-O2", "-fPIC", "-shared")

@@ -15,7 +15,7 @@ or implement the same three methods as :class:`MappedSquare`.
 from importlib import import_module
 from typing import Any
 
-from pkm.regions.pipeline import Evaluation, evaluate_at, pipeline
+from pkm.regions.pipeline import Evaluation, evaluate_at, first_order_outputs, pipeline
 from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, PlacedRegion, Rectangle, Union, grid
 from pkm.regions.value import GlobalValue
 
@@ -60,6 +60,7 @@ __all__ = [
     "epigraph_margins",
     "epigraph_values",
     "evaluate_at",
+    "first_order_outputs",
     "global_value",
     "grid",
     "node_quadrature",

@@ -156,6 +156,21 @@ def pipeline(
 
 
 @lru_cache(maxsize=256)
+def first_order_outputs(mech: PipelineModel, names: tuple[str, ...]) -> ca.Function:
+    """``(x, mode, design) -> (valid, *names)``: the named outputs of :func:`pipeline` with the first
+    order (``q`` and those of ``first_order``: ``J``, ``J_f``, ``psi``, ``det_type1``, ``det_type2``), each
+    NaN where the pose is not reached (a reach margin below tolerance or a joint not finite), so that
+    the kernel computes and writes only what is asked."""
+    fused = pipeline(mech, (), first_order=True)
+    x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
+    out = dict(zip(fused.name_out(), fused(x, mode, design), strict=True))
+    valid = ca.logic_and(out["valid"], ca.mmin(ca.fabs(out["q"]) < np.inf))
+    finished = [ca.if_else(valid, ca.densify(out[name]), ca.DM.nan(*out[name].shape)) for name in names]
+    return ca.Function(f"{fused.name()}_{'_'.join(names)}", [x, mode, design], [valid, *finished], fused.name_in(),
+                       ["valid", *names])
+
+
+@lru_cache(maxsize=256)
 def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...]) -> ca.Function:
     """``(x, mode, design) -> (valid, *values)``: the local indices of :func:`pipeline` as
     :func:`evaluate_at` returns them, without the joints: each value NaN where the pose is not reached
