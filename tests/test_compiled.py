@@ -115,6 +115,26 @@ def test_a_region_placed_by_numbers_runs_compiled_on_its_second_evaluation(fresh
 
 
 @needs_compiler
+def test_a_lambda_defined_index_runs_compiled_on_its_second_evaluation(fresh):
+    """A local index defined by a user's lambda, evaluated through the fused pipeline like pkm's own."""
+    from pkm.indices import LocalIndex
+    from pkm.regions import evaluate_at
+
+    spec = LocalIndex("trace_squared", "tr(J J^T), a user's index", "({actuator}/{pose})^2", 0.0, np.inf, np.inf,
+                      lambda J: ca.trace(ca.mtimes(J, J.T)), arguments=("J",))
+    mech = pkm.load("five_bar")
+    x = np.array([[0.1, 1.5], [-0.3, 1.9], [5.0, 5.0]])
+    signs, design = np.array(mech.working_mode(None).signs), mech.design_vector(mech.design())
+    first = evaluate_at(mech, (spec,), x, signs, design).values[0]
+    second = evaluate_at(mech, (spec,), x, signs, design).values[0]
+    assert _evaluations() == {"compiled": 1, "interpreter": {"first evaluation": 1}}
+    np.testing.assert_array_equal(np.isnan(second), np.isnan(first))
+    np.testing.assert_allclose(second, first, rtol=1e-12)
+    jacobians = mech.jacobian(x[:2])
+    np.testing.assert_allclose(second[:2], np.einsum("nij,nij->n", jacobians, jacobians), rtol=1e-12)
+
+
+@needs_compiler
 def test_a_test_only_mechanism_runs_compiled(fresh):
     """A mechanism outside the registry (tests/test_spatial_core.py's tripod) is compiled like any other."""
     from test_spatial_core import Tripod
