@@ -7,8 +7,9 @@ ahead of time, in parallel: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
 alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
 indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
-a sampled check evaluates it), the one of its first order (the Jacobians) and, for a virtual-work model,
-its fused inverse dynamics (:func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`),
+a sampled check evaluates it), the one of its first order (the Jacobians), its fused
+inertia matrices and inverse dynamics (:func:`pkm.dynamics.rigid.inertia_pipeline`,
+:func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`),
 by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
 integrands of its global indices over its parametrised regions and over the regions of its synthesis
 problems (:mod:`pkm.regions.integrand`): summed over blocks of nodes with their gradient for every pair,
@@ -26,7 +27,7 @@ import casadi as ca
 
 from pkm import compiled, registry
 from pkm.compiled.emit import emittable
-from pkm.dynamics.rigid import inverse_dynamics_pipeline
+from pkm.dynamics.rigid import SPACES, inertia_pipeline, inverse_dynamics_pipeline
 from pkm.regions.integrand import SUMMED, rows_function, sum_function
 from pkm.regions.pipeline import index_pipeline, pipeline
 from pkm.regions.quadrature import guard_index
@@ -58,8 +59,11 @@ def kernels(mech: Any) -> list[Kernel]:
         if guard is not None:
             fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
     fused["first_order"] = pipeline(mech, (), first_order=True)
-    if "inverse_dynamics" in mech.functions:
+    if {"inverse_dynamics", "second_order"} & set(mech.functions):
         fused["inverse_dynamics"] = inverse_dynamics_pipeline(mech)
+    if "inertia" in mech.functions:
+        fused |= {f"inertia {output}": inertia_pipeline(mech, output) for output in SPACES.values()
+                  if output in mech.functions["inertia"].name_out()}
     out += [Kernel(f"pipeline {label}", fn) for label, fn in fused.items() if emittable(fn)]
     out += integrands(mech)
     seen: set[tuple[str, bool]] = set()

@@ -24,7 +24,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate
 from pkm.dynamics.flexible import elastic_dynamics
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
-from pkm.kinematics import as_batch, from_pose, solve_joints, unbatch
+from pkm.kinematics import as_batch, from_pose, unbatch
 
 if TYPE_CHECKING:
     from pkm.kinematics import DesignLike, KinematicModel
@@ -60,22 +60,48 @@ def inertia_matrix(
     fn = mech.functions.require("inertia", f"the {space} inertia matrix of the {mech.name}")
     if SPACES[space] not in fn.name_out():
         raise PkmError(f"the {mech.name} model has no {space} inertia matrix ({SPACES[space]})")
-    joints = solve_joints(mech, pose, design, mode)
-    out = evaluate(fn, joints.q, joints.x, joints.design)[fn.name_out().index(SPACES[space])]
-    out[~joints.reachable] = np.nan
-    return joints.unbatch(out)
+    x, single = as_batch(pose, mech.n_out, "pose")
+    signs = np.array(mech.working_mode(mode).signs, dtype=float)
+    _, matrix = evaluate(inertia_pipeline(mech, SPACES[space]), x, signs, mech.design_vector(design))
+    return unbatch(matrix, single)
 
 
 @lru_cache(maxsize=64)
-def inverse_dynamics_pipeline(mech: KinematicModel) -> ca.Function:
-    """``(x, x_dot, x_ddot, mode, design) -> (valid, tau)``: the rigid virtual-work model fused with the
+def inertia_pipeline(mech: KinematicModel, output: str) -> ca.Function:
+    """``(x, mode, design) -> (valid, M)``: the inverse kinematics and the output ``output`` of the
+    generated ``inertia`` in one SX graph (from ``inertia_from_pose`` where the mechanism has it), M NaN
+    where the pose is not reached."""
+    fns = mech.functions
+    ik = fns["inverse_kinematics"]
+    x = ca.SX.sym("x", mech.n_out)
+    mode = ca.SX.sym("mode", ik.numel_in(1))
+    design = ca.SX.sym("design", ik.numel_in(2))
+    twin = fns.get(from_pose("inertia"))
+    if twin is None:
+        q, reach = ik(x, mode, design)
+        out = dict(zip(fns["inertia"].name_out(), fns["inertia"].call([q, x, design]), strict=True))
+    else:
+        out = dict(zip(twin.name_out(), twin.call([x, mode, design]), strict=True))
+        q, reach = out["q"], out["reach"]
+    valid = ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, ca.mmin(ca.fabs(q) < np.inf))
+    matrix = out[output]
+    return ca.Function(f"{mech.name}_{output}_pipeline", [x, mode, design],
+                       [valid, ca.if_else(valid, matrix, ca.DM.nan(*matrix.shape))], ["x", "mode", "design"],
+                       ["valid", output])
+
+
+@lru_cache(maxsize=64)
+def inverse_dynamics_pipeline(mech: KinematicModel, joint_torques: bool = False) -> ca.Function:
+    """``(x, x_dot, x_ddot, mode, design) -> (valid, tau)``: the rigid inverse dynamics fused with the
     inverse kinematics into one SX graph.
 
     ``valid`` (1 x 1) is 1 where the pose is reached on the working mode's branch (every reach margin
-    >= -``REACH_TOLERANCE``) and 0 elsewhere; ``tau`` (n_act x 1) is the generated
-    ``inverse_dynamics(q, x, x_dot, x_ddot, design)`` at q = IK(x) (Wu 2008 eq. 41,
-    tau = (J^T)^-1 (M x_ddot + n)), NaN where the pose is not reached. Where the mechanism has
-    ``inverse_dynamics_from_pose`` the forces come from it, with no joint angle and no trigonometric call.
+    >= -``REACH_TOLERANCE``) and 0 elsewhere; ``tau`` (n_act x 1) is NaN where the pose is not reached.
+    A virtual-work model gives tau = (J^T)^-1 (M x_ddot + n) (Wu 2008 eq. 41), the generated
+    ``inverse_dynamics(q, x, x_dot, x_ddot, design)`` at q = IK(x), or ``inverse_dynamics_from_pose``
+    where the mechanism has it, with no joint angle and no trigonometric call. A Lagrange chain model
+    gives the motor torques of :func:`inverse_dynamics` from ``first_order``, ``second_order`` and
+    ``elastic_dynamics`` (with ``joint_torques``, the torques on the actuated joints).
     """
     fns = mech.functions
     ik = fns["inverse_kinematics"]
@@ -83,20 +109,44 @@ def inverse_dynamics_pipeline(mech: KinematicModel) -> ca.Function:
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
     twin = fns.get(from_pose("inverse_dynamics"))
-    if twin is None:
+    if twin is not None:
+        out = dict(zip(twin.name_out(), twin.call([x, mode, x_dot, x_ddot, design]), strict=True))
+        reach, tau = out["reach"], out["tau"]
+    elif "inverse_dynamics" in fns:
         q, reach = ik(x, mode, design)
         (tau,) = fns["inverse_dynamics"].call([q, x, x_dot, x_ddot, design])
     else:
-        out = dict(zip(twin.name_out(), twin.call([x, mode, x_dot, x_ddot, design]), strict=True))
-        reach, tau = out["reach"], out["tau"]
+        q, reach = ik(x, mode, design)
+        tau = _chain_torques(mech, q, (x, x_dot, x_ddot), design, joint_torques=joint_torques)
     valid = ca.mmin(reach) >= -REACH_TOLERANCE
     return ca.Function(
-        f"{mech.name}_inverse_dynamics_pipeline",
+        f"{mech.name}_inverse_dynamics_pipeline" + ("_joints" if joint_torques else ""),
         [x, x_dot, x_ddot, mode, design],
         [valid, ca.if_else(valid, tau, ca.DM.nan(tau.shape))],
         ["x", "x_dot", "x_ddot", "mode", "design"],
         ["valid", "tau"],
     )
+
+
+def _chain_torques(mech: KinematicModel, q: ca.SX, motion: tuple[ca.SX, ca.SX, ca.SX], design: ca.SX, *,
+                   joint_torques: bool) -> ca.SX:
+    """The torques of a Lagrange chain model with rigid transmissions (:func:`inverse_dynamics`) at the
+    joints q and the motion (x, x_dot, x_ddot)."""
+    x, x_dot, x_ddot = motion
+    purpose = f"the inverse dynamics of the {mech.name}"
+    first = mech.functions.require("first_order", purpose)
+    second = mech.functions.require("second_order", purpose)
+    elastic = elastic_dynamics(mech, purpose)
+    n = mech.n_act
+    J = first.call([q, x, design])[0]
+    q_dot, bias = second.call([q, x, x_dot, design])
+    rate = q_dot[:n]
+    accel = ca.mtimes(J, x_ddot) + bias[:n]
+    M_T, C_T, _, f_t = elastic.call([q, x, ca.vertcat(rate, rate), design])
+    tau_a = ca.mtimes(M_T[:n, :n], accel) + ca.mtimes(C_T[:n, :n], rate) + f_t[:n]
+    if joint_torques:
+        return tau_a
+    return tau_a + ca.mtimes(M_T[n:, n:], accel) + f_t[n:]
 
 
 def _motion_batch(
@@ -160,31 +210,10 @@ def inverse_dynamics(
     :func:`inverse_dynamics_pipeline` over the batch; it has no transmissions, so ``joint_torques``
     returns the same forces.
     """
-    if "inverse_dynamics" in mech.functions:
-        pose, x_dot, x_ddot, single = _motion_batch(mech, pose, velocity, acceleration)
-        d = mech.design_vector(design)
-        signs = np.array(mech.working_mode(mode).signs, dtype=float)
-        _, tau = evaluate(inverse_dynamics_pipeline(mech), pose, x_dot, x_ddot, signs, d)
-        return unbatch(tau[:, :, 0], single)
-    purpose = f"the inverse dynamics of the {mech.name}"
-    first, second, elastic = (
-        mech.functions.require("first_order", purpose),
-        mech.functions.require("second_order", purpose),
-        elastic_dynamics(mech, purpose),
-    )
     pose, x_dot, x_ddot, single = _motion_batch(mech, pose, velocity, acceleration)
-    joints = solve_joints(mech, pose, design, mode)
-    x, d, q = joints.x, joints.design, joints.q
-    n = mech.n_act
-    J = evaluate(first, q, x, d)[0]
-    q_dot, bias = evaluate(second, q, x, x_dot, d)
-    rate = q_dot[:, :n, 0]
-    accel = np.einsum("nij,nj->ni", J, x_ddot) + bias[:, :n, 0]
-    M_T, C_T, _, f_t = evaluate(elastic, q, x, np.hstack([rate, rate]), d)
-    tau_a = (
-        np.einsum("nij,nj->ni", M_T[:, :n, :n], accel) + np.einsum("nij,nj->ni", C_T[:, :n, :n], rate) + f_t[:, :n, 0]
-    )
-    if joint_torques:
-        return unbatch(tau_a, single)
-    tau_m = tau_a + np.einsum("nij,nj->ni", M_T[:, n:, n:], accel) + f_t[:, n:, 0]
-    return unbatch(tau_m, single)
+    d = mech.design_vector(design)
+    signs = np.array(mech.working_mode(mode).signs, dtype=float)
+    chain = "inverse_dynamics" not in mech.functions and from_pose("inverse_dynamics") not in mech.functions
+    fused = inverse_dynamics_pipeline(mech, joint_torques and chain)
+    _, tau = evaluate(fused, pose, x_dot, x_ddot, signs, d)
+    return unbatch(tau[:, :, 0], single)
