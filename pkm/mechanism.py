@@ -13,7 +13,7 @@ from __future__ import annotations
 import importlib
 import types
 from collections.abc import Callable, Mapping
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
@@ -134,10 +134,21 @@ class Mechanism:
         return make_design(self.parameters, self.conditions, design_mapping(self.parameters, values), partial=partial)
 
     def design_vector(self, design: DesignLike | Design) -> np.ndarray:
-        """The validated design as a vector in parameter order."""
+        """The validated design as a vector in parameter order. A mapping of names to numbers is validated
+        once per distinct value (batch methods take the same design call after call)."""
         if isinstance(design, Design):
             return design.vector()
+        if isinstance(design, dict) and all(type(v) in (float, int) for v in design.values()):
+            return self._validated_vector(tuple(design.items())).copy()
         return self.design(design).vector()
+
+    @cached_property
+    def _validated_vector(self) -> Any:
+        @lru_cache(maxsize=64)
+        def validated(items: tuple[tuple[str, float], ...]) -> np.ndarray:
+            return self.design(dict(items)).vector()
+
+        return validated
 
     def design_dict(self, vector: np.ndarray) -> dict[str, float]:
         return {p.name: float(v) for p, v in zip(self.parameters, vector, strict=True)}

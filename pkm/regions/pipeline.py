@@ -188,11 +188,15 @@ def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...]) -> ca.F
 
 @dataclass(frozen=True)
 class Evaluation:
-    """Local indices at a batch of poses: the reach mask (N,) and one (N,) array of values per index,
-    NaN where out of reach and the index's limit at singular poses."""
+    """Local indices at a batch of poses: one (N,) array of values per index, NaN where out of reach
+    and the index's limit at singular poses, and the reach mask (N,), formed when it is read."""
 
-    reachable: np.ndarray
+    valid: np.ndarray
     values: tuple[np.ndarray, ...]
+
+    @property
+    def reachable(self) -> np.ndarray:
+        return self.valid[:, 0, 0] > 0
 
 
 def evaluate_at(
@@ -200,4 +204,4 @@ def evaluate_at(
 ) -> Evaluation:
     """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
     valid, *values = evaluate(index_pipeline(mech, tuple(locals_)), x, signs, design)
-    return Evaluation(valid[:, 0, 0] > 0, tuple(v[:, 0, 0] for v in values))
+    return Evaluation(valid, tuple(v[:, 0, 0] for v in values))
