@@ -83,13 +83,25 @@ def _pairs(mech: Any) -> list[tuple[Any, Any, bool]]:
              for index in mech.global_indices()]
     for problem in (registry.problem(p) for p in sorted(registry.problems())):
         if problem.mechanism.name == mech.name:
-            pairs += [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
+            pairs += _problem_pairs(problem)
     return pairs
+
+
+def _problem_pairs(problem: Any) -> list[tuple[Any, Any, bool]]:
+    return [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
 
 
 def integrands(mech: Any) -> list[Kernel]:
     """The point integrands of a mechanism (module docstring), in a fixed order."""
-    pairs = _pairs(mech)
+    return _integrands(mech, _pairs(mech))
+
+
+def problem_integrands(problem: Any) -> list[Kernel]:
+    """The point integrands a synthesis problem evaluates (its quantities over their regions)."""
+    return _integrands(problem.mechanism, _problem_pairs(problem))
+
+
+def _integrands(mech: Any, pairs: list[tuple[Any, Any, bool]]) -> list[Kernel]:
     out = []
     for region in dict.fromkeys(region for _, region, _ in pairs):
         if region.guard is not None:

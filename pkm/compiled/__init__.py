@@ -351,7 +351,8 @@ def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0) -> Run | Non
 def build(functions: Iterable[tuple[ca.Function, bool]], *, progress: Callable[[int, int], None] | None = None
           ) -> dict[str, int]:
     """Compile the kernels of ``(function, summed)`` pairs ahead of time, in parallel (one compile per
-    core), and load them; ``progress(done, total)`` after each. Returns how many were found in the cache,
+    core), and load them; ``progress(done, total)`` after each (by default a progress bar on a terminal
+    where it takes more than half a second). Returns how many were found in the cache,
     compiled, and left on the interpreter."""
     entries = list(dict.fromkeys(_entry(fn, summed) for fn, summed in functions))
     for entry in entries:
@@ -364,6 +365,8 @@ def build(functions: Iterable[tuple[ca.Function, bool]], *, progress: Callable[[
     done = counts["cached"]
     if progress:
         progress(done, len(entries))
+    else:
+        _wait([e.future for e in entries if e.state == "compiling"])
     for entry in entries:
         if entry.state == "compiling":
             entry.future.exception()

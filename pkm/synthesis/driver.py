@@ -30,6 +30,8 @@ import casadi as ca
 import numpy as np
 
 from pkm import parallel, registry
+from pkm.catalogue import problem_integrands
+from pkm.compiled import build
 from pkm.errors import ComputationError, PkmError, check_integer
 from pkm.interrupts import interruptible
 from pkm.progress import Progress
@@ -386,6 +388,9 @@ def synthesize(
         check_integer("baseline_resolution", baseline_resolution, 3, MAX_BASELINE)
     options = ipopt_options(problem, verbose=verbose, max_iter=max_iter, tol=tol, print_level=print_level)
     model = ProblemModel(problem)
+    # the point integrands the solver evaluates, compiled together (one compiler per core) where the kernel
+    # cache does not have them yet, instead of one at a time as the solver meets each a second time
+    build([(k.function, k.summed) for k in problem_integrands(problem)])
     total = n_starts + 2 + len(problem.baselines)
     bar = Progress(total, f"synthesis {problem.name}", enabled=None if progress is None else False)
     steps = [0]
