@@ -106,19 +106,26 @@ def first_calls(tmp: Path) -> dict[str, Any]:
     return out
 
 
-def markdown(report: dict[str, Any]) -> str:
-    """The tables docs/benchmarks.md quotes."""
-    lines = ["| step | wall (s) |", "|---|---:|"]
-    if "demo" in report:
-        lines.append(f"| `make demo` on a fresh clone (install, compiles, Gao 1998) | {report['demo']['wall_s']:.1f} |")
-    if "install" in report:
-        lines.append(f"| `pip install --no-deps .` | {report['install']['wall_s']:.1f} |")
-    lines += ["", "| `pkm build` | kernels | wall (s) | compiler CPU (s) |", "|---|---:|---:|---:|"]
+def markdown(report: dict[str, Any], before: dict[str, Any]) -> str:
+    """The tables docs/benchmarks.md quotes: this run beside ``before`` (the same figures measured before
+    compiling on demand, docs/benchmarks/first_use_before.json)."""
+    lines = ["| step | before (s) | now (s) |", "|---|---:|---:|"]
+    steps = (("demo", "`make demo` on a fresh clone (install, compiles, Gao 1998)"),
+             ("install", "`pip install .` (before: with its kernels; now: `--no-deps`, nothing to compile)"))
+    lines += [f"| {label} | {before[key]['wall_s']:.1f} | {report[key]['wall_s']:.1f} |" for key, label in steps
+              if key in report]
+    lines += ["", "| `pkm build`, empty cache | kernels | wall (s) | compiler CPU (s) |", "|---|---:|---:|---:|"]
     lines += [f"| {name} | {b['kernels']} | {b['wall_s']:.1f} | {b['compiler_cpu_s']:.1f} |"
               for name, b in report["build"].items()]
-    lines += ["", "| first use, empty cache | first call (s) | second call (s) |", "|---|---:|---:|"]
-    lines += [f"| `{name}` | {c['call1_s']:.2f} | {c['call2_s']:.3f} |" for name, c in report["first_calls"].items()]
+    lines += ["", "| call | before: first / second (s) | now, empty cache: first / second (s) |", "|---|---:|---:|"]
+    for name, c in report["first_calls"].items():
+        old = before["first_calls"].get(name)
+        shown = f"{old['call1_s']:.2f} / {old['call2_s']:.3f}" if old else "-"
+        lines.append(f"| `{name}` | {shown} | {c['call1_s']:.2f} / {c['call2_s']:.3f} |")
     return "\n".join(lines)
+
+
+BEFORE = ROOT / "docs" / "benchmarks" / "first_use_before.json"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -137,7 +144,7 @@ def main(argv: list[str] | None = None) -> int:
         report["build"] = builds(tmp)
         report["first_calls"] = first_calls(tmp)
     report["load_after"] = os.getloadavg()
-    print(markdown(report))
+    print(markdown(report, json.loads(BEFORE.read_text())))
     if args.json:
         write_json(args.json, report)
     return 0
