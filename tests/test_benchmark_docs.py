@@ -56,3 +56,18 @@ def test_targets_table_is_quoted_from_the_committed_runs():
     from bench.targets import committed
 
     assert committed() in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_issue_22_tables_are_quoted_from_the_committed_runs():
+    from bench import c_limit, first_use, integrals, methods
+
+    text = (ROOT / "docs" / "benchmarks.md").read_text()
+
+    def run(name):
+        return json.loads((RUNS / f"{name}.json").read_text())
+
+    assert first_use.markdown(run("first_use"), run("first_use_before")) in text
+    assert table(run("on_demand_before"), run("on_demand_after")) in text
+    assert methods.markdown(run("methods")) in text
+    assert c_limit.markdown(run("c_limit")) in text
+    assert integrals.markdown(run("integrals_before")) in text
