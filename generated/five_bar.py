@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 165ef3a646cf49f9).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 5c5666de31e1ca4e).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "165ef3a646cf49f9"
+SOURCE_HASH = "5c5666de31e1ca4e"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", "inertia_from_pose", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", )
 POSE = ("x", "y", )
@@ -296,7 +296,7 @@ def first_order_from_pose():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 46 common subexpressions, 135 operations
+    # 46 common subexpressions, 137 operations
     _t0 = design_2 + x_0
     _t1 = design_0**2
     _t2 = x_1**2
@@ -307,7 +307,7 @@ def first_order_from_pose():
     _t7 = _t1*_t4 - _t6**2
     _t8 = 1/_t1
     _t9 = 1/_t4
-    _t10 = _t7*_t8*_t9
+    _t10 = _t7/(_t1*_t4)
     _t11 = ca.if_else((_t10 > 1/1125899906842624), ca.sqrt(_t7), 0)
     _t12 = -design_2 + x_0
     _t13 = _t12**2
@@ -315,7 +315,7 @@ def first_order_from_pose():
     _t15 = (1/2)*_t13 + _t5
     _t16 = _t1*_t14 - _t15**2
     _t17 = 1/_t14
-    _t18 = _t16*_t17*_t8
+    _t18 = _t16/(_t1*_t14)
     _t19 = ca.if_else((_t18 > 1/1125899906842624), ca.sqrt(_t16), 0)
     _t20 = _t11*mode_0
     _t21 = _t0*_t20 + _t6*x_1
@@ -339,9 +339,9 @@ def first_order_from_pose():
     _t39 = _t14/_t38
     _t40 = -_t22*_t29 + _t24*_t27
     _t41 = 1/_t40
-    _t42 = _t41*_t9
+    _t42 = 1/(_t4*_t40)
     _t43 = _t33*_t42
-    _t44 = _t17*_t41
+    _t44 = 1/(_t14*_t40)
     _t45 = _t37*_t44
     q = ca.reshape(ca.vertcat(mode_0*ca.atan2(_t11, _t6) + ca.atan2(x_1, _t0), mode_1*ca.atan2(_t19, _t15) + ca.atan2(x_1, _t12), ca.atan2(_t22, _t24), ca.atan2(_t27, _t29)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t10, _t18), 2, 1)
@@ -349,7 +349,7 @@ def first_order_from_pose():
     J_f = ca.reshape(ca.vertcat(_t27*_t32*_t42, _t29*_t43, _t22*_t38*_t44, _t24*_t45), 2, 2)
     psi = ca.reshape(ca.vertcat(1, 0, _t41*(_t21*_t29 - _t27*_t30), _t14*_t43, 0, 1, _t4*_t45, _t41*(_t22*_t35 - _t24*_t26)), 4, 2)
     det_type1 = ca.reshape(ca.vertcat((-_t21*_t24*_t26*_t29 + _t21*_t24*_t27*_t35 + _t22*_t26*_t29*_t30 - _t31*_t36)/(_t14**2*_t4**2)), 1, 1)
-    det_type2 = ca.reshape(ca.vertcat(-_t17*_t40*_t9), 1, 1)
+    det_type2 = ca.reshape(ca.vertcat(-_t40/(_t14*_t4)), 1, 1)
     return ca.Function("first_order_from_pose", [x, mode, design], [q, reach, J, J_f, psi, det_type1, det_type2], ["x", "mode", "design"], ["q", "reach", "J", "J_f", "psi", "det_type1", "det_type2"])
 
 
@@ -1102,7 +1102,7 @@ def second_order():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 46 common subexpressions, 130 operations
+    # 46 common subexpressions, 134 operations
     _t0 = ca.cos(q_2)
     _t1 = 1/design_0
     _t2 = ca.sin(q_2)
@@ -1110,7 +1110,7 @@ def second_order():
     _t4 = ca.sin(q_0)
     _t5 = _t0*_t4 - _t2*_t3
     _t6 = 1/_t5
-    _t7 = _t1*_t6
+    _t7 = 1/(_t5*design_0)
     _t8 = _t0*_t7
     _t9 = -_t2*_t7*x_dot_1 - _t8*x_dot_0
     _t10 = ca.cos(q_3)
@@ -1119,15 +1119,15 @@ def second_order():
     _t13 = ca.sin(q_1)
     _t14 = _t10*_t13 - _t11*_t12
     _t15 = 1/_t14
-    _t16 = _t1*_t15
+    _t16 = 1/(_t14*design_0)
     _t17 = _t10*_t16
     _t18 = -_t11*_t16*x_dot_1 - _t17*x_dot_0
     _t19 = 1/design_1
-    _t20 = _t19*_t6
+    _t20 = 1/(_t5*design_1)
     _t21 = _t20*_t3
     _t22 = _t20*_t4
     _t23 = _t21*x_dot_0 + _t22*x_dot_1
-    _t24 = _t15*_t19
+    _t24 = 1/(_t14*design_1)
     _t25 = _t12*_t24
     _t26 = _t13*_t24
     _t27 = _t25*x_dot_0 + _t26*x_dot_1
@@ -1150,7 +1150,7 @@ def second_order():
     _t44 = _t27*_t34*_t43
     _t45 = _t35*_t43
     q_dot = ca.reshape(ca.vertcat(_t9, _t18, _t23, _t27), 4, 1)
-    q_ddot_bias = ca.reshape(ca.vertcat(x_dot_0*(-_t0*_t32 + _t23*(-_t0*_t33 + _t1*_t2*_t6)) + x_dot_1*(-_t2*_t32 + _t23*(-_t2*_t33 - _t8)), x_dot_0*(-_t10*_t38 + _t27*(_t1*_t11*_t15 - _t10*_t39)) + x_dot_1*(-_t11*_t38 + _t27*(-_t11*_t39 - _t17)), x_dot_0*(_t3*_t41 + _t9*(-_t22 + _t3*_t42)) + x_dot_1*(_t4*_t41 + _t9*(_t21 + _t4*_t42)), x_dot_0*(_t12*_t44 + _t18*(_t12*_t45 - _t26)) + x_dot_1*(_t13*_t44 + _t18*(_t13*_t45 + _t25))), 4, 1)
+    q_ddot_bias = ca.reshape(ca.vertcat(x_dot_0*(-_t0*_t32 + _t23*(-_t0*_t33 + _t2/(_t5*design_0))) + x_dot_1*(-_t2*_t32 + _t23*(-_t2*_t33 - _t8)), x_dot_0*(-_t10*_t38 + _t27*(-_t10*_t39 + _t11/(_t14*design_0))) + x_dot_1*(-_t11*_t38 + _t27*(-_t11*_t39 - _t17)), x_dot_0*(_t3*_t41 + _t9*(-_t22 + _t3*_t42)) + x_dot_1*(_t4*_t41 + _t9*(_t21 + _t4*_t42)), x_dot_0*(_t12*_t44 + _t18*(_t12*_t45 - _t26)) + x_dot_1*(_t13*_t44 + _t18*(_t13*_t45 + _t25))), 4, 1)
     return ca.Function("second_order", [q, x, x_dot, design], [q_dot, q_ddot_bias], ["q", "x", "x_dot", "design"], ["q_dot", "q_ddot_bias"])
 
 
@@ -1191,7 +1191,7 @@ def inertia_from_pose():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
-    # 336 common subexpressions, 1184 operations
+    # 336 common subexpressions, 1185 operations
     _t0 = design_2 + x_0
     _t1 = design_0**2
     _t2 = x_1**2
@@ -1203,7 +1203,7 @@ def inertia_from_pose():
     _t8 = _t1*_t4 - _t7**2
     _t9 = 1/_t1
     _t10 = 1/_t4
-    _t11 = _t10*_t8*_t9
+    _t11 = _t8/(_t1*_t4)
     _t12 = ca.if_else((_t11 > 1/1125899906842624), ca.sqrt(_t8), 0)
     _t13 = -design_2 + x_0
     _t14 = _t13**2
@@ -1211,7 +1211,7 @@ def inertia_from_pose():
     _t16 = (1/2)*_t14 + _t6
     _t17 = _t1*_t15 - _t16**2
     _t18 = 1/_t15
-    _t19 = _t17*_t18*_t9
+    _t19 = _t17/(_t1*_t15)
     _t20 = ca.if_else((_t19 > 1/1125899906842624), ca.sqrt(_t17), 0)
     _t21 = _t12*mode_0
     _t22 = _t0*_t21 + _t7*x_1
@@ -1280,7 +1280,7 @@ def inertia_from_pose():
     _t85 = _t64*_t79 + _t64*_t80 + _t84
     _t86 = _t57*_t85 + _t65*_t78 + _t72*_t78
     _t87 = _t86*design_4
-    _t88 = _t10*_t18*_t36
+    _t88 = 1/(_t15*_t35*_t4)
     _t89 = _t64*(_t79 + _t80)
     _t90 = _t57*_t84 + _t57*_t89 + _t73*_t78
     _t91 = _t90*design_4

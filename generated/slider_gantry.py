@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 d5fa8cc7e0ddd9bb).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 a1181958cb718a07).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "d5fa8cc7e0ddd9bb"
+SOURCE_HASH = "a1181958cb718a07"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
 POSE = ("x", "y", )
@@ -243,7 +243,7 @@ def first_order():
     _t8 = _t1*_t7
     _t9 = 1/design_0
     _t10 = _t7*_t9
-    _t11 = _t1*_t6*_t9
+    _t11 = _t1/(_t5*design_0)
     _t12 = design_0**2
     J = ca.reshape(ca.vertcat(_t0/_t1, _t2/_t3, 1, 1), 2, 2)
     J_f = ca.reshape(ca.vertcat(-_t8, _t1*_t2*_t6, _t8, -_t4*_t6), 2, 2)
@@ -414,15 +414,15 @@ def partial_velocities():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 6 common subexpressions, 17 operations
+    # 6 common subexpressions, 21 operations
     _t0 = 1/ca.cos(q_2)
     _t1 = _t0*ca.sin(q_2)
     _t2 = 1/ca.cos(q_3)
     _t3 = _t2*ca.sin(q_3)
     _t4 = 1/design_0
-    _t5 = -_t0*_t4
+    _t5 = -1/(design_0*ca.cos(q_2))
     H = ca.reshape(ca.vertcat(0, _t1, 0, _t3, 0, -_t1, 0, -_t3, 0, _t1, 0, _t1, 0, _t3, 1, 0, 0, 1, 0, 1, 0, -1, 0, -1, 0, 1, 0, 1, 0, 1, 0, 1), 16, 2)
-    G = ca.reshape(ca.vertcat(0, 0, 0, 0, _t5, _t5, -_t2*_t4, 0, 0, 0, 0, 0, 0, 0, 0, 0), 8, 2)
+    G = ca.reshape(ca.vertcat(0, 0, 0, 0, _t5, _t5, -1/(design_0*ca.cos(q_3)), 0, 0, 0, 0, 0, 0, 0, 0, 0), 8, 2)
     return ca.Function("partial_velocities", [q, x, design], [H, G], ["q", "x", "design"], ["H", "G"])
 
 
@@ -474,7 +474,7 @@ def virtual_work():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 53 common subexpressions, 184 operations
+    # 53 common subexpressions, 186 operations
     _t0 = ca.sin(q_2)
     _t1 = _t0**2
     _t2 = ca.cos(q_2)
@@ -493,10 +493,10 @@ def virtual_work():
     _t15 = _t10*design_20
     _t16 = design_11*(-_t14*_t15 + _t14)
     _t17 = design_14*(-_t11*design_21 + _t9)
-    _t18 = _t10*_t8
+    _t18 = 1/(_t2*design_0)
     _t19 = _t1*_t8
     _t20 = design_10*design_19
-    _t21 = _t10*_t13
+    _t21 = 1/(_t6*design_0)
     _t22 = design_11*design_20
     _t23 = design_14*design_21
     _t24 = _t14*design_9 + _t14*design_13 + _t9*design_8 + _t9*design_12
@@ -584,7 +584,7 @@ def inverse_dynamics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 51 common subexpressions, 192 operations
+    # 51 common subexpressions, 194 operations
     _t0 = ca.sin(q_3)
     _t1 = ca.cos(q_3)
     _t2 = 1/_t1
@@ -598,13 +598,13 @@ def inverse_dynamics():
     _t10 = _t4**2
     _t11 = _t10/_t5**2
     _t12 = 1/design_0
-    _t13 = _t12*_t6
+    _t13 = 1/(_t5*design_0)
     _t14 = _t13*_t9*(_t11 + 1)
     _t15 = _t14 + design_22
     _t16 = _t15*design_8
     _t17 = _t0**2
     _t18 = _t17/_t1**2
-    _t19 = _t12*_t2
+    _t19 = 1/(_t1*design_0)
     _t20 = _t19*_t9*(_t18 + 1)
     _t21 = _t20 + design_22
     _t22 = _t21*design_9
@@ -693,7 +693,7 @@ def lagrange_dynamics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 90 common subexpressions, 248 operations
+    # 90 common subexpressions, 249 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
     _t2 = 1/_t1
@@ -704,12 +704,12 @@ def lagrange_dynamics():
     _t7 = ca.sin(q_3)
     _t8 = -_t0*_t5 + _t1*_t7
     _t9 = 1/_t8
-    _t10 = _t6*_t9
+    _t10 = 1/(_t8*design_0)
     _t11 = _t10*_t5
     _t12 = 1/_t5
     _t13 = _t12*_t7
     _t14 = _t13*x_dot_0 + x_dot_1
-    _t15 = -_t11*_t4 + _t14*_t5*_t6*_t9
+    _t15 = -_t11*_t4 + _t14*_t5/(_t8*design_0)
     _t16 = design_0*design_15
     _t17 = 2*_t1
     _t18 = design_10*design_19
@@ -724,13 +724,13 @@ def lagrange_dynamics():
     _t27 = _t26*_t5
     _t28 = _t15*_t24*_t27
     _t29 = -_t24
-    _t30 = _t27*_t29 - _t6*_t7*_t9
+    _t30 = _t27*_t29 - _t7/(_t8*design_0)
     _t31 = _t1*_t10
-    _t32 = _t1*_t14*_t6*_t9 - _t31*_t4
+    _t32 = _t1*_t14/(_t8*design_0) - _t31*_t4
     _t33 = _t28 + _t30*_t32
     _t34 = _t1*_t26
     _t35 = _t29*_t32*_t34
-    _t36 = -_t0*_t6*_t9 + _t24*_t34
+    _t36 = -_t0/(_t8*design_0) + _t24*_t34
     _t37 = _t15*_t36 + _t35
     _t38 = design_11*design_20**2
     _t39 = _t7**2
@@ -780,7 +780,7 @@ def lagrange_dynamics():
     _t83 = -_t53 - _t80 - _t82
     _t84 = -_t56*_t81 + _t57
     _t85 = _t80 + _t84
-    _t86 = _t31*(_t1*_t41*_t6*_t9 - _t81) + _t40*_t50*_t64
+    _t86 = _t31*(_t1*_t41/(_t8*design_0) - _t81) + _t40*_t50*_t64
     _t87 = -_t63 - _t86
     _t88 = -_t71 + _t86 + design_9 + design_11 + design_13
     _t89 = _t76 - _t77 + _t78 + design_22*design_9 - design_22*design_13
@@ -907,7 +907,7 @@ def inertia():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 40 common subexpressions, 126 operations
+    # 40 common subexpressions, 128 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
     _t2 = 1/_t1
@@ -937,9 +937,9 @@ def inertia():
     _t26 = _t25/_t1**2
     _t27 = _t4**2
     _t28 = _t27/_t5**2
-    _t29 = _t14*_t2
+    _t29 = 1/(_t1*design_0)
     _t30 = _t2*_t25
-    _t31 = _t14*_t6
+    _t31 = 1/(_t5*design_0)
     _t32 = _t21*_t3 + _t22*_t7 + _t23*_t3 + _t26*design_8 + _t26*design_12 + _t28*design_9 + _t28*design_13 + _t29*(design_16*_t29 - _t30*design_10*design_19) + _t29*(design_18*_t29 - _t30*design_14*design_21) + _t31*(design_17*_t31 - _t27*_t6*design_11*design_20) + design_15
     _t33 = _t32*_t8
     _t34 = -_t33
@@ -1043,8 +1043,8 @@ def inertia_from_pose():
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
     M_t = ca.reshape(ca.vertcat(_t12*_t16*(-_t14*_t25*_t7 + _t35), _t12*_t16*(-_t14*_t36*_t7 - _t37), _t12*_t16*(_t1*_t13*_t25 - _t35), _t12*_t16*(_t1*_t13*_t36 + _t37)), 2, 2)
-    M_w = ca.reshape(ca.vertcat(_t12*_t34/(_t31*_t33), _t12*_t29*_t38*_t39, _t12*_t24*_t38*_t39, _t17), 2, 2)
-    M_d = ca.reshape(ca.vertcat(_t12*_t35*_t38*_t39*_t40, -_t12*_t37*_t38*_t39*_t40, _t12*_t25*_t40, _t12*_t36*_t40), 2, 2)
+    M_w = ca.reshape(ca.vertcat(_t12*_t34/(_t31*_t33), _t29/(_t13*_t14*design_0), _t24/(_t13*_t14*design_0), _t17), 2, 2)
+    M_d = ca.reshape(ca.vertcat(_t35/(_t13*_t14*_t15*design_0), -_t37/(_t13*_t14*_t15*design_0), _t25/(_t15*design_0), _t36/(_t15*design_0)), 2, 2)
     return ca.Function("inertia_from_pose", [x, mode, design], [q, reach, M_t, M_w, M_d], ["x", "mode", "design"], ["q", "reach", "M_t", "M_w", "M_d"])
 
 
@@ -1098,7 +1098,7 @@ def inverse_dynamics_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
-    # 65 common subexpressions, 270 operations
+    # 65 common subexpressions, 276 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1166,7 +1166,7 @@ def inverse_dynamics_from_pose():
     _t64 = _t1*_t59*(design_16*_t40 - _t28*_t60) + _t1*_t59*(design_18*_t40 - _t28*_t61) + _t14*_t17*x_ddot_1*(-_t1*_t16*_t60 - _t1*_t16*_t61 + _t13*_t50*design_0 - _t13*_t63*_t7 + _t16*_t48*design_0 + _t16*_t52*design_0 + _t57) + _t25*_t33*x_ddot_0*(_t2*_t22*_t33 + _t2*_t29*_t33 + _t2*_t33*_t47*design_10 + _t2*_t33*_t51*design_14 + _t25*_t31*_t8 + _t25*_t33*design_0*design_15 + _t25*_t37*_t8 + _t25*_t49*_t8*design_11 + _t25*(design_17*design_0 - _t63*_t8) + _t33*(design_16*design_0 - _t2*_t60) + _t33*(design_18*design_0 - _t2*_t61)) + _t28*_t53*_t59 - _t30*_t54*_t59 + _t36*_t55*_t62 - _t38*_t56*_t62 + _t42*_t48*_t59 + _t44*_t52*_t59 + _t46*_t50*_t62 + _t62*_t7*(design_17*_t40 - _t36*_t63)
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    tau = ca.reshape(ca.vertcat(_t12*_t15*_t18*_t19*(-_t13*_t58*_t7 + _t64), _t12*_t15*_t18*_t19*(_t1*_t16*_t58 - _t64)), 2, 1)
+    tau = ca.reshape(ca.vertcat((-_t13*_t58*_t7 + _t64)/(_t14*_t17*design_0*(_t1*_t16 - _t13*_t7)), (_t1*_t16*_t58 - _t64)/(_t14*_t17*design_0*(_t1*_t16 - _t13*_t7))), 2, 1)
     return ca.Function("inverse_dynamics_from_pose", [x, mode, x_dot, x_ddot, design], [q, reach, tau], ["x", "mode", "x_dot", "x_ddot", "design"], ["q", "reach", "tau"])
 
 

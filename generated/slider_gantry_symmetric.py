@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 d5fa8cc7e0ddd9bb).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 a1181958cb718a07).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry with the fourth link A4B4 (Wu section 6.3)."""
 
 import casadi as ca
 
-SOURCE_HASH = "d5fa8cc7e0ddd9bb"
+SOURCE_HASH = "a1181958cb718a07"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "m5", "I5", "s5", "g", )
 POSE = ("x", "y", )
@@ -255,7 +255,7 @@ def first_order():
     _t8 = _t1*_t7
     _t9 = 1/design_0
     _t10 = _t7*_t9
-    _t11 = _t1*_t6*_t9
+    _t11 = _t1/(_t5*design_0)
     _t12 = design_0**2
     J = ca.reshape(ca.vertcat(_t0/_t1, _t2/_t3, 1, 1), 2, 2)
     J_f = ca.reshape(ca.vertcat(-_t8, _t1*_t2*_t6, _t8, -_t4*_t6), 2, 2)
@@ -435,14 +435,14 @@ def partial_velocities():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 7 common subexpressions, 17 operations
+    # 7 common subexpressions, 21 operations
     _t0 = 1/ca.cos(q_2)
     _t1 = _t0*ca.sin(q_2)
     _t2 = 1/ca.cos(q_3)
     _t3 = _t2*ca.sin(q_3)
     _t4 = 1/design_0
-    _t5 = -_t0*_t4
-    _t6 = -_t2*_t4
+    _t5 = -1/(design_0*ca.cos(q_2))
+    _t6 = -1/(design_0*ca.cos(q_3))
     H = ca.reshape(ca.vertcat(0, _t1, 0, _t3, 0, -_t1, 0, -_t3, 0, _t1, 0, _t1, 0, _t3, 0, _t3, 1, 0, 0, 1, 0, 1, 0, -1, 0, -1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1), 18, 2)
     G = ca.reshape(ca.vertcat(0, 0, 0, 0, _t5, _t5, _t6, _t6, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0), 9, 2)
     return ca.Function("partial_velocities", [q, x, design], [H, G], ["q", "x", "design"], ["H", "G"])
@@ -499,7 +499,7 @@ def virtual_work():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 61 common subexpressions, 215 operations
+    # 61 common subexpressions, 217 operations
     _t0 = ca.sin(q_2)
     _t1 = _t0**2
     _t2 = ca.cos(q_2)
@@ -519,10 +519,10 @@ def virtual_work():
     _t16 = design_11*(_t14 - _t15*design_20)
     _t17 = design_14*(-_t11*design_21 + _t9)
     _t18 = design_22*(_t14 - _t15*design_24)
-    _t19 = _t10*_t8
+    _t19 = 1/(_t2*design_0)
     _t20 = _t1*_t8
     _t21 = design_10*design_19
-    _t22 = _t10*_t13
+    _t22 = 1/(_t6*design_0)
     _t23 = _t13*_t5
     _t24 = design_11*design_20
     _t25 = design_14*design_21
@@ -620,7 +620,7 @@ def inverse_dynamics():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 59 common subexpressions, 223 operations
+    # 59 common subexpressions, 225 operations
     _t0 = ca.sin(q_3)
     _t1 = ca.cos(q_3)
     _t2 = 1/_t1
@@ -634,13 +634,13 @@ def inverse_dynamics():
     _t10 = _t4**2
     _t11 = _t10/_t5**2
     _t12 = 1/design_0
-    _t13 = _t12*_t6
+    _t13 = 1/(_t5*design_0)
     _t14 = _t13*_t9*(_t11 + 1)
     _t15 = _t14 + design_25
     _t16 = _t15*design_8
     _t17 = _t0**2
     _t18 = _t17/_t1**2
-    _t19 = _t12*_t2
+    _t19 = 1/(_t1*design_0)
     _t20 = _t19*_t9*(_t18 + 1)
     _t21 = _t20 + design_25
     _t22 = _t21*design_9
@@ -740,7 +740,7 @@ def lagrange_dynamics():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 91 common subexpressions, 268 operations
+    # 91 common subexpressions, 269 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
     _t2 = 1/_t1
@@ -751,12 +751,12 @@ def lagrange_dynamics():
     _t7 = ca.sin(q_3)
     _t8 = -_t0*_t5 + _t1*_t7
     _t9 = 1/_t8
-    _t10 = _t6*_t9
+    _t10 = 1/(_t8*design_0)
     _t11 = _t10*_t5
     _t12 = 1/_t5
     _t13 = _t12*_t7
     _t14 = _t13*x_dot_0 + x_dot_1
-    _t15 = -_t11*_t4 + _t14*_t5*_t6*_t9
+    _t15 = -_t11*_t4 + _t14*_t5/(_t8*design_0)
     _t16 = design_0*design_15
     _t17 = 2*_t1
     _t18 = design_10*design_19
@@ -770,13 +770,13 @@ def lagrange_dynamics():
     _t26 = _t25*_t5
     _t27 = _t15*_t23*_t26
     _t28 = -_t23
-    _t29 = _t26*_t28 - _t6*_t7*_t9
+    _t29 = _t26*_t28 - _t7/(_t8*design_0)
     _t30 = _t1*_t10
-    _t31 = _t1*_t14*_t6*_t9 - _t30*_t4
+    _t31 = _t1*_t14/(_t8*design_0) - _t30*_t4
     _t32 = _t27 + _t29*_t31
     _t33 = _t1*_t25
     _t34 = _t28*_t31*_t33
-    _t35 = -_t0*_t6*_t9 + _t23*_t33
+    _t35 = -_t0/(_t8*design_0) + _t23*_t33
     _t36 = _t15*_t35 + _t34
     _t37 = design_11*design_20**2
     _t38 = design_22*design_24**2
@@ -828,7 +828,7 @@ def lagrange_dynamics():
     _t84 = _t82 + _t83
     _t85 = _t55*_t70 + _t56
     _t86 = -_t82 + _t85
-    _t87 = _t30*(_t1*_t41*_t6*_t9 - _t69) + _t40*_t50*_t63
+    _t87 = _t30*(_t1*_t41/(_t8*design_0) - _t69) + _t40*_t50*_t63
     _t88 = -_t62 - _t87
     _t89 = _t71 + _t87 + design_9 + design_11 + design_13 + design_22
     _t90 = _t76 + _t77 + _t78 + _t79 + design_25*design_9 - design_25*design_13
@@ -964,7 +964,7 @@ def inertia():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 43 common subexpressions, 145 operations
+    # 43 common subexpressions, 147 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
     _t2 = 1/_t1
@@ -996,9 +996,9 @@ def inertia():
     _t28 = _t27/_t1**2
     _t29 = _t4**2
     _t30 = _t29/_t5**2
-    _t31 = _t15*_t2
+    _t31 = 1/(_t1*design_0)
     _t32 = _t2*_t27
-    _t33 = _t15*_t6
+    _t33 = 1/(_t5*design_0)
     _t34 = _t29*_t6
     _t35 = _t21*_t3 + _t23*_t7 + _t24*_t3 + _t25*_t7 + _t28*design_8 + _t28*design_12 + _t30*design_9 + _t30*design_13 + _t31*(design_16*_t31 - _t32*design_10*design_19) + _t31*(design_18*_t31 - _t32*design_14*design_21) + _t33*(design_17*_t33 - _t34*design_11*design_20) + _t33*(design_23*_t33 - _t34*design_22*design_24) + design_15
     _t36 = _t35*_t8
@@ -1108,8 +1108,8 @@ def inertia_from_pose():
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
     M_t = ca.reshape(ca.vertcat(_t12*_t16*(-_t14*_t26*_t7 + _t37), _t12*_t16*(-_t14*_t38*_t7 - _t39), _t12*_t16*(_t1*_t13*_t26 - _t37), _t12*_t16*(_t1*_t13*_t38 + _t39)), 2, 2)
-    M_w = ca.reshape(ca.vertcat(_t12*_t36/(_t33*_t35), _t12*_t31*_t40*_t41, _t12*_t25*_t40*_t41, _t17), 2, 2)
-    M_d = ca.reshape(ca.vertcat(_t12*_t37*_t40*_t41*_t42, -_t12*_t39*_t40*_t41*_t42, _t12*_t26*_t42, _t12*_t38*_t42), 2, 2)
+    M_w = ca.reshape(ca.vertcat(_t12*_t36/(_t33*_t35), _t31/(_t13*_t14*design_0), _t25/(_t13*_t14*design_0), _t17), 2, 2)
+    M_d = ca.reshape(ca.vertcat(_t37/(_t13*_t14*_t15*design_0), -_t39/(_t13*_t14*_t15*design_0), _t26/(_t15*design_0), _t38/(_t15*design_0)), 2, 2)
     return ca.Function("inertia_from_pose", [x, mode, design], [q, reach, M_t, M_w, M_d], ["x", "mode", "design"], ["q", "reach", "M_t", "M_w", "M_d"])
 
 
@@ -1166,7 +1166,7 @@ def inverse_dynamics_from_pose():
     design_23 = design[23]
     design_24 = design[24]
     design_25 = design[25]
-    # 71 common subexpressions, 309 operations
+    # 71 common subexpressions, 315 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
     _t2 = _t1**2
@@ -1240,7 +1240,7 @@ def inverse_dynamics_from_pose():
     _t70 = _t1*_t64*(design_16*_t40 - _t28*_t65) + _t1*_t64*(design_18*_t40 - _t28*_t66) + _t14*_t17*x_ddot_1*(-_t1*_t16*_t65 - _t1*_t16*_t66 + _t13*_t53*design_0 + _t13*_t57*design_0 - _t13*_t68*_t7 - _t13*_t69*_t7 + _t16*_t51*design_0 + _t16*_t55*design_0 + _t62) + _t25*_t33*x_ddot_0*(_t2*_t22*_t33 + _t2*_t29*_t33 + _t2*_t33*_t50*design_10 + _t2*_t33*_t54*design_14 + _t25*_t31*_t8 + _t25*_t33*design_0*design_15 + _t25*_t37*_t8 + _t25*_t52*_t8*design_11 + _t25*_t56*_t8*design_22 + _t25*(design_17*design_0 - _t68*_t8) + _t25*(design_23*design_0 - _t69*_t8) + _t33*(design_16*design_0 - _t2*_t65) + _t33*(design_18*design_0 - _t2*_t66)) + _t28*_t58*_t64 - _t30*_t59*_t64 + _t36*_t60*_t67 - _t38*_t61*_t67 + _t42*_t51*_t64 + _t44*_t55*_t64 + _t47*_t53*_t67 + _t49*_t57*_t67 + _t67*_t7*(design_17*_t40 - _t36*_t68) + _t67*_t7*(design_23*_t40 - _t36*_t69)
     q = ca.reshape(ca.vertcat(-_t6, -_t11, ca.atan2(_t1, _t4), ca.atan2(_t7, _t10)), 4, 1)
     reach = ca.reshape(ca.vertcat(_t3, _t9, (-_t6 - design_4)*(_t6 + design_5), (-_t11 - design_4)*(_t11 + design_5)), 4, 1)
-    tau = ca.reshape(ca.vertcat(_t12*_t15*_t18*_t19*(-_t13*_t63*_t7 + _t70), _t12*_t15*_t18*_t19*(_t1*_t16*_t63 - _t70)), 2, 1)
+    tau = ca.reshape(ca.vertcat((-_t13*_t63*_t7 + _t70)/(_t14*_t17*design_0*(_t1*_t16 - _t13*_t7)), (_t1*_t16*_t63 - _t70)/(_t14*_t17*design_0*(_t1*_t16 - _t13*_t7))), 2, 1)
     return ca.Function("inverse_dynamics_from_pose", [x, mode, x_dot, x_ddot, design], [q, reach, tau], ["x", "mode", "x_dot", "x_ddot", "design"], ["q", "reach", "tau"])
 
 

@@ -140,6 +140,21 @@ class CasadiPrinter(PythonCodePrinter):
         return f"({self._print(expr.lhs)} {expr.rel_op} {self._print(expr.rhs)})"
 
 
+def _one_quotient(
+    replacements: list[tuple[sp.Symbol, sp.Expr]], reduced: list[sp.Expr]
+) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
+    """Products with several reciprocals that cse named (``_t8 = 1/_t1``, ``_t9 = 1/_t4``, ``_t7*_t8*_t9``)
+    written over one denominator (``_t7/(_t1*_t4)``): CasADi evaluates each product with a reciprocal as a
+    division, so that the kernels would divide once per reciprocal instead of once."""
+    reciprocal = {lhs: 1 / rhs.base for lhs, rhs in replacements if rhs.is_Pow and rhs.exp == -1}
+
+    def quotients(expr: sp.Expr) -> sp.Expr:
+        return expr.replace(lambda e: e.is_Mul and sum(f in reciprocal for f in e.args) >= 2,
+                            lambda e: e.xreplace(reciprocal))
+
+    return [(lhs, quotients(rhs)) for lhs, rhs in replacements], [quotients(e) for e in reduced]
+
+
 def _render_function(spec: FunctionSpec) -> list[str]:
     names: dict[sp.Symbol, str] = {}
     lines = [f"def {spec.name}():", f'    """{spec.doc}', ""]
@@ -160,6 +175,7 @@ def _render_function(spec: FunctionSpec) -> list[str]:
     flat = [e for out in spec.outputs for e in out.expr.T]
     symbols = (sp.Symbol(f"_t{k}") for k in range(10**9))
     replacements, reduced = sp.cse(flat, symbols=symbols, order="canonical")
+    replacements, reduced = _one_quotient(replacements, reduced)
     ops = sum(sp.count_ops(rhs) for _, rhs in replacements) + sum(sp.count_ops(e) for e in reduced)
     lines.append(f"    # {len(replacements)} common subexpressions, {ops} operations")
     for lhs, _ in replacements:
