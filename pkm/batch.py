@@ -50,13 +50,20 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
     Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
     """
+    return evaluate_finite(f, *args)[0]
+
+
+def evaluate_finite(f: ca.Function, *args: np.ndarray) -> tuple[tuple[np.ndarray, ...], bool]:
+    """:func:`evaluate`, and whether every entry of the arguments given row by row (2-D) that ``f`` reads
+    is finite: the kernel says so as it reads them, the interpreter's path checks with numpy."""
     f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     layout = _layout(f)
     run = kernel(f, work=layout.instructions * _rows(arrays))
     if run is not None:
         return _compiled(f, layout, run, arrays)
-    return interpreted(f, *arrays)
+    return interpreted(f, *arrays), all(np.isfinite(np.add.reduce(a, axis=None)) or np.all(np.isfinite(a))
+                                        for a in arrays if a.ndim == 2)
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -134,29 +141,29 @@ def total(f: ca.Function, *args: np.ndarray, group: int | None = None) -> tuple[
     if run is None:
         sums = tuple(o.reshape(n // size, size, *o.shape[1:]).sum(axis=1) for o in interpreted(f, *arrays))
     else:
-        sums = _shaped(layout, _compiled_sums(layout, run, arrays, n, size), n // size)
+        sums = _shaped(layout, _compiled_sums(layout, run, arrays, n, size)[0], n // size)
     return sums if group is not None else tuple(s[0] for s in sums)
 
 
 def _compiled_sums(
     layout: _Layout, run: Callable[..., None], arrays: list[np.ndarray], n: int, size: int
-) -> list[np.ndarray]:
-    """The sums (n / size, numel_j) of each output over each run of ``size`` rows by the summing kernel;
-    where there are fewer runs than threads, each is split into chunks whose partial sums are added in
-    chunk order."""
+) -> tuple[list[np.ndarray], bool]:
+    """The sums (n / size, numel_j) of each output over each run of ``size`` rows by the summing kernel,
+    and whether every input entry it read was finite; where there are fewer runs than threads, each is
+    split into chunks whose partial sums are added in chunk order."""
     groups, widths = n // size, layout.widths_out
     outputs = [np.zeros((groups, width)) for width in widths]
     bounds = _chunks(layout, n, size)
     if len(bounds) <= groups:
-        _run_chunks(layout, run, arrays, bounds,
-                    lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
-        return outputs
+        finite = _run_chunks(layout, run, arrays, bounds,
+                             lambda _, start, stop: [o[start // size:stop // size] for o in outputs], group=size)
+        return outputs, finite
     partial = [np.zeros((len(bounds), width)) for width in widths]
-    _run_chunks(layout, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
+    finite = _run_chunks(layout, run, arrays, bounds, lambda k, *_: [o[k:k + 1] for o in partial], group=None)
     for k, (start, _) in enumerate(bounds):
         for o, p in zip(outputs, partial, strict=True):
             o[start // size] += p[k]
-    return outputs
+    return outputs, finite
 
 
 def _chunks(layout: _Layout, n: int, unit: int = 1) -> list[tuple[int, int]]:
@@ -185,26 +192,30 @@ def _run_chunks(
     outputs_of: Callable[[int, int, int], list[np.ndarray]],
     *,
     group: int | None = 1,
-) -> None:
+) -> bool:
     """The kernel over the chunks of the batch on up to THREADS threads (:func:`pkm.compiled.kernel`),
     shared inputs read with stride 0; ``outputs_of(k, start, stop)`` are the buffers chunk k writes (a
-    summing kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk)."""
+    summing kernel adds runs of ``group`` rows, or with ``group`` None the whole chunk). Returns whether
+    every input entry the kernel read row by row was finite (each chunk's flag)."""
     inputs = [np.ascontiguousarray(a) for a in arrays]
     strides = [width if a.ndim == 2 else 0 for a, width in zip(inputs, layout.widths_in, strict=True)]
-    chunks = [([a[start:stop] if a.ndim == 2 else a for a in inputs], outputs_of(k, start, stop), stop - start,
-               stop - start if group is None else group) for k, (start, stop) in enumerate(bounds)]
+    flags = np.zeros((len(bounds), 1))
+    chunks = [([a[start:stop] if a.ndim == 2 else a for a in inputs], [*outputs_of(k, start, stop), flags[k:k + 1]],
+               stop - start, stop - start if group is None else group) for k, (start, stop) in enumerate(bounds)]
     if chunks:
         run(strides, chunks, THREADS)
+    return not flags.any()
 
 
 def _compiled(
     f: ca.Function, layout: _Layout, run: Callable[..., None], arrays: list[np.ndarray]
-) -> tuple[np.ndarray, ...]:
-    """``f`` over the batch by its compiled kernel."""
+) -> tuple[tuple[np.ndarray, ...], bool]:
+    """``f`` over the batch by its compiled kernel, and whether every input entry it read was finite."""
     n = _batch_size(f, layout, arrays)
     outputs = [np.empty((n, width)) for width in layout.widths_out]
-    _run_chunks(layout, run, arrays, _chunks(layout, n), lambda _, start, stop: [o[start:stop] for o in outputs])
-    return _shaped(layout, outputs, n)
+    finite = _run_chunks(layout, run, arrays, _chunks(layout, n),
+                         lambda _, start, stop: [o[start:stop] for o in outputs])
+    return _shaped(layout, outputs, n), finite
 
 
 def reached(values: np.ndarray, reach: np.ndarray) -> np.ndarray:

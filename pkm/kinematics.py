@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate, reached
+from pkm.batch import REACH_TOLERANCE, evaluate, evaluate_finite, reached
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
 
 if TYPE_CHECKING:
@@ -85,19 +85,27 @@ def as_real(values: Any, what: str, shape: str) -> np.ndarray:
     return arr.astype(float, copy=False)
 
 
-def as_batch(values: Any, width: int, what: str) -> tuple[np.ndarray, bool]:
+def as_batch(values: Any, width: int, what: str, *, finite: bool = True) -> tuple[np.ndarray, bool]:
     """``values`` as an (N, width) array (N may be 0), and whether it was a single 1-D row;
-    :class:`PoseError` naming ``what`` for what is not real numbers, a wrong shape or non-finite values."""
+    :class:`PoseError` naming ``what`` for what is not real numbers, a wrong shape or (with ``finite``)
+    non-finite values. A caller whose kernel reads every entry leaves ``finite`` off and calls
+    :func:`require_finite` where :func:`pkm.batch.evaluate_finite` says an entry was not finite."""
     shape = f"({width},) or (N, {width})"
     arr = as_real(values, what, shape)
     if arr.ndim not in (1, 2) or arr.shape[-1] != width:
         raise PoseError(f"{what} must have shape {shape}; got {arr.shape}")
     single = arr.ndim == 1
     arr = np.atleast_2d(arr)
+    if finite:
+        require_finite(arr, what)
+    return arr, single
+
+
+def require_finite(arr: np.ndarray, what: str) -> None:
+    """:class:`PoseError` naming ``what`` where ``arr`` has a non-finite value."""
     # the sum of finite values is finite unless it overflows: one vectorised pass for the usual case
     if not np.isfinite(np.add.reduce(arr, axis=None)) and not np.all(np.isfinite(arr)):
         raise PoseError(f"{what} contains non-finite values")
-    return arr, single
 
 
 def from_pose(name: str) -> str:
@@ -256,10 +264,13 @@ def as_joints(
 def solve_joints(mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False) -> Joints:
     """Inverse kinematics of a batch of poses in a working mode; NaN where out of reach, or
     :class:`PoseError` with ``strict``."""
-    x, single = as_batch(pose, mech.n_out, "pose")
+    x, single = as_batch(pose, mech.n_out, "pose", finite=False)
     d = mech.design_vector(design)
     branch = mech.working_mode(mode)
-    valid, q = evaluate(with_reach(mech.functions["inverse_kinematics"], ("q",)), x, np.array(branch.signs), d)
+    (valid, q), finite = evaluate_finite(with_reach(mech.functions["inverse_kinematics"], ("q",)), x,
+                                         np.array(branch.signs), d)
+    if not finite:
+        require_finite(x, "pose")
     return as_joints(x, d, valid, q[:, :, 0], single, strict=strict, what=f"the {mech.name} in mode {branch.name}")
 
 

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from pkm import regions, registry
-from pkm.batch import evaluate
+from pkm.batch import evaluate, evaluate_finite
 from pkm.design import Condition, Design, Parameter, design_mapping, make_design
 from pkm.design_space import DesignSpace
 from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError, check_name
@@ -32,6 +32,7 @@ from pkm.kinematics import (
     GeneratedFunctions,
     as_batch,
     find_branch,
+    require_finite,
     solve_joints,
     unbatch,
 )
@@ -207,9 +208,12 @@ class Mechanism:
     def _first_order(self, pose: Any, design: DesignLike, mode: str | None, names: tuple[str, ...]) -> list[Any]:
         """Outputs of the first order at poses by name (NaN where out of reach), in one compiled pass of
         the fused pipeline, each as its input was batched."""
-        x, single = as_batch(pose, self.n_out, "pose")
+        x, single = as_batch(pose, self.n_out, "pose", finite=False)
         fused = regions.first_order_outputs(self, names)
-        _, *outputs = evaluate(fused, x, np.array(self.working_mode(mode).signs), self.design_vector(design))
+        (_, *outputs), finite = evaluate_finite(fused, x, np.array(self.working_mode(mode).signs),
+                                                self.design_vector(design))
+        if not finite:
+            require_finite(x, "pose")
         return [unbatch(value, single) for value in outputs]
 
     def _check_singular(self, joints: Any, kind: str) -> None:
@@ -305,10 +309,12 @@ class Mechanism:
     def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
         """A local index at each pose (N,); NaN where out of reach, its limit at singular poses."""
         spec = self.local_spec(name)
-        x, single = as_batch(pose, self.n_out, "pose")
+        x, single = as_batch(pose, self.n_out, "pose", finite=False)
         result = regions.evaluate_at(
             self, (spec,), x, np.array(self.working_mode(mode).signs), self.design_vector(design)
         )
+        if not result.finite:
+            require_finite(x, "pose")
         return unbatch(result.values[0], single)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:

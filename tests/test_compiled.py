@@ -377,17 +377,41 @@ def test_the_kernels_reject_arrays_they_cannot_read():
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
     strides = [fn.numel_in(0), 0, 0]
     given = [np.array([[0.1, 1.5], [-0.3, 1.9]]), np.ones(fn.numel_in(1)), m.design_vector(m.design())]
-    q, reach = np.zeros((2, fn.numel_out(0))), np.zeros((2, fn.numel_out(1)))
-    run(strides, [(given, [q, reach], 2, 1)], 1)
+    q, reach, flag = np.zeros((2, fn.numel_out(0))), np.zeros((2, fn.numel_out(1))), np.zeros((1, 1))
+    run(strides, [(given, [q, reach, flag], 2, 1)], 1)
     np.testing.assert_allclose(q, m.functions["inverse_kinematics"].map(2)(given[0].T, *given[1:])[0].T.full(),
                                rtol=1e-13)
+    assert flag[0, 0] == 0
     with pytest.raises(TypeError, match="float64"):
-        run(strides, [(given, [q.astype(np.float32), reach], 2, 1)], 1)
-    with pytest.raises(ValueError, match="takes 3 inputs and 2 outputs"):
-        run(strides, [(given, [q], 2, 1)], 1)
+        run(strides, [(given, [q.astype(np.float32), reach, flag], 2, 1)], 1)
+    with pytest.raises(ValueError, match="takes 3 inputs and 2 outputs and a flag"):
+        run(strides, [(given, [q, reach], 2, 1)], 1)
     with pytest.raises(ValueError, match="not C-contiguous"):
-        run(strides, [(given, [np.zeros((fn.numel_out(0), 2)).T, reach], 2, 1)], 1)
+        run(strides, [(given, [np.zeros((fn.numel_out(0), 2)).T, reach, flag], 2, 1)], 1)
     frozen = reach.copy()
     frozen.setflags(write=False)
     with pytest.raises(ValueError, match="read-only"):
-        run(strides, [(given, [q, frozen], 2, 1)], 1)
+        run(strides, [(given, [q, frozen, flag], 2, 1)], 1)
+    given[0][1, 0] = np.inf
+    run(strides, [(given, [q, reach, flag], 2, 1)], 1)
+    assert flag[0, 0] == 1
+
+
+def test_non_finite_poses_are_refused_after_the_kernel_has_read_them():
+    """The public batch methods leave the finiteness check of the poses to the kernel that reads them
+    (its flag) and name the input only then; the interpreter's path checks with numpy."""
+    from pkm import PoseError
+
+    m = pkm.load("five_bar")
+    x = np.array([[0.1, 1.5], [-0.3, 1.9]] * 50)
+    x[71, 1] = np.nan
+    for call in (lambda: m.local_index("inverse_condition_f", x), lambda: m.jacobian(x),
+                 lambda: m.inverse_kinematics(x), lambda: m.inertia_matrix(x),
+                 lambda: m.inverse_dynamics(x, np.zeros(2), np.zeros(2))):
+        for _ in range(2):  # a first evaluation on the interpreter, the second compiled
+            with pytest.raises(PoseError, match="pose contains non-finite values"):
+                call()
+    with pytest.raises(PoseError, match="velocity contains non-finite values"):
+        m.inverse_dynamics(x[:3], [0.0, np.inf], np.zeros(2))
+    with pytest.raises(PoseError, match="acceleration contains non-finite values"):
+        m.inverse_dynamics(x[:3], np.zeros(2), np.full((3, 2), np.nan))

@@ -272,8 +272,8 @@ class _Kernel:
         n_in, n_out, name = self.fn.n_in(), self.fn.n_out(), self.fn.name()
 
         def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
-            if len(strides) != n_in or any(len(c[0]) != n_in or len(c[1]) != n_out for c in chunks):
-                raise ValueError(f"{name}'s kernel takes {n_in} inputs and {n_out} outputs per chunk")
+            if len(strides) != n_in or any(len(c[0]) != n_in or len(c[1]) != n_out + 1 for c in chunks):
+                raise ValueError(f"{name}'s kernel takes {n_in} inputs and {n_out} outputs and a flag per chunk")
             runner.run(address, threads, strides, chunks)
 
         error = _check(self.fn, self.summed, run)
@@ -310,7 +310,7 @@ def _check(fn: ca.Function, summed: bool, run: Run) -> str:
         got = [np.zeros((n, fn.numel_out(j))) for j in range(fn.n_out())]
         scales = [np.abs(np.nan_to_num(w, posinf=0, neginf=0)).max(initial=0.0) for w in want]
     strides = [0 if shared[i] else fn.numel_in(i) for i in range(fn.n_in())]
-    run(strides, [(inputs, got, n, n)], 1)
+    run(strides, [(inputs, [*got, np.zeros((1, 1))], n, n)], 1)
     for j, (g, w, scale) in enumerate(zip(got, want, scales, strict=True)):
         with np.errstate(invalid="ignore"):
             close = np.abs(g - w) <= CHECK_TOLERANCE * np.maximum(1.0, np.nan_to_num(scale, posinf=0, neginf=0))
@@ -337,7 +337,8 @@ def _entry(fn: ca.Function, summed: bool) -> _Kernel:
 def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0) -> Run | None:
     """``run(strides, chunks, threads)`` evaluating ``fn`` compiled over the chunks of a batch, each chunk
     ``(inputs, outputs, n, group)``: n rows, inputs (n or 1, k_i) with the row strides ``strides``, outputs
-    (n, k_j), C order; the chunks on up to ``threads`` threads (the caller's and threads the runner keeps),
+    (n, k_j) and a flag (1, 1) that the kernel sets to 1 where an input entry it reads row by row is not
+    finite, C order; the chunks on up to ``threads`` threads (the caller's and threads the runner keeps),
     without the GIL. With ``summed`` the kernel adds the sums of each output over consecutive groups of
     ``group`` rows to the rows of (n / group, k_j) outputs instead. None where this evaluation runs on the
     interpreter (module docstring; ``work``, its instructions times rows, decides whether a first

@@ -4,7 +4,9 @@
 loop over the rows of pkm's batch arrays, in a translation unit of its own that exports one function,
 ``pkm_kernel``: input ``i`` of row ``p`` is read from ``in[i] + p * stride[i]`` (a stride of 0 shares one
 row with the whole batch), output ``j`` written to ``out[j] + p * numel_j``, both in CasADi's
-column-major order of the matrix entries, as :func:`pkm.batch.evaluate` lays them out. Each operation is
+column-major order of the matrix entries, as :func:`pkm.batch.evaluate` lays them out; one more output,
+``out[n_out]``, is set to 1 where an entry that the kernel reads row by row is not finite, so that a caller
+checks its inputs without a pass of its own over them. Each operation is
 the C library's or IEEE arithmetic (no fast-math, no contraction: :mod:`pkm.compiled.toolchain` compiles
 with those flags; comparisons and logic as selects, so that the loop vectorises), so the compiled kernel
 agrees with CasADi's interpreter to round-off; constants are written as hexadecimal floats, so they are
@@ -80,10 +82,14 @@ PKM_SIMD double pow(double, double);
 PKM_SIMD __attribute__((noinline)) static double pkm_cos(double x) { return cos(x); }
 
 /* one entry of rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch;
-   in points at the entry in row 0) into a column of a block, the last row repeated to fill it */
-static inline void pkm_gather(double *restrict a, const double *in, long stride, long p0, long m)
+   in points at the entry in row 0) into a column of a block, the last row repeated to fill it; nonzero
+   where one of them is not finite */
+static inline long pkm_gather(double *restrict a, const double *in, long stride, long p0, long m)
 {
+  long bad = 0;
   for (long q = 0; q < PKM_BLOCK; ++q) a[q] = in[(p0 + (q < m ? q : m - 1)) * stride];
+  for (long q = 0; q < PKM_BLOCK; ++q) bad |= !(fabs(a[q]) < INFINITY);
+  return bad;
 }
 
 /* the first m rows of a block's k columns, rows p0 .. p0 + m - 1 of the batch, added in row order to
@@ -191,7 +197,7 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
     lines += [f"{indent}  {line}" for line in once_lines]
     lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
               f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
-    lines += [f"{inner}pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    lines += [f"{inner}bad |= pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
     # no "omp simd": with it GCC 12 vectorises no loop that converts a comparison to double; the vector
     # functions of the prelude's simd declarations are used without it
     lines.append(f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{")
@@ -232,6 +238,7 @@ def source(fn: ca.Function, summed: bool = False) -> str:
         "double *const *out)",
         "{",
     ]
+    lines.append("  long bad = 0;")
     lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and (i not in shared or not summed)]
     lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
     if summed or not shared:
@@ -240,4 +247,5 @@ def source(fn: ca.Function, summed: bool = False) -> str:
         condition = " && ".join(f"stride[{i}] == 0" for i in sorted(shared))
         lines += [f"  if ({condition}) {{", *_loop(fn, shared, False, "    "), "  } else {",
                   *_loop(fn, set(), False, "    "), "  }"]
+    lines.append(f"  if (bad) out[{fn.n_out()}][0] = 1.;")
     return "\n".join([*lines, "}", ""])

@@ -21,10 +21,10 @@ from typing import TYPE_CHECKING, Any
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate
+from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.dynamics.flexible import elastic_dynamics
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
-from pkm.kinematics import as_batch, from_pose, unbatch
+from pkm.kinematics import as_batch, from_pose, require_finite, unbatch
 
 if TYPE_CHECKING:
     from pkm.kinematics import DesignLike, KinematicModel
@@ -60,9 +60,11 @@ def inertia_matrix(
     fn = mech.functions.require("inertia", f"the {space} inertia matrix of the {mech.name}")
     if SPACES[space] not in fn.name_out():
         raise PkmError(f"the {mech.name} model has no {space} inertia matrix ({SPACES[space]})")
-    x, single = as_batch(pose, mech.n_out, "pose")
+    x, single = as_batch(pose, mech.n_out, "pose", finite=False)
     signs = np.array(mech.working_mode(mode).signs, dtype=float)
-    _, matrix = evaluate(inertia_pipeline(mech, SPACES[space]), x, signs, mech.design_vector(design))
+    (_, matrix), finite = evaluate_finite(inertia_pipeline(mech, SPACES[space]), x, signs, mech.design_vector(design))
+    if not finite:
+        require_finite(x, "pose")
     return unbatch(matrix, single)
 
 
@@ -149,21 +151,33 @@ def _chain_torques(mech: KinematicModel, q: ca.SX, motion: tuple[ca.SX, ca.SX, c
     return tau_a + ca.mtimes(M_T[n:, n:], accel) + f_t[n:]
 
 
+MOTION = ("pose", "velocity", "acceleration")
+
+
 def _motion_batch(
     mech: KinematicModel, pose: Any, velocity: Any, acceleration: Any
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, bool]:
-    """Pose, velocity and acceleration as (N, n_out) arrays; 1-D inputs are shared by the batch (N is 1
-    when every input is 1-D, and may be 0)."""
-    arrays = [
-        as_batch(v, mech.n_out, w) for v, w in ((pose, "pose"), (velocity, "velocity"), (acceleration, "acceleration"))
-    ]
+) -> tuple[list[np.ndarray], bool]:
+    """Pose, velocity and acceleration as (N, n_out) arrays, or (n_out,) where one is shared by the batch
+    (the pose stays (N, n_out), N = 1 when every input is 1-D, and may be 0), and whether every input was
+    one row. The inputs given per pose are checked for non-finite values after the kernel has read them
+    (:func:`_require_finite_motion`), the shared ones here."""
+    arrays = [as_batch(v, mech.n_out, w, finite=False) for v, w in zip((pose, velocity, acceleration), MOTION,
+                                                                         strict=True)]
     rows = {len(a) for a, single in arrays if not single}
     n = rows.pop() if len(rows) == 1 else max(rows, default=1)
-    for (a, single), what in zip(arrays, ("pose", "velocity", "acceleration"), strict=True):
+    for (a, single), what in zip(arrays, MOTION, strict=True):
         if len(a) != n and not single:
             raise PoseError(f"{what} has {len(a)} rows; the batch has {n}")
-    full = [np.broadcast_to(a, (n, mech.n_out)) for a, _ in arrays]
-    return *full, all(single for _, single in arrays)
+        if single:
+            require_finite(a, what)
+    motion = [np.broadcast_to(a, (n, mech.n_out)) if k == 0 and single else a[0] if single else a
+              for k, (a, single) in enumerate(arrays)]
+    return motion, all(single for _, single in arrays)
+
+
+def _require_finite_motion(motion: list[np.ndarray]) -> None:
+    for values, what in zip(motion, MOTION, strict=True):
+        require_finite(values, what)
 
 
 def inverse_dynamics(
@@ -210,10 +224,12 @@ def inverse_dynamics(
     :func:`inverse_dynamics_pipeline` over the batch; it has no transmissions, so ``joint_torques``
     returns the same forces.
     """
-    pose, x_dot, x_ddot, single = _motion_batch(mech, pose, velocity, acceleration)
+    motion, single = _motion_batch(mech, pose, velocity, acceleration)
     d = mech.design_vector(design)
     signs = np.array(mech.working_mode(mode).signs, dtype=float)
     chain = "inverse_dynamics" not in mech.functions and from_pose("inverse_dynamics") not in mech.functions
     fused = inverse_dynamics_pipeline(mech, joint_torques and chain)
-    _, tau = evaluate(fused, pose, x_dot, x_ddot, signs, d)
+    (_, tau), finite = evaluate_finite(fused, *motion, signs, d)
+    if not finite:
+        _require_finite_motion(motion)
     return unbatch(tau[:, :, 0], single)

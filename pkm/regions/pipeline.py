@@ -34,7 +34,7 @@ from typing import Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate
+from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
 from pkm.kinematics import from_pose
@@ -193,6 +193,7 @@ class Evaluation:
 
     valid: np.ndarray
     values: tuple[np.ndarray, ...]
+    finite: bool = True  # every entry of the poses (and of designs given per pose) the kernel read is finite
 
     @property
     def reachable(self) -> np.ndarray:
@@ -203,5 +204,5 @@ def evaluate_at(
     mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
 ) -> Evaluation:
     """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
-    valid, *values = evaluate(index_pipeline(mech, tuple(locals_)), x, signs, design)
-    return Evaluation(valid, tuple(v[:, 0, 0] for v in values))
+    (valid, *values), finite = evaluate_finite(index_pipeline(mech, tuple(locals_)), x, signs, design)
+    return Evaluation(valid, tuple(v[:, 0, 0] for v in values), finite)

@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate
+from pkm.batch import REACH_TOLERANCE, evaluate, evaluate_finite
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace, parameter_plane
 from pkm.errors import PoseError
@@ -29,6 +29,7 @@ from pkm.kinematics import (
     PolynomialRoots,
     as_batch,
     as_real,
+    require_finite,
     unbatch,
 )
 from pkm.mechanism import Mechanism
@@ -208,13 +209,18 @@ class UpsPu(Mechanism):
         at least 1e12) are NaN. IK, W, its conditioning and the solve are one compiled pass
         (:func:`statics_pipeline`).
         """
-        x, single = as_batch(pose, self.n_out, "pose")
+        x, single = as_batch(pose, self.n_out, "pose", finite=False)
         w = as_real(wrench, "wrench", "(6,) or (N, 6)")
-        if w.shape[-1:] != (6,) or w.ndim > 2 or not np.all(np.isfinite(w)):
-            raise PoseError(f"wrench must be finite with shape (6,) or (N, 6) ({', '.join(WRENCH)}); got {w.shape}")
+        shape = f"(6,) or (N, 6) ({', '.join(WRENCH)})"
+        if w.shape[-1:] != (6,) or w.ndim > 2:
+            raise PoseError(f"wrench must have shape {shape}; got {w.shape}")
         if w.ndim == 2 and len(w) != len(x):
             raise PoseError(f"wrench has {len(w)} rows; the poses have {len(x)}")
         fused = self.functions["statics_printed_pipeline" if printed else "statics_pipeline"]
-        (forces,) = evaluate(fused, x, w, np.array(self.working_mode(mode).signs), self.design_vector(design))
+        (forces,), finite = evaluate_finite(fused, x, w, np.array(self.working_mode(mode).signs),
+                                            self.design_vector(design))
+        if not finite:
+            require_finite(x, "pose")
+            require_finite(w, "wrench")
         forces = forces[:, :, 0]
         return Statics(unbatch(forces[:, :3], single), unbatch(forces[:, 3:], single))
