@@ -82,14 +82,10 @@ PKM_SIMD double pow(double, double);
 PKM_SIMD __attribute__((noinline)) static double pkm_cos(double x) { return cos(x); }
 
 /* one entry of rows p0 .. p0 + m - 1 of an (N, k) input (stride k, or 0 for one row shared by the batch;
-   in points at the entry in row 0) into a column of a block, the last row repeated to fill it; nonzero
-   where one of them is not finite */
-static inline long pkm_gather(double *restrict a, const double *in, long stride, long p0, long m)
+   in points at the entry in row 0) into a column of a block, the last row repeated to fill it */
+static inline void pkm_gather(double *restrict a, const double *in, long stride, long p0, long m)
 {
-  long bad = 0;
   for (long q = 0; q < PKM_BLOCK; ++q) a[q] = in[(p0 + (q < m ? q : m - 1)) * stride];
-  for (long q = 0; q < PKM_BLOCK; ++q) bad |= !(fabs(a[q]) < INFINITY);
-  return bad;
 }
 
 /* the first m rows of a block's k columns, rows p0 .. p0 + m - 1 of the batch, added in row order to
@@ -173,6 +169,10 @@ def _split(fn: ca.Function, shared: set[int]) -> tuple[list[str], list[str], set
             expression = f"in[{ins[0]}][g0 * stride[{ins[0]}] + {ins[1]}]" if once else f"a{ins[0]}[{ins[1]}][q]"
             if not once:
                 gathered.add((ins[0], ins[1]))
+                # x - x is 0 for a finite x, NaN otherwise: the entries read are checked in vector arithmetic
+                row_lines += [f"w{outs[0]} = {expression};", f"nonfinite[q] += w{outs[0]} - w{outs[0]};"]
+                ref[outs[0]], varies[outs[0]] = f"w{outs[0]}", True
+                continue
         else:
             once = bool(shared) and not any(varies[i] for i in ins if i >= 0)
             expression = _expression(fn, k, ref)
@@ -197,7 +197,7 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
     lines += [f"{indent}  {line}" for line in once_lines]
     lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
               f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
-    lines += [f"{inner}bad |= pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    lines += [f"{inner}pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
     # no "omp simd": with it GCC 12 vectorises no loop that converts a comparison to double; the vector
     # functions of the prelude's simd declarations are used without it
     lines.append(f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{")
@@ -238,7 +238,7 @@ def source(fn: ca.Function, summed: bool = False) -> str:
         "double *const *out)",
         "{",
     ]
-    lines.append("  long bad = 0;")
+    lines.append("  double nonfinite[PKM_BLOCK] = {0};")
     lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and (i not in shared or not summed)]
     lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
     if summed or not shared:
@@ -247,5 +247,5 @@ def source(fn: ca.Function, summed: bool = False) -> str:
         condition = " && ".join(f"stride[{i}] == 0" for i in sorted(shared))
         lines += [f"  if ({condition}) {{", *_loop(fn, shared, False, "    "), "  } else {",
                   *_loop(fn, set(), False, "    "), "  }"]
-    lines.append(f"  if (bad) out[{fn.n_out()}][0] = 1.;")
+    lines.append(f"  for (long q = 0; q < PKM_BLOCK; ++q) if (nonfinite[q] != 0) out[{fn.n_out()}][0] = 1.;")
     return "\n".join([*lines, "}", ""])
