@@ -351,6 +351,8 @@ def _axes(text: str) -> list[tuple[str, float, float]]:
             out.append((name.strip(), float(lower), float(upper)))
         except ValueError:
             raise PkmError(f"--axes item {item!r} is not of the form name=lower:upper") from None
+        if [name for name, *_ in out].count(out[-1][0]) > 1:
+            raise PkmError(f"--axes {text} violates: each parameter once; {out[-1][0]} is given twice")
     return out
 
 

@@ -393,7 +393,7 @@ class PolynomialRoots:
     def compute(self, functions: Mapping[str, ca.Function], q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
         """The real roots as :meth:`roots` gives them, computed afresh (no kept results)."""
         (c,) = evaluate(functions[self.polynomial], q_a, design)
-        c = c.reshape(len(q_a), -1)
+        c = c.reshape(len(q_a), functions[self.polynomial].numel_out(0))
         degree = c.shape[1] - 1
         size = 1.0 if self.scale is None else float(functions[self.scale](np.asarray(design, dtype=float)))
         c = c * size ** np.arange(degree, -1, -1)

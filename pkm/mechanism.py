@@ -22,7 +22,7 @@ from pkm import regions, registry
 from pkm.batch import evaluate, evaluate_finite
 from pkm.design import Condition, Design, Parameter, design_mapping, make_design
 from pkm.design_space import DesignSpace
-from pkm.errors import PkmError, PoseError, SingularityError, UnknownNameError, check_name
+from pkm.errors import DesignError, PkmError, PoseError, SingularityError, UnknownNameError, check_name
 from pkm.kinematics import (
     Branch,
     ClosedForm,
@@ -138,6 +138,9 @@ class Mechanism:
         """The validated design as a vector in parameter order. A mapping of names to numbers is validated
         once per distinct value (batch methods take the same design call after call)."""
         if isinstance(design, Design):
+            if tuple(design) != self.parameter_names():
+                raise DesignError(f"design {design!r} violates: a design of the {self.name}, whose parameters are "
+                                  f"{', '.join(self.parameter_names())}")
             return design.vector()
         if isinstance(design, dict) and all(type(v) in (float, int) for v in design.values()):
             return self._validated_vector(tuple(design.items())).copy()

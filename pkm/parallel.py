@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -38,12 +39,23 @@ EXECUTORS = ("auto", "serial", "processes")
 _SETTINGS: dict[str, str | None] = {"scheduler": None}
 
 
+ADDRESS = re.compile(r"(tcp|tls|ws|wss|ucx)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
+
+
+def check_address(address: Any) -> str:
+    """``address`` where it is a scheduler address ``protocol://host:port`` with a port in 1-65535, else
+    PkmError naming what it violates (before any connection is tried)."""
+    match = ADDRESS.fullmatch(address.strip()) if isinstance(address, str) else None
+    if match is None or not 0 < int(match[3]) < 65536:
+        raise PkmError(f"scheduler address {address!r} violates: protocol://host:port with a port number in "
+                       "1-65535, like tcp://127.0.0.1:8786")
+    return address.strip()
+
+
 def use_scheduler(address: str | None) -> None:
     """Send parallel work to the Dask scheduler at ``address`` (``tcp://host:port``); None restores the
     local default (serial for small jobs, a process pool for large ones, unless ``PKM_SCHEDULER`` is set)."""
-    if address is not None and (not isinstance(address, str) or not address.strip()):
-        raise PkmError(f"scheduler address {address!r} violates: a non-empty string like tcp://host:8786")
-    _SETTINGS["scheduler"] = address
+    _SETTINGS["scheduler"] = None if address is None else check_address(address)
 
 
 @contextmanager
@@ -77,6 +89,7 @@ class SerialExecutor(Executor):
 def connect(address: str) -> Any:
     """A Dask client of the scheduler at ``address``: PkmError where dask is missing, or where the
     scheduler does not answer as one within CONNECT_TIMEOUT (whatever listens there)."""
+    address = check_address(address)
     try:
         from distributed import Client
     except ImportError:

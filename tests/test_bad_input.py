@@ -284,3 +284,43 @@ def test_a_wrench_that_is_not_real_numbers_is_a_pose_error(wrench):
 def test_a_theta_that_is_not_real_numbers_is_a_pose_error(theta):
     with pytest.raises(PoseError, match="theta"):
         pkm.load("passive_leg").workspace_boundary(theta)
+
+
+def test_a_design_of_another_mechanism_is_a_design_error():
+    """The five-bar and the 2-UPS-PU both have 16 parameters: a Design is not taken by its length."""
+    five_bar, ups_pu = pkm.load("five_bar"), pkm.load("ups_pu")
+    with pytest.raises(DesignError, match="a design of the five_bar"):
+        five_bar.reachable([0.0, 1.6], ups_pu.design())
+    with pytest.raises(DesignError, match="unknown design parameter"):
+        five_bar.design(ups_pu.design())
+
+
+@pytest.mark.parametrize("command", ["atlas five_bar gci", "sweep five_bar --indices gci"])
+def test_a_parameter_named_twice_in_axes_exits_2(command, capsys):
+    from pkm.cli import main
+
+    assert main([*command.split(), "--axes", "r1=0.5:1.5,r1=0.6:1.2"]) == 2
+    err = capsys.readouterr().err
+    assert "r1 is given twice" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("name", pkm.mechanisms())
+def test_an_empty_batch_gives_empty_results(name):
+    mech = pkm.load(name)
+    poses = np.empty((0, mech.n_out))
+    assert mech.inverse_kinematics(poses).shape == (0, mech.n_act)
+    assert mech.jacobian(poses).shape == (0, mech.n_act, mech.n_out)
+    for assembly in mech.assemblies[:2]:
+        assert mech.forward_kinematics(np.empty((0, mech.n_act)), assembly=assembly).shape == (0, mech.n_out)
+
+
+@pytest.mark.parametrize(("command", "dimension"), [("ups_pu gci", "3-D sampled workspace"),
+                                                    ("ups_pu gci --region task", "region task")])
+def test_a_resolution_beyond_the_node_budget_exits_2_before_any_work(command, dimension, capsys):
+    from pkm.cli import main
+
+    assert main(["index", *command.split(), "--resolution", "1000"]) == 2
+    err = capsys.readouterr().err
+    assert "resolution = 1000 violates: at most" in err
+    assert dimension in err

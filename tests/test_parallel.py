@@ -129,7 +129,7 @@ def test_a_bad_scheduler_address_is_pkms_error_within_seconds(capfd, monkeypatch
     err = capfd.readouterr().err.strip().splitlines()
     assert len(err) == 1
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err[0]
-    with pytest.raises(PkmError, match="non-empty string"):
+    with pytest.raises(PkmError, match="protocol://host:port"):
         pkm.use_scheduler("  ")
 
 
@@ -187,3 +187,19 @@ def test_an_address_that_is_not_a_dask_scheduler_is_refused_within_seconds(monke
         with pytest.raises(PkmError, match="cannot reach the Dask scheduler"):
             parallel.connect(f"tcp://127.0.0.1:{server.getsockname()[1]}")
         assert time.perf_counter() - start < 5
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1", "tcp://127.0.0.1:http", "nonsense", "tcp://127.0.0.1:99999"])
+def test_a_scheduler_address_that_cannot_be_one_exits_2_at_once(address, capsys):
+    import time
+
+    from pkm.cli import main
+
+    start = time.perf_counter()
+    assert main(["sweep", "five_bar", "--indices", "gci", "--scheduler", address]) == 2
+    assert time.perf_counter() - start < 2.0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert "protocol://host:port" in err[0]
+    with pytest.raises(PkmError, match="protocol://host:port"):
+        parallel.use_scheduler(address)

@@ -145,6 +145,9 @@ def simulate(
 
 
 def _torque_expression(torque: Callable[[ca.SX], ca.SX], t: ca.SX, n: int) -> ca.SX:
+    if not callable(torque):
+        raise PkmError(f"torque = {torque!r} violates: a function t -> {n} motor torques (a casadi SX scalar to "
+                       "an SX vector, such as FlexibleMotion.torque), or None for zero torques")
     value = torque(t)
     if not isinstance(value, ca.SX):
         raise PkmError(f"torque(t) must return a casadi SX expression for an SX time; got {type(value).__name__}")

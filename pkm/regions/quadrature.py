@@ -38,7 +38,7 @@ from pkm.regions.integrand import (
     rows_function,
 )
 from pkm.regions.sampled import per_design, sample_values
-from pkm.regions.shapes import check_resolution
+from pkm.regions.shapes import check_nodes, check_resolution
 from pkm.regions.value import GlobalValue
 
 QUADRATURE_RESOLUTION = 8
@@ -299,6 +299,13 @@ def _result(spec: GlobalIndex, region: Any, value: float, *, resolution: int, ac
                        resolution=resolution, accuracy=accuracy)
 
 
+def _node_count(region: Any, resolution: int, reduce: str) -> int:
+    """The nodes of a region's rule at a resolution, from its rules at resolutions 1 and 2 (a rule of a
+    d-dimensional region has c resolution^d nodes), without building it."""
+    one, two = region.node_count(1, reduce), region.node_count(2, reduce)
+    return round(one * resolution ** np.log2(two / one))
+
+
 def global_value(
     mech: Any,
     spec: GlobalIndex,
@@ -311,6 +318,8 @@ def global_value(
 ) -> tuple[GlobalValue, np.ndarray | None]:
     """The index of one design, with its exact gradient (n_p,) when asked; the accuracy is the change
     from the quadrature at half the resolution (from resolution 2 on)."""
+    nodes = _node_count(region, check_resolution(resolution, 1), spec.reduce)
+    check_nodes(resolution, nodes, f"the region {region.name}")
     design = np.asarray(design, dtype=float).ravel()
     value, grad = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution, gradient=gradient)
     accuracy = float("nan")

@@ -18,7 +18,7 @@ from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, reduce_samples
 from pkm.indices.local import INVERSE_CONDITION_F
 from pkm.regions.pipeline import evaluate_at
-from pkm.regions.shapes import check_resolution, grid
+from pkm.regions.shapes import check_nodes, check_resolution, grid
 from pkm.regions.value import GlobalValue
 
 SAMPLED_RESOLUTION = 64
@@ -80,6 +80,7 @@ def sampled_global(
 ) -> list[GlobalValue]:
     """Global index over the sampled reachable workspace of each design (D, n_p), vectorised."""
     resolution = check_resolution(SAMPLED_RESOLUTION if resolution is None else resolution, 2)
+    check_nodes(resolution, resolution**mech.n_out, f"the {mech.n_out}-D sampled workspace")
     margin = check_margin(singularity_margin)
     coarse = coarse_mask(resolution, mech.n_out)
     signs = np.array(branch.signs)

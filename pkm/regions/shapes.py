@@ -55,8 +55,18 @@ MAX_RESOLUTION = 1024  # a quadrature of (2 MAX_RESOLUTION)^2 nodes per part, a 
 MAX_SAMPLES = 50_000_000  # cells of a sampled grid
 
 
+MAX_NODES = 1 << 24  # poses or nodes one evaluation of a global index may take (a few hundred MB of values)
+
+
 def check_resolution(resolution: int, minimum: int) -> int:
     return check_integer("resolution", resolution, minimum, MAX_RESOLUTION)
+
+
+def check_nodes(resolution: int, count: int, what: str) -> None:
+    """PkmError naming ``resolution`` where it gives more than MAX_NODES poses or nodes (``count``)."""
+    if count > MAX_NODES:
+        raise PkmError(f"resolution = {resolution} violates: at most {MAX_NODES:,} poses or nodes over {what}; it "
+                       f"gives {count:,}")
 
 
 @lru_cache(maxsize=32)
