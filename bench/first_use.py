@@ -125,6 +125,12 @@ def markdown(report: dict[str, Any], before: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def ci_markdown(ci: dict[str, Any]) -> str:
+    """CI's wall time before and after (docs/benchmarks/ci.json, each with where it was measured)."""
+    rows = [f"| {when} | {ci[when]['wall_s']:.0f} | {ci[when]['source']} |" for when in ("before", "after")]
+    return "\n".join(["| `.ci/run` on a fresh clone | wall (s) | measured |", "|---|---:|---|", *rows])
+
+
 BEFORE = ROOT / "docs" / "benchmarks" / "first_use_before.json"
 
 

@@ -71,3 +71,9 @@ def test_issue_22_tables_are_quoted_from_the_committed_runs():
     assert methods.markdown(run("methods")) in text
     assert c_limit.markdown(run("c_limit")) in text
     assert integrals.markdown(run("integrals_before")) in text
+
+
+def test_ci_wall_times_are_quoted_from_the_committed_record():
+    from bench.first_use import ci_markdown
+
+    assert ci_markdown(json.loads((RUNS / "ci.json").read_text())) in (ROOT / "docs" / "benchmarks.md").read_text()
