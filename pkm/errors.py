@@ -52,10 +52,23 @@ def check_integer(name: str, value: object, minimum: int, maximum: int | None = 
     if (
         isinstance(value, bool)
         or not isinstance(value, int | float)
-        or not math.isfinite(value)
+        or (isinstance(value, float) and not math.isfinite(value))
         or int(value) != value
         or value < minimum
         or (maximum is not None and value > maximum)
     ):
-        raise PkmError(f"{name} = {value!r} violates: {condition}")
+        raise PkmError(f"{name} = {reprlib.repr(value)} violates: {condition}")
     return int(value)
+
+
+def check_real(name: str, value: object, condition: str = "a finite number", error: type[PkmError] | None = None
+               ) -> float:
+    """``value`` as a finite float; :class:`PkmError` (or ``error``) naming ``name`` and ``condition`` for a
+    string, None, a sequence, an integer too large for a float, or a value that is not finite."""
+    try:
+        number = float(value) if not isinstance(value, bool | str | bytes) else math.nan
+    except (TypeError, ValueError, OverflowError):
+        number = math.nan
+    if not math.isfinite(number):
+        raise (error or PkmError)(f"{name} = {reprlib.repr(value)} violates: {condition}")
+    return number

@@ -324,3 +324,27 @@ def test_a_resolution_beyond_the_node_budget_exits_2_before_any_work(command, di
     err = capsys.readouterr().err
     assert "resolution = 1000 violates: at most" in err
     assert dimension in err
+
+
+def _wu2008():
+    from pkm.models.slider_gantry import wu2008
+
+    return wu2008
+
+
+JUNK_NUMBERS = {
+    "resolution=10**400": (lambda: m.global_index("gci", DESIGN, region="miw", resolution=10**400), "resolution"),
+    "fit_task(10**400, 0.1)": (lambda: pkm.load("slider_gantry").fit_task(10**400, 0.1), "task rectangle width"),
+    "fit_task('a', 0.1)": (lambda: pkm.load("slider_gantry").fit_task("a", 0.1), "task rectangle width = 'a'"),
+    "singularity_margin='a'": (lambda: m.global_index("gci", DESIGN, singularity_margin="a"), "singularity_margin"),
+    "tol='abc'": (lambda: pkm.synthesize("five_bar.max_gci_miw", tol="abc"), "tol = 'abc'"),
+    "tol=[1e-3]": (lambda: pkm.synthesize("five_bar.max_gci_miw", tol=[1e-3]), "tol = "),
+    "workspace_synthesis(None, 0.4, 0.17)": (lambda: _wu2008().workspace_synthesis(None, 0.4, 0.17), "b = None"),
+    "k_av_closed_form(0.6164, 0.357, 0.0)": (lambda: _wu2008().k_av_closed_form(0.6164, 0.357, 0.0), "b = 0"),
+}
+
+
+@pytest.mark.parametrize(("call", "named"), list(JUNK_NUMBERS.values()), ids=list(JUNK_NUMBERS))
+def test_numbers_that_are_not_numbers_are_pkms_error_naming_the_argument(call, named):
+    with pytest.raises(PkmError, match=re.escape(named)):
+        call()

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.errors import PkmError
+from pkm.errors import PkmError, check_real
 from pkm.indices import GlobalIndex, reduce_samples
 from pkm.indices.local import INVERSE_CONDITION_F
 from pkm.regions.pipeline import evaluate_at
@@ -36,6 +36,7 @@ class SampledWorkspace:
 
 
 def check_margin(singularity_margin: float) -> float:
+    singularity_margin = check_real("singularity_margin", singularity_margin, "a number in [0, 1)")
     if not 0 <= singularity_margin < 1:
         raise PkmError(f"singularity_margin = {singularity_margin} violates 0 <= singularity_margin < 1")
     return float(singularity_margin)

@@ -32,7 +32,7 @@ import numpy as np
 from pkm import parallel, registry
 from pkm.catalogue import problem_integrands
 from pkm.compiled import build
-from pkm.errors import ComputationError, PkmError, check_integer
+from pkm.errors import ComputationError, PkmError, check_integer, check_real
 from pkm.interrupts import interruptible
 from pkm.progress import Progress
 from pkm.regions import INDEX_ACCURACY
@@ -164,7 +164,7 @@ def ipopt_options(
     """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given; the variables'
     bounds are kept exactly (no relaxation), so that an optimum on a bound is reported on it."""
     max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0, MAX_ITER)
-    tol = problem.tol if tol is None else float(tol)
+    tol = problem.tol if tol is None else check_real("tol", tol, "a number > 0")
     if not tol > 0:
         raise PkmError(f"tol = {tol} violates tol > 0")
     level = (5 if verbose else 0) if print_level is None else check_integer("print_level", print_level, 0)

@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from pkm.design import Condition, Parameter
-from pkm.errors import DesignError
+from pkm.errors import DesignError, check_real
 from pkm.kinematics import Branch, DesignLike
 from pkm.mechanism import Mechanism
 from pkm.regions import Rectangle
@@ -186,8 +186,10 @@ class SliderGantry(Mechanism):
     def fit_task(self, width: float, height: float, design: DesignLike = None) -> TaskRectangle:
         """A width x height task rectangle centred in the design's task rectangle; :class:`DesignError`
         naming the violated condition when it does not fit."""
+        width, height = (check_real(f"task rectangle {name}", value, "a finite number > 0 [m]", DesignError)
+                         for name, value in (("width", width), ("height", height)))
         for name, value in (("width", width), ("height", height)):
-            if not (math.isfinite(value) and value > 0):
+            if not value > 0:
                 raise DesignError(f"task rectangle {name} = {value:g} m violates {name} > 0")
         own = self.task_rectangle(design)
         for name, value, room in (("width b", width, own.width), ("height h", height, own.height)):

@@ -19,15 +19,15 @@ import casadi as ca
 import numpy as np
 
 from pkm import registry
-from pkm.errors import DesignError
+from pkm.errors import DesignError, check_real
 
 DEG = math.pi / 180
 
 
 def _positive(name: str, value: float, unit: str = "m", *, closed: bool = False) -> float:
-    value = float(value)
+    value = check_real(name, value, f"a finite number {'>=' if closed else '>'} 0 [{unit}]", DesignError)
     ok = value >= 0 if closed else value > 0
-    if not (math.isfinite(value) and ok):
+    if not ok:
         raise DesignError(f"{name} = {value:g} {unit} violates {name} {'>=' if closed else '>'} 0")
     return value
 
@@ -60,8 +60,8 @@ def workspace_synthesis(b: float, h: float, theta_1s: float) -> WorkspaceSynthes
     """
     b = _positive("b", b)
     h = _positive("h", h)
-    theta_1s = float(theta_1s)
-    if not (math.isfinite(theta_1s) and 0 < theta_1s < math.pi / 4):
+    theta_1s = check_real("theta_1S", theta_1s, "a number in (0, 45 deg) [rad]", DesignError)
+    if not 0 < theta_1s < math.pi / 4:
         raise DesignError(
             f"theta_1S = {theta_1s:g} rad ({theta_1s / DEG:g} deg) violates 0 < theta_1S < 45 deg (Wu eq. 14)"
         )
@@ -134,6 +134,7 @@ def k_av_closed_form(length: float, d1: float, b: float) -> float:
         s = math.sqrt(length**2 - u**2)
         return s - length * math.atanh(s / length)
 
+    length, d1, b = (_positive(name, value) for name, value in (("l", length), ("d1", d1), ("b", b)))
     lo, hi = d1 - b / 2, d1 + b / 2
     if not (lo > 0 and hi <= length):
         raise DesignError(f"k_av needs 0 < d1 - b/2 and d1 + b/2 <= l; got d1 = {d1:g}, b = {b:g}, l = {length:g}")
