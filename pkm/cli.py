@@ -7,10 +7,14 @@ computation fails (for instance IPOPT does not converge).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import re
 import shutil
+import signal
 import sys
+import tempfile
+import threading
 import time
 import warnings
 from collections.abc import Iterator
@@ -632,13 +636,30 @@ def _negative_values(argv: list[str]) -> list[str]:
 
 
 def _check_out(folder: str | None) -> None:
-    """Refuse an output folder that cannot be one before any work: an existing file, or a path under a file."""
+    """Refuse an output folder that cannot be one before any work, so that no computed result is lost to it:
+    an existing file, a path under a file, or a folder this process cannot create or write into (tried, and
+    whatever the trial created removed again)."""
     if not folder:
         return
     path = Path(folder)
     for part in (path, *path.parents):
         if part.exists() and not part.is_dir():
             raise PkmError(f"--out {folder} violates: a folder (or a path to one); {part} is a file")
+    missing = [part for part in (path, *path.parents) if not part.exists()]
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=path, prefix=".pkm-probe-"):
+            pass
+    except OSError as exc:
+        raise PkmError(f"--out {folder} violates: a folder this user can write ({exc.strerror or exc})") from None
+    finally:
+        for part in missing:
+            with contextlib.suppress(OSError):
+                part.rmdir()
+
+
+def _terminated(_signum: int, _frame: Any) -> None:
+    raise KeyboardInterrupt
 
 
 def _one_line_warning(message: Warning | str, *_args: Any, **_kwargs: Any) -> None:
@@ -648,6 +669,17 @@ def _one_line_warning(message: Warning | str, *_args: Any, **_kwargs: Any) -> No
 def main(argv: list[str] | None = None) -> int:
     """The command line. Warnings are one line each on standard error (the interpreter answering where a
     kernel did not compile, for instance), but none where ``PKM_COMPILED=0`` asks for the interpreter."""
+    main_thread = threading.current_thread() is threading.main_thread()
+    # SIGTERM ends the command as Ctrl-C does: its worker processes end with it, nothing half-written stays
+    previous = signal.signal(signal.SIGTERM, _terminated) if main_thread else None
+    try:
+        return _main(argv)
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
     if os.environ.get("PKM_COMPILED") == "0":
         warnings.filterwarnings("ignore", category=CompiledPathWarning)
     else:

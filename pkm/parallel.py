@@ -146,6 +146,10 @@ def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 
     try:
         yield pool
     except BaseException:
+        # an interrupt or a termination of this process ends its workers too, not only their queued tasks
+        # (concurrent.futures has no public call for it before Python 3.14)
+        for process in list((getattr(pool, "_processes", None) or {}).values()):
+            process.terminate()
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown(wait=True)

@@ -515,3 +515,21 @@ def test_an_interrupt_caught_below_still_ends_the_block():
         check_interrupted()  # forgotten once the block has raised it
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+@pytest.mark.parametrize("command", ["synth five_bar.max_gci_miw", "reproduce gao1998 --quick",
+                                     "atlas five_bar gci --resolution 5",
+                                     "sweep five_bar --indices gci --resolution 5"])
+def test_an_out_folder_that_cannot_be_written_exits_2_before_any_work(command, capsys, tmp_path):
+    """/proc takes no new folder, whoever asks (root included)."""
+    import time
+
+    start = time.perf_counter()
+    assert main([*command.split(), "--out", "/proc/pkm-out/run"]) == 2
+    assert time.perf_counter() - start < 2.0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert "--out /proc/pkm-out/run violates: a folder this user can write" in err[0]
+    # the trial leaves nothing behind: a command refused after it created no folder
+    assert main(["synth", "no_such.problem", "--out", str(tmp_path / "new" / "folder")]) == 2
+    assert not (tmp_path / "new").exists()

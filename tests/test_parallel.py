@@ -203,3 +203,25 @@ def test_a_scheduler_address_that_cannot_be_one_exits_2_at_once(address, capsys)
     assert "protocol://host:port" in err[0]
     with pytest.raises(PkmError, match="protocol://host:port"):
         parallel.use_scheduler(address)
+
+
+def test_sigterm_to_a_parallel_atlas_ends_its_worker_processes(tmp_path):
+    import os
+    import signal
+    import subprocess
+
+    psutil = pytest.importorskip("psutil")
+    command = [sys.executable, "-m", "pkm.cli", "atlas", "five_bar", "gci", "--resolution", "61",
+               "--executor", "processes", "--out", str(tmp_path)]
+    parent = subprocess.Popen(command, env={**os.environ, "MPLBACKEND": "Agg"}, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    workers = []
+    while time.monotonic() < deadline and len(workers) < 2 and parent.poll() is None:
+        workers = psutil.Process(parent.pid).children(recursive=True)
+        time.sleep(0.1)
+    assert len(workers) >= 2, "the atlas ended before its workers could be seen"
+    parent.send_signal(signal.SIGTERM)
+    assert parent.wait(timeout=30) == 130
+    assert "interrupted" in parent.stderr.read()
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    assert alive == []

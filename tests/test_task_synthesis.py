@@ -317,3 +317,16 @@ def test_cli_synth_writes_the_task_result(tmp_path, capsys, paper):
     assert data["objective"] <= data["baseline_objective"] + 1e-6
     assert data["objective"] < paper.objective - 0.05
     assert data["design"]["d1"] == pytest.approx(0.4, abs=1e-7)
+
+
+def test_two_step_design_of_a_wide_task_scales_the_links_as_the_synthesis_does():
+    """A 1 m task rectangle needs links of 3.8 m: Table 2's inertias (at l = 0.6164 m) would put each
+    link's inertia about its pivot below m s^2 (no such link); they follow the length as in the problems."""
+    from pkm.models.slider_gantry.problems import task_design
+
+    d = wu.two_step_design(1.0, 0.3, 0.6, d2=0.1, l2=0.3)
+    assert d["l"] > 0.75
+    g = pkm.load("slider_gantry")
+    scaled = dict(zip(g.parameter_names(), task_design(g, d["l"], d["d1"]), strict=True))
+    for name in ("I12", "I22", "I4", "s12", "s22", "s4"):
+        assert d[name] == pytest.approx(scaled[name], rel=1e-12), name

@@ -21,7 +21,15 @@ import numpy as np
 
 from pkm import registry
 from pkm.design import stack_design
-from pkm.models.slider_gantry.wu2008 import DEG, asin, required_stroke, sqrt, two_step_angles, two_step_points
+from pkm.models.slider_gantry.wu2008 import (
+    DEG,
+    asin,
+    required_stroke,
+    scaled_links,
+    sqrt,
+    two_step_angles,
+    two_step_points,
+)
 from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 WIDTH, HEIGHT, CENTRE_Y = 0.5, 0.4, 0.5  # Wu's task rectangle [m]
@@ -30,10 +38,7 @@ THETA_S, THETA_L = 10 * DEG, 80 * DEG  # Wu's angle margins
 MAX_STROKE = 0.9  # [m] Wu's stroke
 MAX_FRAME_WIDTH = 1.0  # [m] 2 (d1 + d2)
 MIN_K_AV = 1.0
-REFERENCE_LENGTH = 0.6164  # [m] Table 1's l, at which Table 2's link inertias hold
 TWO_STEP_SAMPLES = 351
-SCALED_INERTIAS = ("I12", "I22", "I4", "I5")
-HALF_LENGTH_OFFSETS = ("s12", "s22", "s4", "s5")
 
 
 def task_design(mech: Any, length: Any, d1: Any) -> Any:
@@ -51,13 +56,7 @@ def task_design(mech: Any, length: Any, d1: Any) -> Any:
         "theta_s": asin((d1 - b / 2) / length),
         "theta_l": asin((d1 + b / 2) / length),
     }
-    scale = (length / REFERENCE_LENGTH) ** 2
-    for name in SCALED_INERTIAS:
-        if name in base:
-            values[name] = base[name] * scale
-    for name in HALF_LENGTH_OFFSETS:
-        if name in base:
-            values[name] = length / 2
+    values.update(scaled_links(base, length))
     return stack_design([values[n] for n in mech.parameter_names()])
 
 

@@ -91,6 +91,21 @@ def placement(length: float, d1: float, b: float, h: float, *, l2: float, centre
     return qs, ql
 
 
+REFERENCE_LENGTH = 0.6164  # [m] Table 1's l, at which Table 2's link inertias hold
+SCALED_INERTIAS = ("I12", "I22", "I4", "I5")
+HALF_LENGTH_OFFSETS = ("s12", "s22", "s4", "s5")
+
+
+def scaled_links(base: dict[str, Any], length: Any) -> dict[str, Any]:
+    """Table 2's link parameters for links of length ``length`` (a number or CasADi): each link keeps its
+    mass, its centre of mass at s = l/2 and its inertia about the pivot scaled as l^2 from Table 2's (at
+    Table 1's l); the parameters of ``base`` the mechanism has."""
+    scale = (length / REFERENCE_LENGTH) ** 2
+    out = {name: base[name] * scale for name in SCALED_INERTIAS if name in base}
+    out.update({name: length / 2 for name in HALF_LENGTH_OFFSETS if name in base})
+    return out
+
+
 def two_step_design(
     b: float,
     h: float,
@@ -105,7 +120,9 @@ def two_step_design(
     """A complete design from Wu's first step, the task rectangle centred at (0, centre_y) [m].
 
     The angle margins are theta_s = theta_1S and theta_l = theta_2L; the strokes put the rectangle's
-    bottom and top on the slider limits (:func:`placement`). ``inertial`` overrides Table 2's values.
+    bottom and top on the slider limits (:func:`placement`). The links' inertias and centres of mass
+    follow their length (:func:`scaled_links`, as the synthesis problems scale them); ``inertial``
+    overrides Table 2's values.
     """
     first = workspace_synthesis(b, h, theta_1s)
     d2 = _positive("d2", d2, closed=True)
@@ -120,9 +137,10 @@ def two_step_design(
         "ql": ql,
         "theta_s": first.theta_1s,
         "theta_l": first.theta_2l,
-        **inertial,
     }
-    return dict(registry.mechanism(mechanism).design(values))
+    mech = registry.mechanism(mechanism)
+    values.update({**scaled_links(dict(mech.design()), first.length), **inertial})
+    return dict(mech.design(values))
 
 
 def k_av_closed_form(length: float, d1: float, b: float) -> float:
