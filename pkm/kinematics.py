@@ -278,9 +278,11 @@ class ForwardKinematics(Protocol):
     """A forward-kinematics method: poses and all joints from actuated joints in an assembly mode."""
 
     def solve(
-        self, functions: Mapping[str, ca.Function], q_a: np.ndarray, branch: Branch, design: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Poses (N, n_out), all joints (N, n_q) and the mask (N,) of the actuated joints that close."""
+        self, functions: Mapping[str, ca.Function], q_a: np.ndarray, branch: Branch, design: np.ndarray, *,
+        joints: bool = True,
+    ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+        """Poses (N, n_out), all joints (N, n_q; None where ``joints`` is off and the method saves their
+        computation) and the mask (N,) of the actuated joints that close."""
         ...
 
 
@@ -290,9 +292,10 @@ class ClosedForm:
 
     function: str = "forward_kinematics"
 
-    def solve(self, functions, q_a, branch, design):
-        valid, x, q = evaluate(with_reach(functions[self.function], ("x", "q")), q_a, np.array(branch.signs), design)
-        return x[:, :, 0], q[:, :, 0], valid[:, 0, 0] > 0
+    def solve(self, functions, q_a, branch, design, *, joints=True):
+        outputs = ("x", "q") if joints else ("x",)
+        valid, x, *q = evaluate(with_reach(functions[self.function], outputs), q_a, np.array(branch.signs), design)
+        return x[:, :, 0], q[0][:, :, 0] if joints else None, valid[:, 0, 0] > 0
 
 
 @lru_cache(maxsize=32)
@@ -320,7 +323,7 @@ class Rootfinder:
     seed: str = "forward_seed"
     max_iter: int = 50
 
-    def solve(self, functions, q_a, branch, design):
+    def solve(self, functions, q_a, branch, design, *, joints=True):
         constraint = functions["constraint"]
         n_act = q_a.shape[1]
         n_q = constraint.numel_in(0)
@@ -334,7 +337,7 @@ class Rootfinder:
         with np.errstate(invalid="ignore"):
             (h,) = evaluate(residual, z, params)
             ok = np.all(np.abs(h[:, :, 0]) <= ROOT_TOLERANCE * max(1.0, float(np.abs(design).max())), axis=1)
-        return x, q, ok & np.all(np.isfinite(z), axis=1)
+        return x, q if joints else None, ok & np.all(np.isfinite(z), axis=1)
 
 
 POLISH_LIMIT = 1e-6
@@ -413,10 +416,9 @@ class PolynomialRoots:
         real = np.abs(values.imag) <= IMAGINARY_TOLERANCE * np.maximum(1.0, np.abs(values))
         return size * np.sort(_polish(c, np.where(real, values.real, np.nan)), axis=1)
 
-    def solve(self, functions, q_a, branch, design):
+    def solve(self, functions, q_a, branch, design, *, joints=True):
         k = int(branch.signs[0])
         root = self.roots(functions, q_a, design)[:, k : k + 1]
         x, q, reach = evaluate(functions[self.back], np.nan_to_num(root), q_a, design)
-        x, q = x[:, :, 0], q[:, :, 0]
         ok = reached(x, reach) & np.isfinite(root[:, 0])
-        return x, q, ok
+        return x[:, :, 0], q[:, :, 0] if joints else None, ok

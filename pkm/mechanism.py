@@ -199,13 +199,14 @@ class Mechanism:
         cannot be closed in it. With ``passive`` all joints (N, n_q) are returned instead."""
         qa, single = as_batch(q, self.n_act, "actuated joints")
         d = self.design_vector(design)
-        x, q_all, ok = self.forward.solve(self.functions, qa, self.assembly_mode(assembly), d)
-        if strict and not ok.all():
+        x, q_all, ok = self.forward.solve(self.functions, qa, self.assembly_mode(assembly), d, joints=passive)
+        closed = ok.all()
+        if strict and not closed:
             bad = int(np.flatnonzero(~ok)[0])
             raise PoseError(f"actuated joints {qa[bad].tolist()} cannot be assembled")
-        out = q_all if passive else x
-        out = np.array(out, dtype=float)
-        out[~ok] = np.nan
+        out = q_all if passive else x  # fresh arrays of this call, masked in place
+        if not closed:
+            out[~ok] = np.nan
         return unbatch(out, single)
 
     def _first_order(self, pose: Any, design: DesignLike, mode: str | None, names: tuple[str, ...]) -> list[Any]:
