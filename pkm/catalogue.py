@@ -7,7 +7,9 @@ ahead of time, in parallel: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
 alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
 indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
-a sampled check evaluates it), the one of its first order (the Jacobians), its fused
+a sampled check evaluates it), the one of its first order and the outputs the Jacobians return
+(:func:`pkm.regions.pipeline.first_order_outputs`), the inverse kinematics and the closed-form forward
+kinematics with their reach check (:func:`pkm.kinematics.with_reach`), its fused
 inertia matrices and inverse dynamics (:func:`pkm.dynamics.rigid.inertia_pipeline`,
 :func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`),
 by :func:`pkm.regions.pipeline.pipeline`, the core's one builder; and the point
@@ -28,8 +30,9 @@ import casadi as ca
 from pkm import compiled, registry
 from pkm.compiled.emit import emittable
 from pkm.dynamics.rigid import SPACES, inertia_pipeline, inverse_dynamics_pipeline
+from pkm.kinematics import with_reach
 from pkm.regions.integrand import SUMMED, rows_function, sum_function
-from pkm.regions.pipeline import index_pipeline, pipeline
+from pkm.regions.pipeline import first_order_outputs, index_pipeline, pipeline
 from pkm.regions.quadrature import guard_index
 from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
 
@@ -59,6 +62,15 @@ def kernels(mech: Any) -> list[Kernel]:
         if guard is not None:
             fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
     fused["first_order"] = pipeline(mech, (), first_order=True)
+    for names in (("J",), ("J_f",), ("psi",), ("det_type1", "det_type2")):
+        fused[f"first order {' '.join(names)}"] = first_order_outputs(mech, names)
+    ik = mech.functions["inverse_kinematics"]
+    fused["inverse kinematics"] = with_reach(ik, ("q",))
+    fused["inverse kinematics, actuated joints"] = with_reach(ik, ("q",), mech.n_act)
+    closed = getattr(mech.forward, "function", None)
+    if closed in mech.functions:
+        fused["forward kinematics"] = with_reach(mech.functions[closed], ("x", "q"))
+        fused["forward kinematics, pose"] = with_reach(mech.functions[closed], ("x",))
     if {"inverse_dynamics", "second_order"} & set(mech.functions):
         fused["inverse_dynamics"] = inverse_dynamics_pipeline(mech)
     if "inertia" in mech.functions:

@@ -235,14 +235,17 @@ class Joints:
 
 
 @lru_cache(maxsize=64)
-def with_reach(fn: ca.Function, outputs: tuple[str, ...]) -> ca.Function:
+def with_reach(fn: ca.Function, outputs: tuple[str, ...], rows: int | None = None) -> ca.Function:
     """``fn`` with its reach check in the graph: its inputs -> ``(valid, *outputs)``, ``valid`` 1 where
     every margin of its output ``reach`` is >= -REACH_TOLERANCE and the first of ``outputs`` is finite,
-    else 0, and every output NaN where ``valid`` is 0. An SX function stays one, so that its kernel
-    writes the batch's results whole and nothing is left for numpy to check."""
+    else 0, and every output NaN where ``valid`` is 0; with ``rows``, the first output's first rows alone
+    (the actuated joints of all joints). An SX function stays one, so that its kernel writes the batch's
+    results whole and nothing is left for numpy to check."""
     symbol = ca.SX.sym if fn.is_a("SXFunction") else ca.MX.sym
     args = [symbol(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
     out = dict(zip(fn.name_out(), fn.call(args), strict=True))
+    if rows is not None:
+        out[outputs[0]] = out[outputs[0]][:rows, :]
     first = ca.vec(ca.densify(out[outputs[0]]))
     valid = ca.logic_and(ca.mmin(out["reach"]) >= -REACH_TOLERANCE, ca.mmin(ca.fabs(first) < np.inf))
     finished = [ca.if_else(valid, ca.densify(out[name]), ca.DM.nan(*out[name].shape)) for name in outputs]
@@ -261,14 +264,16 @@ def as_joints(
     return Joints(x, design, q, ok, single)
 
 
-def solve_joints(mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False) -> Joints:
-    """Inverse kinematics of a batch of poses in a working mode; NaN where out of reach, or
-    :class:`PoseError` with ``strict``."""
+def solve_joints(
+    mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False, actuated: bool = False
+) -> Joints:
+    """Inverse kinematics of a batch of poses in a working mode (with ``actuated``, the actuated joints
+    alone); NaN where out of reach, or :class:`PoseError` with ``strict``."""
     x, single = as_batch(pose, mech.n_out, "pose", finite=False)
     d = mech.design_vector(design)
     branch = mech.working_mode(mode)
-    (valid, q), finite = evaluate_finite(with_reach(mech.functions["inverse_kinematics"], ("q",)), x,
-                                         np.array(branch.signs), d)
+    fused = with_reach(mech.functions["inverse_kinematics"], ("q",), mech.n_act if actuated else None)
+    (valid, q), finite = evaluate_finite(fused, x, np.array(branch.signs), d)
     if not finite:
         require_finite(x, "pose")
     return as_joints(x, d, valid, q[:, :, 0], single, strict=strict, what=f"the {mech.name} in mode {branch.name}")

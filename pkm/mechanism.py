@@ -183,8 +183,8 @@ class Mechanism:
         With ``passive`` all joints (actuated first) are returned; with ``strict`` an unreachable pose
         raises :class:`PoseError`.
         """
-        joints = solve_joints(self, pose, design, mode, strict=strict)
-        return joints.unbatch(joints.q if passive else joints.q[:, : self.n_act])
+        joints = solve_joints(self, pose, design, mode, strict=strict, actuated=not passive)
+        return joints.unbatch(joints.q)
 
     def forward_kinematics(
         self,
