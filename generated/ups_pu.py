@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/ups_pu.py (source sha256 e85b3ca05c6f2015).
+# Generated from symbolic/mechanisms/ups_pu.py (source sha256 81f14ff074ea7a1e).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-UPS-PU platform."""
 
 import casadi as ca
 
-SOURCE_HASH = "e85b3ca05c6f2015"
+SOURCE_HASH = "81f14ff074ea7a1e"
 FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "joint_positions", "statics", )
 PARAMETERS = ("r", "R", "alpha", "beta", "l_min", "l_max", "l0_min", "l0_max", "theta_u_max", "theta_s_max", "D", "payload", "payload_height", "g", "task_tilt", "task_height", )
 POSE = ("l0", "theta1", "theta2", )
@@ -354,7 +354,7 @@ def forward_from_root():
     Outputs:
         x (3x1, column-major): l0 [m], theta1, theta2 [rad]
         q (3x1, column-major): l1, l2, l0_leg [m]
-        reach (2x1, column-major): 1e-9 (l1^2 + l2^2) - |leg residual|: >= 0 where the root closes the loop [m^2]
+        reach (4x1, column-major): 1e-9 (l1^2 + l2^2) - |leg residual|: >= 0 where the root closes the loop [m^2]
     """
     root = ca.SX.sym("root", 1)
     root_0 = root[0]
@@ -418,7 +418,7 @@ def forward_from_root():
     _t35 = _t10*_t31
     x = ca.reshape(ca.vertcat(q_a_2, ca.atan2(_t25, _t27), _t4), 3, 1)
     q = ca.reshape(ca.vertcat(q_a_0, q_a_1, q_a_2), 3, 1)
-    reach = ca.reshape(ca.vertcat(_t33 - ca.fabs(-_t0*_t1*(_t25*_t32 + _t27*_t30) + _t22 + _t6*(_t25*_t30 - _t27*_t32)), _t33 - ca.fabs(-_t1*_t9*(_t25*_t35 + _t27*_t34) + _t19 + _t6*(_t25*_t34 - _t27*_t35))), 2, 1)
+    reach = ca.reshape(ca.vertcat(_t33 - ca.fabs(-_t0*_t1*(_t25*_t32 + _t27*_t30) + _t22 + _t6*(_t25*_t30 - _t27*_t32)), _t33 - ca.fabs(-_t1*_t9*(_t25*_t35 + _t27*_t34) + _t19 + _t6*(_t25*_t34 - _t27*_t35)), q_a_0, q_a_1), 4, 1)
     return ca.Function("forward_from_root", [root, q_a, design], [x, q, reach], ["root", "q_a", "design"], ["x", "q", "reach"])
 
 

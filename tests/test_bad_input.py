@@ -348,3 +348,14 @@ JUNK_NUMBERS = {
 def test_numbers_that_are_not_numbers_are_pkms_error_naming_the_argument(call, named):
     with pytest.raises(PkmError, match=re.escape(named)):
         call()
+
+
+def test_negative_leg_lengths_are_not_assembled():
+    """The 2-UPS-PU's forward polynomial knows the squared leg lengths only: their signs are checked."""
+    u = pkm.load("ups_pu")
+    q = u.inverse_kinematics([0.5, 0.2, -0.1])
+    for assembly in u.assemblies:
+        assert np.all(np.isnan(u.forward_kinematics(-q, assembly=assembly)))
+    with pytest.raises(PoseError, match="cannot be assembled"):
+        u.forward_kinematics(-q, strict=True)
+    assert any(np.allclose(u.forward_kinematics(q, assembly=a), [0.5, 0.2, -0.1]) for a in u.assemblies)

@@ -150,7 +150,8 @@ def forward_polynomial() -> tuple[sp.Matrix, tuple[sp.Expr, ...]]:
 
 
 def forward_from_root() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
-    """Pose, joints and margins from a root t = tan(theta2 / 2): theta1 from the linear pair."""
+    """Pose, joints and margins from a root t = tan(theta2 / 2): theta1 from the linear pair; the margins
+    are the legs' closure residuals within tolerance and their lengths."""
     _, (a1, b1, c1, a2, b2, c2) = forward_polynomial()
     th2 = 2 * sp.atan(root)
     on_root = {theta2: th2}
@@ -163,7 +164,8 @@ def forward_from_root() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
     residual2 = squared_length(beta).subs(back) - l2**2
     scale = l1**2 + l2**2
     tolerance = sp.Float(1e-9)
-    reach = sp.Matrix([tolerance * scale - sp.Abs(residual1), tolerance * scale - sp.Abs(residual2)])
+    # the polynomial knows the squared lengths only: a leg's length must also be one (>= 0)
+    reach = sp.Matrix([tolerance * scale - sp.Abs(residual1), tolerance * scale - sp.Abs(residual2), l1, l2])
     return x, sp.Matrix([l1, l2, l0_leg]), reach
 
 
