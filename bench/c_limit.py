@@ -105,7 +105,7 @@ class Limit:
         source, library = folder / "limit.c", folder / "limit.so"
         source.write_text(SOURCE)
         report = ["-fopt-info-vec-optimized"] if toolchain.gcc else []  # a report only: the same code
-        command = [toolchain.compiler, *toolchain.flags, *report, str(source), "-o", str(library),
+        command = [toolchain.compiler, *toolchain.kernel_flags(0), *report, str(source), "-o", str(library),
                    *toolchain.libraries]
         done = subprocess.run(command, check=True, capture_output=True, text=True)
         self.vectorised = "loop vectorized" in done.stderr if toolchain.gcc else None
@@ -252,7 +252,8 @@ def run(n: int = 1_000_000, repeats: int = 15, log: Callable[[str], None] = log)
         "poses": n, "repeats": repeats, "seed": SEED, "design": DESIGN, "mode": MODE, "index": INDEX,
         "load_average_before": before, "load_average_after": after,
         "compiler": toolchain.identity, "instruction_set": toolchain.instruction_set,
-        "flags": list(toolchain.flags), "libraries": list(toolchain.libraries), "limit_vectorised": limit.vectorised,
+        "flags": list(toolchain.kernel_flags(0)), "libraries": list(toolchain.libraries),
+        "limit_vectorised": limit.vectorised,
         "pkm_compiled_evaluations": compiled, "pkm_timed_evaluations": 2 * (repeats + 1),
         "max_relative_discrepancy": max(errors), "special_poses": len(special),
         "rows": rows,

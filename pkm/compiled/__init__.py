@@ -176,9 +176,11 @@ def _emitter() -> str:
 
 def key(fn: ca.Function, summed: bool = False) -> str:
     """The cache key of ``fn``'s kernel: the sha256 of its serialised graph, whether it sums over the batch,
-    the emitter's source, the toolchain's fingerprint and CasADi's version."""
+    the emitter's source, the toolchain's fingerprint, the optimisation level for its size and CasADi's
+    version."""
     toolchain = _path().toolchain
-    parts = [fn.serialize(), str(summed), _emitter(), toolchain.fingerprint if toolchain else "", ca.__version__]
+    level = toolchain.optimisation(fn.n_instructions()) if toolchain else ""
+    parts = [fn.serialize(), str(summed), _emitter(), toolchain.fingerprint if toolchain else "", level, ca.__version__]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()
 
 
@@ -244,7 +246,7 @@ class _Kernel:
         def build(folder: Path) -> dict:
             (folder / "kernel.c").write_text(source)
             started = time.perf_counter()
-            toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so")
+            toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so", instructions)
             return {"function": name, "summed": summed, "instructions": instructions, "compiler": toolchain.identity,
                     "instruction_set": toolchain.instruction_set, "seconds": round(time.perf_counter() - started, 3)}
 
