@@ -155,14 +155,14 @@ def _forget_in_child() -> None:
 os.register_at_fork(after_in_child=_forget_in_child)
 
 
-def _wait(futures: Iterable[Future], label: str = "compiling kernels") -> None:
+def _wait(futures: Iterable[Future]) -> None:
     """Wait for compiles, with a progress bar on a terminal where it takes more than half a second."""
     pending = {f for f in futures if not f.done()}
     if pending:
         pending = wait(pending, timeout=0.5).not_done
     if not pending:
         return
-    with Progress(1, label) as bar:
+    with Progress(1, "compiling kernels") as bar:
         while pending:
             bar.total, bar.done = max(1, _compiles["submitted"]), 0
             bar.advance(_compiles["finished"])
