@@ -54,8 +54,9 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
 
 
 def evaluate_finite(f: ca.Function, *args: np.ndarray) -> tuple[tuple[np.ndarray, ...], bool]:
-    """:func:`evaluate`, and whether every entry of the arguments given row by row (2-D) that ``f`` reads
-    is finite: the kernel says so as it reads them, the interpreter's path checks with numpy."""
+    """:func:`evaluate`, and whether every entry of the arguments that ``f`` reads row by row (all but the
+    mode and the design, which a kernel reads once) is finite: the kernel says so as it reads them, the
+    interpreter's path checks every argument with numpy."""
     f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     layout = _layout(f)
@@ -63,7 +64,7 @@ def evaluate_finite(f: ca.Function, *args: np.ndarray) -> tuple[tuple[np.ndarray
     if run is not None:
         return _compiled(f, layout, run, arrays)
     return interpreted(f, *arrays), all(np.isfinite(np.add.reduce(a, axis=None)) or np.all(np.isfinite(a))
-                                        for a in arrays if a.ndim == 2)
+                                        for a in arrays)
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:

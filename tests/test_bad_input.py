@@ -359,3 +359,13 @@ def test_negative_leg_lengths_are_not_assembled():
     with pytest.raises(PoseError, match="cannot be assembled"):
         u.forward_kinematics(-q, strict=True)
     assert any(np.allclose(u.forward_kinematics(q, assembly=a), [0.5, 0.2, -0.1]) for a in u.assemblies)
+
+
+def test_a_wrench_batch_of_another_length_than_the_poses_is_a_pose_error():
+    u = pkm.load("ups_pu")
+    poses = np.array([[0.5, 0.1, 0.0], [0.55, 0.0, 0.1], [0.6, -0.1, 0.0]])
+    with pytest.raises(PoseError, match="wrench has 2 rows; the poses have 3"):
+        u.statics(poses, np.zeros((2, 6)))
+    with pytest.raises(PoseError, match="wrench contains non-finite values"):
+        u.statics(poses, [0.0, 0.0, np.nan, 0.0, 0.0, 0.0])
+    assert u.statics(poses, np.zeros((3, 6))).actuators.shape == (3, 3)
