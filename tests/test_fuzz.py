@@ -4,8 +4,10 @@ a result or with its own error, never with a traceback or Python's, numpy's or C
 Properties: in-process ``pkm.cli.main`` and the real ``pkm`` executable exit with 0, 1 or 2 and print no
 traceback, and a ``--json`` run that exits 0 or 1 prints valid JSON (when it prints); the API returns or
 raises a :class:`pkm.PkmError` or :class:`pkm.ComputationError`, and an empty batch gives an empty result.
-Hypothesis runs derandomized (a fixed seed). Inputs: 600 command lines of the seven commands with junk and
-edge values for every option, 160 token soups, 250 API calls and 24 runs of the executable, 1,034 in all.
+Hypothesis runs derandomized (a fixed seed). Inputs: 1,800 command lines of the eight commands with junk and
+edge values for every option (the scheduler's included), and for ``eval`` and ``index`` with each registered
+mechanism's own pose width, parameters, bounds, modes, indices and regions; 400 token soups, 800 API calls
+drawn from each mechanism's widths and names, and 24 runs of the executable: 3,024 in all.
 Atlases, sweeps, syntheses and reproductions always carry one value they must refuse before any work
 (their runs on valid input are tested in test_cli.py, test_atlas.py and test_reproduce.py).
 """
@@ -85,6 +87,34 @@ refused_starts = st.sampled_from(["0", "-1", "x", "1001", "1e9", "nan", "9999999
 fraction = st.sampled_from(["0", "0.5", "1", "-1", "2", "nan", "inf", "-inf", "x", "1e-300"])
 
 
+# addresses pkm refuses before it tries to connect (a well-formed one would wait for a scheduler)
+BAD_ADDRESSES = ["tcp://127.0.0.1", "tcp://127.0.0.1:http", "nonsense", "", "tcp://[::1]:x", "tcp://h:0",
+                 "tcp://h:65536", "udp://h:1", "tcp://:8786", "tcp://h:8786/x", *JUNK[:6]]
+
+
+def own(values) -> st.SearchStrategy[str]:
+    """One of a mechanism's own names, or junk."""
+    return st.sampled_from(sorted(values)) | junk
+
+
+def own_pose(mech) -> st.SearchStrategy[str]:
+    """A pose of the mechanism's width (numbers at their edges, inside its workspace box or not), or of
+    another width."""
+    box = mech.workspace_box(mech.design().vector())
+    inside = st.tuples(*(st.floats(float(lo), float(hi)).map(repr) for lo, hi in box))
+    edges = st.lists(number_text, min_size=mech.n_out, max_size=mech.n_out)
+    return st.one_of(inside.map(",".join), edges.map(",".join), pose_text)
+
+
+def own_design(mech) -> st.SearchStrategy[str]:
+    """A design of the mechanism's own parameters with values from their bounds, edges and junk."""
+    parameters = mech.parameters
+    value = st.sampled_from(parameters).flatmap(lambda p: st.one_of(
+        st.just(repr(p.default)), st.just(repr(p.lower)), st.just(repr(p.upper)), number_text, junk
+    ).map(lambda v, p=p: f"{p.name}={v}"))
+    return st.one_of(st.lists(value, max_size=3).map(",".join), design_text)
+
+
 def option(flag: str, value: st.SearchStrategy[str]) -> st.SearchStrategy[list[str]]:
     """``[flag, value]``, ``[flag=value]`` or nothing."""
     return st.one_of(st.just([]), value.map(lambda v: [flag, v]), value.map(lambda v: [f"{flag}={v}"]))
@@ -111,6 +141,7 @@ def command_line(folder: Path) -> st.SearchStrategy[list[str]]:
         ])).map(lambda groups: [command, *[token for group in groups for token in group]])
 
     axes = junk | design_text.map(lambda t: t.replace("=", "=0.5:"))
+    scheduler = option("--scheduler", st.sampled_from(BAD_ADDRESSES))
     grid = [option("--space", named("space")), option("--axes", axes),
             option("--region", named("region")), option("--modes", named("mode")),
             option("--pose-resolution", count), option("--tolerance", fraction), option("--min-points", count),
@@ -122,27 +153,42 @@ def command_line(folder: Path) -> st.SearchStrategy[list[str]]:
             st.lists(option("--pose", pose_text), max_size=3).map(lambda ps: [t for p in ps for t in p]),
             option("--design", design_text), option("--mode", named("mode")), flag("--strict"),
         ]),
+        # a mechanism's own poses, designs and modes: its widths and names, values at their edges
+        st.sampled_from(sorted(MECHANISMS)).flatmap(lambda name: build("eval", [st.just(name)], [
+            st.lists(option("--pose", own_pose(MECHANISMS[name])), max_size=3).map(
+                lambda ps: [t for p in ps for t in p]),
+            option("--design", own_design(MECHANISMS[name])), option("--mode", own(MECHANISMS[name].modes)),
+            flag("--strict"),
+        ])),
+        st.sampled_from(sorted(MECHANISMS)).flatmap(lambda name: build("index", [st.just(name), own(
+            MECHANISMS[name].global_indices())], [
+            option("--design", own_design(MECHANISMS[name])), option("--mode", own(MECHANISMS[name].modes)),
+            option("--region", own(MECHANISMS[name].region_names())),
+            st.sampled_from(["2", "3"]).map(lambda r: ["--resolution", r]), flag("--gradient"),
+        ])),
+        build("build", [junk.filter(lambda k: k not in MECHANISMS)], []),
         build("index", [named("mechanism"), named("index")], [
             option("--design", design_text), option("--mode", named("mode")), option("--region", named("region")),
             st.sampled_from(["1", "2", "3"]).map(lambda r: ["--resolution", r]) | option("--resolution", count),
             option("--margin", fraction), flag("--gradient"),
         ]),
         build("atlas", [named("mechanism"), named("index")],
-              [refused_count.map(lambda r: ["--resolution", r]), *grid]),
+              [refused_count.map(lambda r: ["--resolution", r]), *grid, scheduler]),
         build("sweep", [named("mechanism")],
               [st.lists(named("index"), max_size=3).map(lambda i: ["--indices", ",".join(i)]),
-               refused_count.map(lambda r: ["--resolution", r]), *grid]),
+               refused_count.map(lambda r: ["--resolution", r]), *grid, scheduler]),
         build("synth", [named("problem")], [
             refused_starts.map(lambda s: ["--starts", s]),
             option("--resolution", count), option("--max-iter", count), option("--tol", fraction),
-            option("--print-level", count), flag("--verbose"), outs(folder),
+            option("--print-level", count), flag("--verbose"), outs(folder), scheduler,
         ]),
         build("reproduce", [junk.filter(lambda k: k not in registry.papers() and k != "all")],
-              [flag("--quick"), outs(folder)]),
+              [flag("--quick"), outs(folder), scheduler]),
     )
 
 
-TOKENS = ["list", "eval", "index", "atlas", "synth", "reproduce", "sweep", "--json", "--pose", "--design",
+TOKENS = ["list", "eval", "index", "atlas", "synth", "reproduce", "sweep", "build", "--scheduler", "tcp://x",
+          "--json", "--pose", "--design",
           "--mode", "--region", "--resolution", "--out", "--space", "--modes", "--version", "five_bar", "gci",
           "-0.3,1.9", "--", "-", "--strict", "--gradient", *JUNK[:12]]
 
@@ -179,7 +225,7 @@ def folder(tmp_path_factory):
 
 
 def test_the_commands_answer_junk_with_an_exit_status_and_one_line(folder):
-    @fuzz(600)
+    @fuzz(1800)
     @given(command_line(folder))
     def check(argv):
         check_cli(argv, *run_cli(argv))
@@ -187,7 +233,7 @@ def test_the_commands_answer_junk_with_an_exit_status_and_one_line(folder):
     check()
 
 
-@fuzz(160)
+@fuzz(400)
 @given(st.lists(st.sampled_from(TOKENS) | text, max_size=6))
 def test_token_soup_gets_an_exit_status_and_no_traceback(argv):
     check_cli(argv, *run_cli(argv))
@@ -302,7 +348,7 @@ def api_call(draw, mech):
     return None, lambda: pkm.design.parse_design(text_design)
 
 
-@fuzz(250)
+@fuzz(800)
 @given(st.data())
 def test_the_api_answers_junk_with_a_result_or_its_own_error(data):
     mech = MECHANISMS[data.draw(st.sampled_from(sorted(MECHANISMS)))]
