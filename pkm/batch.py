@@ -50,21 +50,30 @@ def evaluate(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
     Each argument is (N, f.numel_in(i)) or 1-D of length f.numel_in(i) (then shared by the batch).
     Returns one (N, rows, cols) array per output (matrices in natural, row-major indexing).
     """
-    return evaluate_finite(f, *args)[0]
+    return _evaluate(f, args, check=False)[0]
 
 
 def evaluate_finite(f: ca.Function, *args: np.ndarray) -> tuple[tuple[np.ndarray, ...], bool]:
     """:func:`evaluate`, and whether every entry of the arguments that ``f`` reads row by row (all but the
     mode and the design, which a kernel reads once) is finite: the kernel says so as it reads them, the
     interpreter's path checks every argument with numpy."""
+    return _evaluate(f, args, check=True)
+
+
+def _evaluate(f: ca.Function, args: tuple[np.ndarray, ...], *, check: bool) -> tuple[tuple[np.ndarray, ...], bool]:
     f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     layout = _layout(f)
     run = kernel(f, work=layout.instructions * _rows(arrays))
     if run is not None:
         return _compiled(f, layout, run, arrays)
-    return interpreted(f, *arrays), all(np.isfinite(np.add.reduce(a, axis=None)) or np.all(np.isfinite(a))
-                                        for a in arrays)
+    return interpreted(f, *arrays), not check or all(map(all_finite, arrays))
+
+
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every entry is finite: the sum of finite values is finite unless it overflows, so one
+    vectorised pass answers the usual case."""
+    return bool(np.isfinite(np.add.reduce(arr, axis=None)) or np.all(np.isfinite(arr)))
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate, evaluate_finite, reached
+from pkm.batch import REACH_TOLERANCE, all_finite, evaluate, evaluate_finite, reached
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
 
 if TYPE_CHECKING:
@@ -103,8 +103,7 @@ def as_batch(values: Any, width: int, what: str, *, finite: bool = True) -> tupl
 
 def require_finite(arr: np.ndarray, what: str) -> None:
     """:class:`PoseError` naming ``what`` where ``arr`` has a non-finite value."""
-    # the sum of finite values is finite unless it overflows: one vectorised pass for the usual case
-    if not np.isfinite(np.add.reduce(arr, axis=None)) and not np.all(np.isfinite(arr)):
+    if not all_finite(arr):
         raise PoseError(f"{what} contains non-finite values")
 
 
@@ -221,8 +220,9 @@ class KinematicModel(Protocol):
 
 @dataclass(frozen=True)
 class Joints:
-    """Joint solutions of a batch of poses: poses x (N, n_out), design vector (n_p,), all joints q
-    (N, n_q; NaN where out of reach), the reach mask (N,) and whether the input was a single pose."""
+    """Joint solutions of a batch of poses: poses x (N, n_out), design vector (n_p,), the joints q (N, n_q,
+    or N, n_act where only the actuated ones were asked; NaN where out of reach), the reach mask (N,) and
+    whether the input was a single pose."""
 
     x: np.ndarray
     design: np.ndarray
@@ -246,10 +246,21 @@ def with_reach(fn: ca.Function, outputs: tuple[str, ...], rows: int | None = Non
     out = dict(zip(fn.name_out(), fn.call(args), strict=True))
     if rows is not None:
         out[outputs[0]] = out[outputs[0]][:rows, :]
-    first = ca.vec(ca.densify(out[outputs[0]]))
-    valid = ca.logic_and(ca.mmin(out["reach"]) >= -REACH_TOLERANCE, ca.mmin(ca.fabs(first) < np.inf))
-    finished = [ca.if_else(valid, ca.densify(out[name]), ca.DM.nan(*out[name].shape)) for name in outputs]
+    valid = closed(out["reach"], out[outputs[0]])
+    finished = [nan_unless(valid, out[name]) for name in outputs]
     return ca.Function(f"{fn.name()}_reached", args, [valid, *finished], fn.name_in(), ["valid", *outputs])
+
+
+def closed(reach: Any, values: Any) -> Any:
+    """In a graph: 1 where every reach margin is >= -REACH_TOLERANCE and every entry of ``values`` (the
+    joints, say) is finite, else 0."""
+    finite = ca.mmin(ca.fabs(ca.vec(ca.densify(values))) < np.inf)
+    return ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, finite)
+
+
+def nan_unless(valid: Any, value: Any) -> Any:
+    """In a graph: ``value`` (dense) where ``valid``, NaN elsewhere."""
+    return ca.if_else(valid, ca.densify(value), ca.DM.nan(*value.shape))
 
 
 def as_joints(

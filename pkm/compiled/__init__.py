@@ -322,7 +322,7 @@ def _check(fn: ca.Function, summed: bool, run: Run) -> str:
     return ""
 
 
-ENTRIES = 4096  # kernels a process keeps track of, the least recently met forgotten first
+ENTRIES = 4096  # kernels a process keeps track of, the first met forgotten first
 _entries: OrderedDict[tuple[ca.Function, bool], _Kernel] = OrderedDict()
 
 

@@ -62,8 +62,7 @@ class Cache:
     def writable(self) -> str:
         """Empty where entries can be added, else why not."""
         try:
-            for sub in ("tmp", "locks"):
-                (self.root / sub).mkdir(parents=True, exist_ok=True)
+            self._folders()
             with tempfile.NamedTemporaryFile(dir=self.root / "tmp"):
                 pass
         except OSError as exc:
@@ -90,13 +89,12 @@ class Cache:
             self._remove(entry)
         return None
 
-    def add(self, key: str, build: Callable[[Path], dict], *, lock: bool = True) -> Path:
+    def add(self, key: str, build: Callable[[Path], dict]) -> Path:
         """The library of ``key``, built by ``build(folder)`` unless another process has built it meanwhile.
         ``build`` writes :data:`LIBRARY` (and whatever else) into the folder and returns what ``entry.json``
         records besides the library's sha256. Raises OSError where the cache cannot be written."""
-        for sub in ("tmp", "locks"):
-            (self.root / sub).mkdir(parents=True, exist_ok=True)
-        with self._locked(key) if lock else contextlib.nullcontext():
+        self._folders()
+        with self._locked(key):
             found = self.find(key)
             if found is not None:
                 return found
@@ -115,6 +113,10 @@ class Cache:
                 shutil.rmtree(staging, ignore_errors=True)
         self.evict()
         return self.entry(key) / LIBRARY
+
+    def _folders(self) -> None:
+        for sub in ("tmp", "locks"):
+            (self.root / sub).mkdir(parents=True, exist_ok=True)
 
     @contextlib.contextmanager
     def _locked(self, key: str) -> Iterator[None]:

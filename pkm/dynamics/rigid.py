@@ -24,7 +24,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.dynamics.flexible import elastic_dynamics
 from pkm.errors import PkmError, PoseError, UnknownNameError, check_name
-from pkm.kinematics import as_batch, from_pose, require_finite, unbatch
+from pkm.kinematics import as_batch, closed, from_pose, nan_unless, require_finite, unbatch
 
 if TYPE_CHECKING:
     from pkm.kinematics import DesignLike, KinematicModel
@@ -85,11 +85,9 @@ def inertia_pipeline(mech: KinematicModel, output: str) -> ca.Function:
     else:
         out = dict(zip(twin.name_out(), twin.call([x, mode, design]), strict=True))
         q, reach = out["q"], out["reach"]
-    valid = ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, ca.mmin(ca.fabs(q) < np.inf))
-    matrix = out[output]
-    return ca.Function(f"{mech.name}_{output}_pipeline", [x, mode, design],
-                       [valid, ca.if_else(valid, matrix, ca.DM.nan(*matrix.shape))], ["x", "mode", "design"],
-                       ["valid", output])
+    valid = closed(reach, q)
+    return ca.Function(f"{mech.name}_{output}_pipeline", [x, mode, design], [valid, nan_unless(valid, out[output])],
+                       ["x", "mode", "design"], ["valid", output])
 
 
 @lru_cache(maxsize=64)
@@ -124,7 +122,7 @@ def inverse_dynamics_pipeline(mech: KinematicModel, joint_torques: bool = False)
     return ca.Function(
         f"{mech.name}_inverse_dynamics_pipeline" + ("_joints" if joint_torques else ""),
         [x, x_dot, x_ddot, mode, design],
-        [valid, ca.if_else(valid, tau, ca.DM.nan(tau.shape))],
+        [valid, nan_unless(valid, tau)],
         ["x", "x_dot", "x_ddot", "mode", "design"],
         ["valid", "tau"],
     )

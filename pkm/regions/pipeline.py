@@ -37,7 +37,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
-from pkm.kinematics import from_pose
+from pkm.kinematics import closed, from_pose, nan_unless
 
 ANGLE = "rad"
 FROM_POSE = from_pose("first_order")
@@ -164,8 +164,8 @@ def first_order_outputs(mech: PipelineModel, names: tuple[str, ...]) -> ca.Funct
     fused = pipeline(mech, (), first_order=True)
     x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
     out = dict(zip(fused.name_out(), fused(x, mode, design), strict=True))
-    valid = ca.logic_and(out["valid"], ca.mmin(ca.fabs(out["q"]) < np.inf))
-    finished = [ca.if_else(valid, ca.densify(out[name]), ca.DM.nan(*out[name].shape)) for name in names]
+    valid = closed(out["reach"], out["q"])
+    finished = [nan_unless(valid, out[name]) for name in names]
     return ca.Function(f"{fused.name()}_{'_'.join(names)}", [x, mode, design], [valid, *finished], fused.name_in(),
                        ["valid", *names])
 

@@ -29,6 +29,7 @@ from pkm.kinematics import (
     PolynomialRoots,
     as_batch,
     as_real,
+    nan_unless,
     require_finite,
     unbatch,
 )
@@ -112,7 +113,7 @@ def statics_pipeline(functions: FunctionTable, printed: bool) -> ca.Function:
     inverse = ca.solve(matrix, ca.SX.eye(6))
     condition = ca.norm_fro(matrix) * ca.norm_fro(inverse)
     regular = ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, condition < SINGULAR_CONDITION)
-    forces = ca.if_else(regular, ca.mtimes(inverse, wrench), ca.DM.nan(6, 1))
+    forces = nan_unless(regular, ca.mtimes(inverse, wrench))
     name = "statics_printed_pipeline" if printed else "statics_pipeline"
     return ca.Function(name, [x, wrench, mode, design], [forces], ["x", "wrench", "mode", "design"], ["f"])
 
