@@ -27,6 +27,19 @@ def test_zhao_report_checks_the_papers_equations_honestly(zhao):
         assert c["pkm_value"] != c["paper_value"] or c["status"] == "match"
 
 
+def test_zhao_reads_gamma_u_as_the_cones_apex_angle_which_reproduces_section_6(zhao):
+    """Table 1's leg lengths by step 5, Table 1 inside section 5.3's joint limits and Fig. 9's containment
+    hold with a tilt radius of 30 deg and fail with the literal 60 deg."""
+    _, data = zhao
+    for statement, by in data["readings"].items():
+        assert by == {"apex_angle": True, "literal_radius": False}, statement
+    status = {c["id"]: c["status"] for c in data["claims"]}
+    assert status["table1_leg_lengths"] == status["table1_holds_task"] == status["fig9_contains"] == "match"
+    legs = next(c for c in data["claims"] if c["id"] == "table1_leg_lengths")["pkm_value"]
+    assert legs["l_min"] == pytest.approx(396, abs=0.5)
+    assert legs["l_max"] == pytest.approx(712, abs=1.0)
+
+
 def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
     _, data = zhao
     run = data["beyond_paper"]["syntheses"][0]

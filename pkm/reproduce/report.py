@@ -27,6 +27,17 @@ def claim(
     }
 
 
+def status(ok: bool) -> str:
+    """A claim's status from whether pkm's value agrees with the paper's."""
+    return "match" if ok else "differs"
+
+
+def reproduced_by(readings: dict[str, dict[str, bool]], statement: str) -> str:
+    """The readings of a paper that reproduce one of its statements, for a claim's note."""
+    names = [name for name, ok in readings[statement].items() if ok]
+    return ", ".join(names) if names else "no reading"
+
+
 def synthesis_record(result: Any) -> dict[str, Any]:
     """The fields of a reproduction's ``beyond_paper`` entry for a :class:`pkm.synthesis.SynthesisResult`,
     labelled by the result's own variable and parameter names; ``<baseline>_objective`` for each

@@ -5,7 +5,17 @@ by the mechanism packages and found by name through :mod:`pkm.registry`."""
 
 from pkm.synthesis.driver import BaselineResult, Run, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.model import Candidate, ProblemModel
-from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Terms, Variable, grid_points
+from pkm.synthesis.problem import (
+    Baseline,
+    Constraint,
+    Objective,
+    Problem,
+    Quantity,
+    Setting,
+    Terms,
+    Variable,
+    grid_points,
+)
 
 __all__ = [
     "Baseline",
@@ -17,6 +27,7 @@ __all__ = [
     "ProblemModel",
     "Quantity",
     "Run",
+    "Setting",
     "SynthesisError",
     "SynthesisResult",
     "Terms",

@@ -86,6 +86,7 @@ class SynthesisResult:
     optimizer: dict[str, float] = field(default_factory=dict)
     resolutions: dict[str, int] = field(default_factory=dict)
     options: dict[str, Any] = field(default_factory=dict)
+    settings: dict[str, float] = field(default_factory=dict)
 
     @property
     def design(self) -> dict[str, float]:
@@ -145,6 +146,7 @@ class SynthesisResult:
             "runs": [asdict(r) for r in self.runs],
             "resolutions": self.resolutions,
             "options": self.options,
+            "settings": self.settings,
         }
 
 
@@ -195,13 +197,14 @@ MAX_BASELINE = 10_001  # grid nodes per variable of a baseline
 
 
 class StartTask(NamedTuple):
-    """One IPOPT run of a registered problem: its name, the start (variables), the quadrature resolution
-    and IPOPT's options as JSON."""
+    """One IPOPT run of a registered problem: its name, the start (variables), the quadrature resolution,
+    IPOPT's options as JSON and the problem's settings as JSON."""
 
     problem: str
     start: np.ndarray
     resolution: int
     options: str
+    settings: str = "{}"
 
     def describe(self) -> str:
         return f"IPOPT on {self.problem} from {self.start.tolist()} at resolution {self.resolution}"
@@ -213,19 +216,32 @@ class PointsTask(NamedTuple):
     problem: str
     points: np.ndarray
     resolution: int
+    settings: str = "{}"
 
     def describe(self) -> str:
         return f"{self.problem} at {len(self.points)} points from {self.points[0].tolist()}"
 
 
 @lru_cache(maxsize=8)
-def _model(name: str) -> ProblemModel:
-    return ProblemModel(registry.problem(name))
+def _model(name: str, settings: str) -> ProblemModel:
+    return ProblemModel(registry.problem(name).configure(**json.loads(settings)))
 
 
 @lru_cache(maxsize=8)
-def _solver(name: str, resolution: int, options: str) -> tuple[Any, dict[str, Any]]:
-    return _nlp(_model(name), resolution, json.loads(options))
+def _solver(name: str, settings: str, resolution: int, options: str) -> tuple[Any, dict[str, Any]]:
+    return _nlp(_model(name, settings), resolution, json.loads(options))
+
+
+def _settings(problem: Problem) -> str:
+    """The problem's settings as JSON, which a task carries."""
+    return json.dumps(dict(problem.values), sort_keys=True)
+
+
+def _registered(problem: Problem) -> bool:
+    """Whether a worker rebuilds ``problem`` from its name and settings: a registered problem, as
+    registered or configured."""
+    known = registry.problems().get(problem.name)
+    return known is problem or (known is not None and known.build is not None and known.build is problem.build)
 
 
 def _nlp(
@@ -287,8 +303,8 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
 def solve_start(task: StartTask) -> Run:
     """One start of a registered problem in a worker (the model and solver built once per process)."""
     parallel.as_worker()
-    solver, bounds = _solver(task.problem, task.resolution, task.options)
-    return _solve(_model(task.problem), solver, bounds, task)
+    solver, bounds = _solver(task.problem, task.settings, task.resolution, task.options)
+    return _solve(_model(task.problem, task.settings), solver, bounds, task)
 
 
 def _points(model: ProblemModel, task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
@@ -298,7 +314,7 @@ def _points(model: ProblemModel, task: PointsTask) -> tuple[np.ndarray, np.ndarr
 def evaluate_points(task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
     """A chunk of a registered problem's baseline in a worker."""
     parallel.as_worker()
-    return _points(_model(task.problem), task)
+    return _points(_model(task.problem, task.settings), task)
 
 
 def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -> tuple[np.ndarray, np.ndarray]:
@@ -330,7 +346,7 @@ def _polish(
         if abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
             break
         task = StartTask(model.problem.name, np.array(list(run.variables.values())), 2 * res,
-                         json.dumps(options, sort_keys=True))
+                         json.dumps(options, sort_keys=True), _settings(model.problem))
         polished = _solve(model, *_nlp(model, 2 * res, options), task)
         extra.append(polished)
         if not polished.success:
@@ -413,9 +429,10 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
     t0 = time.perf_counter()
     points, order = _screen(model, res, problem.screening_resolution, n_starts)
     step(1 + n_starts - len(order))
-    registered = registry.problems().get(problem.name) is problem
-    where = executor if registered else "serial"
-    tasks = [StartTask(problem.name, points[index], res, json.dumps(options, sort_keys=True)) for index in order]
+    where = executor if _registered(problem) else "serial"
+    settings = _settings(problem)
+    tasks = [StartTask(problem.name, points[index], res, json.dumps(options, sort_keys=True), settings)
+             for index in order]
     with parallel.executor(where, tasks=len(tasks)) as pool:
         local = isinstance(pool, parallel.SerialExecutor)
         solve = partial(_solve, model, *_nlp(model, res, options)) if local else solve_start
@@ -430,6 +447,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             iterations=sum(r.iterations for r in runs), runs=runs, baselines={},
             optimizer={"wall_time_s": opt_time, "evaluations": evaluations},
             resolutions={"quadrature": res}, options={k: v for k, v in options["ipopt"].items() if k != "sb"},
+            settings=dict(problem.values),
         ))
 
     if not good:
@@ -469,7 +487,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
         t1 = time.perf_counter()
         n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
         candidates_at = np.atleast_2d(base.points(n))
-        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], start_resolution)
+        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], start_resolution, settings)
                   for k in range(0, len(candidates_at), BASELINE_CHUNK)]
         with parallel.executor(where, tasks=len(chunks)) as pool:
             local = isinstance(pool, parallel.SerialExecutor)
@@ -511,4 +529,5 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             "baseline_grid": baseline_resolution or (problem.baselines[0].resolution if problem.baselines else 0),
         },
         options={k: v for k, v in options["ipopt"].items() if k != "sb"},
+        settings=dict(problem.values),
     )

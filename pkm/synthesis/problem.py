@@ -4,9 +4,10 @@ A :class:`Problem` names its variables with bounds and units, maps them to a com
 (numpy or CasADi, so that the same map serves the grids and the NLP), names the quantities it reads
 (global indices over regions), states an objective and named constraints as expressions of those
 quantities, the variables, the design parameters and the outputs of generated design functions
-(:class:`Terms`), a working mode, and the baselines it is compared with. Problems are declared by the
-mechanism packages (``pkm/models/<name>/problems.py``) and solved by the one driver,
-:func:`pkm.synthesis.synthesize`.
+(:class:`Terms`), a working mode, and the baselines it is compared with. A problem may state
+:class:`Setting` s, values its user chooses (a task's size, a joint limit, a load): :meth:`Problem.configure`
+builds the same problem with other values. Problems are declared by the mechanism packages
+(``pkm/models/<name>/problems.py``) and solved by the one driver, :func:`pkm.synthesis.synthesize`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.errors import PkmError
+from pkm.errors import PkmError, UnknownNameError, check_real
 from pkm.indices import GlobalIndex
 
 
@@ -31,6 +32,27 @@ class Variable:
     upper: float
     unit: str = "-"
     doc: str = ""
+
+
+@dataclass(frozen=True)
+class Setting:
+    """A value the user of a problem chooses (a task's size, a joint limit, a load): name, default,
+    bounds (closed), unit, meaning."""
+
+    name: str
+    default: float
+    lower: float
+    upper: float
+    unit: str = "-"
+    doc: str = ""
+
+    def check(self, value: object) -> float:
+        """``value`` as a float; :class:`PkmError` naming the setting unless it lies within the bounds."""
+        condition = f"{self.lower:g} <= {self.name} <= {self.upper:g} [{self.unit}]"
+        number = check_real(self.name, value, condition)
+        if not self.lower <= number <= self.upper:
+            raise PkmError(f"{self.name} = {number:g} violates: {condition}")
+        return number
 
 
 @dataclass(frozen=True)
@@ -131,7 +153,8 @@ class Problem:
 
     ``design(values)`` takes the variables in order (arrays of one shape, or CasADi scalars) and returns
     the complete design vector: (..., n_p) numpy, or an n_p x 1 CasADi column. ``starting_points`` adds
-    screening points (N, n) to the grid over the bounds.
+    screening points (N, n) to the grid over the bounds. ``settings`` are the values its user may choose,
+    ``values`` the ones it was built with, and ``build(values)`` builds it with others (:meth:`configure`).
     """
 
     name: str
@@ -153,6 +176,20 @@ class Problem:
     tol: float = 1e-10
     feasibility_tolerance: float = 1e-7
     notes: Mapping[str, Any] = field(default_factory=dict)
+    settings: tuple[Setting, ...] = ()
+    values: Mapping[str, float] = field(default_factory=dict)
+    build: Callable[[Mapping[str, float]], Problem] | None = None
+
+    def configure(self, **values: object) -> Problem:
+        """The same problem with some settings at other values (the others as they are here)."""
+        known = {s.name: s for s in self.settings}
+        for name in values:
+            if name not in known:
+                raise UnknownNameError(f"setting of {self.name}", name, list(known) or ["none"])
+        if not values:
+            return self
+        checked = {name: known[name].check(value) for name, value in values.items()}
+        return self.build({**self.values, **checked})
 
     @property
     def variable_names(self) -> tuple[str, ...]:

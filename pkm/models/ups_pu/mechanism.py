@@ -69,8 +69,9 @@ PARAMETERS = (
     Parameter("payload_height", 0.2, -INF, INF, "m", "height of the payload's centre of mass above U0 along the "
               "platform normal (pkm's choice)", required=False),
     Parameter("g", 9.81, 0.0, INF, "m/s^2", "gravitational acceleration along -Z", closed_lower=True, required=False),
-    Parameter("task_tilt", 60 * DEG, 0.0, math.pi / 2, "rad", "radius gamma_u of the prescribed task cylinder: the "
-              "largest tilt of the platform normal (section 6.2: 60 deg)", required=False),
+    Parameter("task_tilt", 30 * DEG, 0.0, math.pi / 2, "rad", "radius of the prescribed task cylinder: the largest "
+              "tilt of the platform normal (section 6.2's gamma_u = 60 deg read as the cone's apex angle)",
+              required=False),
     Parameter("task_height", 0.1, 0.0, INF, "m", "height h of the task cylinder in l0, from l0_min (section 6.2: "
               "100 mm)", required=False),
 )

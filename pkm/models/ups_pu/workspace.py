@@ -152,6 +152,19 @@ def section(mech: Any, design: np.ndarray, l0: float, *, resolution: int = 200, 
     mask = inside(mech, grid, design)
     cell = (math.pi / resolution) ** 2
     phi = 2 * math.pi * np.arange(rays) / rays
+    reach, reentrant = ray_reach(mech, design, l0, phi, step)
+    b1, b2 = tilt_to_angles(phi, reach)
+    boundary = np.stack([b1, b2], axis=1)
+    ray_area = 0.5 * abs(np.dot(b1, np.roll(b2, -1)) - np.dot(b2, np.roll(b1, -1)))
+    return Section(
+        l0, float(mask.sum() * cell), float(ray_area), boundary, grid[:, 1:], mask.reshape(T1.shape), reentrant
+    )
+
+
+def ray_reach(mech: Any, design: np.ndarray, l0: float, phi: np.ndarray, step: float) -> tuple[np.ndarray, int]:
+    """Zhao's ray search at ``l0`` (section 5.3, step 5): along each polar angle phi the tilt gamma grows
+    by ``step`` from the home orientation until a constraint fails; the last tilt inside (phi.shape) and
+    the number of rays along which the workspace re-enters beyond it."""
     gammas = np.arange(1, int(math.pi / 2 / step)) * step
     P, G = np.meshgrid(phi, gammas, indexing="ij")
     t1, t2 = tilt_to_angles(P.ravel(), G.ravel())
@@ -159,13 +172,16 @@ def section(mech: Any, design: np.ndarray, l0: float, *, resolution: int = 200, 
     first_out = np.where(ok.all(axis=1), len(gammas), np.argmin(ok, axis=1))
     beyond = np.arange(len(gammas))[None, :] > first_out[:, None]
     reentrant = int(np.any(ok & beyond, axis=1).sum())
-    reach = np.where(first_out > 0, gammas[np.maximum(first_out - 1, 0)], 0.0)
-    b1, b2 = tilt_to_angles(phi, reach)
-    boundary = np.stack([b1, b2], axis=1)
-    ray_area = 0.5 * abs(np.dot(b1, np.roll(b2, -1)) - np.dot(b2, np.roll(b1, -1)))
-    return Section(
-        l0, float(mask.sum() * cell), float(ray_area), boundary, grid[:, 1:], mask.reshape(T1.shape), reentrant
-    )
+    return np.where(first_out > 0, gammas[np.maximum(first_out - 1, 0)], 0.0), reentrant
+
+
+def least_tilt(mech: Any, design: np.ndarray, levels: np.ndarray, *, rays: int = 360,
+               step: float = 0.1 * DEG) -> np.ndarray:
+    """Zhao's Fig. 9: at each l0 of ``levels``, the least over ``rays`` polar angles of the tilt the ray
+    search reaches (:func:`ray_reach`); the workspace contains a task cylinder of tilt radius gamma_u over
+    those levels where every value is at least gamma_u."""
+    phi = 2 * math.pi * np.arange(rays) / rays
+    return np.array([ray_reach(mech, design, float(l0), phi, step)[0].min() for l0 in levels])
 
 
 def volume(mech: Any, design: np.ndarray, *, planes: int = 10, resolution: int = 200, rays: int = 360,
