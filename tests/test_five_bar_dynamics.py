@@ -500,3 +500,42 @@ def test_circle_has_its_radius_and_speed():
     np.testing.assert_allclose(np.linalg.norm(x_dot, axis=1), 0.2 * math.pi, rtol=1e-14)
     np.testing.assert_allclose(x_ddot, -((math.pi) ** 2) * (x - CENTRE), atol=1e-13)
     assert trajectory.position(0.0).shape == (2,)
+
+
+def positive_definite(M: np.ndarray) -> bool:
+    try:
+        np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
+def test_a_pose_at_a_parallel_singularity_is_a_nan_row_and_the_others_are_as_alone():
+    """On the axis x = 0 of the default geometry det_type2 has a root in out_out; beside it M_t, of order
+    1/det^2, is positive definite only up to a round-off of either sign. One pose there, where M_T has no
+    Cholesky factor, makes its own row NaN and no other."""
+    design = m.design(GEOMETRY)
+
+    def det(y: float) -> float:
+        return m.singularity(np.array([0.0, y]), design, mode="out_out")["det_type2"]
+
+    low, high = 1.0, 1.4
+    assert det(low) * det(high) < 0
+    for _ in range(60):
+        low, high = ((low + high) / 2, high) if det((low + high) / 2) * det(low) > 0 else (low, (low + high) / 2)
+    axis = np.stack([np.zeros(41), low + 1e-10 * np.arange(-20, 21)], axis=1)
+    q = m.inverse_kinematics(axis, design, mode="out_out", passive=True)
+    M_T = evaluate(m.functions["elastic_dynamics"], q, axis, np.zeros(4), design.vector())[0]
+    singular = [k for k in range(len(axis)) if not positive_definite(M_T[k])]
+    assert singular
+    x = np.array([CENTRE, axis[singular[0]], [0.1, 1.5]])
+    result = m.natural_frequencies(x, design, mode="out_out")
+    assert np.isnan(result.frequencies[1]).all()
+    assert np.isnan(result.shapes[1]).all()
+    assert not result.rigid[1].any()
+    assert np.isnan(result.lowest_elastic[1])
+    for k in (0, 2):
+        alone = m.natural_frequencies(x[k], design, mode="out_out")
+        np.testing.assert_allclose(result.frequencies[k], alone.frequencies, rtol=1e-12)
+        np.testing.assert_allclose(result.shapes[k], alone.shapes, rtol=1e-12)
+        np.testing.assert_array_equal(result.rigid[k], alone.rigid)

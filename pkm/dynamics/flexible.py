@@ -75,9 +75,22 @@ class NaturalFrequencies:
         return np.where(self.rigid, np.inf, self.frequencies).min(axis=-1)
 
 
-def _modes(M: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Eigenpairs of K v = lambda^2 M v over a batch of symmetric positive definite M."""
-    L_inv = np.linalg.inv(np.linalg.cholesky(M))
+def _cholesky(M: np.ndarray) -> np.ndarray:
+    """Cholesky factors of a batch of symmetric M, NaN where M is not positive definite (at a parallel
+    singularity M_t is of order 1/det^2 and its round-off takes either sign). The batch is factored at once;
+    only when that fails is it halved, down to the rows that have no factor."""
+    try:
+        return np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        if len(M) == 1:
+            return np.full_like(M, np.nan)
+        half = len(M) // 2
+        return np.concatenate([_cholesky(M[:half]), _cholesky(M[half:])])
+
+
+def _modes(L: np.ndarray, K: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenpairs of K v = lambda^2 M v over a batch, given the Cholesky factors L of M = L L^T."""
+    L_inv = np.linalg.inv(L)
     A = L_inv @ K @ np.swapaxes(L_inv, 1, 2)
     squared, V = np.linalg.eigh((A + np.swapaxes(A, 1, 2)) / 2)
     shapes = np.swapaxes(L_inv, 1, 2) @ V
@@ -95,7 +108,9 @@ def natural_frequencies(
     The undamped model at rest, M_T z_ddot + K_T z = 0, is solved as the generalised symmetric
     eigenproblem (K_T - lambda^2 M_T) z = 0 through the Cholesky factor of M_T. K_T is singular: its
     null space theta_a = theta_m holds n_act rigid-body modes with lambda = 0, and the elastodynamic
-    index is the smallest non-zero frequency (:attr:`NaturalFrequencies.lowest_elastic`).
+    index is the smallest non-zero frequency (:attr:`NaturalFrequencies.lowest_elastic`). A pose whose M_T
+    has no Cholesky factor (not positive definite, at or beside a parallel singularity) gets a NaN row, the
+    other rows of the batch being what they are alone.
 
     Parameters
     ----------
@@ -116,11 +131,14 @@ def natural_frequencies(
     size = 2 * mech.n_act
     M_T, _, K_T, _ = evaluate(elastic, q, x, np.zeros(size), d)
     valid = ok & np.isfinite(M_T).all(axis=(1, 2))
+    L = np.full_like(M_T, np.nan)
+    L[valid] = _cholesky(M_T[valid])
+    valid &= np.isfinite(L).all(axis=(1, 2))
     frequencies = np.full((len(x), size), np.nan)
     shapes = np.full((len(x), size, size), np.nan)
     rigid = np.zeros((len(x), size), dtype=bool)
     if valid.any():
-        frequencies[valid], shapes[valid], rigid[valid] = _modes(M_T[valid], K_T[valid])
+        frequencies[valid], shapes[valid], rigid[valid] = _modes(L[valid], K_T[valid])
     return NaturalFrequencies(*(joints.unbatch(a) for a in (frequencies, shapes, rigid)))
 
 
