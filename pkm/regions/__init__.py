@@ -21,8 +21,9 @@ from pkm.regions.value import GlobalValue
 
 _LAZY = {
     "quadrature": ("INDEX_ACCURACY", "QUADRATURE_RESOLUTION", "adaptive_value", "admissible", "epigraph_margins",
-                   "epigraph_values", "global_value", "node_quadrature", "parametrised_global",
-                   "quadrature_function", "quadrature_value", "sampled_check"),
+                   "epigraph_point_margins", "epigraph_values", "global_value", "node_quadrature",
+                   "parametrised_global", "quadrature_function", "quadrature_value", "refined_extremes",
+                   "sampled_check"),
     "sampled": ("SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin", "sampled_global"),
 }
 
@@ -58,6 +59,7 @@ __all__ = [
     "admissible",
     "check_margin",
     "epigraph_margins",
+    "epigraph_point_margins",
     "epigraph_values",
     "evaluate_at",
     "first_order_outputs",
@@ -68,6 +70,7 @@ __all__ = [
     "pipeline",
     "quadrature_function",
     "quadrature_value",
+    "refined_extremes",
     "sampled_check",
     "sampled_global",
 ]

@@ -204,6 +204,35 @@ def region_rows(
     return (picked(values), picked(jacobians) if order >= 1 else None, picked(hessians) if order >= 2 else None)
 
 
+def point_rows(
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, z: np.ndarray,
+    points: Sequence[tuple[int, tuple[float, ...]]], order: int,
+) -> Derivatives:
+    """The epigraph margins (z = (design, t)) at given points of the region, each a piece's index and a
+    reference point (the reference domain does not depend on the design): every output of the first
+    point, then of the second, and so on; with the Jacobian and the Hessians in z up to ``order``."""
+    pieces = region.pieces()
+    owner = np.array([k for k, _ in points], dtype=int)
+    at = np.array([u for _, u in points], dtype=float)
+    values: list[np.ndarray] = [np.empty(0)] * len(points)
+    jacobians: list[np.ndarray] = [np.empty(0)] * len(points)
+    hessians: list[np.ndarray] = [np.empty(0)] * len(points)
+    for k in np.unique(owner):
+        fn, active = rows_function(mech, local, pieces[k], reduce, order)
+        mine = np.flatnonzero(owner == k)
+        out = evaluate(fn, at[mine], signs, z[:-1], z[-1:])
+        for j, row in enumerate(mine):
+            values[row] = out[0][j, :, 0]
+            if order >= 1:
+                jacobian = np.zeros((out[1].shape[1], len(z)))
+                jacobian[:, list(active)] = out[1][j]
+                jacobians[row] = jacobian
+            if order >= 2:
+                hessians[row] = _unpack(out[2][j], active, len(z))
+    return (np.concatenate(values), np.concatenate(jacobians) if order >= 1 else None,
+            np.concatenate(hessians) if order >= 2 else None)
+
+
 BATCH_ROWS = 1 << 16  # rows (nodes times designs) per evaluation of a batch of designs
 
 

@@ -31,6 +31,7 @@ from pkm.regions.integrand import (
     Smooth,
     batch_rows,
     batch_sums,
+    point_rows,
     reduce_gradient,
     reduce_sums,
     region_rows,
@@ -95,6 +96,28 @@ def epigraph_margins(
     ``rows`` of it where given."""
     smooth = _rows(mech, spec.local, region, spec.reduce, signs=tuple(branch.signs),
                    resolution=check_resolution(resolution, 1), epigraph=True, rows=rows)
+    return smooth(ca.vertcat(design, bound))
+
+
+@lru_cache(maxsize=64)
+def _point_rows(mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...],
+                points: tuple[tuple[int, tuple[float, ...]], ...]) -> Smooth:
+    """CasADi ``(design, t) -> margins`` at the given points of the region (:func:`point_rows`)."""
+    def fn(z: np.ndarray, order: int) -> Any:
+        return point_rows(mech, local, region, reduce, signs=np.array(signs), z=z, points=points, order=order)
+
+    outputs = rows_function(mech, local, region.pieces()[0], reduce, 0)[0].numel_out(0)
+    return Smooth(f"{region.name}_{local.name}_{reduce}_points", fn, _design_size(mech) + 1, outputs * len(points))
+
+
+def epigraph_point_margins(
+    mech: Any, spec: GlobalIndex, region: Any, branch: Any, *, design: ca.MX, bound: ca.MX,
+    points: tuple[tuple[int, tuple[float, ...]], ...],
+) -> ca.MX:
+    """The constraints g >= 0 of :func:`epigraph_margins` at given points of the region between its nodes,
+    each a piece's index and a reference point (where :func:`refined_extremes` finds an extreme): every
+    output of each point."""
+    smooth = _point_rows(mech, spec.local, region, spec.reduce, signs=tuple(branch.signs), points=points)
     return smooth(ca.vertcat(design, bound))
 
 

@@ -40,11 +40,13 @@ PRIMARY = "apex_angle"
 LEG_ROUNDING = 0.5  # [mm] Table 1 gives the leg lengths to the millimetre
 
 
-def _settings(quick: bool) -> dict[str, int]:
+def _settings(quick: bool) -> dict[str, Any]:
+    """Resolutions of the report; the full run solves the synthesis at the problem's own resolution, refined
+    to its accuracy (``synthesis_resolution`` None), as ``pkm synth`` does."""
     if quick:
         return {"section_resolution": 60, "rays": 120, "planes": 5, "synthesis_resolution": 2,
                 "baseline_resolution": 60, "starts": 1, "levels": 3, "task_resolution": 4, "ray_step_deg": 0.25}
-    return {"section_resolution": 240, "rays": 360, "planes": 10, "synthesis_resolution": 3,
+    return {"section_resolution": 240, "rays": 360, "planes": 10, "synthesis_resolution": None,
             "baseline_resolution": 400, "starts": 3, "levels": 11, "task_resolution": 16, "ray_step_deg": 0.1}
 
 

@@ -9,8 +9,10 @@ by its verified objective, never by the optimiser's quadrature. The optimiser's 
 screening, the starts and these verifications (and the polishing below). At the problem's own
 resolution the best optimum is then polished: IPOPT runs again from it at twice the resolution until the
 verified objective agrees with the optimised one to ``ACCURACY`` (relative above 1) or POLISH_LIMIT is
-reached; the result states the accuracy reached. A problem with region extremes is not polished: its
-epigraph grows with the nodes, and its verification refines the extremes between the nodes already. Each baseline
+reached; the result states the accuracy reached. A problem with region extremes is refined instead by an
+exchange over its regions: its constraints drop the node margins that stood in for the points between the
+nodes, and each extreme is held at the points between the nodes where the verification finds it, one more
+each round, until the optimised objective agrees with the verified one to ``ACCURACY``. Each baseline
 (the papers' own search) runs through the same model, timed and counted, and its best point is
 verified the same way. The starts and the baselines' chunks of points are tasks of names and numbers
 (:mod:`pkm.parallel`): for a registered problem they run where the executor says, with the same results.
@@ -37,11 +39,12 @@ from pkm.interrupts import interruptible
 from pkm.progress import Progress
 from pkm.regions import INDEX_ACCURACY
 from pkm.regions.shapes import MAX_RESOLUTION
-from pkm.synthesis.model import Candidate, ProblemModel
+from pkm.synthesis.model import Candidate, Points, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
 
 ACCURACY = INDEX_ACCURACY
 POLISH_LIMIT = 64  # the largest quadrature resolution a polishing run uses
+REFINE_ROUNDS = 12  # IPOPT solves of the exchange over the regions of a problem with region extremes at most
 EXCHANGE_ROUNDS = 20  # IPOPT solves of one start of a problem with region extremes at most
 SAME_POINT = 1e-8  # runs that end this close (relative to each variable's range) share one verification
 
@@ -245,12 +248,14 @@ def _registered(problem: Problem) -> bool:
 
 
 def _nlp(
-    model: ProblemModel, resolution: int, options: dict[str, Any], rows: dict[str, tuple[int, ...]] | None = None
+    model: ProblemModel, resolution: int, options: dict[str, Any], rows: dict[str, tuple[int, ...]] | None = None,
+    points: Points | None = None,
 ) -> tuple[Any, dict[str, Any]]:
-    """IPOPT's solver of the problem at a resolution (with ``rows``, of those epigraph rows only) and the
-    bounds of its variables and constraints."""
+    """IPOPT's solver of the problem at a resolution (with ``rows``, of those epigraph rows only; with
+    ``points``, holding the extremes at those points between the nodes too, :meth:`ProblemModel.nlp`) and
+    the bounds of its variables and constraints."""
     problem = model.problem
-    nlp, lower, upper = model.nlp(resolution, rows)
+    nlp, lower, upper = model.nlp(resolution, rows, points)
     extra = len(model.extremes)
     solver = ca.nlpsol(problem.name.replace(".", "_"), "ipopt", nlp, options)
     bounds = {
@@ -262,13 +267,15 @@ def _nlp(
     return solver, bounds
 
 
-def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask) -> Run:
+def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask,
+           points: Points | None = None) -> Run:
     """IPOPT from the task's start. A problem with many epigraph rows (region extremes) is solved by
     exchange: IPOPT holds the rows of least margin at the start, then again from its solution with the rows
     that solution violates most added, until it violates none (:meth:`ProblemModel.exchange_rows`). Where
     a step fails (a relaxation too loose to be bounded) or the exchange takes more than EXCHANGE_ROUNDS
     steps, ``solver``, the NLP with every row, solves from the start. The extremes' variables are scaled
-    by their start's :meth:`ProblemModel.scale` in every step."""
+    by their start's :meth:`ProblemModel.scale` in every step. ``points`` are those the NLP of ``solver``
+    holds between the nodes (:meth:`ProblemModel.nlp`)."""
     problem, res = model.problem, task.resolution
     start = np.asarray(model.start(task.start, res), dtype=float)
     nv, scale = len(problem.variables), model.scale(start)
@@ -278,7 +285,7 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
     for round_ in range(EXCHANGE_ROUNDS + 1):
         if round_ == EXCHANGE_ROUNDS:
             rows, x0 = None, start
-        step = (solver, bounds) if rows is None else _nlp(model, res, json.loads(task.options), rows)
+        step = (solver, bounds) if rows is None else _nlp(model, res, json.loads(task.options), rows, points)
         with interruptible():
             sol = step[0](x0=np.concatenate([x0[:nv], x0[nv:] / scale]), **given, **step[1])
         stats = step[0].stats()
@@ -295,7 +302,7 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
     w = x[: len(problem.variables)]
     value = model.sign * float(sol["f"])
     status, success = stats["return_status"], bool(stats["success"])
-    if success and not model.tight(w, x[len(problem.variables) :], res):
+    if success and not model.tight(w, x[len(problem.variables) :], res, points):
         status, success = "Epigraph_Not_Tight", False
     return Run(_named(problem, task.start), status, success, iterations, calls, value, _named(problem, w))
 
@@ -356,6 +363,36 @@ def _polish(
             break
         polished.verified_objective = cand.verified_objective
         run, optimum, res = polished, cand, 2 * res
+    return run, optimum, res, extra
+
+
+def _refine(
+    model: ProblemModel, run: Run, optimum: Candidate, res: int, options: dict[str, Any]
+) -> tuple[Run, Candidate, int, list[Run]]:
+    """A problem with region extremes, solved by exchange over its regions: IPOPT again from the optimum with
+    the constraints at their exact bounds instead of the node margins, and each extreme held, beside the
+    nodes, at the points between them where the verification finds it (:meth:`ProblemModel.extreme_points`),
+    one more point each round, until the optimised objective agrees with the verified one to ACCURACY
+    (relative above 1) at a feasible design, or REFINE_ROUNDS. The last feasible optimum stands."""
+    extra: list[Run] = []
+    points: Points = dict.fromkeys(model.extremes, ())
+    point = np.array(list(run.variables.values()))
+    for _ in range(REFINE_ROUNDS):
+        scale = max(1.0, abs(optimum.verified_objective))
+        if abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
+            break
+        found = model.extreme_points(point, 2 * res)
+        points = {name: points[name] + tuple(p for p in found[name] if p not in points[name]) for name in points}
+        task = StartTask(model.problem.name, point, res, json.dumps(options, sort_keys=True), _settings(model.problem))
+        refined = _solve(model, *_nlp(model, res, options, points=points), task, points)
+        extra.append(refined)
+        if not refined.success:
+            break
+        point = np.array(list(refined.variables.values()))
+        cand = model.candidate(point, refined.objective, res)
+        refined.verified_objective = cand.verified_objective
+        if cand.feasible:
+            run, optimum = refined, cand
     return run, optimum, res, extra
 
 
@@ -476,8 +513,8 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}, design {optimum.design}",
             best_run, optimum)
     start_resolution = res
-    if polish and not model.extremes:
-        best_run, optimum, res, extra = _polish(model, best_run, optimum, res, options)
+    if polish:
+        best_run, optimum, res, extra = (_refine if model.extremes else _polish)(model, best_run, optimum, res, options)
         runs.extend(extra)
         evaluations += sum(r.evaluations for r in extra)
         opt_time = time.perf_counter() - t0

@@ -18,12 +18,15 @@ from pkm.batch import evaluate
 from pkm.errors import PkmError
 from pkm.regions import (
     epigraph_margins,
+    epigraph_point_margins,
     epigraph_values,
     node_quadrature,
     parametrised_global,
     quadrature_value,
+    refined_extremes,
     sampled_check,
 )
+from pkm.regions.integrand import rows_function
 from pkm.synthesis.problem import Problem, Terms
 
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
@@ -32,6 +35,8 @@ SAMPLED_FACTOR = 16  # a 2-D sampled check's grid per axis, in units of the quad
 SAMPLED_LIMIT = 512**2  # cells of a sampled check at most
 EXCHANGE_ROWS = 2  # least (and after a solve most violated) epigraph rows of each margin output an exchange adds
 EXCHANGE_LIMIT = 2048  # epigraph rows that IPOPT holds all at once
+
+Points = dict[str, tuple[tuple[int, tuple[float, ...]], ...]]  # per extreme: (piece, reference point) between nodes
 
 
 @dataclass
@@ -149,33 +154,64 @@ class ProblemModel:
         return tuple(n for n, q in self.problem.quantities.items() if q.index.reduce in ("min", "max"))
 
     def nlp(
-        self, resolution: int, held: dict[str, tuple[int, ...]] | None = None
+        self, resolution: int, held: dict[str, tuple[int, ...]] | None = None, points: Points | None = None
     ) -> tuple[dict[str, ca.MX], np.ndarray, np.ndarray]:
         """The NLP in (w, s for each of :attr:`extremes`) with the bounds on its constraints; with ``held``
         only those rows of each extreme's epigraph margins (:func:`pkm.regions.epigraph_values`). Each
         extreme's variable is t = p s, its scale p a parameter of the NLP (:meth:`scale`), so that IPOPT
-        steps in variables of one size (a force of 2000 N beside lengths of 0.2 m)."""
+        steps in variables of one size (a force of 2000 N beside lengths of 0.2 m). With ``points``, the
+        epigraph holds at those points between the nodes too, and the constraints take their exact bounds
+        instead of the node margins that stand in for the points between the nodes."""
         prob = self.problem
         w = ca.MX.sym("w", len(prob.variables))
+        lower, upper = (self.lower, self.upper) if points is not None else (self.nlp_lower, self.nlp_upper)
         if not self.extremes:
             f, g = self.function(resolution)(w)[:2]
-            return {"x": w, "f": self.sign * f, "g": g}, self.nlp_lower, self.nlp_upper
+            return {"x": w, "f": self.sign * f, "g": g}, lower, upper
         design = self.design(w)
         scale = ca.MX.sym("scale", len(self.extremes))
         s = [ca.MX.sym(f"s_{name}") for name in self.extremes]
         t = {name: scale[k] * s[k] for k, name in enumerate(self.extremes)}
         values = self.quantities(design, resolution)
         f, g = self.expressions(w, {**values, **t})
-        rows, lower, upper = [g], [self.nlp_lower], [self.nlp_upper]
+        rows, lower, upper = [g], [lower], [upper]
         for name, bound in t.items():
             quantity = prob.quantities[name]
-            nodes = epigraph_margins(self.mech, quantity.index, quantity.region, self.branch, design=design,
-                                     bound=bound, resolution=resolution, rows=None if held is None else held[name])
-            rows.append(ca.vec(nodes))
-            lower.append(np.zeros(nodes.numel()))
-            upper.append(np.full(nodes.numel(), np.inf))
+            margins = [epigraph_margins(self.mech, quantity.index, quantity.region, self.branch, design=design,
+                                        bound=bound, resolution=resolution, rows=None if held is None else held[name])]
+            if points is not None and points[name]:
+                margins.append(epigraph_point_margins(self.mech, quantity.index, quantity.region, self.branch,
+                                                      design=design, bound=bound, points=points[name]))
+            for block in margins:
+                rows.append(ca.vec(block))
+                lower.append(np.zeros(block.numel()))
+                upper.append(np.full(block.numel(), np.inf))
         nlp = {"x": ca.vertcat(w, *s), "p": scale, "f": self.sign * f, "g": ca.vertcat(*rows)}
         return nlp, np.concatenate(lower), np.concatenate(upper)
+
+    def extreme_points(self, point: np.ndarray, resolution: int) -> Points:
+        """Where each region extreme lies at the variables ``point``, refined between the nodes of its rule
+        at ``resolution`` (:func:`pkm.regions.refined_extremes`): one (piece, reference point) per extreme."""
+        design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
+        out = {}
+        for name in self.extremes:
+            quantity = self.problem.quantities[name]
+            refined = refined_extremes(self.mech, quantity.index, quantity.region, self.branch, design[None],
+                                       resolution=resolution)
+            out[name] = ((int(refined.piece[0]), tuple(float(u) for u in refined.point[0])),)
+        return out
+
+    def _point_values(self, design: np.ndarray, name: str, points: tuple[tuple[int, tuple[float, ...]], ...]
+                      ) -> np.ndarray:
+        """The local index of extreme ``name`` at the given points of its region (NaN where out of reach)."""
+        quantity = self.problem.quantities[name]
+        pieces = quantity.region.pieces()
+        values = []
+        for k, u in points:
+            fn = rows_function(self.mech, quantity.index.local, pieces[k], None, 0)[0]
+            value, reached = np.asarray(fn(np.array(u), np.array(self.branch.signs, dtype=float), design)).ravel()
+            values.append(value if reached > 0 else np.nan)
+        return np.array(values)
 
     def scale(self, x: np.ndarray) -> np.ndarray:
         """The scales p of the extremes' variables at a point x = (w, t for each extreme) of the NLP: the
@@ -229,12 +265,19 @@ class ProblemModel:
             out[name] = tuple(np.flatnonzero(held.ravel()).tolist())
         return out if grown else None
 
-    def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int) -> bool:
-        """Whether every extreme's variable equals its quantity at w: the problem uses each extreme in
-        the direction its epigraph represents (otherwise the optimiser moved t away from it)."""
+    def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int, points: Points | None = None) -> bool:
+        """Whether every extreme's variable equals its quantity at w (over the nodes and the ``points``
+        the NLP holds): the problem uses each extreme in the direction its epigraph represents (otherwise
+        the optimiser moved t away from it)."""
         if not self.extremes:
             return True
         named = self._quantities_at(w, resolution)
+        if points is not None:
+            design = np.asarray(self.problem.design(list(w)), dtype=float).ravel()
+            for name in self.extremes:
+                if points[name]:
+                    extreme = np.nanmin if self.problem.quantities[name].index.reduce == "min" else np.nanmax
+                    named[name] = float(extreme([named[name], *self._point_values(design, name, points[name])]))
         return all(
             abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
             for name, t in zip(self.extremes, bounds, strict=True)
