@@ -1,7 +1,9 @@
 """The ``pkm`` command line (DESIGN.md section 7).
 
 Exit status 0 on success, 2 on bad input (one line on standard error, no traceback), 1 when a valid
-computation fails (for instance IPOPT does not converge).
+computation fails (for instance IPOPT does not converge) or when --out cannot take a computed result,
+which is then kept in a new folder of the system's temporary directory that the line names
+(:func:`pkm.io.keeping`).
 """
 
 from __future__ import annotations
@@ -294,10 +296,14 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     index, space = atlas.index, atlas.space
     space_name = "axes" if args.axes else atlas.space.name
     stem = "_".join([m.name, args.index, args.region, space_name, *atlas.modes])
-    npz = out / f"{stem}.npz"
-    png = out / f"{stem}.png"
-    atlas.plot(png)
-    atlas.save_npz(npz)
+
+    def write(folder: Path) -> tuple[Path, Path]:
+        npz, png = folder / f"{stem}.npz", folder / f"{stem}.png"
+        atlas.plot(png)
+        atlas.save_npz(npz)
+        return npz, png
+
+    npz, png = io.write_result(out, write)
     shutil.rmtree(store, ignore_errors=True)
     _remove_if_empty(out / CHUNKS)
     data = {"npz": str(npz), "figure": str(png), "wall_time_s": atlas.wall_time, "sense": index.sense,
@@ -315,32 +321,44 @@ def cmd_sweep(args: argparse.Namespace) -> None:
     (folder / "index.json").unlink(missing_ok=True)
     atlases = _sweep(m, args, names, folder / "chunks")
     first = next(iter(atlases.values()))
-    figures = {name: str(a.plot(folder / f"{name}.png")) for name, a in atlases.items()}
     chunks = []
     for path in (folder / "chunks").glob("[!.]*.npz"):
         with np.load(path) as data:
             chunks.append({"file": f"chunks/{path.name}", "mode": str(data["mode"]), "start": int(data["start"]),
                            "count": int(data["count"])})
     chunks.sort(key=lambda c: (list(first.modes).index(c["mode"]), c["start"]))
-    listing = {
-        "mechanism": m.name, "region": args.region, "space": first.space.name, "modes": list(first.modes),
-        "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
-        "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
-        "inside": first.inside.tolist(), "chunks": chunks, "figures": figures, "wall_time_s": first.wall_time,
-        "checks": asdict(first.checks),
-        "best": {name: {mode: a.checked[mode].to_dict() for mode in a.modes} for name, a in atlases.items()},
-        "format": "each chunk holds values_<index> and points_<index> of `count` inside nodes of one mode from "
-                  "`start` on (the chart grid's inside nodes in row-major order); <index>.npz holds each atlas whole",
-    }
-    for name, a in atlases.items():
-        a.save_npz(folder / f"{name}.npz")
-    io.write_text(folder / "index.json", io.to_json(listing))
-    _emit(args, {"folder": str(folder), **listing}, f"wrote {len(names)} atlases and their chunks into {folder}")
+
+    def write(out: Path) -> tuple[Path, dict[str, Any]]:
+        target = out / folder.name
+        if target != folder:
+            for chunk in chunks:
+                io.copy_file(folder / chunk["file"], target / chunk["file"])
+        figures = {name: str(a.plot(target / f"{name}.png")) for name, a in atlases.items()}
+        listing = {
+            "mechanism": m.name, "region": args.region, "space": first.space.name, "modes": list(first.modes),
+            "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
+            "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
+            "inside": first.inside.tolist(), "chunks": chunks, "figures": figures, "wall_time_s": first.wall_time,
+            "checks": asdict(first.checks),
+            "best": {name: {mode: a.checked[mode].to_dict() for mode in a.modes} for name, a in atlases.items()},
+            "format": "each chunk holds values_<index> and points_<index> of `count` inside nodes of one mode from "
+                      "`start` on (the chart grid's inside nodes in row-major order); <index>.npz holds each atlas "
+                      "whole",
+        }
+        for name, a in atlases.items():
+            a.save_npz(target / f"{name}.npz")
+        io.write_text(target / "index.json", io.to_json(listing))
+        return target, listing
+
+    target, listing = io.write_result(Path(args.out), write)
+    _emit(args, {"folder": str(target), **listing}, f"wrote {len(names)} atlases and their chunks into {target}")
 
 
 def _remove_if_empty(folder: Path) -> None:
-    if folder.is_dir() and not any(folder.iterdir()):
-        folder.rmdir()
+    """Remove ``folder`` if it is empty and can be removed: a cache folder, whose removal is a courtesy."""
+    with contextlib.suppress(OSError):
+        if folder.is_dir() and not any(folder.iterdir()):
+            folder.rmdir()
 
 
 def _axes(text: str) -> list[tuple[str, float, float]]:
@@ -402,7 +420,7 @@ def _synth(args: argparse.Namespace) -> None:
 def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None:
     data = result.to_dict()
     if args.out:
-        io.write_text(Path(args.out) / f"{args.problem}.json", io.to_json(data))
+        io.write_result(Path(args.out), lambda out: io.write_text(out / f"{args.problem}.json", io.to_json(data)))
     o = result.optimum
     lines = [
         f"{result.problem}: {result.status} after {result.iterations} iterations "
@@ -424,7 +442,10 @@ def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None
 
 def cmd_reproduce(args: argparse.Namespace) -> None:
     keys = sorted(registry.papers()) if args.paper == "all" else [args.paper]
-    summaries = [reproduce(key, Path(args.out), quick=args.quick) for key in keys]
+    summaries = []
+    for key in keys:
+        summary = reproduce(key, Path(args.out), quick=args.quick)
+        summaries.append({**summary, "folder": str(io.kept_path(Path(summary["folder"])))})
     text = "\n".join(f"{s['paper']}: {s['counts']} -> {s['folder']}" for s in summaries)
     _emit(args, summaries, text)
 
@@ -684,13 +705,15 @@ def _main(argv: list[str] | None) -> int:
         warnings.filterwarnings("ignore", category=CompiledPathWarning)
     else:
         warnings.showwarning = _one_line_warning
+    keeper = None
     try:
         args = build_parser().parse_args(_negative_values(sys.argv[1:] if argv is None else list(argv)))
-        _check_out(getattr(args, "out", None))
+        out = getattr(args, "out", None)
+        _check_out(out)
         address = getattr(args, "scheduler", None) or parallel.scheduler()
         if address and args.func in PARALLEL_COMMANDS:
             parallel.connect(address).close()
-        with parallel.scheduled(address), interruptible():
+        with parallel.scheduled(address), interruptible(), io.keeping(out, args.command) as keeper:
             args.func(args)
     except PkmError as exc:
         print(f"pkm: error: {exc}", file=sys.stderr)
@@ -705,7 +728,11 @@ def _main(argv: list[str] | None) -> int:
         # the reader of stdout has gone (e.g. `pkm list | head -1`): nothing more can be written there
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
-    return 0
+    finally:
+        # a result that --out failed to take after the computation is kept, and said so, whatever came after
+        if keeper is not None and keeper.kept is not None:
+            print(f"pkm: {keeper.message}", file=sys.stderr)
+    return 0 if keeper is None or keeper.kept is None else 1
 
 
 PARALLEL_COMMANDS = (cmd_atlas, cmd_sweep, cmd_synth, cmd_reproduce)

@@ -1,19 +1,25 @@
-"""Writing results so that nothing half-written is ever left in an output folder."""
+"""Writing results so that nothing half-written is ever left in an output folder, and so that a result
+that cannot be written there once computed is kept elsewhere rather than lost (:func:`keeping`)."""
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
+from pkm.errors import ComputationError
 from pkm.interrupts import check_interrupted
+
+T = TypeVar("T")
 
 
 def _default(obj: Any) -> Any:
@@ -48,8 +54,19 @@ def _umask() -> int:
 
 
 def atomic_write(path: Path, write: Callable[[Path], None]) -> Path:
-    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it into place."""
+    """Call ``write(tmp)`` on a temporary file beside ``path``, then rename it into place. An OSError on the
+    way names ``path`` where the system named the temporary file or no file (a full disk)."""
     path = Path(path)
+    try:
+        return _write_beside(path, write)
+    except OSError as exc:
+        named = exc.filename is not None and not Path(exc.filename).name.startswith(f".{path.name}.")
+        if exc.errno is not None and not named:  # an OSError of a message alone keeps its message
+            exc.filename = str(path)
+        raise
+
+
+def _write_beside(path: Path, write: Callable[[Path], None]) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
     os.close(fd)
@@ -65,6 +82,100 @@ def atomic_write(path: Path, write: Callable[[Path], None]) -> Path:
 
 def write_text(path: Path, text: str) -> Path:
     return atomic_write(path, lambda tmp: tmp.write_text(text))
+
+
+def copy_file(source: Path, path: Path) -> Path:
+    return atomic_write(path, lambda tmp: shutil.copyfile(source, tmp))
+
+
+class Keeper:
+    """The output folder of a command and, once a write into it has failed, the folder that keeps the
+    result instead: ``failure`` is that write's OSError and ``kept`` the new folder (both None until then)."""
+
+    def __init__(self, folder: Path | None, prefix: str) -> None:
+        self.folder = None if folder is None else Path(folder)
+        self.prefix = prefix
+        self.failure: OSError | None = None
+        self.kept: Path | None = None
+
+    def holds(self, path: Path) -> bool:
+        """Whether ``path`` is in the output folder (and not in the kept one, which may lie inside it)."""
+        path = Path(path)
+        return (self.folder is not None and path.is_relative_to(self.folder)
+                and not (self.kept is not None and path.is_relative_to(self.kept)))
+
+    def place(self, path: Path) -> Path:
+        """Where a result meant for ``path``, inside the output folder, goes now."""
+        return path if self.kept is None else self.kept / Path(path).relative_to(self.folder)
+
+    def write(self, folder: Path, write: Callable[[Path], T]) -> T:
+        """``write(folder)``; if it raises OSError, ``write`` again into the counterpart of ``folder`` in a
+        new folder of the system's temporary directory, where every later write goes too."""
+        if self.kept is None:
+            try:
+                return write(folder)
+            except OSError as exc:
+                self.failure = exc
+        kept = self.kept
+        try:
+            kept = kept or Path(tempfile.mkdtemp(prefix=self.prefix))
+            result = write(kept / folder.relative_to(self.folder))
+        except OSError as exc:
+            if self.kept is None and kept is not None:
+                shutil.rmtree(kept, ignore_errors=True)
+            raise ComputationError(
+                f"{_failed(self.failure)}, nor in {self.kept or tempfile.gettempdir()} ({_reason(exc)})"
+            ) from None
+        self.kept = kept
+        return result
+
+    @property
+    def message(self) -> str:
+        return f"{_failed(self.failure)}; the result is kept in {self.kept}"
+
+
+def _failed(exc: OSError | None) -> str:
+    """``could not write <path> (<reason>)``, the path a rename's destination where ``exc`` names two."""
+    path = exc and (exc.filename2 or exc.filename)
+    return f"could not write {path or 'the result'} ({_reason(exc)})"
+
+
+def _reason(exc: OSError | None) -> str:
+    return (exc and exc.strerror) or str(exc)
+
+
+_KEEPER: ContextVar[Keeper | None] = ContextVar("pkm.io keeper", default=None)
+
+
+@contextmanager
+def keeping(folder: Path | str | None, command: str) -> Iterator[Keeper]:
+    """Within the block, :func:`write_result` into ``folder`` (a command's --out) keeps a result that cannot
+    be written there (the folder removed or made read-only during the run, a full disk) in a new folder
+    ``pkm-<command>-*`` of the system's temporary directory, with the same atomic writes. The yielded
+    :class:`Keeper` says, after the block, whether that happened and where."""
+    keeper = Keeper(None if folder is None else Path(folder), f"pkm-{command}-")
+    token = _KEEPER.set(keeper)
+    try:
+        yield keeper
+    finally:
+        _KEEPER.reset(token)
+
+
+def write_result(folder: Path, write: Callable[[Path], T]) -> T:
+    """``write(folder)``: the files of a computed result written into ``folder`` (and nothing else, as it
+    may be called again with another folder); returns what ``write`` returns. Inside :func:`keeping`, where
+    ``folder`` lies in the output folder, an OSError sends the result to the folder that keeps it."""
+    keeper = _KEEPER.get()
+    if keeper is None or not keeper.holds(folder):
+        return write(Path(folder))
+    return keeper.write(Path(folder), write)
+
+
+def kept_path(path: Path) -> Path:
+    """Where :func:`write_result` writes a result meant for ``path`` now: ``path``, or its counterpart in the
+    folder that keeps the results once the output folder has failed (:func:`keeping`)."""
+    keeper = _KEEPER.get()
+    return keeper.place(Path(path)) if keeper is not None and keeper.holds(path) else Path(path)
 
 
 def _remove_abandoned(target: Path) -> None:
@@ -89,21 +200,38 @@ def _alive(pid: int) -> bool:
 def staged_folder(target: Path) -> Iterator[Path]:
     """Yield a temporary folder beside ``target`` whose files move into ``target`` only if the block
     succeeds (and no Ctrl-C was caught below it, :mod:`pkm.interrupts`), each by an atomic rename; files
-    of ``target`` that the block did not write are kept."""
-    target = Path(target)
+    of ``target`` that the block did not write are kept. Moving them is a :func:`write_result`: within
+    :func:`keeping`, files that cannot move into ``target`` are kept elsewhere, where the next staged
+    folders are made too."""
+    target = kept_path(Path(target))
     target.parent.mkdir(parents=True, exist_ok=True)
     _remove_abandoned(target)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.{os.getpid()}.", dir=target.parent))
     try:
         yield stage
         check_interrupted()
-        target.mkdir(exist_ok=True)
-        for path in sorted(stage.rglob("*")):
-            destination = target / path.relative_to(stage)
-            if path.is_dir():
-                destination.mkdir(exist_ok=True)
-            else:
-                os.replace(path, destination)
+        names = sorted(path.relative_to(stage) for path in stage.rglob("*"))
+        write_result(target, lambda folder: _publish(stage, names, target, folder))
     finally:
-        if stage.exists():
-            shutil.rmtree(stage)
+        # beside a folder made read-only the stage stays; the next run removes it (_remove_abandoned)
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+def _publish(stage: Path, names: list[Path], target: Path, folder: Path) -> None:
+    """Move the files ``names`` of ``stage`` into ``folder`` (``target``, or the folder keeping the result
+    meant for it): by atomic renames, or atomic copies onto another file system. A file that an attempt
+    which failed already moved into ``target`` is copied from there."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        source, destination = stage / name, folder / name
+        if source.is_dir():
+            destination.mkdir(exist_ok=True)
+        elif not source.exists():
+            copy_file(target / name, destination)
+        else:
+            try:
+                os.replace(source, destination)
+            except OSError as exc:
+                if exc.errno != errno.EXDEV:
+                    raise
+                copy_file(source, destination)
