@@ -29,7 +29,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from pkm import io, parallel, regions, registry
+from pkm import figures, io, parallel, regions, registry
 from pkm.design_space import DesignSpace
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.indices import GlobalIndex
@@ -233,44 +233,60 @@ class Atlas:
         arrays["metadata"] = np.array(json.dumps(self.metadata()))
         return io.atomic_write(Path(path), lambda tmp: np.savez_compressed(tmp, **arrays))
 
+    def _axis_label(self, k: int) -> str:
+        """The label of chart axis ``k``: its name and meaning (the meaning alone where it starts with the
+        name, as ``"R [m]"`` does)."""
+        name, meaning = self.space.chart_axes[k], self.space.chart_labels[k]
+        return meaning if meaning.split(" ")[0] == name else f"{name} = {meaning}"
+
     def plot(self, path: str | os.PathLike, *, min_points: int | None = None) -> Path:
         """A PNG like Gao's Figs. 4-9: filled and labelled contours over the chart, one panel per mode, the
         checked best marked by a star (or the reason there is none); with ``min_points`` the star marks
-        the grid's best node of at least that many poses instead."""
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
+        the grid's best node of at least that many poses instead. The colours span the bulk of the values
+        (:func:`pkm.figures.robust_limits`); the colour bar says where outliers are clipped."""
         from matplotlib.ticker import MaxNLocator
 
         space = self.space
-        finite = np.concatenate([z[np.isfinite(z)] for z in self.values.values()])
-        if finite.size == 0:
+        values = np.concatenate([z.ravel() for z in self.values.values()])
+        if not np.isfinite(values).any():
             raise ComputationError(f"the {self.index.name} atlas has no finite value to plot")
-        levels = MaxNLocator(12).tick_values(finite.min(), finite.max())
+        limits = figures.robust_limits(values)
+        levels = limits.levels()
         U, V = np.meshgrid(self.u, self.v, indexing="ij")
         poly = np.vstack([space.polygon, space.polygon[:1]])
-        fig = Figure(figsize=(5.2 * len(self.modes) + 1.0, 5.0), layout="constrained")
-        FigureCanvasAgg(fig)
+        width, height = np.ptp(poly, axis=0)
+        shape = height / width
+        to_scale = 1 / 3 <= shape <= 3  # a chart of like coordinates is drawn to scale, others fill the panel
+        panel = 4.6
+        tall = (panel - 0.8) * min(max(shape, 0.6), 1.0) if to_scale else panel
+        fig = figures.figure(panel * len(self.modes) + 1.4, tall + 2.2)
         axes = fig.subplots(1, len(self.modes), squeeze=False)[0]
+        labels = []
         for ax, mode in zip(axes, self.modes, strict=True):
             z = np.ma.masked_invalid(self.values[mode])
-            filled = ax.contourf(U, V, z, levels=levels, cmap="viridis", extend="both")
+            filled = ax.contourf(U, V, z, levels=levels, cmap="viridis", extend=limits.extend)
             lines = ax.contour(U, V, z, levels=levels, colors="k", linewidths=0.6)
-            ax.clabel(lines, lines.levels[::2], fmt="%.3g", fontsize=7)
+            labels.extend(ax.clabel(lines, lines.levels[::2], fmt="%.3g", fontsize=7))
             ax.plot(poly[:, 0], poly[:, 1], color="k", linewidth=1.2)
             star_u, star_v, label = self._star(mode, min_points)
-            ax.plot(star_u, star_v, marker="*", color="red", markersize=12, linestyle="none", label=label)
-            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), fontsize=8, frameon=False)
+            ax.plot(star_u, star_v, marker="*", color="red", markersize=12, linestyle="none",
+                    label=textwrap.fill(label, 60))
             aliases = self.mechanism.working_mode(mode).aliases
             alias = f" ({', '.join(aliases)})" if aliases else ""
-            ax.set_title(f"{self.index.name} over {self.region}\nmode {mode}{alias}", fontsize=10)
-            ax.set_xlabel(f"{space.chart_axes[0]} = {space.chart_labels[0]}")
-            ax.set_ylabel(f"{space.chart_axes[1]} = {space.chart_labels[1]}")
-            ax.set_aspect("equal")
+            ax.set_title(textwrap.fill(f"{self.index.name} over {self.region}, mode {mode}{alias}", 50), fontsize=10)
+            ax.set_xlabel(textwrap.fill(self._axis_label(0), 50))
+            ax.set_ylabel(textwrap.fill(self._axis_label(1), 40))
+            ax.xaxis.set_major_locator(MaxNLocator(6))
+            ax.yaxis.set_major_locator(MaxNLocator(6))
+            ax.set_aspect("equal" if to_scale else "auto")
         sense = "larger" if self.index.sense == "max" else "smaller"
-        fig.colorbar(filled, ax=list(axes), label=f"{self.index.name} ({sense} is better)", shrink=0.8)
-        title = f"{self.mechanism.name}: {self.index.name} atlas over the {space.name} design space"
-        fig.suptitle(f"{title}\n{space.note}", fontsize=9)
-        return io.atomic_write(Path(path), lambda tmp: fig.savefig(tmp, format="png", dpi=120))
+        figures.colour_bar(fig, filled, limits, ax=list(axes), label=f"{self.index.name} ({sense} is better)",
+                           shrink=0.8)
+        title = f"{self.mechanism.name}: {self.index.name} atlas over the {space.name} design space. {space.note}"
+        fig.suptitle(textwrap.fill(title, int(14 * fig.get_figwidth())), fontsize=9)
+        figures.legends_below(axes, fontsize=8, frameon=False)
+        figures.hide_overlapping(fig, labels)
+        return figures.save(fig, path, dpi=120)
 
 
 CHUNK = 64

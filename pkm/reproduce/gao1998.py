@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io, regions, registry
+from pkm import figures, regions, registry
 from pkm.atlas import compute_atlas
 from pkm.indices import reduce_samples
 from pkm.mechanism import Mechanism
@@ -156,14 +156,10 @@ def _named(normalised: Any) -> dict[str, float]:
 
 def _local_map(m: Mechanism, path: Path) -> str:
     """1/kappa_f over the workspace of each working mode (the symmetry of Figs. 3-5 at a glance)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     d = m.design_spaces["gao1998"].designs(m.parameters, [0.8, 0.8, 0.8])
     box = m.workspace_box(d)
     x, _ = regions.grid(box, 160)
-    fig = Figure(figsize=(10, 8.5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(10, 8.5)
     axes = fig.subplots(2, 2)
     for ax, branch in zip(axes.ravel(), m.working_modes, strict=True):
         k = m.local_index("inverse_condition_f", x, d, mode=branch.name).reshape(160, 160)
@@ -174,7 +170,7 @@ def _local_map(m: Mechanism, path: Path) -> str:
         ax.plot([-d[2], d[2]], [0, 0], "ko")
     fig.colorbar(im, ax=axes, label="1/kappa_f")
     fig.suptitle("Local 1/kappa_f, Gao's r1 = r2 = base = 0.8 (base: the full distance between the base joints)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return path.name
 
 
@@ -192,14 +188,14 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     eq = _mode_equalities(m, designs, s["pose_resolution"])
     half = _upper_half(m, designs, s["pose_resolution"])
     bar.advance()
-    figures, atlases = [_local_map(m, folder / "local_inverse_condition.png")], {}
+    drawn, atlases = [_local_map(m, folder / "local_inverse_condition.png")], {}
     for name, fig_no in zip(GLOBALS, ("4-5", "6, 8", "7, 9"), strict=True):
         atlas = compute_atlas(
             m, m.global_spec(name), space=space, resolution=s["atlas_resolution"], pose_resolution=s["pose_resolution"]
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
         atlas.plot(folder / f"atlas_{name}.png")
-        figures.append(f"atlas_{name}.png")
+        drawn.append(f"atlas_{name}.png")
         atlases[name] = (atlas, fig_no)
         bar.advance()
     result = synthesize(
@@ -352,5 +348,5 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         "settings": {**s, "singularity_margin": regions.SINGULARITY_MARGIN, "quick": quick},
         "claims": claims,
         "beyond_paper": beyond,
-        "figures": figures,
+        "figures": drawn,
     }

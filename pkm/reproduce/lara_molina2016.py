@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io, regions, registry
+from pkm import figures, regions, registry
 from pkm.atlas import compute_atlas
 from pkm.batch import evaluate
 from pkm.mechanism import Mechanism
@@ -93,11 +93,7 @@ def _in_disc(x: np.ndarray, centre: np.ndarray, radius: float) -> np.ndarray:
 
 def _mic_checks(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 2: the MIC of two designs inside their usable workspace, tangent to singular loci."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(10, 4.6), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(10, 4.6)
     out = {}
     for ax, r in zip(fig.subplots(1, 2), FIG2, strict=True):
         d = _design(m, r)
@@ -126,15 +122,12 @@ def _mic_checks(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, An
         ax.set_ylabel("y / D")
         ax.legend(loc="lower center", fontsize=8)
     fig.suptitle("Maximum inscribed workspace (Lara-Molina Fig. 2, eqs. 10-12)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return out, path.name
 
 
 def _local_dexterity(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Fig. 5: local dynamic dexterity over the usable workspace of r = (1.2, 1.0, 0.8) and the MIW."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     d = _design(m, FIG2[0])
     centre, radius = m.maximum_inscribed_circle(d)
     x, usable, box = _usable(m, d, resolution)
@@ -155,21 +148,21 @@ def _local_dexterity(m: Mechanism, path: Path, resolution: int) -> tuple[dict[st
         "mic_centre_y": float(centre[1]),
         "mic_radius": radius,
     }
-    fig = Figure(figsize=(6, 5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(6, 5)
     ax = fig.subplots()
     z = np.where(usable, value, np.nan).reshape(resolution, resolution)
-    im = ax.imshow(z.T, origin="lower", extent=box.ravel(), vmin=0, vmax=1, cmap="viridis")
+    limits = figures.robust_limits(z)
+    im = ax.imshow(z.T, origin="lower", extent=box.ravel(), vmin=limits.vmin, vmax=limits.vmax, cmap="viridis")
     angle = np.linspace(0, 2 * np.pi, 361)
     ax.plot(centre[0] + radius * np.cos(angle), centre[1] + radius * np.sin(angle), "r-", label="MIC")
-    ax.plot(*x[top], "w*", markersize=12, label=f"max {value[top]:.3f}")
+    ax.plot(*x[top], "w*", markeredgecolor="k", markersize=12, label=f"max {value[top]:.3f}")
     ax.plot([-d[2], d[2]], [0, 0], "ko")
     ax.set_xlabel("x / D")
     ax.set_ylabel("y / D")
     ax.legend(loc="lower center", fontsize=8)
-    fig.colorbar(im, ax=ax, label="1/kappa_2(M_w)")
+    figures.colour_bar(fig, im, limits, ax=ax, label="1/kappa_2(M_w)")
     ax.set_title("Local dynamic dexterity, r = (1.2, 1.0, 0.8), out_out (Fig. 5)", fontsize=10)
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return out, path.name
 
 
@@ -380,7 +373,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     cor = _coriolis(m, 8, rng)
     freq = _frequencies(m)
     bar.advance()
-    figures = [fig2, fig5]
+    drawn = [fig2, fig5]
     atlases = {}
     for name, fig_no in (("dynamic_dexterity", "6"), ("lambda_e", "7")):
         atlas = compute_atlas(
@@ -389,7 +382,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         )
         atlas.save_npz(folder / f"atlas_{name}.npz")
         atlas.plot(folder / f"atlas_{name}_fig{fig_no}.png")
-        figures.append(f"atlas_{name}_fig{fig_no}.png")
+        drawn.append(f"atlas_{name}_fig{fig_no}.png")
         atlases[name] = atlas
         bar.advance()
     jump = _discontinuity(m, s["disc_resolution"])
@@ -591,5 +584,5 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         "settings": {**s, "singularity_margin": MARGIN, "quick": quick},
         "claims": claims,
         "beyond_paper": {"syntheses": beyond, "text": "\n\n".join(b["text"] for b in beyond)},
-        "figures": figures,
+        "figures": drawn,
     }

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io, registry
+from pkm import figures, registry
 from pkm.batch import evaluate
 from pkm.mechanism import Mechanism
 from pkm.models.passive_leg import nam2006
@@ -237,37 +237,31 @@ def _statements(m: Mechanism, trends: dict[str, Any]) -> dict[str, dict[str, boo
 
 
 def _draw_atlases(atlas: dict[str, Any], path: Path, title: str) -> str:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(13, 3.6), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(13, 3.6)
     u = atlas["u"]
     panels = [(atlas["hat"][:, :, k], f"normalised {ETA_NAMES[k]}") for k in range(3)]
     panels.append((atlas["composed"], "composed eta (eq. 31)"))
     for ax, (z, label) in zip(fig.subplots(1, 4), panels, strict=True):
         ax.set_facecolor("0.8")
-        image = ax.contourf(u, u, z.T, levels=12, cmap="viridis")
+        limits = figures.robust_limits(z)
+        image = ax.contourf(u, u, z.T, levels=limits.levels(), cmap="viridis", extend=limits.extend)
         ax.set_xlabel("r / R")
         ax.set_ylabel("l_b / R")
         ax.set_title(label, fontsize=9)
-        fig.colorbar(image, ax=ax)
+        figures.colour_bar(fig, image, limits, ax=ax, label="")
     fig.suptitle(f"{title}; grey: not admissible (a folded leg, a type-2 singularity or a joint limit inside "
                  "the region)", fontsize=9)
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    figures.save(fig, path, dpi=80)
     return path.name
 
 
 def _fig8(m: Mechanism, s: dict[str, int], path: Path) -> tuple[dict[str, Any], str]:
     """1/kappa_f over each Fig. 8 design's reachable poses on mode out_out with the outer boundary and
     the loci det J_q = 0 (type 1) and det J_x = 0 (type 2)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(14, 4.5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(14, 3.6)
     out = {}
-    for ax, (r, l_b) in zip(fig.subplots(1, 3), FIG8, strict=True):
+    axes = fig.subplots(1, 3)
+    for ax, (r, l_b) in zip(axes, FIG8, strict=True):
         d = _design(m, r, l_b)
         reach = d[2] + d[3]
         xs = np.linspace(-reach, reach, s["fig8"])
@@ -300,19 +294,17 @@ def _fig8(m: Mechanism, s: dict[str, int], path: Path) -> tuple[dict[str, Any], 
             "mean_inverse_kappa_inner_band": float(np.nanmean(inner_band)),
             "type2_locus_inside": bool(np.nanmin(dets["det_J_x"]) < 0 < np.nanmax(dets["det_J_x"])),
         }
-        fig.colorbar(image, ax=ax, label="1/kappa_f")
-    fig.suptitle("Fig. 8 (mode out_out, R = 1): black l_CM (eq. 12 as derived), red det J_x = 0 (type 2), orange "
-                 "dashed angle b_i = pi (section 4), white inside l_CM: unreached (a folded leg, type 1)", fontsize=9)
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    fig.colorbar(image, ax=list(axes), label="1/kappa_f", shrink=0.9)
+    fig.suptitle("Fig. 8 (mode out_out, R = 1): black l_CM (eq. 12 as derived), red det J_x = 0 (type 2),\n"
+                 "orange dashed angle b_i = pi (section 4), white inside l_CM: unreached (a folded leg, type 1)",
+                 fontsize=9)
+    figures.save(fig, path, dpi=80)
     return out, path.name
 
 
 def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     """The actuator angles over the workspace of Fig. 8c's design at each theta: their extremes, and
     whether phi1's maximum for theta >= 0 lies on the outer boundary."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     d = _design(m, 1.2, 1.2)
     theta = np.linspace(-1.4, 1.4, 57)
     outer = m.workspace_boundary(theta, d)["l_CM"]
@@ -323,8 +315,7 @@ def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     q = m.inverse_kinematics(poses * (1 - 1e-9), d, mode=nam2006.MODE).reshape(len(theta), len(frac), 2)
     at_outer = np.nanargmax(q[:, :, 0], axis=1) >= len(frac) - 2
     positive = theta >= 0
-    fig = Figure(figsize=(6, 4), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(6, 4)
     ax = fig.subplots()
     for k, style in ((0, "b"), (1, "r")):
         ax.fill_between(np.degrees(theta), np.degrees(np.nanmin(q[:, :, k], axis=1)),
@@ -333,7 +324,7 @@ def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     ax.set_ylabel("actuator angle [deg]")
     ax.set_title("operating ranges of the actuators (Fig. 9), r = l_b = 1.2", fontsize=9)
     ax.legend()
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    figures.save(fig, path, dpi=80)
     return {"phi1_max_on_outer_boundary_theta_ge_0": float(np.mean(at_outer[positive]))}, path.name
 
 
@@ -362,12 +353,12 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     atlases = {name: _atlas(m, s, r) for name, r in nam2006.READINGS.items()}
     trends = {name: {k: _trend(a, k) for k in range(3)} | {"composed": _trend(a, None)}
               for name, a in atlases.items()}
-    figures = [_draw_atlases(atlases["supported"], folder / "atlases_figs4-7.png", "supported reading"),
-               _draw_atlases(atlases["literal"], folder / "atlases_figs4-7_literal.png", "literal reading")]
+    drawn = [_draw_atlases(atlases["supported"], folder / "atlases_figs4-7.png", "supported reading"),
+             _draw_atlases(atlases["literal"], folder / "atlases_figs4-7_literal.png", "literal reading")]
     bar.advance()
     fig8, fig8_name = _fig8(m, s, folder / "workspaces_fig8.png")
     fig9, fig9_name = _fig9(m, folder / "actuator_limits_fig9.png")
-    figures += [fig8_name, fig9_name]
+    drawn += [fig8_name, fig9_name]
     bar.advance()
     result = synthesize(registry.problem(PROBLEM), resolution=s["synthesis_resolution"],
                         baseline_resolution=s["baseline_resolution"], starts=s["starts"])
@@ -493,7 +484,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
         "settings": {**s, "quick": quick},
         "claims": claims,
         "beyond_paper": {"syntheses": [{**record, "text": text}], "text": text},
-        "figures": figures,
+        "figures": drawn,
         "extremes": {"synthesis": nam2006.extremes(nam2006.SUPPORTED),
                      "atlases": {name: a["bounds"] for name, a in atlases.items()}},
         "readings": readings,

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io, registry
+from pkm import figures, registry
 from pkm.batch import evaluate
 from pkm.dynamics import Trajectory
 from pkm.mechanism import Mechanism
@@ -171,9 +171,6 @@ def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str
     Position and velocity are continuous at a switch, so the force jumps by (J^T)^-1 M times the
     acceleration jump (eq. 41 with N unchanged).
     """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     move = Trajectory.trapezoidal(TABLE3["x0"], TABLE3["x1"], TABLE3["v_max"], TABLE3["a_s"])
     t = (np.arange(samples) + 0.5) / samples * move.duration
     x, v, a = move.sample(t)
@@ -202,8 +199,7 @@ def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str
         "force_range_N": [float(every.min()), float(every.max())],
         "max_second_difference_within_phases_N": float(second.max()),
     }
-    fig = Figure(figsize=(8, 4.5))
-    FigureCanvasAgg(fig)
+    fig = figures.figure(8, 5)
     ax = fig.add_subplot(1, 1, 1)
     for k, label in enumerate(("F1 (left slider)", "F2 (right slider)")):
         line = ax.plot(t, tau[:, k], label=label)[0]
@@ -215,13 +211,13 @@ def _forces(m: Mechanism, path: Path, samples: int) -> tuple[dict[str, Any], str
     twin = ax.twinx()
     twin.plot(t, v[:, 0], "k:", label="platform speed")
     twin.set_ylabel("x_dot [m/s]")
-    ax.legend(loc="upper left", fontsize=8)
+    fig.legend(loc="outside lower center", ncols=3, fontsize=8, frameon=False)
     ax.set_title(
-        "Driving forces along Table 3's move (Wu Fig. 4): trapezoidal speed, a = 6.67 m/s^2; at the switches "
-        "just before (open) and after (filled)",
+        "Driving forces along Table 3's move (Wu Fig. 4): trapezoidal speed, a = 6.67 m/s^2;\n"
+        "at each switch the forces just before (open) and just after (filled)",
         fontsize=9,
     )
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return out, path.name
 
 
@@ -254,11 +250,7 @@ def _isotropy(m: Mechanism, X: np.ndarray, kappa: np.ndarray) -> dict[str, Any]:
 
 def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[str, Any], str]:
     """Figs. 6-7: kappa_D over the task rectangle of both variants."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(11, 4.2))
-    FigureCanvasAgg(fig)
+    fig = figures.figure(11, 4.2)
     out = {}
     for k, (label, m) in enumerate(ms.items()):
         X, Y, kappa = _kappa_map(m, resolution)
@@ -268,26 +260,23 @@ def _maps(ms: dict[str, Mechanism], path: Path, resolution: int) -> tuple[dict[s
             "kappa_d_std": float(m.global_index("kappa_d_std", region="task", resolution=16)),
         }
         ax = fig.add_subplot(1, 2, k + 1)
-        mesh = ax.pcolormesh(X, Y, kappa, shading="auto", cmap="viridis")
-        ax.contour(X, Y, kappa, colors="w", linewidths=0.6, levels=8)
-        fig.colorbar(mesh, ax=ax, label="kappa_D")
+        limits = figures.robust_limits(kappa)
+        mesh = ax.pcolormesh(X, Y, kappa, shading="auto", cmap="viridis", vmin=limits.vmin, vmax=limits.vmax)
+        ax.contour(X, Y, kappa, colors="w", linewidths=0.6, levels=limits.levels(8))
+        figures.colour_bar(fig, mesh, limits, ax=ax, label="kappa_D")
         ax.set_title(f"{label} ({'Fig. 6' if k == 0 else 'Fig. 7'})", fontsize=10)
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
         ax.set_aspect("equal")
     fig.suptitle("kappa_D = sigma_max / sigma_min of (J^T)^-1 M over the task rectangle (eq. 43)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return out, path.name
 
 
 def _ellipses(ms: dict[str, Mechanism], path: Path) -> tuple[dict[str, Any], str]:
     """Fig. 5: acceleration ellipses {a : |(J^T)^-1 M a| <= F} over the task rectangle, and their axes on
     the y axis."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(11, 4.5))
-    FigureCanvasAgg(fig)
+    fig = figures.figure(11, 4.5)
     out = {}
     angle = np.linspace(0, 2 * np.pi, 90)
     circle = np.stack([np.cos(angle), np.sin(angle)])
@@ -316,7 +305,7 @@ def _ellipses(ms: dict[str, Mechanism], path: Path) -> tuple[dict[str, Any], str
             "on_y_axis_task_mass_matrix_kg": m.inertia_matrix([0.0, rect.centre[1]]).tolist(),
         }
     fig.suptitle("Accelerations a with |(J^T)^-1 M a| = 1: the major axis is the easiest direction (eq. 42)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return out, path.name
 
 
