@@ -61,7 +61,7 @@ def kernels(mech: Any) -> list[Kernel]:
         guard = guard_index(region)
         if guard is not None:
             fused[f"{guard.name}_{condition.name}"] = index_pipeline(mech, (guard, condition))
-    fused["first_order"] = pipeline(mech, (), first_order=True)
+    fused["first_order"] = pipeline(mech, (), first_order=True, assembled=True)
     for names in (("J",), ("J_f",), ("psi",), ("det_type1", "det_type2")):
         fused[f"first order {' '.join(names)}"] = first_order_outputs(mech, names)
     ik = mech.functions["inverse_kinematics"]

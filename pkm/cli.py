@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import re
 import shutil
@@ -168,6 +169,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
     mode = m.working_mode(args.mode).name
     q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=args.strict)
     reached = np.all(np.isfinite(q), axis=1)
+    margins = m.limit_margins(x, d, mode=mode)
     J = m.jacobian(x, d, mode=mode)
     local = {name: m.local_index(name, x, d, mode=mode) for name in m.local_indices()}
     sing = m.singularity(x, d, mode=mode)
@@ -177,6 +179,7 @@ def cmd_eval(args: argparse.Namespace) -> None:
             {
                 "pose": x[k],
                 "reachable": bool(reached[k]),
+                "violated_limits": [name for name, v in margins.items() if v[k] < 0],
                 "q": q[k],
                 "actuators": dict(zip(m.actuator_names, q[k][: m.n_act].tolist(), strict=True)),
                 "J": J[k],
@@ -191,10 +194,20 @@ def cmd_eval(args: argparse.Namespace) -> None:
     text = "\n".join(
         f"pose {_valued(r['pose'], units['pose'])}: {_valued(r['q'][: m.n_act], units['actuators'])}, "
         + ", ".join(f"{name} = {r[name]:.6g}{_unit(units['indices'][name])}" for name in shown)
-        if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}"
+        if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}{_why(m, r)}"
         for r in rows
     )
     _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}, text)
+
+
+def _why(m: Any, row: dict[str, Any]) -> str:
+    """Why a pose is out of reach, where pkm can say: the stated limits it violates, and an angle beyond a
+    turn (typed in degrees where radians go?)."""
+    reasons = [f"violates {', '.join(row['violated_limits'])}"] if row["violated_limits"] else []
+    turns = [f"{name} = {v:g} rad: in degrees?" for name, unit, v in zip(m.pose_names, m.pose_units, row["pose"],
+                                                                         strict=True)
+             if unit == "rad" and abs(v) > 2 * math.pi]
+    return f" ({'; '.join(reasons + turns)})" if reasons or turns else ""
 
 
 def _unit(unit: str) -> str:

@@ -251,6 +251,22 @@ def with_reach(fn: ca.Function, outputs: tuple[str, ...], rows: int | None = Non
     return ca.Function(f"{fn.name()}_reached", args, [valid, *finished], fn.name_in(), ["valid", *outputs])
 
 
+ASSEMBLED = "inverse_kinematics_assembled"
+
+
+def within_limits(functions: Mapping[str, ca.Function], limits: str) -> dict[str, ca.Function]:
+    """The inverse kinematics of ``functions`` with the mechanism's stated limits (strokes, joint ranges,
+    interference: ``functions[limits](q, x, design) -> margins``, >= 0 where each holds) in its reach, so
+    that a pose is reached where the mechanism assembles within them; the inverse kinematics without them
+    stays under the name :data:`ASSEMBLED`."""
+    ik = functions["inverse_kinematics"]
+    args = [ca.SX.sym(ik.name_in(i), ik.sparsity_in(i)) for i in range(ik.n_in())]
+    q, reach = ik(*args)
+    margins = functions[limits](q, args[0], args[2])
+    limited = ca.Function("inverse_kinematics", args, [q, ca.vertcat(reach, margins)], ik.name_in(), ik.name_out())
+    return {"inverse_kinematics": limited, ASSEMBLED: ik}
+
+
 def closed(reach: Any, values: Any) -> Any:
     """In a graph: 1 where every reach margin is >= -REACH_TOLERANCE and every entry of ``values`` (the
     joints, say) is finite, else 0."""
@@ -276,14 +292,17 @@ def as_joints(
 
 
 def solve_joints(
-    mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False, actuated: bool = False
+    mech: KinematicModel, pose: Any, design: Any, mode: str | None, *, strict: bool = False, actuated: bool = False,
+    limits: bool = True,
 ) -> Joints:
     """Inverse kinematics of a batch of poses in a working mode (with ``actuated``, the actuated joints
-    alone); NaN where out of reach, or :class:`PoseError` with ``strict``."""
+    alone); NaN where out of reach (within the mechanism's stated limits, or without ``limits`` wherever
+    it assembles: :func:`within_limits`), or :class:`PoseError` with ``strict``."""
     x, single = as_batch(pose, mech.n_out, "pose", finite=False)
     d = mech.design_vector(design)
     branch = mech.working_mode(mode)
-    fused = with_reach(mech.functions["inverse_kinematics"], ("q",), mech.n_act if actuated else None)
+    name = "inverse_kinematics" if limits or ASSEMBLED not in mech.functions else ASSEMBLED
+    fused = with_reach(mech.functions[name], ("q",), mech.n_act if actuated else None)
     (valid, q), finite = evaluate_finite(fused, x, np.array(branch.signs), d)
     if not finite:
         require_finite(x, "pose")

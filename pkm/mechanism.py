@@ -71,7 +71,11 @@ class Mechanism:
     ``forward`` is the forward-kinematics method (:mod:`pkm.kinematics`); a mechanism whose pose or
     actuators mix metres and radians sets ``characteristic_length``, a function (plain or static) of the
     design values by parameter name (numpy or CasADi) giving the length [m] that turns an angle into an
-    arc length.
+    arc length. A mechanism with stated limits (strokes, joint ranges, interference) names in ``limits``
+    its function ``(q, x, design) -> margins`` (>= 0 where each holds, named by ``limit_names``) and puts
+    them in its inverse
+    kinematics' reach (:func:`pkm.kinematics.within_limits`): its reach masks, its sampled workspace and the
+    indices over it respect them, and the region ``"assembled"`` is the workspace without them.
     """
 
     name: str = ""
@@ -89,6 +93,8 @@ class Mechanism:
     distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {}
     forward: ForwardKinematics = ClosedForm()
     characteristic_length: ClassVar[Callable[[Mapping[str, Any]], Any] | None] = None
+    limits: ClassVar[str | None] = None
+    limit_names: tuple[str, ...] = ()
 
     @cached_property
     def functions(self) -> FunctionTable:
@@ -119,12 +125,15 @@ class Mechanism:
         return len(self.pose_names)
 
     def region_names(self) -> tuple[str, ...]:
-        return ("reachable", *self.regions)
+        return ("reachable", *(("assembled",) if self.limits else ()), *self.regions)
 
     def region(self, name: str) -> Any:
-        """The parametrised region ``name``, or the sampled workspace for ``"reachable"``."""
+        """The parametrised region ``name``, or the sampled workspace for ``"reachable"`` (within the stated
+        limits) and ``"assembled"`` (wherever the mechanism assembles, for a mechanism with limits)."""
         if check_name(f"{self.name} region", name, self.region_names()) == "reachable":
             return regions.SampledWorkspace()
+        if name == "assembled" and self.limits:
+            return regions.ASSEMBLED_WORKSPACE
         if name not in self.regions:
             raise UnknownNameError(f"{self.name} region", name, self.region_names())
         return self.regions[name]
@@ -164,10 +173,24 @@ class Mechanism:
     def assembly_mode(self, assembly: str | None) -> Branch:
         return find_branch(assembly, self.assembly_modes, f"{self.name} assembly mode")
 
-    def reachable(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
-        """Boolean mask (N,) of the poses the working mode reaches."""
-        joints = solve_joints(self, pose, design, mode)
+    def reachable(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None, limits: bool = True
+    ) -> np.ndarray:
+        """Boolean mask (N,) of the poses the working mode reaches within the mechanism's stated limits
+        (strokes, joint ranges, interference: :attr:`limits`), or without ``limits`` where it assembles."""
+        joints = solve_joints(self, pose, design, mode, limits=limits)
         return joints.unbatch(joints.reachable)
+
+    def limit_margins(
+        self, pose: Any, design: DesignLike = None, *, mode: str | None = None
+    ) -> dict[str, np.ndarray]:
+        """The margins of the mechanism's stated limits (:attr:`limits`) by name, each (N,) or a float, >= 0
+        where the limit holds, wherever the mechanism assembles (NaN elsewhere); empty without limits."""
+        if not self.limits:
+            return {}
+        joints = solve_joints(self, pose, design, mode, limits=False)
+        (margins,) = evaluate(self.functions[self.limits], joints.q, joints.x, joints.design)
+        return {name: joints.unbatch(margins[:, k, 0]) for k, name in enumerate(self.limit_names)}
 
     def inverse_kinematics(
         self,
@@ -177,13 +200,16 @@ class Mechanism:
         mode: str | None = None,
         passive: bool = False,
         strict: bool = False,
+        limits: bool = True,
     ) -> np.ndarray:
-        """Actuated joints (N, n_act) of the poses (N, n_out) in a working mode; NaN where out of reach.
+        """Actuated joints (N, n_act) of the poses (N, n_out) in a working mode; NaN where out of reach:
+        where the mechanism does not assemble or violates a stated limit (:attr:`limits`), or without
+        ``limits`` only where it does not assemble.
 
         With ``passive`` all joints (actuated first) are returned; with ``strict`` an unreachable pose
         raises :class:`PoseError`.
         """
-        joints = solve_joints(self, pose, design, mode, strict=strict, actuated=not passive)
+        joints = solve_joints(self, pose, design, mode, strict=strict, actuated=not passive, limits=limits)
         return joints.unbatch(joints.q)
 
     def forward_kinematics(
@@ -210,8 +236,9 @@ class Mechanism:
         return unbatch(out, single)
 
     def _first_order(self, pose: Any, design: DesignLike, mode: str | None, names: tuple[str, ...]) -> list[Any]:
-        """Outputs of the first order at poses by name (NaN where out of reach), in one compiled pass of
-        the fused pipeline, each as its input was batched."""
+        """Outputs of the first order at poses by name (NaN where the mechanism does not assemble: the
+        kinematics holds beyond the stated limits), in one compiled pass of the fused pipeline, each as
+        its input was batched."""
         x, single = as_batch(pose, self.n_out, "pose", finite=False)
         fused = regions.first_order_outputs(self, names)
         (_, *outputs), finite = evaluate_finite(fused, x, np.array(self.working_mode(mode).signs),
@@ -363,7 +390,7 @@ class Mechanism:
                 )
             margin = regions.SINGULARITY_MARGIN if singularity_margin is None else singularity_margin
             return regions.sampled_global(
-                self, spec, d[None, :], branch, resolution=resolution, singularity_margin=margin
+                self, spec, d[None, :], branch, resolution=resolution, singularity_margin=margin, region=where
             )[0]
         if singularity_margin is not None:
             raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")

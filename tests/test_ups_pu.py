@@ -37,7 +37,7 @@ def test_every_real_root_is_an_assembly_of_the_same_leg_lengths(mech, case):
     for assembly in mech.assemblies:
         pose = mech.forward_kinematics(q, design, assembly=assembly)
         closed = np.all(np.isfinite(pose), axis=1)
-        np.testing.assert_allclose(mech.inverse_kinematics(pose[closed], design), q[closed], atol=1e-9)
+        np.testing.assert_allclose(mech.inverse_kinematics(pose[closed], design, limits=False), q[closed], atol=1e-9)
         found |= np.linalg.norm(pose - x, axis=1) < 1e-9
     assert found.all()
 
@@ -150,7 +150,7 @@ def test_workspace_margins_against_independent_computations(mech):
     x = np.column_stack([rng.uniform(0.4, 0.7, 30), rng.uniform(-1.2, 1.2, 30), rng.uniform(-1.2, 1.2, 30)])
     margins = mech.workspace_margins(x, design)
     assert list(margins) == list(MARGINS)
-    q = mech.inverse_kinematics(x, design)
+    q = mech.inverse_kinematics(x, design, limits=False)
     _, S1, S2, U1, U2, z_p = (v[:, :, 0] for v in evaluate(mech.functions["joint_positions"], x, design.vector()))
     np.testing.assert_allclose(margins["l1_min"], q[:, 0] - d["l_min"], atol=1e-12)
     np.testing.assert_allclose(margins["l2_max"], d["l_max"] - q[:, 1], atol=1e-12)
@@ -311,3 +311,61 @@ def test_a_base_no_wider_than_the_platform_still_assembles(mech):
     poses = np.stack([mech.forward_kinematics(q, design, assembly=a) for a in mech.assemblies])
     distance = np.linalg.norm(poses - x, axis=2)
     assert np.nanmin(np.where(np.isnan(distance), np.inf, distance), axis=0).max() < 1e-9
+
+
+def test_a_pose_is_reached_within_the_stated_limits_and_the_assembled_set_keeps_its_own_name(mech):
+    """A 500 m leg and a tilt typed in degrees assemble but break the strokes and joint ranges: out of
+    reach, and strict raises; without limits (and in the region "assembled") they are reached."""
+    from pkm.errors import PoseError
+
+    poses = np.array([[0.5, 0.0, 0.0], [500.0, 0.0, 0.0], [0.5, 30.0, 0.0]])
+    assert mech.reachable(poses).tolist() == [True, False, False]
+    assert mech.reachable(poses, limits=False).all()
+    assert np.isnan(mech.inverse_kinematics(poses)[1:]).all()
+    assert np.isfinite(mech.inverse_kinematics(poses, limits=False)).all()
+    with pytest.raises(PoseError):
+        mech.inverse_kinematics(poses[1], strict=True)
+    margins = mech.limit_margins(poses)
+    assert margins["l1_max"][1] < 0 and margins["theta1_range"][2] < 0
+    assert "assembled" in mech.region_names()
+
+
+def test_indices_over_the_sampled_workspace_average_over_poses_the_machine_reaches(mech):
+    """Over the reachable workspace the least workspace margin is >= 0 and the forces are those of poses
+    within the limits; over the assembled set (the issue's -0.97 and 91,801 N) they are not."""
+    within = mech.global_index("workspace_margin_min", resolution=24)
+    assembled = mech.global_index("workspace_margin_min", region="assembled", resolution=24)
+    assert float(within) >= -1e-9 > float(assembled)
+    assert within.points < assembled.points
+    forces = mech.global_index("actuator_force_max", resolution=24)
+    assert float(forces) < float(mech.global_index("actuator_force_max", region="assembled", resolution=24))
+
+
+def test_actuator_forces_are_infinite_where_the_wrench_matrix_is_singular(mech):
+    """At a parallel singularity (det J = 0, found by bisection) the largest force is its limit, not a
+    finite 1e13 N; a millimetre away it is finite."""
+    from pkm.batch import evaluate
+
+    design = mech.design()
+
+    def det(theta2):
+        return np.linalg.det(mech.jacobian([0.55, 0.0, theta2], design))
+
+    lo, hi = 1.0, 1.5
+    assert det(lo) * det(hi) < 0
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if det(mid) * det(lo) > 0 else (lo, mid)
+    x = np.array([[0.55, 0.0, lo], [0.55, 0.0, lo - 1e-2]])
+    q = mech.inverse_kinematics(x, design, limits=False)
+    (forces,) = evaluate(mech.functions["actuator_forces"], q, x, design.vector())
+    assert np.isinf(forces[0]).all()
+    assert np.isfinite(forces[1]).all()
+
+
+def test_eval_says_which_limit_a_pose_breaks_and_suspects_degrees(capfd):
+    from pkm.cli import main
+
+    assert main(["eval", "ups_pu", "--pose", "0.5,30,0"]) == 0
+    out = capfd.readouterr().out
+    assert "out of reach" in out and "theta1_range" in out and "theta1 = 30 rad: in degrees?" in out

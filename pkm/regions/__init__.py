@@ -24,7 +24,8 @@ _LAZY = {
                    "epigraph_point_margins", "epigraph_values", "global_value", "node_quadrature",
                    "parametrised_global", "quadrature_function", "quadrature_value", "refined_extremes",
                    "sampled_check"),
-    "sampled": ("SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin", "sampled_global"),
+    "sampled": ("ASSEMBLED_WORKSPACE", "SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin",
+                "sampled_global"),
 }
 
 
@@ -40,6 +41,7 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "ASSEMBLED_WORKSPACE",
     "INDEX_ACCURACY",
     "QUADRATURE_RESOLUTION",
     "SAMPLED_RESOLUTION",

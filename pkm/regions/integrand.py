@@ -92,7 +92,7 @@ def sum_function(
     w = ca.SX.sym("w")
     x = piece.to_pose(mech.functions, design, u)
     e = piece.element(mech.functions, design, u)
-    _, _, valid, f = pipeline(mech, (local,))(x, mode, design)
+    _, _, valid, f = pipeline(mech, (local,), assembled=True)(x, mode, design)
     components = {"mean": [e * f, e], "std": [e * f, e * f * f, e], "measure": [e * valid]}[reduce]
     return _with_derivatives(_name(mech, local, f"{reduce}_integrand", order),
                              {"u": u, "w": w, "mode": mode, "design": design}, w * ca.vertcat(*components), design,
@@ -111,11 +111,11 @@ def rows_function(
     u, mode, design = _symbols(mech, piece)
     x = piece.to_pose(mech.functions, design, u)
     if epigraph is None:
-        _, _, valid, f = pipeline(mech, (local,))(x, mode, design)
+        _, _, valid, f = pipeline(mech, (local,), assembled=True)(x, mode, design)
         return _with_derivatives(_name(mech, local, "node", order), {"u": u, "mode": mode, "design": design},
                                  ca.vertcat(f, valid), design, order=order)
     t = ca.SX.sym("t")
-    _, _, _, _, *matrices = pipeline(mech, (local,), matrices=True)(x, mode, design)
+    _, _, _, _, *matrices = pipeline(mech, (local,), matrices=True, assembled=True)(x, mode, design)
     shapes = tuple(m.shape for m in matrices)
     g = epigraph_function(local, shapes, epigraph == "max")(*matrices, t)
     return _with_derivatives(_name(mech, local, f"{epigraph}_epigraph", order),

@@ -37,7 +37,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
-from pkm.kinematics import closed, from_pose, nan_unless
+from pkm.kinematics import ASSEMBLED, closed, from_pose, nan_unless
 
 ANGLE = "rad"
 FROM_POSE = from_pose("first_order")
@@ -107,19 +107,23 @@ def _outputs(fn: ca.Function, args: list[ca.SX]) -> dict[str, ca.SX]:
 
 @lru_cache(maxsize=256)
 def pipeline(
-    mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False
+    mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False,
+    assembled: bool = False,
 ) -> ca.Function:
     """``(x, mode, design) -> (q, reach, valid, *values)``: one fused SX graph for the local indices
     ``locals_``; ``valid`` is 1 where the pose is reached and 0 elsewhere, where the values are NaN.
     With ``matrices`` the normalised argument matrices of the first index follow, with ``first_order``
-    every output of the generated ``first_order`` (as generated, not normalised)."""
+    every output of the generated ``first_order`` (as generated, not normalised). A pose is reached
+    where the mechanism assembles within its stated limits (:func:`pkm.kinematics.within_limits`); with
+    ``assembled``, and for indices that measure those limits, where it assembles."""
     fns = mech.functions
-    ik = fns["inverse_kinematics"]
+    measures_limits = bool(locals_) and all(spec.source == getattr(mech, "limits", None) for spec in locals_)
+    ik = fns[ASSEMBLED if (assembled or measures_limits) and ASSEMBLED in fns else "inverse_kinematics"]
     x = ca.SX.sym("x", mech.n_out)
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
     sources: dict[str, dict[str, ca.SX]] = {}
-    if FROM_POSE in fns:
+    if FROM_POSE in fns and ASSEMBLED not in fns:
         sources["first_order"] = _outputs(fns[FROM_POSE], [x, mode, design])
         q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
     else:
@@ -128,7 +132,7 @@ def pipeline(
     scales = _scales(mech, design)
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
     for source in [name for name in dict.fromkeys(wanted) if name not in sources]:
-        if from_pose(source) in fns:
+        if from_pose(source) in fns and ASSEMBLED not in fns:
             sources[source] = _outputs(fns[from_pose(source)], [x, mode, design])
             del sources[source]["q"], sources[source]["reach"]
         else:
@@ -160,8 +164,9 @@ def first_order_outputs(mech: PipelineModel, names: tuple[str, ...]) -> ca.Funct
     """``(x, mode, design) -> (valid, *names)``: the named outputs of :func:`pipeline` with the first
     order (``q`` and those of ``first_order``: ``J``, ``J_f``, ``psi``, ``det_type1``, ``det_type2``), each
     NaN where the pose is not reached (a reach margin below tolerance or a joint not finite), so that
-    the kernel computes and writes only what is asked."""
-    fused = pipeline(mech, (), first_order=True)
+    the kernel computes and writes only what is asked. The first order is the kinematics' own: defined
+    wherever the mechanism assembles, its stated limits aside."""
+    fused = pipeline(mech, (), first_order=True, assembled=True)
     x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
     out = dict(zip(fused.name_out(), fused(x, mode, design), strict=True))
     valid = closed(out["reach"], out["q"])
@@ -171,11 +176,11 @@ def first_order_outputs(mech: PipelineModel, names: tuple[str, ...]) -> ca.Funct
 
 
 @lru_cache(maxsize=256)
-def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...]) -> ca.Function:
+def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], assembled: bool = False) -> ca.Function:
     """``(x, mode, design) -> (valid, *values)``: the local indices of :func:`pipeline` as
     :func:`evaluate_at` returns them, without the joints: each value NaN where the pose is not reached
     and the index's limit (``at_singularity``) where it is not finite at a reached pose."""
-    fused = pipeline(mech, locals_)
+    fused = pipeline(mech, locals_, assembled=assembled)
     x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
     _, _, valid, *values = fused(x, mode, design)
     finished = [
@@ -201,8 +206,10 @@ class Evaluation:
 
 
 def evaluate_at(
-    mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
+    mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray, *,
+    assembled: bool = False,
 ) -> Evaluation:
-    """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p)."""
-    (valid, *values), finite = evaluate_finite(index_pipeline(mech, tuple(locals_)), x, signs, design)
+    """The fused pipeline over poses x (N, n_out) of one design (n_p,) or of designs (N, n_p); with
+    ``assembled``, reached where the mechanism assembles whatever its stated limits (:func:`pipeline`)."""
+    (valid, *values), finite = evaluate_finite(index_pipeline(mech, tuple(locals_), assembled), x, signs, design)
     return Evaluation(valid, tuple(v[:, 0, 0] for v in values), finite)

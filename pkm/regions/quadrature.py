@@ -387,11 +387,11 @@ def sampled_check(
     design = np.asarray(design, dtype=float)
     x, cell = region.sample(mech.functions, design, resolution, spec.reduce)
     d = np.broadcast_to(design, (len(x), len(design)))
-    value, keep = sample_values(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0)
+    value, keep = sample_values(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0, assembled=True)
     guard = guard_index(region)
     if guard is not None:
         margin, inside = sample_values(mech, replace(spec, local=guard), x, d, signs=np.array(branch.signs),
-                                       margin=0.0)
+                                       margin=0.0, assembled=True)
         if not (guard_holds(mech, region, branch, design) and np.all(inside & (margin >= -GUARD_TOLERANCE))):
             return GlobalValue(np.nan, points=0, region=region.name, resolution=resolution)
     result = reduce_samples(value, keep, cell, spec.reduce) / per_design(mech, spec, design)

@@ -29,10 +29,18 @@ CONDITION = INVERSE_CONDITION_F
 
 @dataclass(frozen=True)
 class SampledWorkspace:
-    """The reachable workspace of a working mode, sampled on a grid over ``mech.workspace_box``."""
+    """The reachable workspace of a working mode, sampled on a grid over ``mech.workspace_box``: the poses
+    it reaches within the mechanism's stated limits, or with ``assembled`` the poses where it assembles
+    whatever those limits (:func:`pkm.kinematics.within_limits`)."""
 
     name: str = "reachable"
     doc: str = "the working mode's reachable workspace, sampled on a grid with a mask"
+    assembled: bool = False
+
+
+ASSEMBLED_WORKSPACE = SampledWorkspace(
+    "assembled", "the working mode's assembled configurations whatever the stated limits (strokes, joint ranges, "
+    "interference), sampled on a grid with a mask", assembled=True)
 
 
 def check_margin(singularity_margin: float) -> float:
@@ -49,12 +57,14 @@ def coarse_mask(resolution: int, dimension: int) -> np.ndarray:
 
 
 def sample_values(
-    mech: Any, spec: GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float
+    mech: Any, spec: GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float,
+    assembled: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The local index of ``spec`` at poses x (N, n) of designs d, and the mask of the poses kept:
-    reachable, 1/kappa_f at least ``margin`` and the value finite."""
+    reachable (with ``assembled``, assembled whatever the stated limits), 1/kappa_f at least ``margin`` and
+    the value finite."""
     locals_ = (spec.local,) if spec.local is CONDITION else (spec.local, CONDITION)
-    result = evaluate_at(mech, locals_, x, signs, d)
+    result = evaluate_at(mech, locals_, x, signs, d, assembled=assembled)
     value = result.values[0]
     kappa = result.values[-1]
     with np.errstate(invalid="ignore"):
@@ -78,8 +88,10 @@ def sampled_global(
     resolution: int | None = None,
     singularity_margin: float = SINGULARITY_MARGIN,
     progress: Callable[[int], object] | None = None,
+    region: SampledWorkspace = SampledWorkspace(),
 ) -> list[GlobalValue]:
-    """Global index over the sampled reachable workspace of each design (D, n_p), vectorised."""
+    """Global index over the sampled workspace ``region`` (the reachable one by default) of each design
+    (D, n_p), vectorised."""
     resolution = check_resolution(SAMPLED_RESOLUTION if resolution is None else resolution, 2)
     check_nodes(resolution, resolution**mech.n_out, f"the {mech.n_out}-D sampled workspace")
     margin = check_margin(singularity_margin)
@@ -91,7 +103,7 @@ def sampled_global(
         grids = [grid(mech.workspace_box(d), resolution) for d in chunk]
         value, keep = sample_values(
             mech, spec, np.concatenate([g[0] for g in grids]), np.repeat(chunk, len(grids[0][0]), axis=0),
-            signs=signs, margin=margin,
+            signs=signs, margin=margin, assembled=region.assembled,
         )
         value, keep = value.reshape(len(chunk), -1), keep.reshape(len(chunk), -1)
         for row, mask, (_, cell), d in zip(value, keep, grids, chunk, strict=True):
@@ -99,7 +111,7 @@ def sampled_global(
             full = reduce_samples(row, mask, cell, spec.reduce) / size
             half = reduce_samples(row[coarse], mask[coarse], cell * 2**mech.n_out, spec.reduce) / size
             out.append(
-                GlobalValue(full, points=int(mask.sum()), region="reachable", resolution=resolution,
+                GlobalValue(full, points=int(mask.sum()), region=region.name, resolution=resolution,
                             accuracy=abs(full - half))
             )
         if progress is not None:

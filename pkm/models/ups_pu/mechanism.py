@@ -17,7 +17,7 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from pkm.batch import REACH_TOLERANCE, evaluate, evaluate_finite
+from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace, parameter_plane
 from pkm.errors import PoseError
@@ -32,6 +32,7 @@ from pkm.kinematics import (
     nan_unless,
     require_finite,
     unbatch,
+    within_limits,
 )
 from pkm.mechanism import Mechanism
 from pkm.models.ups_pu import workspace
@@ -86,23 +87,33 @@ CONDITIONS = (
 )
 
 
+SINGULAR_CONDITION = 1e12  # the Frobenius condition number of the wrench matrix from which a pose is singular
+
+
+def _regular_solve(matrix: ca.SX, rhs: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """``matrix^-1 rhs`` and whether ``matrix`` is regular: its Frobenius condition number ||W||_F ||W^-1||_F
+    below SINGULAR_CONDITION (kappa_2 <= kappa_F <= 6 kappa_2 for a 6 x 6 matrix)."""
+    condition = ca.norm_fro(matrix) * ca.norm_fro(ca.solve(matrix, ca.SX.eye(matrix.size1())))
+    return ca.solve(matrix, rhs), condition < SINGULAR_CONDITION
+
+
 def actuator_forces(statics: ca.Function) -> ca.Function:
     """``actuator_forces(q, x, design) -> f_a``: the forces (f1, f2, f0) that hold the payload, whose
-    resultant with the constraint forces cancels the payload's wrench: W f = -w_load."""
+    resultant with the constraint forces cancels the payload's wrench: W f = -w_load; infinite where the
+    wrench matrix is singular (its Frobenius condition number at least SINGULAR_CONDITION), so that the
+    largest force over a region touching a singularity is its limit, not a finite number of 1e13 N."""
     q, x, d = (ca.SX.sym(statics.name_in(i), statics.size_in(i)) for i in range(3))
     W, _, w_load = statics(q, x, d)
-    forces = ca.solve(W, -w_load)
-    return ca.Function("actuator_forces", [q, x, d], [forces[:3]], ["q", "x", "design"], ["f_a"])
+    forces, regular = _regular_solve(W, -w_load)
+    finite = ca.if_else(regular, forces[:3], ca.DM.inf(3))
+    return ca.Function("actuator_forces", [q, x, d], [finite], ["q", "x", "design"], ["f_a"])
 
-
-SINGULAR_CONDITION = 1e12  # the Frobenius condition number of the wrench matrix from which a pose is singular
 
 
 def statics_pipeline(functions: FunctionTable, printed: bool) -> ca.Function:
     """``(x, wrench, mode, design) -> (f)``: the inverse kinematics, the wrench matrix W of eq. 8 (as
-    printed with ``printed``), its Frobenius condition number ||W||_F ||W^-1||_F and f = W^-1 wrench in
-    one SX graph; f (6 x 1) is NaN where the pose is out of reach or the condition number is at least
-    SINGULAR_CONDITION (kappa_2 <= kappa_F <= 6 kappa_2)."""
+    printed with ``printed``) and f = W^-1 wrench in one SX graph; f (6 x 1) is NaN where the pose is out
+    of reach or W is singular (:func:`_regular_solve`)."""
     ik, statics = functions["inverse_kinematics"], functions["statics"]
     x = ca.SX.sym("x", ik.numel_in(0))
     wrench = ca.SX.sym("wrench", 6)
@@ -110,13 +121,21 @@ def statics_pipeline(functions: FunctionTable, printed: bool) -> ca.Function:
     design = ca.SX.sym("design", ik.numel_in(2))
     q, reach = ik(x, mode, design)
     W, W_printed, _ = statics(q, x, design)
-    matrix = W_printed if printed else W
-    inverse = ca.solve(matrix, ca.SX.eye(6))
-    condition = ca.norm_fro(matrix) * ca.norm_fro(inverse)
-    regular = ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, condition < SINGULAR_CONDITION)
-    forces = nan_unless(regular, ca.mtimes(inverse, wrench))
+    forces, regular = _regular_solve(W_printed if printed else W, wrench)
+    forces = nan_unless(ca.logic_and(ca.mmin(reach) >= -REACH_TOLERANCE, regular), forces)
     name = "statics_printed_pipeline" if printed else "statics_pipeline"
     return ca.Function(name, [x, wrench, mode, design], [forces], ["x", "wrench", "mode", "design"], ["f"])
+
+
+def composed(generated: Mapping[str, ca.Function], names: tuple[str, ...]) -> dict[str, ca.Function]:
+    """The functions composed from the generated ones: the workspace margins of section 5, the inverse
+    kinematics within them (:func:`pkm.kinematics.within_limits`), the actuator forces and the statics."""
+    functions = {**generated, **workspace.functions(generated, names)}
+    functions.update(within_limits(functions, "workspace_margins"))
+    functions["actuator_forces"] = actuator_forces(generated["statics"])
+    functions["statics_pipeline"] = statics_pipeline(functions, printed=False)
+    functions["statics_printed_pipeline"] = statics_pipeline(functions, printed=True)
+    return {name: fn for name, fn in functions.items() if generated.get(name) is not fn}
 
 
 @dataclass(frozen=True)
@@ -145,6 +164,8 @@ class UpsPu(Mechanism):
         Branch(f"root{k}", (float(k),), f"the {k + 1}-th real root of the forward polynomial in tan(theta2/2)")
         for k in range(MAX_ASSEMBLIES)
     )
+    limits = "workspace_margins"
+    limit_names = workspace.MARGINS
     pose_names = ("l0", "theta1", "theta2")
     pose_units = ("m", "rad", "rad")
     actuator_names = ("l1", "l2", "l0_leg")
@@ -173,21 +194,14 @@ class UpsPu(Mechanism):
             parameters=names,
             pose=self.pose_names,
             actuators=self.actuator_names,
-            extra=lambda generated: {
-                **workspace.functions(generated, names),
-                "actuator_forces": actuator_forces(generated["statics"]),
-                "statics_pipeline": statics_pipeline(generated, printed=False),
-                "statics_printed_pipeline": statics_pipeline(generated, printed=True),
-            },
+            extra=lambda generated: composed(generated, names),
         )
 
     def workspace_margins(self, pose: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
-        """The margins of the four constraints of Zhao section 5 by name (see
-        :mod:`pkm.models.ups_pu.workspace`), each (N,) or a float; >= 0 where the constraint holds."""
-        x, single = as_batch(pose, self.n_out, "pose")
-        d = self.design_vector(design)
-        (margins,) = evaluate(self.functions["workspace_margins"], self.inverse_kinematics(x, d), x, d)
-        return {name: unbatch(margins[:, k, 0], single) for k, name in enumerate(workspace.MARGINS)}
+        """The margins of the four constraints of Zhao section 5 and of the angles' range by name (see
+        :mod:`pkm.models.ups_pu.workspace`), each (N,) or a float; >= 0 where the constraint holds
+        (:meth:`limit_margins`)."""
+        return self.limit_margins(pose, design)
 
     @staticmethod
     def characteristic_length(design: Mapping[str, Any]) -> Any:

@@ -85,7 +85,7 @@ def shortest_leg_on_rim(mech, beta: float, r: float, R: float, l0_min: float, *,
     theta1, theta2 = tilt_to_angles(phi, np.full(RIM_POINTS, settings["task_tilt"]))
     design = np.asarray(design_map(mech, (beta, r, R, l0_min, mech.design()["l_min"]), settings), dtype=float)
     poses = np.column_stack([np.full(RIM_POINTS, l0_min), theta1, theta2])
-    return float(mech.inverse_kinematics(poses, design)[:, :2].min())
+    return float(mech.inverse_kinematics(poses, design, limits=False)[:, :2].min())
 
 
 def _monte_carlo(mech, variables: tuple[Variable, ...], count: int, settings: Mapping[str, float]) -> np.ndarray:

@@ -16,6 +16,10 @@ composed from the generated ``first_order`` and ``joint_positions``:
 * link interference (eq. 13): the least distance between the segments U1S1, U2S2 and OU0, pairwise,
   less the leg diameter D (closest points of two segments, clamped to the segments; continuous and
   piecewise smooth).
+* the angles' range of eq. 6: pi/2 - |theta_i|, so that an angle is one turn of the platform, not an
+  equivalent one several turns away (a tilt typed in degrees where radians go is out of reach).
+
+The mechanism's inverse kinematics holds these margins in its reach (:func:`pkm.kinematics.within_limits`).
 
 The task cylinder lives in (l0, gamma cos phi, gamma sin phi), phi and gamma the polar angle and tilt
 of the platform normal (eq. 14): ``task_cylinder(design)`` places it (axis along l0 from l0_min,
@@ -40,6 +44,7 @@ MARGINS = (
     "l1_min", "l1_max", "l2_min", "l2_max", "l0_min", "l0_max",
     "u1_range", "u2_range", "s1_range", "s2_range", "u0_range",
     "legs_1_2", "legs_1_0", "legs_2_0",
+    "theta1_range", "theta2_range",
 )
 PARALLEL = 1e-12  # [m^4] below this, two segments count as parallel
 DEG = math.pi / 180
@@ -87,6 +92,7 @@ def functions(generated: Mapping[str, ca.Function], parameters: Sequence[str]) -
         segment_distance(u1, s1, u2, s2) - diameter,
         segment_distance(u1, s1, origin, u0) - diameter,
         segment_distance(u2, s2, origin, u0) - diameter,
+        math.pi / 2 - ca.fabs(x[1]), math.pi / 2 - ca.fabs(x[2]),
     )
     y = ca.SX.sym("y", 3)
     gamma = ca.sqrt(y[1] ** 2 + y[2] ** 2)
@@ -119,7 +125,7 @@ def tilt_to_angles(phi: np.ndarray, gamma: np.ndarray) -> tuple[np.ndarray, np.n
 
 def inside(mech: Any, x: np.ndarray, design: np.ndarray) -> np.ndarray:
     """Mask (N,) of the poses that satisfy every constraint."""
-    q = mech.inverse_kinematics(x, design)
+    q = mech.inverse_kinematics(x, design, limits=False)
     (margins,) = evaluate(mech.functions["workspace_margins"], q, x, design)
     return np.all(margins[:, :, 0] >= 0, axis=1)
 
