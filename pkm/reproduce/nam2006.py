@@ -18,7 +18,7 @@ from pkm.batch import evaluate
 from pkm.mechanism import Mechanism
 from pkm.models.passive_leg import nam2006
 from pkm.progress import Progress
-from pkm.reproduce.report import claim, synthesis_record
+from pkm.reproduce.report import claim, reproduced_by, status, synthesis_record
 from pkm.synthesis import synthesize
 
 TITLE = "Nam, Park 2006: kinematics and optimization of a 2-DOF parallel manipulator with a passive leg"
@@ -328,16 +328,6 @@ def _fig9(m: Mechanism, path: Path) -> tuple[dict[str, float], str]:
     return {"phi1_max_on_outer_boundary_theta_ge_0": float(np.mean(at_outer[positive]))}, path.name
 
 
-def _by(readings: dict[str, dict[str, bool]], statement: str) -> str:
-    """The readings that reproduce a statement, for a claim's note."""
-    names = [name for name, ok in readings[statement].items() if ok]
-    return ", ".join(names) if names else "no reading"
-
-
-def _status(ok: bool) -> str:
-    return "match" if ok else "differs"
-
-
 def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     """Compute every claim and figure into ``folder``; returns the report dictionary."""
     m = registry.mechanism("passive_leg")
@@ -372,26 +362,26 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     readings = _statements(m, trends)
     claims = [
         claim("eq6_as_printed", "eq. 6 as printed (r_i - alpha_i in the denominator) gives the actuator angles", 0.0,
-              eqs["eq6_printed"], "rad", _status(eqs["eq6_printed"] < ROUND_OFF), "largest angle error, four modes"),
+              eqs["eq6_printed"], "rad", status(eqs["eq6_printed"] < ROUND_OFF), "largest angle error, four modes"),
         claim("eq6_corrected", "eq. 6 with gamma_i - alpha_i in the denominator", 0.0, eqs["eq6"], "rad",
-              _status(eqs["eq6"] < ROUND_OFF), "its second case, -(gamma + alpha)/(2 beta), is tan(phi/2), not phi"),
+              status(eqs["eq6"] < ROUND_OFF), "its second case, -(gamma + alpha)/(2 beta), is tan(phi/2), not phi"),
         claim("eq9_as_printed", "eq. 9 as printed holds at assembled configurations", 0.0, eqs["eq9_printed"], "-",
-              _status(eqs["eq9_printed"] < ROUND_OFF), "relative to (l_a + l_b)^2; from eq. 8 it is (A + 2B) s^2 + "
+              status(eqs["eq9_printed"] < ROUND_OFF), "relative to (l_a + l_b)^2; from eq. 8 it is (A + 2B) s^2 + "
               f"4 C s + (A - 2B) = 0, whose residual is {eqs['eq9']:.1e}"),
         claim("eq11_as_printed", "eq. 11 as printed holds at assembled configurations", 0.0, eqs["eq11_printed"], "-",
-              _status(eqs["eq11_printed"] < ROUND_OFF), "eq. 8's factors 2 make the last term 4 (B2 C1 - B1 C2)^2; "
+              status(eqs["eq11_printed"] < ROUND_OFF), "eq. 8's factors 2 make the last term 4 (B2 C1 - B1 C2)^2; "
               f"with it the residual is {eqs['eq11']:.1e}"),
         claim("fk_six_solutions", "the forward kinematics has up to six solutions (eq. 11): six occur", 6,
-              counts["max"], "-", _status(counts["max"] == 6),
+              counts["max"], "-", status(counts["max"] == 6),
               f"real roots over random actuator angles and designs: {counts['histogram']}; the IK pose is among "
               f"them to {eqs['fk_missing']:.1e} m"),
         claim("eq12_as_printed", "l_CM of eq. 12 as printed against the derived outer boundary (ratio)", 1.0,
-              bounds["l_CM_printed_ratio"], "-", _status(abs(bounds["l_CM_printed_ratio"] - 1) < 1e-9),
+              bounds["l_CM_printed_ratio"], "-", status(abs(bounds["l_CM_printed_ratio"] - 1) < 1e-9),
               "the printed /2 halves the boundary"),
         claim("eq12_derived", "l_CM = -R|sin theta| + sqrt(...) against the reach sampled along rays", 0.0,
-              bounds["l_CM_error"], "m", _status(bounds["l_CM_error"] < 1e-6), "r = l_b = 1.2, 29 angles"),
+              bounds["l_CM_error"], "m", status(bounds["l_CM_error"] < 1e-6), "r = l_b = 1.2, 29 angles"),
         claim("eq13_derived", "l_cm = R|sin theta| + sqrt(...) against the joint range angle b_i < pi sampled "
-              "along rays", 0.0, bounds["l_cm_error"], "m", _status(bounds["l_cm_error"] < 1e-6),
+              "along rays", 0.0, bounds["l_cm_error"], "m", status(bounds["l_cm_error"] < 1e-6),
               f"R = 1, r = 0.5, l_a = 1.2, l_b = 0.9 (l_b - l_a < R - r), {bounds['inner_thetas']} angles where l_cm "
               f"is real; printed/derived = {bounds['l_cm_printed_ratio']:.3f}"),
         claim("workspace_area", "the workspace inside eq. 12's boundary (section 4): its area by the region's "
@@ -401,66 +391,69 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
               "sampled: grid cells whose centre mode out_out reaches within the joint ranges of "
               "section 4 and |theta| <= theta_max"),
         claim("eq14_condition", "eq. 14 holds for every theta iff l_a + l_b > max(r, R - r)", 0,
-              existence["eq14_disagreements"], "designs", _status(existence["eq14_disagreements"] == 0),
+              existence["eq14_disagreements"], "designs", status(existence["eq14_disagreements"] == 0),
               f"of {existence['designs']} random designs; l_CM > 0 needs more: (l_a + l_b)^2 > R^2 + r^2 - 2 r R "
               "cos theta"),
         claim("eq15_condition", "eq. 15 holds for every theta iff l_b - l_a >= R - r", 0,
-              existence["eq15_disagreements"], "designs", _status(existence["eq15_disagreements"] == 0),
+              existence["eq15_disagreements"], "designs", status(existence["eq15_disagreements"] == 0),
               f"of {existence['designs']} random designs (with equality the radicand touches 0 at theta = 0, l_c = 0)"),
         claim("eq20_jacobian", "J = J_q^-1 J_x of eqs. 19-21 against pkm's loop-closure J", 0.0, eqs["eq20"], "-",
-              _status(eqs["eq20"] < ROUND_OFF), "eq. 16 as printed has the wrong sign of the theta term for leg 2; "
+              status(eqs["eq20"] < ROUND_OFF), "eq. 16 as printed has the wrong sign of the theta term for leg 2; "
               "eq. 20's - Z_2 has the right one"),
         claim("eq24_as_printed", "eq. 24 as printed equals -2 l_c det J_x", 0.0, eqs["eq24_printed"], "-",
-              _status(eqs["eq24_printed"] < ROUND_OFF), "relative; the derived second term is 4 r (...)(...)"),
+              status(eqs["eq24_printed"] < ROUND_OFF), "relative; the derived second term is 4 r (...)(...)"),
         claim("eq25_always", "X1 Y2 - X2 Y1 <= 0 everywhere in the workspace (eq. 25)", 0.0,
-              eq25["fraction"], "-", _status(eq25["fraction"] == 0),
+              eq25["fraction"], "-", status(eq25["fraction"] == 0),
               "fraction of 2000 random poses of r = l_b = 1.2 (out_out) where it fails; the least -2 l_c det J_x "
               f"there is {eq25['least_det_measure_there']:.3g} m^3"
               + (" (> 0: eq. 26's argument fails but not its conclusion for this design)"
                  if eq25["least_det_measure_there"] > 0 else "")),
         claim("singularity_free", "every design with l_b - l_a = R - r is free of singularities in its workspace",
-              1.0, admissible, "fraction of the design space", _status(admissible > 0.999),
+              1.0, admissible, "fraction of the design space", status(admissible > 0.999),
               "admissible = no folded leg (type 1: r < R), no type-2 singularity and no joint limit of section 4 "
               "inside the region; fails for r < R and for small l_b"),
         claim("rotation_90", "rotational capability of about +-90 deg", 90.0, rotation, "deg",
-              _status(all(v >= 90.0 - 1e-9 for v in rotation.values())),
+              status(all(v >= 90.0 - 1e-9 for v in rotation.values())),
               "the largest |theta| with l_CM > 0 ((l_a + l_b)^2 > R^2 + r^2 - 2 r R cos theta), capped at 90 deg, "
               "at Fig. 8's designs and pkm's optimum"),
         claim("trend_gci", "GCI: little variation for r > 1.2, increases with l_b (Fig. 4)", None,
-              t[0], "-", _status(t[0]["spread_over_r_from_1.2"] < 0.05 and t[0]["increasing_in_l_b"] > 0.9),
-              f"supported reading, admissible designs; reproduced by {_by(readings, 'gci_flat_in_r_rising_in_l_b')}"),
+              t[0], "-", status(t[0]["spread_over_r_from_1.2"] < 0.05 and t[0]["increasing_in_l_b"] > 0.9),
+              "supported reading, admissible designs; reproduced by "
+              f"{reproduced_by(readings, 'gci_flat_in_r_rising_in_l_b')}"),
         claim("trend_manipulability", "manipulability: little variation with r, increases monotonically with l_b "
               "(Fig. 5)", None, {"supported": t[1], "literal": tl[1]}, "-",
-              _status(t[1]["spread_over_r_from_1.2"] < 0.05 and t[1]["increasing_in_l_b"] > 0.99),
+              status(t[1]["spread_over_r_from_1.2"] < 0.05 and t[1]["increasing_in_l_b"] > 0.99),
               "|det J_f| increases with l_b but grows with r (the mechanism grows with r at fixed R); the literal "
-              f"|det J| decreases with l_b; rising in l_b in {_by(readings, 'manipulability_rising_in_l_b')}"),
+              "|det J| decreases with l_b; rising in l_b in "
+              f"{reproduced_by(readings, 'manipulability_rising_in_l_b')}"),
         claim("trend_space_utilization", "space utilisation increases with l_b; with r for l_b < 1.2, against r for "
               "l_b > 1.2 (Fig. 6)", None, {"supported": t[2], "literal": tl[2]}, "-",
-              _status(t[2]["increasing_in_l_b"] > 0.9 and t[2]["increasing_in_r_l_b_below_1.2"] > 0.5
+              status(t[2]["increasing_in_l_b"] > 0.9 and t[2]["increasing_in_r_l_b_below_1.2"] > 0.5
                       and t[2]["increasing_in_r_l_b_above_1.2"] < 0.5),
               "measured in the plane (dW = l_c dtheta dl_c); eq. 28's dtheta dl_c decreases with r at every l_b; "
-              f"crossover reproduced by {_by(readings, 'space_utilization_crossover_at_l_b_1.2')}, scale-free in "
-              f"{_by(readings, 'space_utilization_scale_free')}"),
+              f"crossover reproduced by {reproduced_by(readings, 'space_utilization_crossover_at_l_b_1.2')}, "
+              "scale-free in "
+              f"{reproduced_by(readings, 'space_utilization_scale_free')}"),
         claim("trend_composed", "composed index increases with l_b, r has little effect (Fig. 7)", None,
               t["composed"], "-",
-              _status(t["composed"]["increasing_in_l_b"] > 0.9 and t["composed"]["spread_over_r_from_1.2"] < 0.05),
-              f"rising in l_b in {_by(readings, 'composed_rising_in_l_b')}; flat in r in "
-              f"{_by(readings, 'composed_flat_in_r')}"),
+              status(t["composed"]["increasing_in_l_b"] > 0.9 and t["composed"]["spread_over_r_from_1.2"] < 0.05),
+              f"rising in l_b in {reproduced_by(readings, 'composed_rising_in_l_b')}; flat in r in "
+              f"{reproduced_by(readings, 'composed_flat_in_r')}"),
         claim("fig8_inverse_kappa_outer", "1/kappa is greater nearer the outer boundary (Fig. 8)", None,
               {k: [v["mean_inverse_kappa_inner_band"], v["mean_inverse_kappa_outer_band"]] for k, v in fig8.items()},
-              "-", _status(all(v["mean_inverse_kappa_outer_band"] > v["mean_inverse_kappa_inner_band"]
+              "-", status(all(v["mean_inverse_kappa_outer_band"] > v["mean_inverse_kappa_inner_band"]
                                for v in fig8.values())),
               "mean 1/kappa_f at l_c/l_CM in (0.05, 0.35) and in (0.7, 1)"),
         claim("fig8_small_r_distortion", "for r < R the workspace inside l_CM is whole and its 1/kappa contours are "
               "only distorted, near (+-0.5, 0.5) (Fig. 8a)", [0.5, 0.5], fig8["r=0.9,l_b=1.2"]["hole_centre"], "m",
-              _status(fig8["r=0.9,l_b=1.2"]["unreached_inside_l_CM"] == 0),
+              status(fig8["r=0.9,l_b=1.2"]["unreached_inside_l_CM"] == 0),
               "pkm finds two holes (mirror images, centre (+-|x|, y)) inside l_CM that a folded leg cannot reach: a "
               "type-1 locus inside the workspace, where the paper sees distorted contours"),
         claim("fig9_first_actuator", "for theta >= 0 phi1 reaches its maximum on the outer boundary (Fig. 9)", 1.0,
-              fig9["phi1_max_on_outer_boundary_theta_ge_0"], "fraction of theta", _status(
+              fig9["phi1_max_on_outer_boundary_theta_ge_0"], "fraction of theta", status(
                   fig9["phi1_max_on_outer_boundary_theta_ge_0"] > 0.99), "r = l_b = 1.2"),
         claim("optimum_l_b", "the composed optimum lies at the largest l_b (section 6.2)", 2.0,
-              result.variables["l_b"], "l_b / R", _status(abs(result.variables["l_b"] - 2.0) < 1e-3),
+              result.variables["l_b"], "l_b / R", status(abs(result.variables["l_b"] - 2.0) < 1e-3),
               f"pkm's optimum r/R = {result.variables['r']:.4g}; the paper states no optimal r"),
     ]
     bar.advance()

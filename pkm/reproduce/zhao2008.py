@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io, registry
+from pkm import figures, registry
 from pkm.batch import evaluate
 from pkm.mechanism import Mechanism
 from pkm.models.ups_pu.problems import DEFAULTS, STROKE_RATIO, TASK_MARGIN_MIN, shortest_leg_on_rim
@@ -96,38 +96,31 @@ def _eq8(m: Mechanism, rng: np.random.Generator) -> dict[str, float]:
 
 def _fig3(m: Mechanism, path: Path, resolution: int) -> tuple[dict[str, float], str]:
     """The determinant of J over (theta1, theta2) for Fig. 3's design at l0 = 300 mm."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     design = m.design({**m.design(), **{k: v for k, v in FIG3.items() if k != "l0"}})
     axis = np.linspace(-math.pi / 2, math.pi / 2, resolution)
     T1, T2 = np.meshgrid(axis, axis, indexing="ij")
     x = np.stack([np.full(T1.size, FIG3["l0"]), T1.ravel(), T2.ravel()], axis=1)
     det = np.linalg.det(m.jacobian(x, design)).reshape(T1.shape)
     home = float(np.linalg.det(m.jacobian([FIG3["l0"], 0.0, 0.0], design)))
-    fig = Figure(figsize=(6, 5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(6, 5)
     ax = fig.subplots()
     image = ax.contourf(np.degrees(T1), np.degrees(T2), det, levels=20, cmap="RdBu_r")
     ax.contour(np.degrees(T1), np.degrees(T2), det, levels=[0.0], colors="k")
     ax.set_xlabel("theta1 [deg]")
     ax.set_ylabel("theta2 [deg]")
-    ax.set_title("det J (Fig. 3: r = 150, R = 200 mm, beta = 30 deg, l0 = 300 mm); black: det J = 0")
+    ax.set_title("det J, Fig. 3's design: r = 150, R = 200 mm,\nbeta = 30 deg, l0 = 300 mm (black: det J = 0)")
     fig.colorbar(image, ax=ax, label="det J [m^2/rad^2]")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=90))
+    figures.save(fig, path, dpi=90)
     return {"det_at_home": home, "positive_fraction": float(np.mean(det > 0))}, path.name
 
 
 def _sections(m: Mechanism, path: Path, s: dict[str, int]) -> tuple[dict[str, Any], str]:
     """Fig. 6: the workspace of section 5.3's example at l0 = 350, 450, 500 mm with each constraint's
     boundary; areas by sampling and by the ray search; convexity against the convex hull."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
     from matplotlib.path import Path as PolygonPath
 
     design = m.design({**m.design(), **EXAMPLE_53}).vector()
-    fig = Figure(figsize=(15, 5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(15, 5)
     axes = fig.subplots(1, 3)
     out: dict[str, Any] = {}
     for ax, l0 in zip(axes, (0.350, 0.450, 0.500), strict=True):
@@ -160,7 +153,7 @@ def _sections(m: Mechanism, path: Path, s: dict[str, int]) -> tuple[dict[str, An
     for ax in axes:
         ax.legend(fontsize=6, loc="lower left")
     fig.suptitle("Workspace sections of section 5.3's example with each constraint's boundary (margin = 0)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    figures.save(fig, path, dpi=80)
     return out, path.name
 
 
@@ -235,12 +228,8 @@ def _convexity(m: Mechanism, s: dict[str, int]) -> dict[str, Any]:
 
 def _force_map(m: Mechanism, design: dict[str, float], path: Path) -> str:
     """The largest actuator force holding the payload over the top and bottom of the task cylinder."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
     d = np.array(list(design.values()))
-    fig = Figure(figsize=(10, 4.5), layout="constrained")
-    FigureCanvasAgg(fig)
+    fig = figures.figure(10, 4.5)
     axes = fig.subplots(1, 2)
     phi = np.linspace(0, 2 * math.pi, 121)
     gamma = np.linspace(0, design["task_tilt"], 31)
@@ -258,7 +247,7 @@ def _force_map(m: Mechanism, design: dict[str, float], path: Path) -> str:
         ax.set_ylabel("gamma sin(phi) [deg]")
         fig.colorbar(image, ax=ax, label="largest |actuator force| [N]")
     fig.suptitle("pkm's design: actuator forces over the task cylinder (payload at its height above U0)")
-    io.atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=80))
+    figures.save(fig, path, dpi=80)
     return path.name
 
 
