@@ -89,7 +89,10 @@ def cmd_list(args: argparse.Namespace) -> None:
         "mechanisms": data,
         "indices": {i.name: {"doc": i.doc, "reduce": i.reduce, "sense": i.sense} for i in registry.global_indices()},
         "problems": {
-            p.name: {"doc": p.doc, "variables": [v.name for v in p.variables]} for p in registry.problems().values()
+            p.name: {"doc": p.doc, "variables": [v.name for v in p.variables],
+                     "settings": {x.name: {"value": p.values[x.name], "lower": x.lower, "upper": x.upper,
+                                           "unit": x.unit, "doc": x.doc} for x in p.settings}}
+            for p in registry.problems().values()
         },
         "papers": {key: module.TITLE for key, module in registry.papers().items()},
         "evaluation": compiled_status(),
@@ -105,6 +108,9 @@ def cmd_list(args: argparse.Namespace) -> None:
                      + "; actuators: " + ", ".join(f"{k} [{u}]" for k, u in info["actuators"].items()))
     lines.append("indices: " + ", ".join(out["indices"]))
     lines.append("problems: " + ", ".join(out["problems"]))
+    lines += [f"  {name} settings (--set): " + ", ".join(f"{k} = {v['value']:.6g}{_unit(v['unit'])}"
+                                                      for k, v in problem["settings"].items())
+              for name, problem in out["problems"].items() if problem["settings"]]
     lines.append("papers:")
     lines += [f"  {key}: {title}" for key, title in out["papers"].items()]
     lines += _evaluation_lines(out["evaluation"])
@@ -418,8 +424,10 @@ def cmd_synth(args: argparse.Namespace) -> None:
 
 def _synth(args: argparse.Namespace) -> None:
     with _logs_to_stderr(args.json):
+        problem = registry.problem(args.problem)
+        settings = parse_design(args.set, "setting", PkmError) if args.set else {}
         result = synthesize(
-            registry.problem(args.problem),
+            problem.configure(**settings),
             resolution=args.resolution,
             starts=args.starts,
             max_iter=args.max_iter,
@@ -643,6 +651,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--print-level", type=int, help="IPOPT's print_level, 0 to 12 (default 0, or 5 with --verbose); "
                                                    "e.g. 3")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
+    p.add_argument("--set", help="the problem's settings as name=value in SI, comma-separated (default: the "
+                                 "problem's; `pkm list` names them); e.g. task_tilt=1.0472,payload=20")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
     scheduled(p)

@@ -11,7 +11,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm.errors import DesignError
+from pkm.errors import DesignError, PkmError
 
 MAX_MAGNITUDE = 1e12  # of a design value in SI units: beyond it the models overflow, not the mechanism
 
@@ -98,21 +98,21 @@ def stack_design(values: Sequence[Any]) -> Any:
     return np.stack([np.broadcast_to(a, shape) for a in arrays], axis=-1)
 
 
-def parse_design(text: str) -> dict[str, float]:
-    """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise :class:`DesignError` on malformed items."""
+def parse_design(text: str, what: str = "design parameter", error: type[PkmError] = DesignError) -> dict[str, float]:
+    """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise ``error`` naming ``what`` on malformed items."""
     if not isinstance(text, str):
-        raise DesignError(f"design text = {reprlib.repr(text)} violates: a string name=value,name=value,...")
+        raise error(f"{what} text = {reprlib.repr(text)} violates: a string name=value,name=value,...")
     out: dict[str, float] = {}
     for item in filter(None, (s.strip() for s in text.split(","))):
         name, sep, value = item.partition("=")
         if not sep:
-            raise DesignError(f"design item {item!r} is not of the form name=value")
+            raise error(f"{what} item {item!r} is not of the form name=value")
         if name.strip() in out:
-            raise DesignError(f"design parameter {name.strip()} is given twice")
+            raise error(f"{what} {name.strip()} is given twice")
         try:
             out[name.strip()] = float(value)
         except ValueError:
-            raise DesignError(f"design parameter {name.strip()} = {value!r} is not a number") from None
+            raise error(f"{what} {name.strip()} = {value!r} is not a number") from None
     return out
 
 

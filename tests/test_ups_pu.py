@@ -276,6 +276,9 @@ def test_a_configured_problem_runs_in_workers_with_its_settings():
         (["eval", "ups_pu", "--pose", "0.5,0,0", "--design", "beta=-1.5707963267948966"], "sin(beta - alpha)"),
         (["index", "ups_pu", "gci", "--region", "task", "--design", "task_tilt=1.7"], "task_tilt"),
         (["atlas", "ups_pu", "gci", "--region", "task", "--axes", "R=0.3:0.1,beta=0.2:1"], "lower < upper"),
+        (["synth", "ups_pu.min_size_force_task", "--set", "tilt=1"], "unknown setting"),
+        (["synth", "ups_pu.min_size_force_task", "--set", "task_tilt=30"], "task_tilt = 30 violates"),
+        (["synth", "ups_pu.min_size_force_task", "--set", "payload=heavy"], "setting payload"),
     ],
 )
 def test_bad_input_exits_2_with_one_line(capfd, argv, message):
@@ -369,3 +372,15 @@ def test_eval_says_which_limit_a_pose_breaks_and_suspects_degrees(capfd):
     assert main(["eval", "ups_pu", "--pose", "0.5,30,0"]) == 0
     out = capfd.readouterr().out
     assert "out of reach" in out and "theta1_range" in out and "theta1 = 30 rad: in degrees?" in out
+
+
+def test_synth_takes_the_problems_settings_from_the_command_line(capfd):
+    import json
+
+    from pkm.cli import main
+
+    assert main(["synth", "ups_pu.min_size_force_task", "--set", "payload=20,task_tilt=0.6", "--starts", "1",
+                 "--json"]) == 0
+    data = json.loads(capfd.readouterr().out)
+    assert data["settings"]["payload"] == 20.0 and data["settings"]["task_tilt"] == 0.6
+    assert data["design"]["payload"] == 20.0 and data["design"]["task_tilt"] == 0.6
