@@ -425,7 +425,7 @@ def cmd_synth(args: argparse.Namespace) -> None:
 def _synth(args: argparse.Namespace) -> None:
     with _logs_to_stderr(args.json):
         problem = registry.problem(args.problem)
-        settings = parse_design(args.set, "setting", PkmError) if args.set else {}
+        settings = parse_design(args.set, "settings", "setting", PkmError) if args.set else {}
         result = synthesize(
             problem.configure(**settings),
             resolution=args.resolution,

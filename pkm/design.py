@@ -98,8 +98,10 @@ def stack_design(values: Sequence[Any]) -> Any:
     return np.stack([np.broadcast_to(a, shape) for a in arrays], axis=-1)
 
 
-def parse_design(text: str, what: str = "design parameter", error: type[PkmError] = DesignError) -> dict[str, float]:
-    """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise ``error`` naming ``what`` on malformed items."""
+def parse_design(text: str, what: str = "design", entry: str = "design parameter",
+                 error: type[PkmError] = DesignError) -> dict[str, float]:
+    """Parse ``"r1=1.2,r2=1.0"`` into a dict; raise ``error`` naming ``what`` (the text) or ``entry`` (one of
+    its names) on malformed items."""
     if not isinstance(text, str):
         raise error(f"{what} text = {reprlib.repr(text)} violates: a string name=value,name=value,...")
     out: dict[str, float] = {}
@@ -108,11 +110,11 @@ def parse_design(text: str, what: str = "design parameter", error: type[PkmError
         if not sep:
             raise error(f"{what} item {item!r} is not of the form name=value")
         if name.strip() in out:
-            raise error(f"{what} {name.strip()} is given twice")
+            raise error(f"{entry} {name.strip()} is given twice")
         try:
             out[name.strip()] = float(value)
         except ValueError:
-            raise error(f"{what} {name.strip()} = {value!r} is not a number") from None
+            raise error(f"{entry} {name.strip()} = {value!r} is not a number") from None
     return out
 
 
