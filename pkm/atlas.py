@@ -143,7 +143,9 @@ class Atlas:
     the index averaged over. ``wall_time`` is in seconds; ``evaluations`` counts the design-pose
     pairs evaluated (all modes); ``singularity_margin`` is None for a parametrised region.
     ``checked[mode]`` is the best design that passed ``checks`` (a :class:`Best`, with the reason
-    where none did); :meth:`best` is the grid's best node, unchecked.
+    where none did); :meth:`best` is the grid's best node, unchecked. ``admissible`` marks the nodes
+    whose design meets the space's requirements (:class:`pkm.design_space.Requirement`), the designs a
+    synthesis over the space admits: the checked best is one of them.
     """
 
     mechanism: Mechanism
@@ -163,6 +165,11 @@ class Atlas:
     evaluations: int
     checks: Checks = field(default_factory=Checks)
     checked: dict[str, Best] = field(default_factory=dict)
+    admissible: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.admissible is None:
+            self.admissible = self.inside.copy()
 
     def __str__(self) -> str:
         head = (f"{self.index.name} atlas of the {self.mechanism.name} over {self.region} in the {self.space.name} "
@@ -206,6 +213,8 @@ class Atlas:
             "chart_labels": list(self.space.chart_labels),
             **{name: getattr(self, name) for name in names},
             "checks": asdict(self.checks),
+            "requirements": [r.name for r in self.space.requirements],
+            "admissible_designs": int(self.admissible.sum()),
             "best": {mode: self.checked[mode].to_dict() for mode in self.modes if mode in self.checked},
         }
 
@@ -225,8 +234,9 @@ class Atlas:
         return [node.u], [node.v], f"best node {self.index.name} = {node.value:.3g} at {at} ({points} poses)"
 
     def save_npz(self, path: str | os.PathLike) -> Path:
-        """Write u, v, inside, ``values_<mode>``, ``points_<mode>`` and JSON ``metadata``, atomically."""
-        arrays = {"u": self.u, "v": self.v, "inside": self.inside}
+        """Write u, v, inside, admissible, ``values_<mode>``, ``points_<mode>`` and JSON ``metadata``,
+        atomically."""
+        arrays = {"u": self.u, "v": self.v, "inside": self.inside, "admissible": self.admissible}
         for mode in self.modes:
             arrays[f"values_{mode}"] = self.values[mode]
             arrays[f"points_{mode}"] = self.points[mode]
@@ -253,6 +263,7 @@ class Atlas:
         limits = figures.robust_limits(values)
         levels = limits.levels()
         U, V = np.meshgrid(self.u, self.v, indexing="ij")
+        excluded = self.inside & ~self.admissible
         poly = np.vstack([space.polygon, space.polygon[:1]])
         width, height = np.ptp(poly, axis=0)
         shape = height / width
@@ -268,6 +279,8 @@ class Atlas:
             lines = ax.contour(U, V, z, levels=levels, colors="k", linewidths=0.6)
             labels.extend(ax.clabel(lines, lines.levels[::2], fmt="%.3g", fontsize=7))
             ax.plot(poly[:, 0], poly[:, 1], color="k", linewidth=1.2)
+            if excluded.any():
+                ax.contourf(U, V, excluded.astype(float), levels=[0.5, 1.5], colors="none", hatches=["///"])
             star_u, star_v, label = self._star(mode, min_points)
             ax.plot(star_u, star_v, marker="*", color="red", markersize=12, linestyle="none",
                     label=textwrap.fill(label, 60))
@@ -282,7 +295,9 @@ class Atlas:
         sense = "larger" if self.index.sense == "max" else "smaller"
         figures.colour_bar(fig, filled, limits, ax=list(axes), label=f"{self.index.name} ({sense} is better)",
                            shrink=0.8)
-        title = f"{self.mechanism.name}: {self.index.name} atlas over the {space.name} design space. {space.note}"
+        hatched = " Hatched: designs that fail the space's requirements." if excluded.any() else ""
+        title = (f"{self.mechanism.name}: {self.index.name} atlas over the {space.name} design space. {space.note}."
+                 f"{hatched}")
         fig.suptitle(textwrap.fill(title, int(14 * fig.get_figwidth())), fontsize=9)
         figures.legends_below(axes, fontsize=8, frameon=False)
         figures.hide_overlapping(fig, labels)
@@ -353,7 +368,8 @@ def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndar
     """The best design of ``mode`` that passes ``atlas.checks``: the best ``candidates`` nodes whose region
     holds enough poses and measure are re-evaluated at twice the pose resolution (and twice again, up to
     ``refinements`` times) until their value changes by less than ``tolerance``; the best of those that
-    converge, by its value at the finest resolution. ``designs`` (D, n_p) and ``fraction`` (D,) are the
+    converge, by its value at the finest resolution; only admissible designs are candidates (``atlas.admissible``,
+    the designs a synthesis over the space admits). ``designs`` (D, n_p) and ``fraction`` (D,) are the
     atlas's inside nodes in row-major order."""
     mech, checks, name = atlas.mechanism, atlas.checks, atlas.index.name
     values, points = atlas.values[mode][atlas.inside], atlas.points[mode][atlas.inside]
@@ -364,9 +380,10 @@ def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndar
         return bool(np.isfinite(value)) and count >= checks.min_points and share >= checks.min_fraction
 
     ok = np.array([sized(*row) for row in zip(values, points, fraction, strict=True)], dtype=bool)
+    ok &= atlas.admissible[atlas.inside]
     if not ok.any():
-        return Best(name, mode, False, f"no design's region has a finite {name} over at least {checks.min_points} "
-                                       f"points and {checks.min_fraction:.0%} of its workspace box")
+        return Best(name, mode, False, f"no admissible design's region has a finite {name} over at least "
+                                       f"{checks.min_points} points and {checks.min_fraction:.0%} of its workspace box")
     sign = -1.0 if atlas.index.sense == "max" else 1.0
     order = np.flatnonzero(ok)[np.argsort(sign * values[ok], kind="stable")][: checks.candidates]
     history = {k: [float(values[k])] for k in order}
@@ -517,6 +534,8 @@ def compute_sweep(
     u, v, inside = space.chart_grid(resolution)
     U, V = np.meshgrid(u, v, indexing="ij")
     designs = space.designs(mech.parameters, space.from_chart(U[inside], V[inside]))
+    admissible = np.zeros(inside.shape, dtype=bool)
+    admissible[inside] = space.admissible(mech.functions, space.from_chart(U[inside], V[inside]), designs)[0]
     per_design = {
         i.name: pose_resolution**mech.n_out if sampled else where.node_count(pose_resolution, i.reduce) for i in indices
     }
@@ -583,7 +602,7 @@ def compute_sweep(
             mechanism=mech, index=index, space=space, region=region, modes=modes, u=u, v=v, inside=inside,
             values=values, points=points, resolution=resolution, pose_resolution=pose_resolution,
             singularity_margin=margin, wall_time=0.0, evaluations=len(designs) * per_design[index.name] * len(modes),
-            checks=checks,
+            checks=checks, admissible=admissible,
         )
     for mode in modes:
         share = None if sampled else region_fraction(mech, where, designs, mech.working_mode(mode), pose_resolution)

@@ -261,6 +261,9 @@ def cmd_index(args: argparse.Namespace) -> None:
     if grad is not None:
         data["gradient"] = grad
         text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
+        if value.note:
+            data["note"] = value.note
+            text += f"\nnote: {value.note}"
     _emit(args, data, text)
 
 
@@ -448,6 +451,7 @@ def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None
         f"({result.optimizer['wall_time_s']:.2f} s, {result.optimizer['evaluations']} evaluations)",
         f"variables: {_named(o.variables)}",
         f"design: {_named(o.design)}",
+        f"mode {result.mode}; regions: " + ", ".join(f"{q} over {r}" for q, r in result.regions.items()),
         f"objective ({result.sense}) {o.objective:.6g} at resolution {result.resolutions['quadrature']}, "
         f"verified {o.verified_objective:.6g} (4x quadrature; accuracy {result.accuracy:.1e}), "
         f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)",

@@ -7,12 +7,15 @@ synthesis. The maps use arithmetic only, so they accept floats, numpy arrays and
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
 
+from pkm.batch import evaluate
 from pkm.design import Condition, Parameter, stack_design
 from pkm.errors import DesignError
 
@@ -37,6 +40,30 @@ def fixed_sum(weights: Mapping[str, float], total: float, *, source: str = "") -
 
 
 @dataclass(frozen=True)
+class Requirement:
+    """What an admissible design of a space satisfies beyond the space's own conditions, so that atlases
+    and syntheses admit the same designs: lower <= value(c, call) <= upper, with c the normalised
+    coordinates by name and ``call(function, output)`` an output of the mechanism's generated design
+    function at the design (numpy arrays over a batch of designs, or CasADi expressions)."""
+
+    name: str
+    value: Callable[[Mapping[str, Any], Callable[[str, str], Any]], Any]
+    lower: float = 0.0
+    upper: float = math.inf
+
+
+def within_bounds(space_bounds: Sequence[tuple[float, float]], coordinates: Sequence[str], inset: float,
+                  unit: str) -> tuple[Requirement, ...]:
+    """Each normalised coordinate at least ``inset`` inside its bounds (a link of length zero, or a base
+    as long as the reach, is a degenerate design)."""
+    return tuple(
+        Requirement(f"{c} within ({lo:g} + {inset:g}, {hi:g} - {inset:g}) [{unit}]",
+                    lambda values, _call, c=c: values[c], lo + inset, hi - inset)
+        for c, (lo, hi) in zip(coordinates, space_bounds, strict=True)
+    )
+
+
+@dataclass(frozen=True)
 class DesignSpace:
     """A normalised design space with a planar chart.
 
@@ -48,7 +75,9 @@ class DesignSpace:
     ``parameters`` names the design parameters ``to_design`` returns, in its order; the others take
     the values of ``base`` (the paper's non-dimensional values) or the mechanism's defaults.
     ``conditions`` are the paper's constraints on the normalised coordinates (by name), ``bounds``
-    their box (lower, upper) per coordinate, used as constraints by the synthesis.
+    their box (lower, upper) per coordinate, used as constraints by the synthesis. ``requirements`` say
+    which designs of the space are admissible (:class:`Requirement`): an atlas reports its best among
+    them and a synthesis over the space holds them as constraints.
     """
 
     name: str
@@ -66,6 +95,28 @@ class DesignSpace:
     bounds: tuple[tuple[float, float], ...] = ()
     base: Mapping[str, float] = field(default_factory=dict)
     conditions: tuple[Condition, ...] = ()
+    requirements: tuple[Requirement, ...] = ()
+
+    def admissible(self, functions: Mapping[str, ca.Function], c: Sequence[np.ndarray], designs: np.ndarray
+                   ) -> tuple[np.ndarray, list[str]]:
+        """Which of the designs (D, n_p), with normalised coordinates c (one (D,) array per coordinate), meet
+        every requirement, and the names of the requirements some design fails."""
+        values = dict(zip(self.coordinates, (np.asarray(a, dtype=float) for a in c), strict=True))
+
+        def call(function: str, output: str) -> np.ndarray:
+            fn = functions[function]
+            return evaluate(fn, designs)[fn.name_out().index(output)][:, 0, 0]
+
+        ok = np.ones(len(designs), dtype=bool)
+        failed = []
+        for requirement in self.requirements:
+            value = np.broadcast_to(requirement.value(values, call), ok.shape)
+            with np.errstate(invalid="ignore"):
+                meets = (value >= requirement.lower) & (value <= requirement.upper)
+            if not meets.all():
+                failed.append(requirement.name)
+            ok &= meets
+        return ok, failed
 
     def check(self, c: Sequence) -> None:
         """Raise :class:`DesignError` if normalised coordinates c (last axis) violate a condition."""

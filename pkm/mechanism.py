@@ -41,6 +41,8 @@ if TYPE_CHECKING:
     from pkm.indices import GlobalIndex, LocalIndex
 
 SINGULAR_CONDITION = 1e12
+ONE_SIDED_STEP = 1e-7  # relative step to the side of a design where a one-sided derivative is taken
+ONE_SIDED_AGREEMENT = 1e-6  # relative: the value on that side, extrapolated back, equals the design's to this
 
 
 class _Delegate:
@@ -394,15 +396,48 @@ class Mechanism:
             )[0]
         if singularity_margin is not None:
             raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")
-        if resolution is None:
-            value, grad = regions.adaptive_value(self, spec, where, d, branch=branch, gradient=gradient)
-        else:
-            value, grad = regions.global_value(
-                self, spec, where, d, branch=branch, resolution=resolution, gradient=gradient
-            )
+        def at(design: np.ndarray) -> tuple[regions.GlobalValue, np.ndarray | None]:
+            if resolution is None:
+                return regions.adaptive_value(self, spec, where, design, branch=branch, gradient=gradient)
+            return regions.global_value(self, spec, where, design, branch=branch, resolution=resolution,
+                                        gradient=gradient)
+
+        value, grad = at(d)
         if grad is None:
             return value
+        if np.isfinite(value) and not np.all(np.isfinite(grad)):
+            grad = self._one_sided(at, d, value, grad)
         return value, self.design_dict(grad)
+
+    def _one_sided(self, at: Callable[[np.ndarray], Any], d: np.ndarray, value: Any, grad: np.ndarray) -> np.ndarray:
+        """Where the gradient of a finite value is not (the design sits where the region's placement switches
+        between two smooth forms), each undefined partial derivative from the side whose value is the
+        design's (the value there, less the derivative times the step, is the design's): the derivative one
+        step of ONE_SIDED_STEP (relative) away, which ``value.note`` states; NaN with the reason where neither
+        side has one."""
+        sided, jumps = [], []
+        for k in np.flatnonzero(~np.isfinite(grad)):
+            step = ONE_SIDED_STEP * max(1.0, abs(d[k]))
+            for sign, side in ((1.0, "above"), (-1.0, "below")):
+                nudged = d.copy()
+                nudged[k] += sign * step
+                near, near_grad = at(nudged)
+                extrapolated = near - sign * step * near_grad[k]
+                if abs(extrapolated - value) <= ONE_SIDED_AGREEMENT * max(1.0, abs(value)):
+                    grad[k] = near_grad[k]
+                    sided.append(f"d/d{self.parameters[k].name} from {side}")
+                    break
+            else:
+                jumps.append(self.parameters[k].name)
+        notes = []
+        if sided:
+            notes.append(f"one-sided derivatives ({', '.join(sided)}): the region's placement switches at this "
+                         "design, where the gradient is not defined")
+        if jumps:
+            notes.append(f"no one-sided derivative in {', '.join(jumps)}: on each side the index jumps or its slope "
+                         "grows without bound (the region's placement switches at this design)")
+        value.note = "; ".join(notes)
+        return grad
 
     inertia_matrix = _Delegate("pkm.dynamics")
     inverse_dynamics = _Delegate("pkm.dynamics")

@@ -329,7 +329,8 @@ def test_a_pose_is_reached_within_the_stated_limits_and_the_assembled_set_keeps_
     with pytest.raises(PoseError):
         mech.inverse_kinematics(poses[1], strict=True)
     margins = mech.limit_margins(poses)
-    assert margins["l1_max"][1] < 0 and margins["theta1_range"][2] < 0
+    assert margins["l1_max"][1] < 0
+    assert margins["theta1_range"][2] < 0
     assert "assembled" in mech.region_names()
 
 
@@ -371,7 +372,9 @@ def test_eval_says_which_limit_a_pose_breaks_and_suspects_degrees(capfd):
 
     assert main(["eval", "ups_pu", "--pose", "0.5,30,0"]) == 0
     out = capfd.readouterr().out
-    assert "out of reach" in out and "theta1_range" in out and "theta1 = 30 rad: in degrees?" in out
+    assert "out of reach" in out
+    assert "theta1_range" in out
+    assert "theta1 = 30 rad: in degrees?" in out
 
 
 def test_synth_takes_the_problems_settings_from_the_command_line(capfd):
@@ -382,5 +385,7 @@ def test_synth_takes_the_problems_settings_from_the_command_line(capfd):
     assert main(["synth", "ups_pu.min_size_force_task", "--set", "payload=20,task_tilt=0.6", "--starts", "1",
                  "--json"]) == 0
     data = json.loads(capfd.readouterr().out)
-    assert data["settings"]["payload"] == 20.0 and data["settings"]["task_tilt"] == 0.6
-    assert data["design"]["payload"] == 20.0 and data["design"]["task_tilt"] == 0.6
+    assert data["settings"]["payload"] == 20.0
+    assert data["settings"]["task_tilt"] == 0.6
+    assert data["design"]["payload"] == 20.0
+    assert data["design"]["task_tilt"] == 0.6

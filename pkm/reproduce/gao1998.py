@@ -29,7 +29,7 @@ TOL = 1e-9
 KEEP = 1e-3  # poses with 1/kappa_f above this enter the checks of eqs. (11) and (18)
 
 
-def _settings(quick: bool) -> dict[str, int]:
+def _settings(quick: bool) -> dict[str, int | None]:
     if quick:
         return {
             "atlas_resolution": 9,
@@ -44,7 +44,7 @@ def _settings(quick: bool) -> dict[str, int]:
         "pose_resolution": 48,
         "check_designs": 24,
         "check_poses": 2000,
-        "synthesis_resolution": 8,
+        "synthesis_resolution": None,
         "baseline_resolution": 81,
     }
 

@@ -29,11 +29,11 @@ ROUND_OFF = 1e-9
 FK_CONFIGURATIONS = 1000  # random actuator angles per design for the count of forward solutions
 
 
-def _settings(quick: bool) -> dict[str, int]:
+def _settings(quick: bool) -> dict[str, int | None]:
     if quick:
         return {"atlas": 11, "quadrature": 4, "poses": 40, "fig8": 50, "synthesis_resolution": 4,
                 "baseline_resolution": 9, "starts": 1}
-    return {"atlas": 31, "quadrature": 8, "poses": 200, "fig8": 160, "synthesis_resolution": 8,
+    return {"atlas": 31, "quadrature": 8, "poses": 200, "fig8": 160, "synthesis_resolution": None,
             "baseline_resolution": 61, "starts": 3}
 
 

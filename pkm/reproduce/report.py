@@ -59,6 +59,8 @@ def synthesis_record(result: Any) -> dict[str, Any]:
     return {
         "problem": result.problem,
         "sense": result.sense,
+        "mode": result.mode,
+        "regions": result.regions,
         "variables": o.variables,
         "design": o.design,
         "objective": o.objective,

@@ -42,10 +42,10 @@ TABLE3 = {"x0": (-0.25, 0.5), "x1": (0.25, 0.5), "v_max": 1.0, "a_s": 6.67}
 PROBLEM = "slider_gantry.min_kappa_d_task"
 
 
-def _settings(quick: bool) -> dict[str, int]:
+def _settings(quick: bool) -> dict[str, int | None]:
     if quick:
         return {"map_resolution": 40, "samples": 400, "synthesis_resolution": 4, "baseline_resolution": 21}
-    return {"map_resolution": 160, "samples": 2600, "synthesis_resolution": 8, "baseline_resolution": 61}
+    return {"map_resolution": 160, "samples": 2600, "synthesis_resolution": None, "baseline_resolution": 61}
 
 
 def _half_unit(value: float) -> float:
@@ -512,7 +512,7 @@ def run(folder: Path, *, quick: bool = False) -> dict[str, Any]:
     ]
     bar.advance()
     bar.close()
-    record = _synthesis_record(result, s["synthesis_resolution"])
+    record = _synthesis_record(result, result.resolutions["polished_from"])
     values = _values(
         claims={c["id"]: c["pkm_value"] for c in claims},
         forces=forces,

@@ -15,6 +15,7 @@ from pkm.synthesis.problem import (
     Terms,
     Variable,
     grid_points,
+    requirement_constraints,
 )
 
 __all__ = [
@@ -33,5 +34,6 @@ __all__ = [
     "Terms",
     "Variable",
     "grid_points",
+    "requirement_constraints",
     "synthesize",
 ]

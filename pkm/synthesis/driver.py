@@ -90,6 +90,8 @@ class SynthesisResult:
     resolutions: dict[str, int] = field(default_factory=dict)
     options: dict[str, Any] = field(default_factory=dict)
     settings: dict[str, float] = field(default_factory=dict)
+    mode: str = ""
+    regions: dict[str, str] = field(default_factory=dict)
 
     @property
     def design(self) -> dict[str, float]:
@@ -150,6 +152,8 @@ class SynthesisResult:
             "resolutions": self.resolutions,
             "options": self.options,
             "settings": self.settings,
+            "mode": self.mode,
+            "regions": self.regions,
         }
 
 
@@ -238,6 +242,12 @@ def _solver(name: str, settings: str, resolution: int, options: str) -> tuple[An
 def _settings(problem: Problem) -> str:
     """The problem's settings as JSON, which a task carries."""
     return json.dumps(dict(problem.values), sort_keys=True)
+
+
+def _where(problem: Problem) -> dict[str, Any]:
+    """The working mode and the region of each quantity a result of ``problem`` belongs to."""
+    return {"mode": problem.mechanism.working_mode(problem.mode).name,
+            "regions": {name: q.region.name for name, q in problem.quantities.items()}}
 
 
 def _registered(problem: Problem) -> bool:
@@ -484,7 +494,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             iterations=sum(r.iterations for r in runs), runs=runs, baselines={},
             optimizer={"wall_time_s": opt_time, "evaluations": evaluations},
             resolutions={"quadrature": res}, options={k: v for k, v in options["ipopt"].items() if k != "sb"},
-            settings=dict(problem.values),
+            settings=dict(problem.values), **_where(problem),
         ))
 
     if not good:
@@ -566,5 +576,5 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             "baseline_grid": baseline_resolution or (problem.baselines[0].resolution if problem.baselines else 0),
         },
         options={k: v for k, v in options["ipopt"].items() if k != "sb"},
-        settings=dict(problem.values),
+        settings=dict(problem.values), **_where(problem),
     )

@@ -102,6 +102,14 @@ class Constraint:
     margin: float = 0.0
 
 
+def requirement_constraints(space: Any, coordinates: Callable[[Terms], Mapping[str, Any]]) -> tuple[Constraint, ...]:
+    """The requirements of a design space's admissible designs (:class:`pkm.design_space.Requirement`) as
+    constraints, ``coordinates(terms)`` the normalised coordinates by name: a synthesis over the space
+    admits the designs its atlases admit."""
+    return tuple(Constraint(r.name, lambda t, r=r: r.value(coordinates(t), t.call), r.lower, r.upper)
+                 for r in space.requirements)
+
+
 @dataclass(frozen=True)
 class Objective:
     """The objective: an expression of the terms and its sense (``"max"`` or ``"min"``). ``quantity``

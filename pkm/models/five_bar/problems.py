@@ -7,10 +7,8 @@ from dataclasses import replace
 
 from pkm import registry
 from pkm.design_space import DesignSpace
-from pkm.synthesis import Constraint, Objective, Problem, Quantity, Variable
-
-MIN_LENGTH = 0.05  # every normalised length at least this far inside its bounds
-MIN_RADIUS = 0.3  # [normalised length] the MIC radius at least this: otherwise the MIW shrinks to a point
+from pkm.models.five_bar.spaces import MIN_LENGTH, MIN_RADIUS
+from pkm.synthesis import Objective, Problem, Quantity, Variable, requirement_constraints
 
 
 def _chart_problem(
@@ -26,20 +24,8 @@ def _chart_problem(
         Variable(v, min(ys), max(ys), "-", f"chart axis {v} = {space.chart_labels[1]} of the {space.name} space"),
     )
 
-    def normalised(t, k: int):
-        return space.from_chart(t[u], t[v])[k]
-
-    constraints = tuple(
-        Constraint(
-            f"{c} within ({lo:g} + min_length, {hi:g} - min_length)",
-            lambda t, k=k: normalised(t, k),
-            lo + MIN_LENGTH,
-            hi - MIN_LENGTH,
-        )
-        for k, (c, (lo, hi)) in enumerate(zip(space.coordinates, space.bounds, strict=True))
-    )
-    constraints += (
-        Constraint("MIC radius >= min_radius", lambda t: t.call("maximum_inscribed_circle", "radius"), MIN_RADIUS),
+    constraints = requirement_constraints(
+        space, lambda t: dict(zip(space.coordinates, space.from_chart(t[u], t[v]), strict=True))
     )
     quantity = Quantity(registry.global_index(index), mech.regions["miw"])
     problem = Problem(

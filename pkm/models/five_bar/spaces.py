@@ -1,15 +1,29 @@
 """The five-bar's normalised design spaces: Gao 1998's solution space and Lara-Molina 2016's, each
-with its planar chart (DESIGN.md section 3)."""
+with its planar chart (DESIGN.md section 3) and the requirements of an admissible design, which the
+atlases and the syntheses share: every normalised length at least MIN_LENGTH inside its bounds and the
+maximum inscribed circle's radius at least MIN_RADIUS (in the space's unit length: the designs of a
+chart are at scale 1), without which the best designs shrink a link or the MIW to nothing."""
 
 from __future__ import annotations
 
 import math
 
 from pkm.design import Condition
-from pkm.design_space import DesignSpace, fixed_sum, interval
+from pkm.design_space import DesignSpace, Requirement, fixed_sum, interval, within_bounds
 
 SQRT2 = math.sqrt(2.0)
 SQRT3 = math.sqrt(3.0)
+MIN_LENGTH = 0.05  # every normalised length at least this far inside its bounds
+MIN_RADIUS = 0.3  # [normalised length] the MIC radius at least this: otherwise the MIW shrinks to a point
+
+
+def _requirements(coordinates: tuple[str, ...], bounds: tuple[tuple[float, float], ...], unit: str
+                  ) -> tuple[Requirement, ...]:
+    return (
+        *within_bounds(bounds, coordinates, MIN_LENGTH, unit),
+        Requirement(f"MIC radius >= {MIN_RADIUS:g} [{unit}]",
+                    lambda _c, call: call("maximum_inscribed_circle", "radius"), MIN_RADIUS),
+    )
 
 
 def _gao_to_design(c, scale=1.0):
@@ -54,6 +68,7 @@ GAO1998 = DesignSpace(
     parameters=("r1", "r2", "r3"),
     polygon=((-SQRT2, 0.0), (SQRT2, 0.0), (1 / SQRT2, 3 / SQRT2), (-1 / SQRT2, 3 / SQRT2)),
     bounds=((0.0, 2.0), (0.0, 2.0), (0.0, 2.0)),
+    requirements=_requirements(("r1", "r2", "base"), ((0.0, 2.0), (0.0, 2.0), (0.0, 2.0)), "L"),
     conditions=(
         *interval("r1", 0, 2, source=" (Gao eq. 5)"),
         *interval("r2", 0, 2, source=" (Gao eq. 5)"),
@@ -107,6 +122,7 @@ LARA_MOLINA2016 = DesignSpace(
     parameters=("r1", "r2", "r3"),
     polygon=((0.0, 0.0), (2 * SQRT3, 0.0), (4.5 / SQRT3, 1.5), (1.5 / SQRT3, 1.5)),
     bounds=((0.0, 3.0), (0.0, 3.0), (0.0, 1.5)),
+    requirements=_requirements(("r1", "r2", "r3"), ((0.0, 3.0), (0.0, 3.0), (0.0, 1.5)), "D"),
     base={"m1": 1.2, "m2": 0.8, "k1": 1.0, "k2": 1.0},
     conditions=(
         *interval("r1", 0, 3, source=" (Lara-Molina eq. 32)"),

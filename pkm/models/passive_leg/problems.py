@@ -4,7 +4,8 @@ support (:mod:`pkm.models.passive_leg.nam2006`), against a dense grid over the s
 paper's own method, Figs. 4-7).
 
 For r < R a folded leg (a type-1 singularity) lies inside the region (docs/papers/nam2006.md): the
-constraint r >= R keeps the optimiser where the region is the workspace; the indices are undefined
+design space's requirement r >= R, a constraint here, keeps the optimiser where the region is the
+workspace (and an atlas's best there); the indices are undefined
 (NaN) at designs whose region holds a type-2 singularity or leaves a joint range of section 4.
 """
 
@@ -14,7 +15,7 @@ from dataclasses import replace
 
 from pkm import registry
 from pkm.models.passive_leg import nam2006
-from pkm.synthesis import Constraint, Objective, Problem, Quantity, Variable
+from pkm.synthesis import Objective, Problem, Quantity, Variable, requirement_constraints
 
 GRID = 61  # the baseline's chart nodes per axis
 
@@ -28,6 +29,7 @@ def _max_composed() -> Problem:
     mech = registry.mechanism("passive_leg")
     reading = nam2006.SUPPORTED
     region = mech.regions[reading.region]
+    space = mech.design_spaces["nam2006"]
     quantities = {
         f"eta{k + 1}": Quantity(registry.global_index(name), region) for k, name in enumerate(reading.indices)
     }
@@ -45,10 +47,10 @@ def _max_composed() -> Problem:
         ),
         mechanism=mech,
         variables=variables,
-        design=lambda w: mech.design_spaces["nam2006"].designs(mech.parameters, [w[0], w[1]], check=False),
+        design=lambda w: space.designs(mech.parameters, [w[0], w[1]], check=False),
         quantities=quantities,
         objective=Objective(lambda t: _composed(t, reading), "max", "eta of eq. 31 [-]"),
-        constraints=(Constraint("r >= R (no folded leg inside the region)", lambda t: t["r"] - 1.0),),
+        constraints=requirement_constraints(space, lambda t: {"r": t["r"], "l_b": t["l_b"]}),
         mode=nam2006.MODE,
         resolution=nam2006.RESOLUTION,
         screening_resolution=5,

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from pkm.design import Condition
-from pkm.design_space import DesignSpace, interval
+from pkm.design_space import DesignSpace, Requirement, interval
 
 BOUNDS = (0.5, 2.0)
 
@@ -41,4 +41,5 @@ NAM2006 = DesignSpace(
         *interval("l_b", *BOUNDS, closed=True, source=" (Nam eq. 32)"),
         Condition("l_a = l_b + r - R > 0 (a lower link)", lambda c: c["r"] + c["l_b"] - 1),
     ),
+    requirements=(Requirement("r >= R (no folded leg inside the region)", lambda c, _call: c["r"], 1.0),),
 )
