@@ -181,6 +181,7 @@ def command_line(folder: Path) -> st.SearchStrategy[list[str]]:
             refused_starts.map(lambda s: ["--starts", s]),
             option("--resolution", count), option("--max-iter", count), option("--tol", fraction),
             option("--print-level", count), flag("--verbose"), outs(folder), scheduler,
+            option("--set", design_text),
         ]),
         build("reproduce", [junk.filter(lambda k: k not in registry.papers() and k != "all")],
               [flag("--quick"), outs(folder), scheduler]),
