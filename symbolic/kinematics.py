@@ -112,6 +112,7 @@ def add_kinematics(
     forward: ForwardKinematics | None = None,
     assembly: Port | None = None,
     units: dict[str, str],
+    composed: bool = False,
 ) -> None:
     """Emit the kinematic functions of the port convention (module docstring) and record the names.
 
@@ -134,6 +135,9 @@ def add_kinematics(
     units : dict
         Bracketed units of the outputs of ``constraint`` and ``first_order`` by name: ``h``, ``H_q``,
         ``H_x``, ``J``, ``J_f``, ``psi`` and ``det`` (both determinants).
+    composed : bool
+        Emit no ``first_order``: the runtime composes it from ``constraint`` in CasADi
+        (:func:`pkm.kinematics.composed_first_order`), for machines whose solves sympy should not expand.
 
     Raises
     ------
@@ -185,6 +189,8 @@ def add_kinematics(
         ),
         "Loop-closure residuals and their Jacobians.",
     )
+    if composed:
+        return
     first_order = (
         Output("J", loop.jacobian(), f"q_a_dot = J x_dot [{units['J']}]"),
         Output("J_f", loop.forward_jacobian(), f"x_dot = J_f q_a_dot [{units['J_f']}]"),

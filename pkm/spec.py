@@ -1,0 +1,469 @@
+"""Machines as data (DESIGN.md section 6b): a description, checked, derived on first use, loaded as a
+:class:`pkm.mechanism.Mechanism`.
+
+A description is a mapping (or a TOML file) with
+
+* ``name``, ``doc``;
+* ``frame``: the pose, ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
+  ``spatial`` (x, y, z, alpha, beta, gamma; R = Rz(gamma) Ry(beta) Rx(alpha));
+* ``parameters``: a list of {name, default, lower, upper, unit, doc};
+* ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``R_parallelogram``, ``UPS``, see
+  :mod:`symbolic.describe`), ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and
+  ``platform`` attachments, each a list of points (one per leg, each a list of coordinates) or a pattern
+  ``{circle = "R", start = "pi/2"}`` (``count`` points at ``start + 2 pi i / count``) or ``{circle = "R",
+  start = "0", pairs = "theta"}`` (``count / 2`` pairs centred at ``start + 2 pi j / (count / 2)``,
+  ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
+  ``arm``, ``rod`` for R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
+  ``"radial"`` to the base circle by default); every coordinate and length an expression of the
+  parameters with ``pi``, ``cos``, ``sin``, ``tan`` and ``sqrt``;
+* ``home``: the home pose (expressions), the seed of the forward kinematics;
+* optionally ``characteristic_length`` (an expression) and ``modes``: names of branch-sign combinations
+  (``{out_out = [1, -1]}``); every combination is a mode, named by its signs (``pn`` for +1, -1) unless
+  named here.
+
+:func:`describe` checks a description and returns a :class:`Description` (errors name the field and the
+violated condition); :func:`load` derives it once into the user's cache (``descriptions/`` of the kernel cache,
+content-addressed by the normalised description and the tools' versions: ``python -m symbolic.describe``
+in a subprocess, for pkm never imports sympy) and returns the mechanism.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib.util
+import itertools
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm import io
+from pkm.batch import evaluate
+from pkm.compiled.cache import location
+from pkm.design import Parameter
+from pkm.errors import ComputationError, PkmError
+from pkm.kinematics import Branch, FunctionTable, Rootfinder
+from pkm.mechanism import Mechanism
+
+FRAMES = {
+    "planar_point": (("x", "y"), ("m", "m")),
+    "planar": (("x", "y", "phi"), ("m", "m", "rad")),
+    "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
+    "spatial": (("x", "y", "z", "alpha", "beta", "gamma"), ("m", "m", "m", "rad", "rad", "rad")),
+}
+KINDS = {
+    "RR": ("planar", ("proximal", "distal")),
+    "R_parallelogram": ("spatial", ("arm", "rod")),
+    "UPS": ("spatial", ()),
+}
+FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
+ROOT = Path(__file__).resolve().parent.parent
+CLOSURE_TOLERANCE = 1e-9  # [m] the home pose closes every leg to this, relative to the largest length
+RANK_TOLERANCE = 1e-9  # relative singular value below which the closure's Jacobian loses rank
+
+
+class DescriptionError(PkmError):
+    """A machine description that names an unknown field or violates a condition."""
+
+
+@dataclass(frozen=True)
+class Description:
+    """A checked, normalised description: every leg with its attachments and lengths as expressions."""
+
+    data: Mapping[str, Any]
+
+    @property
+    def name(self) -> str:
+        return self.data["name"]
+
+    @cached_property
+    def key(self) -> str:
+        """The sha256 of the normalised description, the deriving modules and CasADi's version."""
+        return hashlib.sha256(json.dumps([self.data, _tool_versions()], sort_keys=True).encode()).hexdigest()
+
+
+def _tool_versions() -> dict[str, str]:
+    sources = sorted((ROOT / "symbolic").glob("*.py"))
+    digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
+    return {"casadi": ca.__version__, "symbolic": digest}
+
+
+def _fail(field: str, condition: str) -> DescriptionError:
+    return DescriptionError(f"description field {field} violates: {condition}")
+
+
+def _expression(field: str, text: Any, names: set[str]) -> str:
+    """An expression of the parameters (and pi, cos, sin, tan, sqrt), as text."""
+    if isinstance(text, bool) or not isinstance(text, int | float | str):
+        raise _fail(field, "a number or an expression of the parameters")
+    text = repr(float(text)) if not isinstance(text, str) else text
+    try:
+        tree = ast.parse(text, mode="eval")
+    except SyntaxError:
+        raise _fail(field, f"an expression of the parameters; got {text!r}") from None
+    unknown = sorted({n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - names - set(FUNCTIONS))
+    if unknown:
+        raise _fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names {unknown}")
+    allowed = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.operator,
+               ast.unaryop)
+    if not all(isinstance(n, allowed) for n in ast.walk(tree)):
+        raise _fail(field, f"arithmetic of the parameters; got {text!r}")
+    return text
+
+
+def _number(field: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise _fail(field, "a finite number")
+    return float(value)
+
+
+def _parameters(raw: Any) -> list[dict[str, Any]]:
+    if not isinstance(raw, list) or not raw:
+        raise _fail("parameters", "a non-empty list of {name, default, lower, upper, unit, doc}")
+    out, seen = [], set()
+    for k, p in enumerate(raw):
+        where = f"parameters[{k}]"
+        if not isinstance(p, Mapping):
+            raise _fail(where, "a table {name, default, lower, upper, unit, doc}")
+        extra = set(p) - {"name", "default", "lower", "upper", "unit", "doc"}
+        if extra:
+            raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, default, lower, upper, unit, doc)")
+        name = p.get("name")
+        if not isinstance(name, str) or not name.isidentifier() or name in FUNCTIONS:
+            raise _fail(f"{where}.name", "an identifier other than pi, cos, sin, tan, sqrt")
+        if name in seen:
+            raise _fail(f"{where}.name", f"a name not given before; {name} is")
+        seen.add(name)
+        for bound in ("lower", "upper"):
+            if bound not in p:
+                raise _fail(f"{where}.{bound}", f"given (every parameter of a description has bounds; {name} has none)")
+        lower, upper = _number(f"{where}.lower", p["lower"]), _number(f"{where}.upper", p["upper"])
+        default = _number(f"{where}.default", p.get("default"))
+        if not lower < upper:
+            raise _fail(f"{where}", f"lower < upper; got {lower:g}, {upper:g}")
+        if not lower <= default < upper:
+            raise _fail(f"{where}.default", f"{lower:g} <= default < {upper:g}; got {default:g}")
+        unit, doc = p.get("unit", "-"), p.get("doc", "")
+        if not isinstance(unit, str) or not isinstance(doc, str):
+            raise _fail(where, "unit and doc are text")
+        out.append({"name": name, "default": default, "lower": lower, "upper": upper, "unit": unit, "doc": doc})
+    return out
+
+
+def _angles(pattern: Mapping[str, Any], count: int, field: str, names: set[str]) -> list[str]:
+    start = _expression(f"{field}.start", pattern.get("start", 0), names)
+    if "pairs" not in pattern:
+        return [f"({start}) + 2*pi*{i}/{count}" for i in range(count)]
+    if count % 2:
+        raise _fail(f"{field}.pairs", f"an even count of legs; got {count}")
+    apart = _expression(f"{field}.pairs", pattern["pairs"], names)
+    return [f"({start}) + 2*pi*{i // 2}/{count // 2} {'-' if i % 2 == 0 else '+'} ({apart})/2" for i in range(count)]
+
+
+def _points(raw: Any, count: int, dim: int, field: str, names: set[str]) -> tuple[list[list[str]], list[str] | None]:
+    """``count`` points of ``dim`` expressions, and the circle's angles where a pattern gave them."""
+    if isinstance(raw, Mapping):
+        extra = set(raw) - {"circle", "start", "pairs"}
+        if extra or "circle" not in raw:
+            raise _fail(field, "a list of points or a pattern {circle, start, pairs}")
+        radius = _expression(f"{field}.circle", raw["circle"], names)
+        angles = _angles(raw, count, field, names)
+        plane = [[f"({radius})*cos({a})", f"({radius})*sin({a})"] for a in angles]
+        return [p + ["0"] * (dim - 2) for p in plane], angles
+    if not isinstance(raw, list) or len(raw) != count:
+        raise _fail(field, f"a list of {count} points (one per leg) or a pattern {{circle, start, pairs}}")
+    points = []
+    for i, point in enumerate(raw):
+        if not isinstance(point, list) or len(point) != dim:
+            raise _fail(f"{field}[{i}]", f"a point of {dim} coordinates")
+        points.append([_expression(f"{field}[{i}][{j}]", c, names) for j, c in enumerate(point)])
+    return points, None
+
+
+def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
+    tables = [raw] if isinstance(raw, Mapping) else raw
+    if not isinstance(tables, list) or not tables:
+        raise _fail("legs", "a table or a list of tables")
+    planar = frame.startswith("planar")
+    dim = 2 if planar else 3
+    legs = []
+    for t, table in enumerate(tables):
+        where = "legs" if isinstance(raw, Mapping) else f"legs[{t}]"
+        if not isinstance(table, Mapping):
+            raise _fail(where, "a table")
+        kind = table.get("kind")
+        if kind not in KINDS:
+            raise _fail(f"{where}.kind", f"one of {', '.join(KINDS)}; got {kind!r}")
+        space, lengths = KINDS[kind]
+        if (space == "planar") != planar:
+            raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
+                                          f"{space}")
+        known = {"kind", "count", "base", "platform", "axis", "zero", *lengths}
+        extra = set(table) - known
+        if extra:
+            raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of a {kind} leg ({', '.join(sorted(known))})")
+        count = table.get("count", 1)
+        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 12:
+            raise _fail(f"{where}.count", "an integer from 1 to 12")
+        base, angles = _points(table.get("base"), count, dim, f"{where}.base", names)
+        platform, _ = _points(table.get("platform"), count, dim, f"{where}.platform", names)
+        for length in lengths:
+            if length not in table:
+                raise _fail(f"{where}.{length}", f"given (the {kind} leg's length)")
+        for i in range(count):
+            leg = {"kind": kind, "base": base[i], "platform": platform[i],
+                   **{n: _expression(f"{where}.{n}", table[n], names) for n in lengths}}
+            if kind == "R_parallelogram":
+                if angles is None and ("axis" not in table or "zero" not in table):
+                    raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
+                a = angles[i] if angles is not None else None
+                leg["axis"] = [f"-sin({a})", f"cos({a})", "0"] if table.get("axis", "tangent") == "tangent" else \
+                    [_expression(f"{where}.axis", c, names) for c in table["axis"]]
+                leg["zero"] = [f"cos({a})", f"sin({a})", "0"] if table.get("zero", "radial") == "radial" else \
+                    [_expression(f"{where}.zero", c, names) for c in table["zero"]]
+            legs.append(leg)
+    return legs
+
+
+def describe(raw: Mapping[str, Any] | Description) -> Description:
+    """Check a description (a mapping) and normalise it; :class:`DescriptionError` names the field."""
+    if isinstance(raw, Description):
+        return raw
+    if not isinstance(raw, Mapping):
+        raise _fail("(the description)", "a mapping or a TOML file")
+    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes"}
+    extra = set(raw) - known
+    if extra:
+        raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
+    name = raw.get("name")
+    if not isinstance(name, str) or not name.isidentifier():
+        raise _fail("name", "an identifier")
+    frame = raw.get("frame")
+    if frame not in FRAMES:
+        raise _fail("frame", f"one of {', '.join(FRAMES)}; got {frame!r}")
+    parameters = _parameters(raw.get("parameters"))
+    names = {p["name"] for p in parameters}
+    legs = _legs(raw.get("legs"), frame, names)
+    pose_names, units = FRAMES[frame]
+    actuated = len(legs)
+    if actuated != len(pose_names):
+        raise _fail("legs", f"one actuated joint per pose coordinate: {len(pose_names)} legs for the {frame} frame; "
+                            f"got {actuated}")
+    home = raw.get("home")
+    if not isinstance(home, list) or len(home) != len(pose_names):
+        raise _fail("home", f"a pose of {len(pose_names)} values ({', '.join(pose_names)})")
+    branched = sum(leg["kind"] != "UPS" for leg in legs)
+    modes = raw.get("modes", {})
+    if not isinstance(modes, Mapping):
+        raise _fail("modes", "a table of names -> sign lists")
+    for mode, signs in modes.items():
+        if not (isinstance(signs, list) and len(signs) == max(branched, 1) and all(s in (1, -1) for s in signs)):
+            raise _fail(f"modes.{mode}", f"a list of {max(branched, 1)} signs, each 1 or -1")
+    length = raw.get("characteristic_length")
+    data = {
+        "name": name,
+        "doc": raw.get("doc", name) if isinstance(raw.get("doc", name), str) else name,
+        "pose": {"frame": frame, "units": list(units)},
+        "parameters": parameters,
+        "legs": legs,
+        "home": [_expression(f"home[{k}]", h, names) for k, h in enumerate(home)],
+        "characteristic_length": None if length is None else _expression("characteristic_length", length, names),
+        "modes": {k: list(v) for k, v in modes.items()},
+    }
+    return Description(data)
+
+
+def read(path: str | os.PathLike) -> Description:
+    """A description from a TOML file."""
+    try:
+        raw = tomllib.loads(Path(path).read_text())
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise DescriptionError(f"description file {path}: {exc}") from None
+    return describe(raw)
+
+
+def module_path(description: Description) -> Path:
+    """The derived module of a description in the user's cache, derived now where it is not there yet."""
+    folder = location() / "descriptions"
+    target = folder / f"{description.name}_{description.key[:16]}.py"
+    if target.exists():
+        return target
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=folder) as tmp:
+        source = Path(tmp) / "description.json"
+        source.write_text(json.dumps({**description.data, "key": description.key}, sort_keys=True))
+        out = Path(tmp) / "module.py"
+        done = subprocess.run([sys.executable, "-m", "symbolic.describe", str(source), str(out)], cwd=ROOT,
+                              capture_output=True, text=True, check=False)
+        if done.returncode != 0:
+            last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+            raise ComputationError(f"deriving {description.name} failed: {last}")
+        io.atomic_write(target, lambda path: path.write_bytes(out.read_bytes()))
+    return target
+
+
+def composed_first_order(constraint: ca.Function, n_act: int) -> ca.Function:
+    """``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` composed in CasADi from the loop
+    closure's Jacobians (:mod:`symbolic.loops`): J = -[H_a H_p]^-1 H_x (its actuated rows), J_f and Psi
+    from [H_p H_x] and H_a, the determinants of the two square matrices."""
+    q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
+    _, H_q, H_x = constraint(q, x, d)
+    n_p = H_q.size2() - n_act
+    H_a, H_p = H_q[:, :n_act], H_q[:, n_act:]
+    inverse = ca.solve(H_q, -H_x)
+    forward = ca.solve(ca.horzcat(H_p, H_x), -H_a)
+    J = inverse[:n_act, :]
+    J_f = forward[n_p:, :]
+    psi = ca.vertcat(ca.SX.eye(n_act), forward[:n_p, :])
+    return ca.Function("first_order", [q, x, d], [J, J_f, psi, ca.det(H_q), ca.det(ca.horzcat(H_p, H_x))],
+                       ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
+
+
+def forward_seed(inverse: ca.Function, home: ca.Function, n_act: int) -> ca.Function:
+    """``forward_seed(q_a, assembly, design) -> z0``: the passive joints and the pose of the home pose on the
+    assembly's branch, the start of Newton's method (:class:`pkm.kinematics.Rootfinder`)."""
+    q_a = ca.SX.sym("q_a", n_act)
+    assembly = ca.SX.sym("assembly", inverse.size_in(1))
+    d = ca.SX.sym("design", inverse.size_in(2))
+    x = home(d)
+    q, _ = inverse(x, assembly, d)
+    return ca.Function("forward_seed", [q_a, assembly, d], [ca.vertcat(q[n_act:], x) + 0 * ca.sum1(q_a)],
+                       ["q_a", "assembly", "design"], ["z0"])
+
+
+class DescribedFunctions(FunctionTable):
+    """The functions of a description's derived module and those composed from them."""
+
+    def __init__(self, description: Description) -> None:
+        super().__init__({}, f"the description {description.name}")
+        self.description = description
+
+    @cached_property
+    def _functions(self) -> dict[str, ca.Function]:
+        path = module_path(self.description)
+        spec = importlib.util.spec_from_file_location(f"pkm_description_{self.description.name}", path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        functions = module.build()
+        n_act = len(module.ACTUATORS)
+        functions["first_order"] = composed_first_order(functions["constraint"], n_act)
+        functions["forward_seed"] = forward_seed(functions["inverse_kinematics"], functions["home"], n_act)
+        return functions
+
+    def _load(self) -> dict[str, ca.Function]:
+        return self._functions
+
+
+def _mode_name(signs: Sequence[int]) -> str:
+    return "".join("p" if s > 0 else "n" for s in signs)
+
+
+def mechanism_class(description: Description) -> type[Mechanism]:
+    """The :class:`Mechanism` subclass of a description."""
+    data = description.data
+    pose_names, _ = FRAMES[data["pose"]["frame"]]
+    branched = sum(leg["kind"] != "UPS" for leg in data["legs"])
+    named = {tuple(v): k for k, v in data["modes"].items()}
+    combos = list(itertools.product((1.0, -1.0), repeat=branched)) if branched else [(1.0,)]
+    modes = tuple(Branch(named.get(tuple(int(s) for s in c), _mode_name(c)), tuple(c),
+                         f"leg branch signs {', '.join(f'{s:+.0f}' for s in c)}") for c in combos)
+    parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
+                                 closed_lower=True) for p in data["parameters"])
+    length = data["characteristic_length"]
+    attributes = {
+        "name": data["name"],
+        "doc": data["doc"],
+        "parameters": parameters,
+        "working_modes": modes,
+        "assembly_modes": modes,
+        "pose_names": pose_names,
+        "pose_units": tuple(data["pose"]["units"]),
+        "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
+        "actuator_units": tuple("m" if leg["kind"] == "UPS" else "rad" for leg in data["legs"]),
+        "forward": Rootfinder(),
+        "description": description,
+        "functions": cached_property(lambda self: DescribedFunctions(self.description)),
+        "workspace_box": _workspace_box,
+    }
+    if length is not None:
+        attributes["characteristic_length"] = staticmethod(_length_of(length))
+    cls = type(f"Described_{data['name']}", (Mechanism,), attributes)
+    cls.functions.__set_name__(cls, "functions")
+    return cls
+
+
+def _length_of(expression: str) -> Any:
+    code = compile(ast.parse(expression, mode="eval"), "<characteristic_length>", "eval")
+
+    def length(design: Mapping[str, Any]) -> Any:
+        names = {"pi": math.pi, "cos": ca.cos, "sin": ca.sin, "tan": ca.tan, "sqrt": ca.sqrt}
+        return eval(code, {"__builtins__": {}}, {**names, **design})
+
+    return length
+
+
+def _workspace_box(self: Mechanism, design: np.ndarray) -> np.ndarray:
+    """A box about the home pose: the legs' reach in each translation, a half turn in each angle."""
+    d = self.design_dict(design)
+    (home,) = evaluate(self.functions["home"], np.asarray(design, dtype=float))
+    reach = sum(abs(d[p.name]) for p in self.parameters if p.unit == "m") or 1.0
+    half = np.array([math.pi / 2 if unit == "rad" else reach for unit in self.pose_units])
+    centre = home[0, :, 0]
+    return np.column_stack([centre - half, centre + half])
+
+
+_INSTANCES: dict[str, Mechanism] = {}
+
+
+def _instance(description: Description) -> Mechanism:
+    """One mechanism per description (by its key), checked once."""
+    if description.key not in _INSTANCES:
+        mech = mechanism_class(description)()
+        check_mobility(mech)
+        _INSTANCES[description.key] = mech
+    return _INSTANCES[description.key]
+
+
+def load(source: Mapping[str, Any] | Description | str | os.PathLike) -> Mechanism:
+    """The mechanism of a description (a mapping, a :class:`Description` or a TOML file's path), derived on
+    first use and checked (:func:`check_mobility`)."""
+    description = read(source) if isinstance(source, str | os.PathLike) else describe(source)
+    return _instance(description)
+
+
+def check_mobility(mech: Mechanism) -> None:
+    """The home pose assembles at the default design in the first mode, closing every leg, and the closure's
+    Jacobian [H_q H_x] has full row rank there with as many degrees of freedom as actuated joints:
+    :class:`DescriptionError` otherwise."""
+    design = mech.design().vector()
+    (home,) = evaluate(mech.functions["home"], design)
+    x = home[0, :, 0]
+    q = mech.inverse_kinematics(x, design, passive=True)
+    if not np.all(np.isfinite(q)):
+        raise DescriptionError(f"description {mech.name}: the home pose {x.tolist()} does not assemble at the "
+                               "default design in the first working mode")
+    h, H_q, H_x = (v[0] for v in evaluate(mech.functions["constraint"], q, x, design))
+    scale = max(1.0, float(np.abs(design).max()))
+    if np.abs(h).max() > CLOSURE_TOLERANCE * scale**2:
+        raise DescriptionError(f"description {mech.name}: the legs do not close at the home pose (residual "
+                               f"{np.abs(h).max():.1e})")
+    full = np.hstack([H_q, H_x])
+    singular = np.linalg.svd(full, compute_uv=False)
+    rank = int(np.sum(singular > RANK_TOLERANCE * singular.max()))
+    freedom = full.shape[1] - rank
+    if rank < full.shape[0] or freedom != mech.n_out:
+        raise DescriptionError(f"description {mech.name}: mobility {freedom} at the home pose, not the {mech.n_out} "
+                               f"of its pose ({full.shape[0]} closure equations of rank {rank} in {full.shape[1]} "
+                               "coordinates)")

@@ -1,0 +1,183 @@
+"""A machine described as data, derived: ``python -m symbolic.describe DESCRIPTION.json MODULE.py``.
+
+The description is the normalised form that :mod:`pkm.spec` writes (legs with their attachment points as
+expressions of the design parameters, patterns already expanded). Each leg is one of the kinds below; its
+closure rows, its joints, its inverse kinematics in closed form (the leg's known subproblem) and its
+reach margins are derived in sympy, and the module gets the port convention's ``inverse_kinematics(x,
+mode, design) -> (q, reach)`` and ``constraint(q, x, design) -> (h, H_q, H_x)`` (through
+:func:`symbolic.kinematics.add_kinematics`, ``composed``: the runtime composes the first order from the
+constraint in CasADi, so that a 6 x 6 solve is never expanded in sympy), ``home(design) -> x``, and where
+given ``characteristic_length(design) -> L``.
+
+Pose (``pose.frame``): ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
+``spatial`` (x, y, z, alpha, beta, gamma) with R = Rz(gamma) Ry(beta) Rx(alpha). A platform attachment c
+(in the platform frame) is at P + R c in the base frame.
+
+Legs (A the base attachment, C the platform attachment in the base frame, sigma the leg's branch sign):
+
+* ``RR``, planar: an actuated revolute at A (absolute angle theta of the first link, length ``proximal``)
+  and a passive revolute (absolute angle phi of the second link, length ``distal``) ending at C:
+  h = A + l1 e(theta) + l2 e(phi) - C. With d = C - A, theta = atan2(d) + sigma acos((l1^2 + |d|^2 -
+  l2^2) / (2 l1 |d|)) and phi = atan2(C - B), B the elbow (two circles); reach: |d| within [|l1 - l2|,
+  l1 + l2].
+* ``R_parallelogram``, spatial: an actuated revolute at A about ``axis`` turning an arm of length ``arm``
+  from the direction ``zero`` (theta = 0) towards ``axis`` x ``zero``, and a parallelogram of length
+  ``rod`` from its tip E to C: h = |C - E|^2 - rod^2. With D = C - A, P = D.u, Q = D.w (u = zero, w =
+  axis x zero) and K = (|D|^2 + arm^2 - rod^2) / (2 arm), theta = atan2(Q, P) + sigma acos(K / sqrt(P^2 +
+  Q^2)); reach: P^2 + Q^2 - K^2.
+* ``UPS``, spatial: an actuated prismatic joint of length l between A and C (universal and spherical joints
+  at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from symbolic import codegen
+from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.kinematics import InverseKinematics, add_kinematics
+from symbolic.loops import LoopClosure
+
+FRAMES = {
+    "planar_point": ("x", "y"),
+    "planar": ("x", "y", "phi"),
+    "spatial_point": ("x", "y", "z"),
+    "spatial": ("x", "y", "z", "alpha", "beta", "gamma"),
+}
+FUNCTIONS = {"pi": sp.pi, "cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt}
+
+
+def _rotation(frame: str, pose: tuple[sp.Symbol, ...]) -> sp.Matrix:
+    """The platform's rotation in the base frame."""
+    if frame == "planar":
+        phi = pose[2]
+        return sp.Matrix([[sp.cos(phi), -sp.sin(phi)], [sp.sin(phi), sp.cos(phi)]])
+    if frame == "spatial":
+        alpha, beta, gamma = pose[3:]
+        rx = sp.Matrix([[1, 0, 0], [0, sp.cos(alpha), -sp.sin(alpha)], [0, sp.sin(alpha), sp.cos(alpha)]])
+        ry = sp.Matrix([[sp.cos(beta), 0, sp.sin(beta)], [0, 1, 0], [-sp.sin(beta), 0, sp.cos(beta)]])
+        rz = sp.Matrix([[sp.cos(gamma), -sp.sin(gamma), 0], [sp.sin(gamma), sp.cos(gamma), 0], [0, 0, 1]])
+        return rz * ry * rx
+    return sp.eye(2 if frame == "planar_point" else 3)
+
+
+def _e(angle: sp.Expr) -> sp.Matrix:
+    return sp.Matrix([sp.cos(angle), sp.sin(angle)])
+
+
+@dataclass(frozen=True)
+class _Leg:
+    """One leg's closure rows, joints, inverse kinematics, reach margins and branch sign."""
+
+    h: list[sp.Expr]
+    actuated: sp.Symbol
+    passive: list[sp.Symbol]
+    ik: dict[sp.Symbol, sp.Expr]
+    reach: list[sp.Expr]
+    sign: sp.Symbol | None
+
+
+def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
+    theta, phi, sigma = sp.symbols(f"theta{k + 1} phi{k + 1} sigma{k + 1}", real=True)
+    d = c - a
+    dist2 = d.dot(d)
+    angle = sp.atan2(d[1], d[0]) + sigma * sp.acos((l1**2 + dist2 - l2**2) / (2 * l1 * sp.sqrt(dist2)))
+    elbow = a + l1 * _e(angle)
+    h = list(a + l1 * _e(theta) + l2 * _e(phi) - c)
+    ik = {theta: angle, phi: sp.atan2(c[1] - elbow[1], c[0] - elbow[0])}
+    return _Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma)
+
+
+def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) -> _Leg:
+    axis, zero, arm, rod = leg["axis"], leg["zero"], leg["arm"], leg["rod"]
+    theta, sigma = sp.symbols(f"theta{k + 1} sigma{k + 1}", real=True)
+    w = axis.cross(zero)
+    tip = a + arm * (sp.cos(theta) * zero + sp.sin(theta) * w)
+    d = c - a
+    p, q = d.dot(zero), d.dot(w)
+    big_k = (d.dot(d) + arm**2 - rod**2) / (2 * arm)
+    angle = sp.atan2(q, p) + sigma * sp.acos(big_k / sp.sqrt(p**2 + q**2))
+    h = [(c - tip).dot(c - tip) - rod**2]
+    return _Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma)
+
+
+def _ups(k: int, a: sp.Matrix, c: sp.Matrix) -> _Leg:
+    length = sp.Symbol(f"l{k + 1}", real=True)
+    d = c - a
+    return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None)
+
+
+def module(description: dict[str, Any]) -> ModuleSpec:
+    """The ModuleSpec of a normalised description (:mod:`pkm.spec`)."""
+    name = description["name"]
+    frame = description["pose"]["frame"]
+    parameters = [p["name"] for p in description["parameters"]]
+    design = tuple(sp.Symbol(p, real=True) for p in parameters)
+    pose = tuple(sp.Symbol(p, real=True) for p in FRAMES[frame])
+    env = {**FUNCTIONS, **{s.name: s for s in (*design, *pose)}}
+
+    def vector(texts: list[str]) -> sp.Matrix:
+        return sp.Matrix([sp.sympify(t, locals=env) for t in texts])
+
+    def scalar(text: str) -> sp.Expr:
+        return sp.sympify(text, locals=env)
+
+    rotation = _rotation(frame, pose)
+    dim = rotation.rows
+    origin = sp.Matrix(pose[:dim])
+    legs = []
+    for k, leg in enumerate(description["legs"]):
+        a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
+        if leg["kind"] == "RR":
+            legs.append(_rr(k, a, c, scalar(leg["proximal"]), scalar(leg["distal"])))
+        elif leg["kind"] == "R_parallelogram":
+            legs.append(_r_parallelogram(k, a, c, {"axis": vector(leg["axis"]), "zero": vector(leg["zero"]),
+                                                   "arm": scalar(leg["arm"]), "rod": scalar(leg["rod"])}))
+        else:
+            legs.append(_ups(k, a, c))
+    q_a = tuple(leg.actuated for leg in legs)
+    q_p = tuple(s for leg in legs for s in leg.passive)
+    signs = tuple(leg.sign for leg in legs if leg.sign is not None) or (sp.Symbol("branch", real=True),)
+    loop = LoopClosure.of([h for leg in legs for h in leg.h], q_a, q_p, pose)
+    solution = {s: e for leg in legs for s, e in leg.ik.items()}
+    q = sp.Matrix([solution[s] for s in (*q_a, *q_p)])
+    spec = ModuleSpec(name, "symbolic/describe.py", description.get("doc", name))
+    design_port = Port("design", design, "; ".join(f"{p['name']} [{p['unit']}]" for p in description["parameters"]))
+    pose_port = Port("x", pose, ", ".join(f"{n} [{u}]" for n, u in zip(FRAMES[frame], description["pose"]["units"],
+                                                                       strict=True)))
+    joints = Port("q", (*q_a, *q_p), "actuated joints, then the passive joints leg by leg")
+    actuated = Port("q_a", q_a, "actuated joints")
+    mode = Port("mode", signs, "branch sign of each leg with two (+1 or -1)")
+    inverse = InverseKinematics(
+        q, sp.Matrix([m for leg in legs for m in leg.reach]),
+        "Closed-form inverse kinematics, leg by leg, on the branch of the mode's signs.",
+        "actuated, then passive joints", "margins of each leg's reach, >= 0 where it assembles",
+    )
+    add_kinematics(spec, loop, pose=pose_port, joints=joints, actuated=actuated, design=design_port, mode=mode,
+                   inverse=inverse, units=dict.fromkeys(("h", "H_q", "H_x", "J", "J_f", "psi", "det"), "-"),
+                   composed=True)
+    spec.add("home", (design_port,), (Output("x", vector(description["home"]), "the home pose"),),
+             "The home pose: the seed of the forward kinematics.")
+    if description.get("characteristic_length"):
+        spec.add("characteristic_length", (design_port,),
+                 (Output("L", sp.Matrix([scalar(description["characteristic_length"])]), "[m]"),),
+                 "The length that turns the pose's angles into arc lengths.")
+    return spec
+
+
+def main(argv: list[str] | None = None) -> int:
+    source, target = (Path(a) for a in (argv if argv is not None else sys.argv[1:]))
+    description = json.loads(source.read_text())
+    rendered = codegen.RenderedModule.of(module(description), description["key"])
+    target.write_text(rendered.text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
