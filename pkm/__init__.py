@@ -58,9 +58,14 @@ def mechanisms() -> list[str]:
     return registry.mechanisms()
 
 
-def load(name: str) -> Mechanism:
-    """The mechanism registered under ``name``."""
-    return registry.mechanism(name)
+def load(name: Any) -> Mechanism:
+    """The mechanism registered under ``name``, or a described machine: a description file (``.toml``), a
+    mapping or a :class:`pkm.spec.Description`, derived on first use (:mod:`pkm.spec`)."""
+    if isinstance(name, str):
+        return registry.mechanism(name)
+    from pkm import spec
+
+    return spec.load(name)
 
 
 def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:

@@ -360,19 +360,58 @@ class Rootfinder:
 
     def solve(self, functions, q_a, branch, design, *, joints=True):
         constraint = functions["constraint"]
-        n_act = q_a.shape[1]
-        n_q = constraint.numel_in(0)
-        residual, finder = _newton(constraint, n_act, self.max_iter)
+        residual, finder = _newton(constraint, q_a.shape[1], self.max_iter)
         (z0,) = evaluate(functions[self.seed], q_a, np.array(branch.signs), design)
         params = np.hstack([q_a, np.broadcast_to(design, (len(q_a), len(design)))])
         (z,) = evaluate(finder, z0[:, :, 0], params)
-        z = z[:, :, 0]
-        q = np.hstack([q_a, z[:, : n_q - n_act]])
-        x = z[:, n_q - n_act :]
-        with np.errstate(invalid="ignore"):
-            (h,) = evaluate(residual, z, params)
-            ok = np.all(np.abs(h[:, :, 0]) <= ROOT_TOLERANCE * max(1.0, float(np.abs(design).max())), axis=1)
-        return x, q if joints else None, ok & np.all(np.isfinite(z), axis=1)
+        return _closing(residual, constraint, q_a, z[:, :, 0], design, joints=joints)
+
+
+def _closing(residual: ca.Function, constraint: ca.Function, q_a: np.ndarray, z: np.ndarray, design: np.ndarray, *,
+             joints: bool) -> tuple[np.ndarray, np.ndarray | None, np.ndarray]:
+    """The poses, all joints (with ``joints``) and the mask of the rows whose solution z = (q_p, x) of the
+    loop at actuated joints q_a closes it (``residual``, :func:`_newton`) to ROOT_TOLERANCE."""
+    n_act, n_q = q_a.shape[1], constraint.numel_in(0)
+    params = np.hstack([q_a, np.broadcast_to(design, (len(q_a), len(design)))])
+    q = np.hstack([q_a, z[:, : n_q - n_act]])
+    with np.errstate(invalid="ignore"):
+        (h,) = evaluate(residual, z, params)
+        ok = np.all(np.abs(h[:, :, 0]) <= ROOT_TOLERANCE * max(1.0, float(np.abs(design).max())), axis=1)
+    return z[:, n_q - n_act :], q if joints else None, ok & np.all(np.isfinite(z), axis=1)
+
+
+@lru_cache(maxsize=32)
+def _continuation(constraint: ca.Function, n_act: int, steps: int, max_iter: int) -> ca.Function:
+    """``(q_a, q_a0, z0, design) -> z``: Newton's method on the loop residual in z = (q_p, x) at ``steps``
+    actuated values from q_a0 to q_a, each from the last one's solution."""
+    _, finder = _newton(constraint, n_act, max_iter)
+    q_a, q_a0 = ca.MX.sym("q_a", n_act), ca.MX.sym("q_a0", n_act)
+    z0 = ca.MX.sym("z0", finder.size_in(0))
+    design = ca.MX.sym("design", constraint.numel_in(2))
+    z = z0
+    for k in range(1, steps + 1):
+        z = finder(z, ca.vertcat(q_a0 + (k / steps) * (q_a - q_a0), design))
+    return ca.Function("forward_continuation", [q_a, q_a0, z0, design], [z], ["q_a", "q_a0", "z0", "design"], ["z"])
+
+
+@dataclass(frozen=True)
+class Continuation:
+    """Forward kinematics by Newton's method with continuation: from a known configuration of the assembly
+    mode (``seed(q_a, assembly, design) -> (q_a0, z0)``, z = (q_p, x)) the actuated joints move to the
+    given ones in ``steps`` equal steps, each solved from the last, so that the solution stays on the
+    branch the seed starts on; it closes the loop to :data:`ROOT_TOLERANCE` where it converges."""
+
+    seed: str = "forward_seed"
+    steps: int = 12
+    max_iter: int = 30
+
+    def solve(self, functions, q_a, branch, design, *, joints=True):
+        constraint = functions["constraint"]
+        residual, _ = _newton(constraint, q_a.shape[1], self.max_iter)
+        q_a0, z0 = evaluate(functions[self.seed], q_a, np.array(branch.signs), design)
+        (z,) = evaluate(_continuation(constraint, q_a.shape[1], self.steps, self.max_iter), q_a, q_a0[:, :, 0],
+                        z0[:, :, 0], design)
+        return _closing(residual, constraint, q_a, z[:, :, 0], design, joints=joints)
 
 
 POLISH_LIMIT = 1e-6

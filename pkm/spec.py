@@ -14,12 +14,13 @@ A description is a mapping (or a TOML file) with
   start = "0", pairs = "theta"}`` (``count / 2`` pairs centred at ``start + 2 pi j / (count / 2)``,
   ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
   ``arm``, ``rod`` for R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
-  ``"radial"`` to the base circle by default); every coordinate and length an expression of the
-  parameters with ``pi``, ``cos``, ``sin``, ``tan`` and ``sqrt``;
+  ``"radial"`` to the base circle by default), and optionally ``range = [lower, upper]`` of the actuated
+  joint (a stroke, an arm's sweep: outside it a pose is out of reach); every coordinate and length an
+  expression of the parameters with ``pi``, ``cos``, ``sin``, ``tan`` and ``sqrt``;
 * ``home``: the home pose (expressions), the seed of the forward kinematics;
-* optionally ``characteristic_length`` (an expression) and ``modes``: names of branch-sign combinations
-  (``{out_out = [1, -1]}``); every combination is a mode, named by its signs (``pn`` for +1, -1) unless
-  named here.
+* optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
+  combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every
+  combination is a mode, named by its signs (``pn`` for +1, -1).
 
 :func:`describe` checks a description and returns a :class:`Description` (errors name the field and the
 violated condition); :func:`load` derives it once into the user's cache (``descriptions/`` of the kernel cache,
@@ -54,7 +55,7 @@ from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Parameter
 from pkm.errors import ComputationError, PkmError
-from pkm.kinematics import Branch, FunctionTable, Rootfinder
+from pkm.kinematics import Branch, Continuation, FunctionTable
 from pkm.mechanism import Mechanism
 
 FRAMES = {
@@ -210,7 +211,7 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
-        known = {"kind", "count", "base", "platform", "axis", "zero", *lengths}
+        known = {"kind", "count", "base", "platform", "axis", "zero", "range", *lengths}
         extra = set(table) - known
         if extra:
             raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of a {kind} leg ({', '.join(sorted(known))})")
@@ -225,6 +226,11 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         for i in range(count):
             leg = {"kind": kind, "base": base[i], "platform": platform[i],
                    **{n: _expression(f"{where}.{n}", table[n], names) for n in lengths}}
+            if "range" in table:
+                bounds = table["range"]
+                if not isinstance(bounds, list) or len(bounds) != 2:
+                    raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
+                leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
             if kind == "R_parallelogram":
                 if angles is None and ("axis" not in table or "zero" not in table):
                     raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
@@ -331,16 +337,33 @@ def composed_first_order(constraint: ca.Function, n_act: int) -> ca.Function:
                        ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
 
 
-def forward_seed(inverse: ca.Function, home: ca.Function, n_act: int) -> ca.Function:
-    """``forward_seed(q_a, assembly, design) -> z0``: the passive joints and the pose of the home pose on the
-    assembly's branch, the start of Newton's method (:class:`pkm.kinematics.Rootfinder`)."""
+def forward_seed(inverse: ca.Function, home: ca.Function, data: Mapping[str, Any]) -> ca.Function:
+    """``forward_seed(q_a, assembly, design) -> (q_a0, z0)``: the home configuration on the assembly's
+    branch, where the continuation of :class:`pkm.kinematics.Continuation` starts: the home pose (mirrored
+    through the base plane z = 0 where a spatial assembly's last sign is -1), its inverse kinematics with
+    the assembly's signs for the legs with passive joints and the default mode's for the others."""
+    legs = data["legs"]
+    n_act = len(legs)
+    spatial = data["pose"]["frame"].startswith("spatial")
+    branched = [leg["kind"] != "UPS" for leg in legs]
+    passive = [leg["kind"] == "RR" for leg in legs]
+    default = _modes(data)[0].signs
     q_a = ca.SX.sym("q_a", n_act)
-    assembly = ca.SX.sym("assembly", inverse.size_in(1))
+    assembly = ca.SX.sym("assembly", sum(passive) + spatial)
     d = ca.SX.sym("design", inverse.size_in(2))
     x = home(d)
-    q, _ = inverse(x, assembly, d)
-    return ca.Function("forward_seed", [q_a, assembly, d], [ca.vertcat(q[n_act:], x) + 0 * ca.sum1(q_a)],
-                       ["q_a", "assembly", "design"], ["z0"])
+    if spatial:
+        x = ca.vertcat(x[:2], assembly[-1] * x[2], x[3:])
+    signs, k, j = [], 0, 0
+    for is_branched, is_passive in zip(branched, passive, strict=True):
+        if is_branched:
+            signs.append(assembly[j] if is_passive else default[k])
+            j += is_passive
+            k += 1
+    mode = ca.vertcat(*signs) if signs else ca.DM(default)
+    q, _ = inverse(x, mode, d)
+    return ca.Function("forward_seed", [q_a, assembly, d], [q[:n_act] + 0 * ca.sum1(q_a), ca.vertcat(q[n_act:], x)],
+                       ["q_a", "assembly", "design"], ["q_a0", "z0"])
 
 
 class DescribedFunctions(FunctionTable):
@@ -359,7 +382,8 @@ class DescribedFunctions(FunctionTable):
         functions = module.build()
         n_act = len(module.ACTUATORS)
         functions["first_order"] = composed_first_order(functions["constraint"], n_act)
-        functions["forward_seed"] = forward_seed(functions["inverse_kinematics"], functions["home"], n_act)
+        functions["forward_seed"] = forward_seed(functions["inverse_kinematics"], functions["home"],
+                                                 self.description.data)
         return functions
 
     def _load(self) -> dict[str, ca.Function]:
@@ -370,15 +394,37 @@ def _mode_name(signs: Sequence[int]) -> str:
     return "".join("p" if s > 0 else "n" for s in signs)
 
 
+def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
+    """The working modes: the named sign combinations of the branched legs where the description names
+    some, else every combination, named by its signs."""
+    branched = sum(leg["kind"] != "UPS" for leg in data["legs"])
+    named = {tuple(float(s) for s in v): k for k, v in data["modes"].items()}
+    combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=branched)) if branched else [(1.0,)])
+    return tuple(Branch(named.get(c, _mode_name(c)), tuple(c), f"leg branch signs {', '.join(f'{s:+.0f}' for s in c)}")
+                 for c in combos)
+
+
+def _assemblies(data: Mapping[str, Any]) -> tuple[Branch, ...]:
+    """The assembly modes: the branches of the legs with passive joints and, for a spatial pose, the side of
+    the base plane of the home pose (``home``) or of its mirror image (``mirror``)."""
+    passive = sum(leg["kind"] == "RR" for leg in data["legs"])
+    combos = list(itertools.product((1.0, -1.0), repeat=passive))
+    sides = ((1.0, "home"), (-1.0, "mirror")) if data["pose"]["frame"].startswith("spatial") else ((None, ""),)
+    out = []
+    for combo in combos:
+        for side, label in sides:
+            signs = (*combo, side) if side is not None else combo
+            name = "_".join(filter(None, [_mode_name(combo) if combo else "", label]))
+            out.append(Branch(name, tuple(signs), "the home configuration's branch of the legs' passive joints"
+                              + (f", on the {label} side of the base plane" if label else "")))
+    return tuple(out)
+
+
 def mechanism_class(description: Description) -> type[Mechanism]:
     """The :class:`Mechanism` subclass of a description."""
     data = description.data
     pose_names, _ = FRAMES[data["pose"]["frame"]]
-    branched = sum(leg["kind"] != "UPS" for leg in data["legs"])
-    named = {tuple(v): k for k, v in data["modes"].items()}
-    combos = list(itertools.product((1.0, -1.0), repeat=branched)) if branched else [(1.0,)]
-    modes = tuple(Branch(named.get(tuple(int(s) for s in c), _mode_name(c)), tuple(c),
-                         f"leg branch signs {', '.join(f'{s:+.0f}' for s in c)}") for c in combos)
+    modes = _modes(data)
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
     length = data["characteristic_length"]
@@ -387,12 +433,12 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "doc": data["doc"],
         "parameters": parameters,
         "working_modes": modes,
-        "assembly_modes": modes,
+        "assembly_modes": _assemblies(data),
         "pose_names": pose_names,
         "pose_units": tuple(data["pose"]["units"]),
         "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
         "actuator_units": tuple("m" if leg["kind"] == "UPS" else "rad" for leg in data["legs"]),
-        "forward": Rootfinder(),
+        "forward": Continuation(),
         "description": description,
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),
         "workspace_box": _workspace_box,
@@ -414,14 +460,28 @@ def _length_of(expression: str) -> Any:
     return length
 
 
+BOX_SAMPLES = 8192  # random poses per pose coordinate that estimate a workspace box
+BOX_MARGIN = 0.05  # the estimated box grows by this share of its width on each side
+
+
 def _workspace_box(self: Mechanism, design: np.ndarray) -> np.ndarray:
-    """A box about the home pose: the legs' reach in each translation, a half turn in each angle."""
+    """The box of the poses some working mode reaches, estimated from random poses about the home pose
+    (the legs' lengths summed in each translation, a half turn in each angle; a fixed seed), grown by
+    BOX_MARGIN of its width on each side: the box the sampled workspace grids."""
+    design = np.asarray(design, dtype=float)
     d = self.design_dict(design)
-    (home,) = evaluate(self.functions["home"], np.asarray(design, dtype=float))
+    (home,) = evaluate(self.functions["home"], design)
     reach = sum(abs(d[p.name]) for p in self.parameters if p.unit == "m") or 1.0
     half = np.array([math.pi / 2 if unit == "rad" else reach for unit in self.pose_units])
     centre = home[0, :, 0]
-    return np.column_stack([centre - half, centre + half])
+    rng = np.random.default_rng(0)
+    x = centre + half * rng.uniform(-1.0, 1.0, size=(BOX_SAMPLES * len(half), len(half)))
+    inside = x[np.any([self.reachable(x, design, mode=mode) for mode in self.modes], axis=0)]
+    if len(inside) == 0:
+        return np.column_stack([centre - half, centre + half])
+    lo, hi = inside.min(axis=0), inside.max(axis=0)
+    grow = BOX_MARGIN * np.maximum(hi - lo, 1e-9)
+    return np.column_stack([np.maximum(lo - grow, centre - half), np.minimum(hi + grow, centre + half)])
 
 
 _INSTANCES: dict[str, Mechanism] = {}

@@ -27,6 +27,8 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   Q^2)); reach: P^2 + Q^2 - K^2.
 * ``UPS``, spatial: an actuated prismatic joint of length l between A and C (universal and spherical joints
   at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch.
+
+A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
 """
 
 from __future__ import annotations
@@ -141,6 +143,11 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                                                    "arm": scalar(leg["arm"]), "rod": scalar(leg["rod"])}))
         else:
             legs.append(_ups(k, a, c))
+        if "range" in leg:
+            lo, hi = (scalar(t) for t in leg["range"])
+            last = legs[-1]
+            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik,
+                            [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign)
     q_a = tuple(leg.actuated for leg in legs)
     q_p = tuple(s for leg in legs for s in leg.passive)
     signs = tuple(leg.sign for leg in legs if leg.sign is not None) or (sp.Symbol("branch", real=True),)
