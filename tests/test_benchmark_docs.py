@@ -77,3 +77,11 @@ def test_ci_wall_times_are_quoted_from_the_committed_record():
     from bench.first_use import ci_markdown
 
     assert ci_markdown(json.loads((RUNS / "ci.json").read_text())) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_optima_table_is_quoted_from_the_committed_runs():
+    from bench.optima import markdown
+
+    before = json.loads((RUNS / "optima_before.json").read_text())
+    after = json.loads((RUNS / "optima_after.json").read_text())
+    assert markdown(before, after) in (ROOT / "docs" / "benchmarks.md").read_text()
