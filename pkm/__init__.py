@@ -9,6 +9,7 @@ True
 from __future__ import annotations
 
 import importlib
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from pkm import registry
@@ -61,11 +62,11 @@ def mechanisms() -> list[str]:
 def load(name: Any) -> Mechanism:
     """The mechanism registered under ``name``, or a described machine: a description file (``.toml``), a
     mapping or a :class:`pkm.spec.Description`, derived on first use (:mod:`pkm.spec`)."""
-    if isinstance(name, str):
-        return registry.mechanism(name)
     from pkm import spec
 
-    return spec.load(name)
+    if (isinstance(name, str) and name.endswith(spec.SUFFIX)) or isinstance(name, Mapping | spec.Description):
+        return spec.load(name)
+    return registry.mechanism(name)
 
 
 def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:

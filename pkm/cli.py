@@ -30,6 +30,7 @@ from typing import Any, NoReturn
 import numpy as np
 
 from pkm import io, parallel, registry
+from pkm import load as load_mechanism
 from pkm.compiled import CompiledPathWarning
 from pkm.compiled import status as compiled_status
 from pkm.design import Design, parse_design
@@ -137,7 +138,7 @@ def cmd_build(args: argparse.Namespace) -> None:
     from pkm.catalogue import warm
     from pkm.progress import Progress
 
-    mechanisms = [registry.mechanism(name) for name in args.mechanisms or registry.mechanisms()]
+    mechanisms = [load_mechanism(name) for name in args.mechanisms or registry.mechanisms()]
     status = compiled_status()
     if status["path"] != "compiled":
         raise ComputationError(f"nothing can be compiled: {status['reason']}")
@@ -169,7 +170,7 @@ def _children_cpu() -> float:
 
 
 def cmd_eval(args: argparse.Namespace) -> None:
-    m = registry.mechanism(args.mechanism)
+    m = load_mechanism(args.mechanism)
     d = _design(m, args.design)
     x = _poses(args.pose, m.n_out)
     mode = m.working_mode(args.mode).name
@@ -227,7 +228,7 @@ def _valued(values: np.ndarray, units: dict[str, str]) -> str:
 
 
 def cmd_index(args: argparse.Namespace) -> None:
-    m = registry.mechanism(args.mechanism)
+    m = load_mechanism(args.mechanism)
     d = _design(m, args.design)
     mode = m.working_mode(args.mode).name
     out = m.global_index(
@@ -311,7 +312,7 @@ def _run_key(m: Mechanism, args: argparse.Namespace, names: list[str]) -> str:
 
 
 def cmd_atlas(args: argparse.Namespace) -> None:
-    m = registry.mechanism(args.mechanism)
+    m = load_mechanism(args.mechanism)
     out = Path(args.out)
     store = out / CHUNKS / _run_key(m, args, [args.index])
     atlas = _sweep(m, args, [args.index], store)[args.index]
@@ -337,7 +338,7 @@ def cmd_atlas(args: argparse.Namespace) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> None:
-    m = registry.mechanism(args.mechanism)
+    m = load_mechanism(args.mechanism)
     names = [n.strip() for n in args.indices.split(",") if n.strip()]
     folder = Path(args.out) / f"{m.name}_sweep_{args.region}_{_run_key(m, args, names)[:8]}"
     (folder / "index.json").unlink(missing_ok=True)
@@ -512,7 +513,8 @@ def _example_pose() -> str:
 
 
 HELP = {
-    "mechanism": lambda: f"mechanism: one of {', '.join(registry.mechanisms())}; e.g. {registry.mechanisms()[0]}",
+    "mechanism": lambda: f"mechanism: one of {', '.join(registry.mechanisms())}, or a description file (.toml); e.g. "
+                         f"{registry.mechanisms()[0]}",
     "index": lambda: f"global index, per mechanism: {_catalogue('index')}; e.g. gci",
     "indices": lambda: f"comma-separated global indices (required, no default), per mechanism: "
                        f"{_catalogue('index')}; e.g. gci,gamma_max",

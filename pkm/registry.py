@@ -49,16 +49,8 @@ def mechanisms() -> list[str]:
     return sorted(_mechanism_classes())
 
 
-DESCRIPTION_SUFFIX = ".toml"
-
-
 def mechanism(name: str) -> Any:
-    """The mechanism registered under ``name`` (one instance per name), its generated names checked; a
-    name ending in ``.toml`` is a description file (:func:`pkm.spec.load`)."""
-    if isinstance(name, str) and name.endswith(DESCRIPTION_SUFFIX):
-        from pkm import spec
-
-        return spec.load(name)
+    """The mechanism registered under ``name`` (one instance per name), its generated names checked."""
     if not isinstance(name, str) or _mechanism_class(name) is None:
         raise UnknownNameError("mechanism", name, mechanisms())
     return _instance(name)

@@ -5,7 +5,7 @@ A description is a mapping (or a TOML file) with
 
 * ``name``, ``doc``;
 * ``frame``: the pose, ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
-  ``spatial`` (x, y, z, alpha, beta, gamma; R = Rz(gamma) Ry(beta) Rx(alpha));
+  ``spatial`` (x, y, z, roll, pitch, yaw; R = Rz(yaw) Ry(pitch) Rx(roll));
 * ``parameters``: a list of {name, default, lower, upper, unit, doc};
 * ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``R_parallelogram``, ``UPS``, see
   :mod:`symbolic.describe`), ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and
@@ -62,7 +62,7 @@ FRAMES = {
     "planar_point": (("x", "y"), ("m", "m")),
     "planar": (("x", "y", "phi"), ("m", "m", "rad")),
     "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
-    "spatial": (("x", "y", "z", "alpha", "beta", "gamma"), ("m", "m", "m", "rad", "rad", "rad")),
+    "spatial": (("x", "y", "z", "roll", "pitch", "yaw"), ("m", "m", "m", "rad", "rad", "rad")),
 }
 KINDS = {
     "RR": ("planar", ("proximal", "distal")),
@@ -70,6 +70,7 @@ KINDS = {
     "UPS": ("spatial", ()),
 }
 FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
+SUFFIX = ".toml"  # a mechanism name with it is a description file
 ROOT = Path(__file__).resolve().parent.parent
 CLOSURE_TOLERANCE = 1e-9  # [m] the home pose closes every leg to this, relative to the largest length
 RANK_TOLERANCE = 1e-9  # relative singular value below which the closure's Jacobian loses rank

@@ -10,7 +10,7 @@ constraint in CasADi, so that a 6 x 6 solve is never expanded in sympy), ``home(
 given ``characteristic_length(design) -> L``.
 
 Pose (``pose.frame``): ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
-``spatial`` (x, y, z, alpha, beta, gamma) with R = Rz(gamma) Ry(beta) Rx(alpha). A platform attachment c
+``spatial`` (x, y, z, roll, pitch, yaw) with R = Rz(yaw) Ry(pitch) Rx(roll). A platform attachment c
 (in the platform frame) is at P + R c in the base frame.
 
 Legs (A the base attachment, C the platform attachment in the base frame, sigma the leg's branch sign):
@@ -50,7 +50,7 @@ FRAMES = {
     "planar_point": ("x", "y"),
     "planar": ("x", "y", "phi"),
     "spatial_point": ("x", "y", "z"),
-    "spatial": ("x", "y", "z", "alpha", "beta", "gamma"),
+    "spatial": ("x", "y", "z", "roll", "pitch", "yaw"),
 }
 FUNCTIONS = {"pi": sp.pi, "cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt}
 
@@ -61,10 +61,10 @@ def _rotation(frame: str, pose: tuple[sp.Symbol, ...]) -> sp.Matrix:
         phi = pose[2]
         return sp.Matrix([[sp.cos(phi), -sp.sin(phi)], [sp.sin(phi), sp.cos(phi)]])
     if frame == "spatial":
-        alpha, beta, gamma = pose[3:]
-        rx = sp.Matrix([[1, 0, 0], [0, sp.cos(alpha), -sp.sin(alpha)], [0, sp.sin(alpha), sp.cos(alpha)]])
-        ry = sp.Matrix([[sp.cos(beta), 0, sp.sin(beta)], [0, 1, 0], [-sp.sin(beta), 0, sp.cos(beta)]])
-        rz = sp.Matrix([[sp.cos(gamma), -sp.sin(gamma), 0], [sp.sin(gamma), sp.cos(gamma), 0], [0, 0, 1]])
+        roll, pitch, yaw = pose[3:]
+        rx = sp.Matrix([[1, 0, 0], [0, sp.cos(roll), -sp.sin(roll)], [0, sp.sin(roll), sp.cos(roll)]])
+        ry = sp.Matrix([[sp.cos(pitch), 0, sp.sin(pitch)], [0, 1, 0], [-sp.sin(pitch), 0, sp.cos(pitch)]])
+        rz = sp.Matrix([[sp.cos(yaw), -sp.sin(yaw), 0], [sp.sin(yaw), sp.cos(yaw), 0], [0, 0, 1]])
         return rz * ry * rx
     return sp.eye(2 if frame == "planar_point" else 3)
 

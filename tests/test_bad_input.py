@@ -185,7 +185,7 @@ def test_design_values_that_are_not_usable_numbers_are_pkms_error(value, needle)
 
 NOT_NAMES = [["five_bar"], {"name": "five_bar"}, 3, b"gci", np.array(["out_out"])]
 NAME_LOOKUPS = {
-    "mechanism": pkm.load,
+    "mechanism": registry.mechanism,
     "index": lambda name: m.global_index(name, DESIGN, region="miw", resolution=2),
     "region": lambda name: m.global_index("gci", DESIGN, region=name, resolution=2),
     "mode of an index": lambda name: m.global_index("gci", DESIGN, region="miw", mode=name, resolution=2),
@@ -369,3 +369,12 @@ def test_a_wrench_batch_of_another_length_than_the_poses_is_a_pose_error():
     with pytest.raises(PoseError, match="wrench contains non-finite values"):
         u.statics(poses, [0.0, 0.0, np.nan, 0.0, 0.0, 0.0])
     assert u.statics(poses, np.zeros((3, 6))).actuators.shape == (3, 3)
+
+
+def test_pkm_load_takes_a_mapping_as_a_description_and_names_what_it_lacks():
+    """pkm.load reads a mapping as a machine description (issue 24): a field it does not know is refused by
+    name."""
+    from pkm.spec import DescriptionError
+
+    with pytest.raises(DescriptionError, match="description field r1 violates: a known field"):
+        pkm.load({"r1": 1.2})
