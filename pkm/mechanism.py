@@ -299,7 +299,8 @@ class Mechanism:
 
     def _has(self, spec: LocalIndex) -> bool:
         fn = self.functions.get(spec.source)
-        return fn is not None and set(spec.arguments) <= set(fn.name_out())
+        fits = spec.dimension is None or self.n_out <= spec.dimension
+        return fits and fn is not None and set(spec.arguments) <= set(fn.name_out())
 
     def local_spec(self, name: str) -> LocalIndex:
         """The local index by name, if this mechanism has the generated function it needs."""

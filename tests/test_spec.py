@@ -141,3 +141,21 @@ def test_the_five_bar_described_in_twenty_lines_is_the_hand_derived_one():
         for name, a, b in zip(hand.functions["first_order"].name_out(), mine, theirs, strict=True):
             scale = np.maximum(1.0, np.abs(b).reshape(len(b), -1).max(axis=1))[:, None, None]
             np.testing.assert_allclose(a / scale, b / scale, atol=1e-12, err_msg=f"{mode}: {name}")
+
+
+def test_the_stewart_platforms_legs_are_equal_at_home_and_its_indices_hold_for_6_x_6(machines):
+    """At the home pose of the symmetric 6-UPS every leg has the length of one closed form; the indices
+    whose formulas hold for any n are offered (the Frobenius condition number, the determinants), those in
+    closed form up to 3 x 3 are not, and |det J_f| |det J| = 1."""
+    m = machines["stewart"]
+    d = dict(m.design())
+    height = 1.0
+    apart = -d["theta_b"] / 2 + (np.pi / 3 - d["theta_p"] / 2)
+    expected = np.sqrt(height**2 + d["R_b"] ** 2 + d["r_p"] ** 2 - 2 * d["R_b"] * d["r_p"] * np.cos(apart))
+    np.testing.assert_allclose(m.inverse_kinematics([0, 0, height, 0, 0, 0]), expected, rtol=1e-12)
+    assert set(m.local_indices()) >= {"inverse_condition_f", "manipulability", "jacobian_determinant"}
+    assert "velocity_max" not in m.local_indices()
+    x = np.array([[0.0, 0.0, 1.0, 0.0, 0.0, 0.0], [0.05, -0.02, 1.05, 0.1, -0.05, 0.2]])
+    product = m.local_index("manipulability", x) * m.local_index("jacobian_determinant", x)
+    np.testing.assert_allclose(product, 1.0, rtol=1e-10)
+    assert np.all((m.local_index("inverse_condition_f", x) > 0) & (m.local_index("inverse_condition_f", x) <= 1))

@@ -9,7 +9,8 @@ Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formula
 for 3 x 3, the largest eigenvalue of a symmetric matrix by the trigonometric solution of its cubic
 (Smith 1961) with the smallest from the adjugate (sigma_min(A) = |det A| / sigma_max(adj A)). Where
 both J and J_f enter, the smallest singular value of one is the inverse of the largest of the other.
-Larger matrices raise :class:`PkmError`: no mechanism of pkm has more than three degrees of freedom.
+Those indices raise :class:`PkmError` on larger matrices, and a mechanism of more degrees of freedom does not
+offer them (``LocalIndex.dimension``); the Frobenius condition number and the determinants hold for any n.
 
 A pose mixing metres and radians is normalised by the mechanism's characteristic length before any
 index is taken (see :mod:`pkm.regions.pipeline`).
@@ -37,7 +38,8 @@ class LocalIndex:
     value where the pose is singular, the generated function (``source``) and outputs (``arguments``) it
     is computed from, and its formula on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a
     smooth g with g >= 0 exactly where the index is >= t (value - t otherwise), and ``epigraph_upper`` one
-    with g >= 0 exactly where it is <= t (t - value otherwise)."""
+    with g >= 0 exactly where it is <= t (t - value otherwise); ``dimension`` the largest matrices its
+    formula takes (the closed forms of singular values and eigenvalues stop at 3 x 3; None: any)."""
 
     name: str
     doc: str
@@ -50,6 +52,7 @@ class LocalIndex:
     arguments: tuple[str, ...] = ("J", "J_f")
     epigraph: Callable[..., ca.SX] | None = None
     epigraph_upper: Callable[..., ca.SX] | None = None
+    dimension: int | None = MAX_DIMENSION  # the largest n x n its formula takes (None: any)
 
 
 def _check_square(A: ca.SX) -> int:
@@ -125,7 +128,7 @@ def _inverse_condition_f(J: ca.SX, J_f: ca.SX) -> ca.SX:
     """1/kappa_f = n / sqrt(tr(J J^T) tr(J^-1 J^-T)) with J^-1 = J_f (Gao eqs. 8-11). For n = 2,
     tr(J^-1 J^-T) = tr(J J^T) / det(J)^2 (the adjugate of a 2 x 2 matrix has its entries), so that
     1/kappa_f = 2 |det J| / tr(J J^T) from J alone, 0 where J is not finite (J_f singular)."""
-    if _check_square(J) == 2:
+    if J.shape == (2, 2):
         frob2 = ca.sumsqr(J)
         return ca.if_else(frob2 < np.inf, 2 * ca.fabs(J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]) / frob2, 0)
     return J.size1() / ca.sqrt(ca.sumsqr(J) * ca.sumsqr(J_f))
@@ -179,7 +182,7 @@ def _lowest_frequency(S: ca.SX) -> ca.SX:
 INVERSE_CONDITION_F = LocalIndex(
     "inverse_condition_f",
     "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
-    "-", 0.0, 1.0, 0.0, _inverse_condition_f,
+    "-", 0.0, 1.0, 0.0, _inverse_condition_f, dimension=None,
 )
 INVERSE_CONDITION_2 = LocalIndex(
     "inverse_condition_2", "1/kappa_2 = sigma_min(J) / sigma_max(J)", "-", 0.0, 1.0, 0.0, _inverse_condition_2
@@ -197,18 +200,18 @@ VELOCITY_MIN = LocalIndex(
 MANIPULABILITY = LocalIndex(
     "manipulability",
     "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
-    "-", 0.0, np.inf, 0.0, _manipulability,
+    "-", 0.0, np.inf, 0.0, _manipulability, dimension=None,
 )
 JACOBIAN_DETERMINANT = LocalIndex(
     "jacobian_determinant",
     "|det J| = 1 / |det J_f|: volume of the actuator rates of unit output velocities",
-    "-", 0.0, np.inf, np.inf, lambda J, _J_f: ca.fabs(ca.det(J)),
+    "-", 0.0, np.inf, np.inf, lambda J, _J_f: ca.fabs(ca.det(J)), dimension=None,
 )
 VELOCITY_RATIO = LocalIndex(
     "velocity_ratio",
     "k_v = |x_dot / q1_dot| at the other outputs' rates 0 = 1 / |J_11|: speed of the first output per unit "
     "rate of the first actuator (Wu eq. 6, i = 1)",
-    "-", 0.0, np.inf, np.inf, lambda J, _J_f: 1 / ca.fabs(J[0, 0]),
+    "-", 0.0, np.inf, np.inf, lambda J, _J_f: 1 / ca.fabs(J[0, 0]), dimension=None,
 )
 DYNAMIC_DEXTERITY = LocalIndex(
     "dynamic_dexterity",
@@ -230,13 +233,13 @@ ACTUATOR_FORCE = LocalIndex(
     "actuator_force",
     "largest actuator force (absolute) that holds the mechanism's load, from its generated actuator_forces",
     "N", 0.0, np.inf, np.inf, lambda f: ca.mmax(ca.fabs(f)), "actuator_forces", ("f_a",),
-    epigraph_upper=lambda f, t: ca.vertcat(t - f, t + f),
+    epigraph_upper=lambda f, t: ca.vertcat(t - f, t + f), dimension=None,
 )
 WORKSPACE_MARGIN = LocalIndex(
     "workspace_margin",
     "least margin of the mechanism's workspace constraints (>= 0 inside the workspace), from its generated "
     "workspace_margins; its epigraph keeps every margin as its own smooth constraint",
-    "-", -np.inf, np.inf, -np.inf, ca.mmin, "workspace_margins", ("margins",), lambda m, t: m - t,
+    "-", -np.inf, np.inf, -np.inf, ca.mmin, "workspace_margins", ("margins",), lambda m, t: m - t, dimension=None,
 )
 
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
