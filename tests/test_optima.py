@@ -2,8 +2,7 @@
 
 The brute-force optima were computed once without IPOPT (a dense grid over the bounds, then zoomed grids
 about the best feasible point, the objective verified with each region extreme refined between the nodes)
-and committed with the command that made them: docs/benchmarks/brute_force.json (bench/brute_force.py), for
-the problems it holds."""
+and committed with the command that made them: docs/benchmarks/brute_force.json (bench/brute_force.py)."""
 
 from __future__ import annotations
 
@@ -24,7 +23,7 @@ def test_the_brute_force_was_committed_with_its_command():
     assert BRUTE_FORCE["command"].startswith("python -m bench.brute_force")
 
 
-@pytest.mark.parametrize("name", sorted(BRUTE_FORCE["problems"]))
+@pytest.mark.parametrize("name", sorted(registry.problems()))
 def test_a_synthesis_reaches_the_brute_force_optimum(name):
     reference = BRUTE_FORCE["problems"][name]
     assert reference["feasible"]
