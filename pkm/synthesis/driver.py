@@ -45,6 +45,8 @@ from pkm.synthesis.problem import Problem, grid_points
 ACCURACY = INDEX_ACCURACY
 POLISH_LIMIT = 64  # the largest quadrature resolution a polishing run uses
 REFINE_ROUNDS = 12  # IPOPT solves of the exchange over the regions of a problem with region extremes at most
+EXTREME_SEARCH = 16  # the exchange also looks for each extreme from the nodes of this resolution: at coarse
+# nodes the refinement between them can settle in another basin than the extreme's
 EXCHANGE_ROUNDS = 20  # IPOPT solves of one start of a problem with region extremes at most
 SAME_POINT = 1e-8  # runs that end this close (relative to each variable's range) share one verification
 
@@ -381,9 +383,10 @@ def _refine(
 ) -> tuple[Run, Candidate, int, list[Run]]:
     """A problem with region extremes, solved by exchange over its regions: IPOPT again from the optimum with
     the constraints at their exact bounds instead of the node margins, and each extreme held, beside the
-    nodes, at the points between them where the verification finds it (:meth:`ProblemModel.extreme_points`),
-    one more point each round, until the optimised objective agrees with the verified one to ACCURACY
-    (relative above 1) at a feasible design, or REFINE_ROUNDS. The last feasible optimum stands."""
+    nodes, at the points between them where the verification finds it (:meth:`ProblemModel.extreme_points`,
+    from the verification's nodes and from those of EXTREME_SEARCH), more points each round, until the
+    optimised objective agrees with the verified one to ACCURACY (relative above 1) at a feasible design, or
+    REFINE_ROUNDS. The last feasible optimum stands."""
     extra: list[Run] = []
     points: Points = dict.fromkeys(model.extremes, ())
     point = np.array(list(run.variables.values()))
@@ -391,8 +394,8 @@ def _refine(
         scale = max(1.0, abs(optimum.verified_objective))
         if abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
             break
-        found = model.extreme_points(point, 2 * res)
-        points = {name: points[name] + tuple(p for p in found[name] if p not in points[name]) for name in points}
+        found = [model.extreme_points(point, r) for r in (2 * res, max(2 * res, EXTREME_SEARCH))]
+        points = {name: tuple(dict.fromkeys(points[name] + found[0][name] + found[1][name])) for name in points}
         task = StartTask(model.problem.name, point, res, json.dumps(options, sort_keys=True), _settings(model.problem))
         refined = _solve(model, *_nlp(model, res, options, points=points), task, points)
         extra.append(refined)
