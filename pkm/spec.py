@@ -363,7 +363,7 @@ def forward_seed(inverse: ca.Function, home: ca.Function, data: Mapping[str, Any
             k += 1
     mode = ca.vertcat(*signs) if signs else ca.DM(default)
     q, _ = inverse(x, mode, d)
-    return ca.Function("forward_seed", [q_a, assembly, d], [q[:n_act] + 0 * ca.sum1(q_a), ca.vertcat(q[n_act:], x)],
+    return ca.Function("forward_seed", [q_a, assembly, d], [q[:n_act], ca.vertcat(q[n_act:], x)],
                        ["q_a", "assembly", "design"], ["q_a0", "z0"])
 
 

@@ -101,13 +101,18 @@ def _fixture(name: str) -> dict:
 # --- Inverse kinematics by the closure equations -----------------------------------------------------------
 
 
+def _reached(seed, machine, ik, design, branch):
+    """Random poses of ``machine``'s box (seeded) that the branch reaches, with their joints; more than 100."""
+    poses = _poses(np.random.default_rng(seed), *BRANCHED[machine][3:])
+    joints = ik(poses, design, branch)
+    reached = np.all(np.isfinite(joints), axis=1)
+    assert reached.sum() > 100
+    return poses[reached], joints[reached]
+
+
 @pytest.mark.parametrize("signs", BRANCHES, ids=str)
 def test_rrr3_ik_closes_each_leg_on_the_side_of_its_sign(signs: np.ndarray) -> None:
-    poses = _poses(np.random.default_rng(1), *BRANCHED["3-RRR"][3:])
-    theta = rrr3_ik(poses, RRR3, signs)
-    reached = np.all(np.isfinite(theta), axis=1)
-    poses, theta = poses[reached], theta[reached]
-    assert len(poses) > 100
+    poses, theta = _reached(1, "3-RRR", rrr3_ik, RRR3, signs)
     a = rrr3_leg_angles()
     base = RRR3["R_b"] * np.stack([np.cos(a), np.sin(a)], axis=-1)
     turn = poses[:, 2:3] + a
@@ -121,11 +126,7 @@ def test_rrr3_ik_closes_each_leg_on_the_side_of_its_sign(signs: np.ndarray) -> N
 
 @pytest.mark.parametrize("branch", BRANCHES, ids=str)
 def test_delta_ik_closes_each_arm_and_branch_one_is_elbow_out(branch: np.ndarray) -> None:
-    poses = _poses(np.random.default_rng(2), *BRANCHED["Delta"][3:])
-    theta = delta_ik(poses, DELTA, branch)
-    reached = np.all(np.isfinite(theta), axis=1)
-    poses, theta = poses[reached], theta[reached]
-    assert len(poses) > 100
+    poses, theta = _reached(2, "Delta", delta_ik, DELTA, branch)
     psi = 2 * np.pi * np.arange(3) / 3
     radial = np.stack([np.cos(psi), np.sin(psi), np.zeros(3)], axis=-1)
     elbows = delta_elbows(poses, DELTA, theta)
