@@ -381,37 +381,213 @@ def _closing(residual: ca.Function, constraint: ca.Function, q_a: np.ndarray, z:
 
 
 @lru_cache(maxsize=32)
-def _continuation(constraint: ca.Function, n_act: int, steps: int, max_iter: int) -> ca.Function:
-    """``(q_a, q_a0, z0, design) -> z``: Newton's method on the loop residual in z = (q_p, x) at ``steps``
-    actuated values from q_a0 to q_a, each from the last one's solution."""
-    _, finder = _newton(constraint, n_act, max_iter)
-    q_a, q_a0 = ca.MX.sym("q_a", n_act), ca.MX.sym("q_a0", n_act)
-    z0 = ca.MX.sym("z0", finder.size_in(0))
-    design = ca.MX.sym("design", constraint.numel_in(2))
-    z = z0
-    for k in range(1, steps + 1):
-        z = finder(z, ca.vertcat(q_a0 + (k / steps) * (q_a - q_a0), design))
-    return ca.Function("forward_continuation", [q_a, q_a0, z0, design], [z], ["q_a", "q_a0", "z0", "design"], ["z"])
+def _newton_step(constraint: ca.Function, n_act: int) -> ca.Function:
+    """``(q_a, z, design) -> z'``: one Newton step on the loop residual in z = (q_p, x) at actuated q_a."""
+    n_q = constraint.numel_in(0)
+    q_a = ca.SX.sym("q_a", n_act)
+    z = ca.SX.sym("z", n_q - n_act + constraint.numel_in(1))
+    design = ca.SX.sym("design", constraint.numel_in(2))
+    h, H_q, H_x = constraint(ca.vertcat(q_a, z[: n_q - n_act]), z[n_q - n_act :], design)
+    step = z - ca.solve(ca.horzcat(H_q[:, n_act:], H_x), h)
+    return ca.Function("newton_step", [q_a, z, design], [step], ["q_a", "z", "design"], ["z_next"])
+
+
+class SeedTable(Protocol):
+    """Known configurations of a mechanism with the signature of their assembly mode (:class:`NearestSeeds`)."""
+
+    periodic: tuple[bool, ...]  # which actuated joints are angles
+    angles: tuple[bool, ...]  # which entries of z = (q_p, x) are angles
+
+    def table(self, functions: FunctionTable, design: np.ndarray) -> dict[tuple[float, ...], tuple[np.ndarray, ...]]:
+        """Configurations by signature: actuated joints (M, n_act) and z = (q_p, x) (M, n_z)."""
+
+    def signature(self, functions: FunctionTable, q: np.ndarray, x: np.ndarray, design: np.ndarray) -> np.ndarray:
+        """The signs (N, k) of configurations that an assembly mode's branch begins with."""
+
+
+SOLUTIONS_KEPT = 8  # solution sets kept (per actuated joints and design)
+_SOLUTIONS: dict[tuple, tuple[Any, dict[tuple[float, ...], tuple[np.ndarray, np.ndarray]]]] = {}
+
+
+@lru_cache(maxsize=32)
+def _loop_residual(constraint: ca.Function, n_act: int) -> ca.Function:
+    """``(z, p) -> h``: the loop residual in z = (q_p, x) at p = (q_a, design)."""
+    n_q = constraint.numel_in(0)
+    z = ca.SX.sym("z", n_q - n_act + constraint.numel_in(1))
+    p = ca.SX.sym("p", n_act + constraint.numel_in(2))
+    h = constraint(ca.vertcat(p[:n_act], z[: n_q - n_act]), z[n_q - n_act :], p[n_act:])[0]
+    return ca.Function("loop_residual", [z, p], [h], ["z", "p"], ["h"])
+
+
+SEED_CHUNK = 2**22  # distances between rows and seeds computed at once
+
+
+def _embedded(q: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+    """Joints with each angle replaced by its cosine and sine: Euclidean distances there order the joints'
+    distances (angles wrapped) as the chords order the arcs."""
+    return np.hstack([q[:, ~periodic], np.cos(q[:, periodic]), np.sin(q[:, periodic])])
+
+
+def _nearest(q_a: np.ndarray, q0: np.ndarray, periodic: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` seeds nearest each row of q_a (indices (N, count), nearest first), and the gaps q_a - q0
+    (N, count, n_act) to them, angles (``periodic``) wrapped into [-pi, pi)."""
+    a, b = _embedded(q_a, periodic), _embedded(q0, periodic)
+    order = []
+    chunk = max(1, SEED_CHUNK // max(1, len(q0)))
+    for start in range(0, len(q_a), chunk):
+        part = a[start : start + chunk]
+        distance = np.sum(b**2, axis=1)[None, :] - 2.0 * part @ b.T
+        nearest = np.argpartition(distance, count - 1, axis=1)[:, :count] if count < len(q0) else \
+            np.broadcast_to(np.arange(len(q0)), (len(part), len(q0))).copy()
+        order.append(np.take_along_axis(nearest, np.argsort(np.take_along_axis(distance, nearest, axis=1), axis=1),
+                                        axis=1))
+    order = np.concatenate(order)
+    gaps = q_a[:, None, :] - q0[order]
+    gaps[..., periodic] = np.mod(gaps[..., periodic] + np.pi, 2 * np.pi) - np.pi
+    return order, gaps
+
+
+CANDIDATES = 4  # seeds nearest the actuated joints per try, among which the tries are spread
+
+
+def _spread(z0: np.ndarray, order: np.ndarray, gaps: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` of each row's candidate seeds (``order``, nearest first): the nearest half, then each time
+    the one farthest from those chosen (in z), so that the tries also reach the several solutions of a
+    cuspidal machine whose configurations meet at similar actuated joints."""
+    rows = np.arange(len(order))
+    near = max(1, count // 2)
+    chosen = list(np.broadcast_to(np.arange(near), (len(order), near)).T)
+    spread = np.min([np.linalg.norm(z0[order] - z0[order[rows, c]][:, None, :], axis=2) for c in chosen], axis=0)
+    for _ in range(near, count):
+        pick = np.argmax(spread, axis=1)
+        chosen.append(pick)
+        spread = np.minimum(spread, np.linalg.norm(z0[order] - z0[order[rows, pick]][:, None, :], axis=2))
+    picks = np.column_stack(chosen)
+    return np.take_along_axis(order, picks, axis=1), np.take_along_axis(gaps, picks[:, :, None], axis=1)
 
 
 @dataclass(frozen=True)
-class Continuation:
-    """Forward kinematics by Newton's method with continuation: from a known configuration of the assembly
-    mode (``seed(q_a, assembly, design) -> (q_a0, z0)``, z = (q_p, x)) the actuated joints move to the
-    given ones in ``steps`` equal steps, each solved from the last, so that the solution stays on the
-    branch the seed starts on; it closes the loop to :data:`ROOT_TOLERANCE` where it converges."""
+class NearestSeeds:
+    """Forward kinematics by Newton's method with continuation from the known configurations nearest the
+    actuated joints.
 
-    seed: str = "forward_seed"
-    steps: int = 12
-    max_iter: int = 30
+    An assembly mode's branch is a signature (the signs :class:`SeedTable` computes at a configuration,
+    such as the side of each elbow and the sign of the type-II determinant) and a rank k: among the
+    solutions of the signature, ordered by the last pose coordinate, the k-th (from 1). The solutions of a
+    signature are those reached from ``tries`` of its configurations near the actuated joints (angles
+    wrapped; spread among the CANDIDATES x ``tries`` nearest, :func:`_spread`): the actuated joints move to
+    the given ones in ``steps`` equal steps, each solved from the last by ``iterations`` Newton steps (at
+    the last, up to ``polish`` until the row no longer moves: Newton's method slows to halving the error
+    near a type-II singularity); those that close the loop to :data:`ROOT_TOLERANCE` with the signature
+    count, each once. A cuspidal machine has several solutions of one signature at the same actuated
+    joints: the rank tells them apart. Every signature is solved at once, in one batch, and the solutions
+    of the last few inputs are kept, so that asking for each assembly mode in turn solves once.
+    """
+
+    seeds: SeedTable
+    steps: int = 8
+    iterations: int = 4
+    polish: int = 60
+    tries: int = 12
 
     def solve(self, functions, q_a, branch, design, *, joints=True):
         constraint = functions["constraint"]
-        residual, _ = _newton(constraint, q_a.shape[1], self.max_iter)
-        q_a0, z0 = evaluate(functions[self.seed], q_a, np.array(branch.signs), design)
-        (z,) = evaluate(_continuation(constraint, q_a.shape[1], self.steps, self.max_iter), q_a, q_a0[:, :, 0],
-                        z0[:, :, 0], design)
-        return _closing(residual, constraint, q_a, z[:, :, 0], design, joints=joints)
+        *signature, rank = branch.signs
+        n_z = constraint.numel_in(0) - q_a.shape[1] + constraint.numel_in(1)
+        chosen = np.full((len(q_a), n_z), np.nan)
+        found = self.solutions(functions, q_a, design).get(tuple(signature))
+        if found is not None and int(rank) <= found[1].shape[1]:
+            z, order = found
+            pick = order[:, int(rank) - 1]
+            chosen[pick >= 0] = z[np.flatnonzero(pick >= 0), pick[pick >= 0]]
+        return _closing(_loop_residual(constraint, q_a.shape[1]), constraint, q_a, chosen, design, joints=joints)
+
+    def solutions(self, functions, q_a, design) -> dict[tuple[float, ...], tuple[np.ndarray, np.ndarray]]:
+        """By signature: the solutions z (N, tries, n_z) (NaN where a try failed or repeats one; angles in
+        [-pi, pi)) and their order by the last pose coordinate (N, tries; -1 past the last)."""
+        design = np.asarray(design, dtype=float)
+        key = (id(functions), id(self.seeds), self.steps, self.iterations, self.polish, self.tries, q_a.shape,
+               q_a.tobytes(), design.tobytes())
+        if key not in _SOLUTIONS:
+            if len(_SOLUTIONS) >= SOLUTIONS_KEPT:
+                _SOLUTIONS.pop(next(iter(_SOLUTIONS)))
+            _SOLUTIONS[key] = (functions, self._solve(functions, q_a, design))
+        return _SOLUTIONS[key][1]
+
+    def _starts(self, q_a, table):
+        """Per signature, its tries' seeds (q_a0, z0, gaps), each (N, T, ...)."""
+        out = {}
+        periodic = np.array(self.seeds.periodic)
+        for signature, (q0, z0) in table.items():
+            order, gaps = _nearest(q_a, q0, periodic, min(CANDIDATES * self.tries, len(q0)))
+            order, gaps = _spread(z0, order, gaps, min(self.tries, len(q0)))
+            out[signature] = (q0[order], z0[order], gaps)
+        return out
+
+    def _solve(self, functions, q_a, design):
+        if not len(q_a):
+            return {}
+        distinct, inverse = np.unique(q_a, axis=0, return_inverse=True)
+        if len(distinct) < len(q_a):
+            return {k: (z[inverse.ravel()], order[inverse.ravel()])
+                    for k, (z, order) in self._solve(functions, distinct, design).items()}
+        constraint = functions["constraint"]
+        n_act = q_a.shape[1]
+        starts = self._starts(q_a, self.seeds.table(functions, design))
+        if not starts:
+            return {}
+        q0, z0, gap = (np.concatenate([s[k].reshape(-1, s[k].shape[2]) for s in starts.values()]) for k in range(3))
+        row = np.concatenate([np.repeat(np.arange(len(q_a)), s[0].shape[1]) for s in starts.values()])
+        z = self._continue(constraint, q0, gap, z0, design)
+        with np.errstate(invalid="ignore"):
+            x, q, closed = _closing(_loop_residual(constraint, n_act), constraint, q_a[row], z, design, joints=True)
+            signature = self.seeds.signature(functions, q, x, design)
+        out, first = {}, 0
+        for name, (s, _, _) in starts.items():
+            rows = slice(first, first + s.shape[0] * s.shape[1])
+            part = np.where((closed[rows] & np.all(signature[rows] == name, axis=1))[:, None], z[rows], np.nan)
+            part = part.reshape(len(q_a), s.shape[1], -1)
+            self._forget_repeats(part, np.array(self.seeds.angles))
+            last = np.where(np.isnan(part[:, :, -1]), np.inf, part[:, :, -1])
+            order = np.argsort(last, axis=1, kind="stable")
+            order[np.take_along_axis(np.isinf(last), order, axis=1)] = -1
+            out[name] = (part, order)
+            first += s.shape[0] * s.shape[1]
+        return out
+
+    def _continue(self, constraint, q0, gap, z, design):
+        """The rows' z after the continuation from (q0, z) to q0 + gap, each polished until it stops."""
+        step = _newton_step(constraint, q0.shape[1])
+        with np.errstate(invalid="ignore", over="ignore"):
+            for k in range(1, self.steps):
+                target = q0 + (k / self.steps) * gap
+                for _ in range(self.iterations):
+                    (z,) = evaluate(step, target, z, design)
+                    z = z[:, :, 0]
+            target = q0 + gap
+            active = np.arange(len(z))
+            for _ in range(self.polish):
+                (moved,) = evaluate(step, target[active], z[active], design)
+                moved = moved[:, :, 0]
+                change = np.abs(moved - z[active])
+                z[active] = moved
+                active = active[np.any(change > STALL * (1.0 + np.abs(moved)), axis=1)]
+                if not len(active):
+                    break
+        return z
+
+    def _forget_repeats(self, z: np.ndarray, angles: np.ndarray) -> None:
+        """Angles wrapped into [-pi, pi) in place, and NaN in place of a solution equal to an earlier try's."""
+        z[:, :, angles] = np.mod(z[:, :, angles] + np.pi, 2 * np.pi) - np.pi
+        gap = np.abs(z[:, :, None, :] - z[:, None, :, :])
+        gap[..., angles] = np.minimum(gap[..., angles], 2 * np.pi - gap[..., angles])
+        with np.errstate(invalid="ignore"):
+            same = np.all(gap <= REPEAT_TOLERANCE * (1.0 + np.abs(z[:, None, :, :])), axis=3)
+        z[np.any(np.tril(same, k=-1), axis=2)] = np.nan
+
+
+REPEAT_TOLERANCE = 1e-7  # two solutions closer than this (relative) are one
+STALL = 1e-15  # a Newton step smaller than this (relative) moves nothing
 
 
 POLISH_LIMIT = 1e-6

@@ -15,12 +15,19 @@ A description is a mapping (or a TOML file) with
   ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
   ``arm``, ``rod`` for R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
   ``"radial"`` to the base circle by default), and optionally ``range = [lower, upper]`` of the actuated
-  joint (a stroke, an arm's sweep: outside it a pose is out of reach); every coordinate and length an
+  joint (a stroke, an arm's sweep: outside it a pose is out of reach), and for a UPS leg ``cone``, the
+  largest angle of the leg from the base's normal at its universal joint and from the platform's normal at
+  its spherical joint (the joints' range); every coordinate and length an
   expression of the parameters with ``pi``, ``cos``, ``sin``, ``tan`` and ``sqrt``;
 * ``home``: the home pose (expressions), the seed of the forward kinematics;
 * optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
   combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every
-  combination is a mode, named by its signs (``pn`` for +1, -1).
+  combination is a mode, named by its signs (``pn`` for +1, -1);
+* optionally ``regions``: task regions, each {name, doc, shape (``disc``, ``rectangle``, ``box``,
+  ``cylinder``), coordinates (the pose coordinates it spans, the pose's first by default; the others stay at
+  the home pose's values), centre, size (a disc's radius; a rectangle's or box's half extents; a cylinder's
+  radius and half length) and, for a cylinder, axis (one of its coordinates, the last by default)}, every
+  entry an expression of the parameters.
 
 :func:`describe` checks a description and returns a :class:`Description` (errors name the field and the
 violated condition); :func:`load` derives it once into the user's cache (``descriptions/`` of the kernel cache,
@@ -55,8 +62,9 @@ from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Parameter
 from pkm.errors import ComputationError, PkmError
-from pkm.kinematics import Branch, Continuation, FunctionTable
+from pkm.kinematics import Branch, FunctionTable, NearestSeeds
 from pkm.mechanism import Mechanism
+from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle
 
 FRAMES = {
     "planar_point": (("x", "y"), ("m", "m")),
@@ -212,7 +220,8 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
-        known = {"kind", "count", "base", "platform", "axis", "zero", "range", *lengths}
+        known = {"kind", "count", "base", "platform", "axis", "zero", "range", *lengths,
+                 *(("cone",) if kind == "UPS" else ())}
         extra = set(table) - known
         if extra:
             raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of a {kind} leg ({', '.join(sorted(known))})")
@@ -232,6 +241,8 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 if not isinstance(bounds, list) or len(bounds) != 2:
                     raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
                 leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
+            if "cone" in table:
+                leg["cone"] = _expression(f"{where}.cone", table["cone"], names)
             if kind == "R_parallelogram":
                 if angles is None and ("axis" not in table or "zero" not in table):
                     raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
@@ -244,13 +255,61 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
     return legs
 
 
+SHAPES = {"disc": (2, 1), "rectangle": (2, 2), "box": (3, 3), "cylinder": (3, 2)}  # dimension, size entries
+
+
+def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dict[str, Any]]:
+    """Task regions: a shape spanning some pose coordinates, placed by expressions of the parameters; the
+    other coordinates stay at the home pose's values."""
+    if raw is None:
+        return []
+    if not isinstance(raw, list):
+        raise _fail("regions", "a list of tables {name, shape, coordinates, centre, size, axis, doc}")
+    out, seen = [], set()
+    for k, region in enumerate(raw):
+        where = f"regions[{k}]"
+        if not isinstance(region, Mapping):
+            raise _fail(where, "a table {name, shape, coordinates, centre, size, axis, doc}")
+        extra = set(region) - {"name", "doc", "shape", "coordinates", "centre", "size", "axis"}
+        if extra:
+            raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, doc, shape, coordinates, centre, size, "
+                                                        "axis)")
+        name = region.get("name")
+        if not isinstance(name, str) or not name.isidentifier() or name in seen or name in ("reachable", "assembled"):
+            raise _fail(f"{where}.name", "an identifier not given before, other than reachable and assembled")
+        seen.add(name)
+        shape = region.get("shape")
+        if shape not in SHAPES:
+            raise _fail(f"{where}.shape", f"one of {', '.join(SHAPES)}; got {shape!r}")
+        dimension, sizes = SHAPES[shape]
+        coordinates = region.get("coordinates", list(pose_names[:dimension]))
+        if (not isinstance(coordinates, list) or len(coordinates) != dimension or len(set(coordinates)) != dimension
+                or not set(coordinates) <= set(pose_names)):
+            raise _fail(f"{where}.coordinates", f"{dimension} distinct pose coordinates ({', '.join(pose_names)})")
+        for field, count in (("centre", dimension), ("size", sizes)):
+            if not isinstance(region.get(field), list) or len(region[field]) != count:
+                raise _fail(f"{where}.{field}", f"a list of {count} expressions of the parameters")
+        axis = region.get("axis", coordinates[-1])
+        if shape == "cylinder" and axis not in coordinates:
+            raise _fail(f"{where}.axis", f"one of the region's coordinates ({', '.join(coordinates)})")
+        doc = region.get("doc", name)
+        out.append({
+            "name": name, "doc": doc if isinstance(doc, str) else name, "shape": shape,
+            "coordinates": [pose_names.index(c) for c in coordinates],
+            "centre": [_expression(f"{where}.centre[{j}]", c, names) for j, c in enumerate(region["centre"])],
+            "size": [_expression(f"{where}.size[{j}]", c, names) for j, c in enumerate(region["size"])],
+            "axis": coordinates.index(axis) if shape == "cylinder" else None,
+        })
+    return out
+
+
 def describe(raw: Mapping[str, Any] | Description) -> Description:
     """Check a description (a mapping) and normalise it; :class:`DescriptionError` names the field."""
     if isinstance(raw, Description):
         return raw
     if not isinstance(raw, Mapping):
         raise _fail("(the description)", "a mapping or a TOML file")
-    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes"}
+    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes", "regions"}
     extra = set(raw) - known
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
@@ -288,6 +347,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         "home": [_expression(f"home[{k}]", h, names) for k, h in enumerate(home)],
         "characteristic_length": None if length is None else _expression("characteristic_length", length, names),
         "modes": {k: list(v) for k, v in modes.items()},
+        "regions": _regions(raw.get("regions"), pose_names, names),
     }
     return Description(data)
 
@@ -338,33 +398,120 @@ def composed_first_order(constraint: ca.Function, n_act: int) -> ca.Function:
                        ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
 
 
-def forward_seed(inverse: ca.Function, home: ca.Function, data: Mapping[str, Any]) -> ca.Function:
-    """``forward_seed(q_a, assembly, design) -> (q_a0, z0)``: the home configuration on the assembly's
-    branch, where the continuation of :class:`pkm.kinematics.Continuation` starts: the home pose (mirrored
-    through the base plane z = 0 where a spatial assembly's last sign is -1), its inverse kinematics with
-    the assembly's signs for the legs with passive joints and the default mode's for the others."""
-    legs = data["legs"]
-    n_act = len(legs)
-    spatial = data["pose"]["frame"].startswith("spatial")
-    branched = [leg["kind"] != "UPS" for leg in legs]
-    passive = [leg["kind"] == "RR" for leg in legs]
-    default = _modes(data)[0].signs
-    q_a = ca.SX.sym("q_a", n_act)
-    assembly = ca.SX.sym("assembly", sum(passive) + spatial)
-    d = ca.SX.sym("design", inverse.size_in(2))
-    x = home(d)
-    if spatial:
-        x = ca.vertcat(x[:2], assembly[-1] * x[2], x[3:])
-    signs, k, j = [], 0, 0
-    for is_branched, is_passive in zip(branched, passive, strict=True):
-        if is_branched:
-            signs.append(assembly[j] if is_passive else default[k])
-            j += is_passive
-            k += 1
-    mode = ca.vertcat(*signs) if signs else ca.DM(default)
-    q, _ = inverse(x, mode, d)
-    return ca.Function("forward_seed", [q_a, assembly, d], [q[:n_act], ca.vertcat(q[n_act:], x)],
-                       ["q_a", "assembly", "design"], ["q_a0", "z0"])
+SEED_SAMPLES = 16384  # random poses per round of the search for seeds (and per box size of the workspace box)
+SEED_COUNT = 32768  # configurations that seed the forward kinematics, at least (unless SEED_ROUNDS run out)
+SEED_ROUNDS = 32
+SEED_STEP = 1 / 32  # after the first round, half the poses are found ones moved by this share of the box
+SEEDS_KEPT = 8  # seed tables kept (one per design)
+BOX_MARGIN = 0.05  # an estimated workspace box grows by this share of its width on each side
+BOX_SCALES = 4  # sizes of the boxes about the home pose where the workspace box is looked for
+
+
+@dataclass(frozen=True)
+class Seeds:
+    """The configurations that seed a description's forward kinematics (:class:`pkm.kinematics.NearestSeeds`)
+    and the signature that names its assembly modes: the elbow side of each RR leg (the sign of sin(phi -
+    theta)) and the sign of the type-II determinant det [H_p H_x]. The configurations are those of every
+    branch of the legs where they assemble at random poses in the workspace box (:meth:`box`; a fixed
+    seed), half of them, after the first round, found ones moved at random (so that a thin workspace fills
+    too), until there are SEED_COUNT; one table per design."""
+
+    data: Mapping[str, Any]
+
+    @property
+    def periodic(self) -> tuple[bool, ...]:
+        return tuple(leg["kind"] != "UPS" for leg in self.data["legs"])
+
+    @property
+    def angles(self) -> tuple[bool, ...]:
+        elbows = sum(leg["kind"] == "RR" for leg in self.data["legs"])
+        return (True,) * elbows + tuple(unit == "rad" for unit in self.data["pose"]["units"])
+
+    def signature(self, functions: FunctionTable, q: np.ndarray, x: np.ndarray, design: np.ndarray) -> np.ndarray:
+        legs = self.data["legs"]
+        n_act = len(legs)
+        elbows = [k for k, leg in enumerate(legs) if leg["kind"] == "RR"]
+        passive = n_act + np.arange(len(elbows))
+        sides = np.sign(np.sin(q[:, passive] - q[:, elbows]))
+        *_, det = evaluate(functions["first_order"], q, x, design)
+        return np.column_stack([sides, np.sign(det[:, 0, 0])])
+
+    def table(self, functions: FunctionTable, design: np.ndarray) -> dict[tuple[float, ...], tuple[np.ndarray, ...]]:
+        return self._pooled(functions, np.asarray(design, dtype=float))
+
+    def _pooled(self, functions: FunctionTable, design: np.ndarray) -> dict[tuple[float, ...], tuple[np.ndarray, ...]]:
+        key = (id(functions), design.tobytes())
+        if key not in _SEED_TABLES:
+            if len(_SEED_TABLES) >= SEEDS_KEPT:
+                _SEED_TABLES.pop(next(iter(_SEED_TABLES)))
+            q, x, signatures = self._configurations(functions, design)
+            n_act = len(self.data["legs"])
+            groups = {}
+            for signature in sorted(set(map(tuple, signatures.tolist()))):
+                mine = np.all(signatures == signature, axis=1)
+                groups[signature] = (q[mine, :n_act], np.hstack([q[mine, n_act:], x[mine]]))
+            _SEED_TABLES[key] = (functions, groups)
+        return _SEED_TABLES[key][1]
+
+    def _assembled(self, functions: FunctionTable, x: np.ndarray, design: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The configurations (q, x) of every branch of the legs at the poses x where they assemble."""
+        branched = sum(leg["kind"] != "UPS" for leg in self.data["legs"])
+        qs, xs = [], []
+        for signs in itertools.product((1.0, -1.0), repeat=branched) if branched else [(1.0,)]:
+            with np.errstate(invalid="ignore"):
+                q, reach = evaluate(functions["inverse_kinematics"], x, np.array(signs), design)
+                ok = np.all(reach[:, :, 0] >= 0.0, axis=1) & np.all(np.isfinite(q[:, :, 0]), axis=1)
+            qs.append(q[ok, :, 0])
+            xs.append(x[ok])
+        return np.concatenate(qs), np.concatenate(xs)
+
+    def _sample(self, box: np.ndarray) -> np.ndarray:
+        rng = np.random.default_rng(0)
+        return rng.uniform(box[:, 0], box[:, 1], size=(SEED_SAMPLES, len(box)))
+
+    def box(self, functions: FunctionTable, design: np.ndarray) -> np.ndarray:
+        """The box of the poses where some branch of the legs assembles, estimated from random poses about
+        the home pose (in boxes of BOX_SCALES sizes, halving, so that a small workspace is found in a large
+        box), grown by BOX_MARGIN of its width on each side."""
+        units = self.data["pose"]["units"]
+        (home,) = evaluate(functions["home"], design)
+        lengths = [abs(v) for p, v in zip(self.data["parameters"], design, strict=True) if p["unit"] == "m"]
+        half = np.array([math.pi / 2 if unit == "rad" else (sum(lengths) or 1.0) for unit in units])
+        centre = home[0, :, 0]
+        around = np.column_stack([centre - half, centre + half])
+        scales = 2.0 ** -np.arange(BOX_SCALES)
+        x = np.concatenate([centre + scale * (self._sample(around) - centre) for scale in scales])
+        _, inside = self._assembled(functions, x, design)
+        if len(inside) == 0:
+            return around
+        lo, hi = inside.min(axis=0), inside.max(axis=0)
+        grow = BOX_MARGIN * np.maximum(hi - lo, 1e-9)
+        return np.column_stack([np.maximum(lo - grow, around[:, 0]), np.minimum(hi + grow, around[:, 1])])
+
+    def _configurations(self, functions: FunctionTable, design: np.ndarray) -> tuple[np.ndarray, ...]:
+        box = self.box(functions, design)
+        rng = np.random.default_rng(1)
+        qs, xs = [], []
+        width = box[:, 1] - box[:, 0]
+        for _ in range(SEED_ROUNDS):
+            x = rng.uniform(box[:, 0], box[:, 1], size=(SEED_SAMPLES, len(box)))
+            if xs:
+                found = np.concatenate(xs)
+                x[SEED_SAMPLES // 2 :] = found[rng.integers(len(found), size=SEED_SAMPLES - SEED_SAMPLES // 2)] \
+                    + SEED_STEP * width * rng.standard_normal((SEED_SAMPLES - SEED_SAMPLES // 2, len(box)))
+            q, x = self._assembled(functions, x, design)
+            qs.append(q)
+            xs.append(x)
+            if sum(map(len, qs)) >= SEED_COUNT:
+                break
+        q, x = np.concatenate(qs), np.concatenate(xs)
+        with np.errstate(invalid="ignore"):
+            signature = self.signature(functions, q, x, design)
+        regular = np.all(signature != 0.0, axis=1)
+        return q[regular], x[regular], signature[regular]
+
+
+_SEED_TABLES: dict[tuple, tuple[FunctionTable, dict[tuple[float, ...], tuple[np.ndarray, ...]]]] = {}
 
 
 class DescribedFunctions(FunctionTable):
@@ -383,12 +530,15 @@ class DescribedFunctions(FunctionTable):
         functions = module.build()
         n_act = len(module.ACTUATORS)
         functions["first_order"] = composed_first_order(functions["constraint"], n_act)
-        functions["forward_seed"] = forward_seed(functions["inverse_kinematics"], functions["home"],
-                                                 self.description.data)
         return functions
 
     def _load(self) -> dict[str, ca.Function]:
         return self._functions
+
+    @property
+    def source_hash(self) -> str:
+        """The description's key: the hash of its normalised form and of the tools that derive it."""
+        return self.description.key[:16]
 
 
 def _mode_name(signs: Sequence[int]) -> str:
@@ -405,19 +555,24 @@ def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
                  for c in combos)
 
 
+RANKS = {"planar_point": 1, "planar": 3, "spatial_point": 1, "spatial": 8}  # solutions of one signature told
+# apart by rank, by the pose (a planar 3-DOF machine has up to 6 assemblies, a 6-DOF one up to 40)
+
+
 def _assemblies(data: Mapping[str, Any]) -> tuple[Branch, ...]:
-    """The assembly modes: the branches of the legs with passive joints and, for a spatial pose, the side of
-    the base plane of the home pose (``home``) or of its mirror image (``mirror``)."""
-    passive = sum(leg["kind"] == "RR" for leg in data["legs"])
-    combos = list(itertools.product((1.0, -1.0), repeat=passive))
-    sides = ((1.0, "home"), (-1.0, "mirror")) if data["pose"]["frame"].startswith("spatial") else ((None, ""),)
+    """The assembly modes: the elbow side of each RR leg, the sign of the type-II determinant (the
+    signature of :class:`Seeds`) and the rank among the signature's solutions by the last pose coordinate
+    (:class:`pkm.kinematics.NearestSeeds`; ``_2`` names the second) where a frame has several (RANKS)."""
+    elbows = sum(leg["kind"] == "RR" for leg in data["legs"])
+    last = FRAMES[data["pose"]["frame"]][0][-1]
     out = []
-    for combo in combos:
-        for side, label in sides:
-            signs = (*combo, side) if side is not None else combo
-            name = "_".join(filter(None, [_mode_name(combo) if combo else "", label]))
-            out.append(Branch(name, tuple(signs), "the home configuration's branch of the legs' passive joints"
-                              + (f", on the {label} side of the base plane" if label else "")))
+    for combo in itertools.product((1.0, -1.0), repeat=elbows):
+        for det, label in ((1.0, "positive"), (-1.0, "negative")):
+            for rank in range(1, RANKS[data["pose"]["frame"]] + 1):
+                name = "_".join(filter(None, [_mode_name(combo), label, "" if rank == 1 else str(rank)]))
+                sides = f"elbow sides {', '.join(f'{s:+.0f}' for s in combo)}, " if combo else ""
+                out.append(Branch(name, (*combo, det, float(rank)),
+                                  f"{sides}type-II determinant {label}, solution {rank} by {last}"))
     return tuple(out)
 
 
@@ -426,6 +581,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
     data = description.data
     pose_names, _ = FRAMES[data["pose"]["frame"]]
     modes = _modes(data)
+    seeds = Seeds(data)
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
     length = data["characteristic_length"]
@@ -439,16 +595,32 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "pose_units": tuple(data["pose"]["units"]),
         "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
         "actuator_units": tuple("m" if leg["kind"] == "UPS" else "rad" for leg in data["legs"]),
-        "forward": Continuation(),
+        "forward": NearestSeeds(seeds),
         "description": description,
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),
         "workspace_box": _workspace_box,
+        "regions": {r["name"]: _region(r, len(pose_names)) for r in data["regions"]},
     }
     if length is not None:
         attributes["characteristic_length"] = staticmethod(_length_of(length))
     cls = type(f"Described_{data['name']}", (Mechanism,), attributes)
     cls.functions.__set_name__(cls, "functions")
     return cls
+
+
+SHAPE_CLASSES = {"disc": Disc, "rectangle": Rectangle, "box": Box, "cylinder": Cylinder}
+
+
+def _region(region: Mapping[str, Any], n_out: int) -> Any:
+    """The parametrised region of a description's region: placed by the derived ``region_<name>(design) ->
+    (centre, size)``, and mapped into the pose by ``region_<name>_pose(y, design) -> x`` where it spans
+    other coordinates than the pose's own, in order."""
+    name, doc = region["name"], region["doc"]
+    extra = {"axis": region["axis"]} if region["shape"] == "cylinder" else {}
+    shape = SHAPE_CLASSES[region["shape"]](name, doc, function=f"region_{name}", **extra)
+    if region["coordinates"] == list(range(n_out)):
+        return shape
+    return Mapped(name, doc, shape, to_pose=f"region_{name}_pose")
 
 
 def _length_of(expression: str) -> Any:
@@ -461,28 +633,10 @@ def _length_of(expression: str) -> Any:
     return length
 
 
-BOX_SAMPLES = 8192  # random poses per pose coordinate that estimate a workspace box
-BOX_MARGIN = 0.05  # the estimated box grows by this share of its width on each side
-
-
 def _workspace_box(self: Mechanism, design: np.ndarray) -> np.ndarray:
-    """The box of the poses some working mode reaches, estimated from random poses about the home pose
-    (the legs' lengths summed in each translation, a half turn in each angle; a fixed seed), grown by
-    BOX_MARGIN of its width on each side: the box the sampled workspace grids."""
-    design = np.asarray(design, dtype=float)
-    d = self.design_dict(design)
-    (home,) = evaluate(self.functions["home"], design)
-    reach = sum(abs(d[p.name]) for p in self.parameters if p.unit == "m") or 1.0
-    half = np.array([math.pi / 2 if unit == "rad" else reach for unit in self.pose_units])
-    centre = home[0, :, 0]
-    rng = np.random.default_rng(0)
-    x = centre + half * rng.uniform(-1.0, 1.0, size=(BOX_SAMPLES * len(half), len(half)))
-    inside = x[np.any([self.reachable(x, design, mode=mode) for mode in self.modes], axis=0)]
-    if len(inside) == 0:
-        return np.column_stack([centre - half, centre + half])
-    lo, hi = inside.min(axis=0), inside.max(axis=0)
-    grow = BOX_MARGIN * np.maximum(hi - lo, 1e-9)
-    return np.column_stack([np.maximum(lo - grow, centre - half), np.minimum(hi + grow, centre + half)])
+    """The box the sampled workspace grids: that of the poses where some branch of the legs assembles
+    (:meth:`Seeds.box`)."""
+    return self.forward.seeds.box(self.functions, np.asarray(design, dtype=float))
 
 
 _INSTANCES: dict[str, Mechanism] = {}

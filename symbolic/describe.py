@@ -26,9 +26,13 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   axis x zero) and K = (|D|^2 + arm^2 - rod^2) / (2 arm), theta = atan2(Q, P) + sigma acos(K / sqrt(P^2 +
   Q^2)); reach: P^2 + Q^2 - K^2.
 * ``UPS``, spatial: an actuated prismatic joint of length l between A and C (universal and spherical joints
-  at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch.
+  at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch; with ``cone``, the leg's angle from the base's
+  normal and from the platform's at most cone: (C - A).n - cos(cone) |C - A| >= 0 for both normals.
 
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
+``workspace_margins(q, x, design)`` gives every leg's margins at a configuration (the ranges' in the actuated
+joints), ``region_<name>(design) -> (centre, size)`` places each region, and ``region_<name>_pose(y,
+design) -> x`` maps a region's coordinates into the pose where it spans fewer or others.
 """
 
 from __future__ import annotations
@@ -83,6 +87,7 @@ class _Leg:
     ik: dict[sp.Symbol, sp.Expr]
     reach: list[sp.Expr]
     sign: sp.Symbol | None
+    margins: tuple[sp.Expr, ...] = ()
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -109,10 +114,32 @@ def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) ->
     return _Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma)
 
 
-def _ups(k: int, a: sp.Matrix, c: sp.Matrix) -> _Leg:
+def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr | None) -> _Leg:
     length = sp.Symbol(f"l{k + 1}", real=True)
     d = c - a
-    return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None)
+    reach = [d.dot(d)]
+    if cone is not None:
+        normal = rotation[:, 2]
+        reach += [d[2] - sp.cos(cone) * sp.sqrt(d.dot(d)), d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))]
+    return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, reach, None)
+
+
+def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
+    """``region_<name>(design) -> (centre, size)`` and, where the region spans other coordinates than the
+    pose's own in order, ``region_<name>_pose(y, design) -> x`` (the others at the home pose's values)."""
+    name = region["name"]
+    spec.add(f"region_{name}", (design_port,),
+             (Output("centre", vector(region["centre"]), "[pose units]"),
+              Output("size", vector(region["size"]), "[pose units]")),
+             f"Placement of the region {name}: {region['doc']}.")
+    if region["coordinates"] != list(range(len(home))):
+        y = tuple(sp.Symbol(f"y{k + 1}", real=True) for k in range(len(region["coordinates"])))
+        x = list(home)
+        for k, index in enumerate(region["coordinates"]):
+            x[index] = y[k]
+        spec.add(f"region_{name}_pose", (Port("y", y, "the region's coordinates"), design_port),
+                 (Output("x", sp.Matrix(x), "[pose units]"),),
+                 f"The pose at a point of the region {name}.")
 
 
 def module(description: dict[str, Any]) -> ModuleSpec:
@@ -142,12 +169,16 @@ def module(description: dict[str, Any]) -> ModuleSpec:
             legs.append(_r_parallelogram(k, a, c, {"axis": vector(leg["axis"]), "zero": vector(leg["zero"]),
                                                    "arm": scalar(leg["arm"]), "rod": scalar(leg["rod"])}))
         else:
-            legs.append(_ups(k, a, c))
+            legs.append(_ups(k, a, c, rotation, None if "cone" not in leg else scalar(leg["cone"])))
+        last = legs[-1]
+        margins = tuple(last.reach)
         if "range" in leg:
             lo, hi = (scalar(t) for t in leg["range"])
-            last = legs[-1]
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik,
-                            [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign)
+                            [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign,
+                            (*margins, last.actuated - lo, hi - last.actuated))
+        else:
+            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins)
     q_a = tuple(leg.actuated for leg in legs)
     q_p = tuple(s for leg in legs for s in leg.passive)
     signs = tuple(leg.sign for leg in legs if leg.sign is not None) or (sp.Symbol("branch", real=True),)
@@ -171,6 +202,14 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                    composed=True)
     spec.add("home", (design_port,), (Output("x", vector(description["home"]), "the home pose"),),
              "The home pose: the seed of the forward kinematics.")
+    for region in description.get("regions", []):
+        _add_region(spec, region, design_port, vector(description["home"]), vector)
+    margins = [m for leg in legs for m in leg.margins]
+    spec.add("workspace_margins", (joints, pose_port, design_port),
+             (Output("margins", sp.Matrix(margins), "each leg's reach margins and its actuated joint's range, >= 0 "
+                     "inside the workspace"),),
+             "The workspace's margins at a configuration: >= 0 where the legs reach and the actuated joints lie "
+             "in their ranges.")
     if description.get("characteristic_length"):
         spec.add("characteristic_length", (design_port,),
                  (Output("L", sp.Matrix([scalar(description["characteristic_length"])]), "[m]"),),

@@ -17,6 +17,12 @@ import pkm
 ATTEMPTS = 1000  # random designs drawn before giving up
 
 
+def derived_by_hand() -> list[str]:
+    """The registered mechanisms with a committed generated module (the others are described as data and
+    derived into the cache)."""
+    return [name for name in pkm.mechanisms() if not hasattr(pkm.load(name), "description")]
+
+
 def random_design(
     mech: pkm.Mechanism,
     rng: np.random.Generator,

@@ -55,7 +55,8 @@ def test_the_delta_is_the_numpy_model_elbow_out(machines):
 def test_the_stewart_platform_is_the_numpy_model(machines):
     m, rng = machines["stewart"], np.random.default_rng(3)
     design = dict(m.design())
-    x = np.column_stack([rng.uniform(-0.1, 0.1, (N, 2)), rng.uniform(0.8, 1.2, N), rng.uniform(-0.2, 0.2, (N, 3))])
+    x = _within(m, rng, [-0.1, -0.1, 0.8, -0.2, -0.2, -0.2], [0.1, 0.1, 1.2, 0.2, 0.2, 0.2], m.modes[0])
+    assert len(x) > N // 2
     np.testing.assert_allclose(m.inverse_kinematics(x), oracles.sgp_ik(x, design), atol=1e-12)
     np.testing.assert_allclose(m.jacobian(x), oracles.sgp_jacobian(x, design), atol=1e-10)
 
@@ -65,11 +66,20 @@ def test_the_stewart_platform_is_the_numpy_model(machines):
     ("delta", [-0.1, -0.1, -0.6], [0.1, 0.1, -0.35]),
     ("stewart", [-0.05, -0.05, 0.9, -0.1, -0.1, -0.1], [0.05, 0.05, 1.1, 0.1, 0.1, 0.1]),
 ])
-def test_forward_kinematics_by_continuation_returns_the_pose_about_home(machines, name, lower, upper):
+def test_forward_kinematics_returns_the_pose_about_home_in_the_assembly_of_its_signature(machines, name, lower,
+                                                                                      upper):
+    """Each configuration's signature (the elbow sides, the sign of the type-II determinant) names the
+    assembly mode whose solutions hold it."""
     m, rng = machines[name], np.random.default_rng(4)
     x = _within(m, rng, lower, upper, m.modes[0])[:40]
-    q = m.inverse_kinematics(x)
-    np.testing.assert_allclose(m.forward_kinematics(q, assembly=m.assemblies[0]), x, atol=1e-9)
+    q = m.inverse_kinematics(x, passive=True)
+    signature = m.forward.seeds.signature(m.functions, q, x, m.design().vector())
+    for signs in {tuple(s) for s in signature}:
+        mine = np.all(signature == signs, axis=1)
+        ranks = [a for a in m.assembly_modes if a.signs[:-1] == signs]
+        found = np.stack([m.forward_kinematics(q[mine, : m.n_act], assembly=a.name) for a in ranks])
+        errors = np.linalg.norm(found - x[mine], axis=2)
+        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
 
 
 def _raw(name: str) -> dict:

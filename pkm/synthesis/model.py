@@ -267,8 +267,9 @@ class ProblemModel:
 
     def tight(self, w: np.ndarray, bounds: np.ndarray, resolution: int, points: Points | None = None) -> bool:
         """Whether every extreme's variable equals its quantity at w (over the nodes and the ``points``
-        the NLP holds): the problem uses each extreme in the direction its epigraph represents (otherwise
-        the optimiser moved t away from it)."""
+        the NLP holds), or, where one does not (a constraint on an extreme that is not active), the
+        quantities in their place give the same objective and hold the constraints: the problem uses each
+        extreme in the direction its epigraph represents (otherwise the optimiser moved t away from it)."""
         if not self.extremes:
             return True
         named = self._quantities_at(w, resolution)
@@ -278,10 +279,13 @@ class ProblemModel:
                 if points[name]:
                     extreme = np.nanmin if self.problem.quantities[name].index.reduce == "min" else np.nanmax
                     named[name] = float(extreme([named[name], *self._point_values(design, name, points[name])]))
-        return all(
-            abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
-            for name, t in zip(self.extremes, bounds, strict=True)
-        )
+        if all(abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
+               for name, t in zip(self.extremes, bounds, strict=True)):
+            return True
+        held = {**named, **dict(zip(self.extremes, bounds, strict=True))}
+        f_held, _ = self._expressions_with(w, held)
+        f, g = self._expressions_with(w, named)
+        return abs(f - f_held) <= TIGHT * max(1.0, abs(f)) and bool(self.feasible(g[None, :])[0])
 
     def start(self, point: np.ndarray, resolution: int) -> list[float]:
         """A starting point of the NLP: the variables and each extreme a little inside its bound."""

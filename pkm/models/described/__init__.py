@@ -1,7 +1,10 @@
-"""Machines described as data (:mod:`pkm.spec`), one TOML file each beside this module: the symmetric planar
-3-RRR, the Delta robot and the 6-UPS Stewart-Gough platform. ``pkm.load(path)`` derives one on first use."""
+"""Machines described as data (:mod:`pkm.spec`), one TOML file each beside this module, registered by name: the
+symmetric planar 3-RRR, the Delta robot and the 6-UPS Stewart-Gough platform. Each derives on first use."""
 
 from pathlib import Path
 
+from pkm import spec
+
 HERE = Path(__file__).resolve().parent
 DESCRIPTIONS = {name: HERE / f"{name}.toml" for name in ("rrr3", "delta", "stewart")}
+MECHANISMS = [spec.mechanism_class(spec.read(path)) for path in DESCRIPTIONS.values()]

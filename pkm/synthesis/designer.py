@@ -1,0 +1,139 @@
+"""A synthesis problem built from a designer's data (DESIGN.md section 6): a task region of the mechanism,
+the design variables with their bounds, the parameters held at given values, an objective (a global index
+over the task, in its sense) and constraints (global indices over the task between bounds), for any
+mechanism. :func:`design_problem` returns a :class:`pkm.synthesis.Problem` for the one driver, with a grid
+or Monte Carlo baseline over the same bounds on the same model."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from pkm import registry
+from pkm.design import stack_design
+from pkm.errors import PkmError, UnknownNameError, check_name
+from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
+
+MONTE_CARLO_SEED = 0
+
+
+class ProblemError(PkmError):
+    """A designer's problem that names an unknown field or violates a condition."""
+
+
+def _fail(field: str, condition: str) -> ProblemError:
+    return ProblemError(f"problem field {field} violates: {condition}")
+
+
+def _variables(mech: Any, raw: Mapping[str, Sequence[float]]) -> tuple[Variable, ...]:
+    if not isinstance(raw, Mapping) or not raw:
+        raise _fail("variables", "a non-empty mapping of parameter names to (lower, upper)")
+    known = {p.name: p for p in mech.parameters}
+    out = []
+    for name, bounds in raw.items():
+        check_name(f"{mech.name} design parameter", name, list(known))
+        if name not in known:
+            raise UnknownNameError(f"{mech.name} design parameter", name, list(known))
+        if not isinstance(bounds, Sequence) or len(bounds) != 2:
+            raise _fail(f"variables.{name}", "a pair (lower, upper)")
+        lower, upper = (float(b) for b in bounds)
+        p = known[name]
+        if not (math.isfinite(lower) and math.isfinite(upper) and lower < upper):
+            raise _fail(f"variables.{name}", f"finite lower < upper; got {lower:g}, {upper:g}")
+        if lower < p.lower or upper > p.upper:
+            raise _fail(f"variables.{name}", f"within the parameter's bounds [{p.lower:g}, {p.upper:g}]; got "
+                                             f"[{lower:g}, {upper:g}]")
+        out.append(Variable(name, lower, upper, p.unit, p.doc))
+    return tuple(out)
+
+
+def _quantity(mech: Any, name: str, region: Any, field: str) -> Quantity:
+    offered = mech.global_indices()
+    if name not in offered:
+        raise _fail(field, f"a global index {mech.name} offers ({', '.join(offered)}); got {name!r}")
+    return Quantity(registry.global_index(name), region)
+
+
+def monte_carlo_baseline(problem: Problem, samples: int, seed: int = MONTE_CARLO_SEED,
+                         doc: str = "the best of designs drawn uniformly over the bounds") -> Baseline:
+    """Random search over the variables' bounds (a fixed seed) as a baseline."""
+    lower = np.array([v.lower for v in problem.variables])
+    upper = np.array([v.upper for v in problem.variables])
+    return Baseline("monte_carlo", doc,
+                    lambda n: np.random.default_rng(seed).uniform(lower, upper, size=(n, len(lower))), samples)
+
+
+def design_problem(
+    mechanism: Any,
+    *,
+    task: str | Any,
+    variables: Mapping[str, Sequence[float]],
+    fixed: Mapping[str, float] | None = None,
+    objective: str = "gci",
+    constraints: Sequence[tuple[str, float, float]] = (("workspace_margin_min", 0.0, math.inf),),
+    mode: str | None = None,
+    name: str | None = None,
+    doc: str | None = None,
+    baseline: tuple[str, int] = ("grid", 21),
+    resolution: int = 8,
+) -> Problem:
+    """A synthesis over the task region ``task`` (a region name of the mechanism, or a region): the
+    ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others at their
+    defaults; ``objective`` a global index over the task in its sense; ``constraints`` (index, lower,
+    upper) of global indices over the task (by default the task inside the workspace: the least workspace
+    margin over it at least 0); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
+    IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
+    holds every node, and the exact Hessian of those rows costs more than it saves).
+    """
+    mech = registry.mechanism(mechanism) if isinstance(mechanism, str) else mechanism
+    region = mech.region(task) if isinstance(task, str) else task
+    task_name = task if isinstance(task, str) else getattr(task, "name", "task")
+    chosen = _variables(mech, variables)
+    held = dict(mech.design(dict(fixed or {}), partial=True)) if fixed else {}
+    overlap = set(held) & {v.name for v in chosen}
+    if overlap:
+        raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
+    base = {**dict(mech.design()), **held}
+    order = [v.name for v in chosen]
+    mode = mech.working_mode(mode).name
+
+    def design(values: Sequence[Any]) -> Any:
+        given = dict(zip(order, values, strict=True))
+        return stack_design([given.get(n, base[n]) for n in mech.parameter_names()])
+
+    quantities = {objective: _quantity(mech, objective, region, "objective")}
+    stated = []
+    for k, item in enumerate(constraints):
+        if not (isinstance(item, Sequence) and len(item) == 3):
+            raise _fail(f"constraints[{k}]", "a triple (index, lower, upper)")
+        index, lower, upper = item
+        quantities.setdefault(index, _quantity(mech, index, region, f"constraints[{k}]"))
+        stated.append(Constraint(f"{lower:g} <= {index} over {task_name} <= {upper:g}",
+                                 lambda t, index=index: t[index], float(lower), float(upper)))
+    problem = Problem(
+        name=name or f"{mech.name}.{objective}_{task_name}",
+        doc=doc or (f"{'maximise' if quantities[objective].index.sense == 'max' else 'minimise'} {objective} over "
+                    f"the region {task_name} in {', '.join(order)}, working mode {mode}"),
+        mechanism=mech,
+        variables=chosen,
+        design=design,
+        quantities=quantities,
+        objective=Objective.of(objective, quantities[objective]),
+        constraints=tuple(stated),
+        mode=mode,
+        resolution=resolution,
+        hessian="limited-memory" if any(q.index.reduce in ("min", "max") for q in quantities.values()) else "exact",
+        notes={"task": task_name, "fixed": held},
+    )
+    kind, size = baseline
+    if kind == "grid":
+        found = problem.grid_baseline(size)
+    elif kind == "monte_carlo":
+        found = monte_carlo_baseline(problem, size)
+    else:
+        raise _fail("baseline", f"('grid', points per axis) or ('monte_carlo', samples); got {kind!r}")
+    return replace(problem, baselines=(found,))
