@@ -321,7 +321,7 @@ class AtlasTask(NamedTuple):
     margin: float | None
 
     def describe(self) -> str:
-        return (f"{self.mechanism} {', '.join(self.indices)} over {self.region} in {self.mode}, "
+        return (f"{registry.label(self.mechanism)} {', '.join(self.indices)} over {self.region} in {self.mode}, "
                 f"{len(self.designs)} designs from {self.designs[0].tolist()}, resolution {self.resolution}")
 
 
@@ -344,9 +344,10 @@ def _chunk(mech: Mechanism, task: AtlasTask) -> dict[str, np.ndarray]:
 
 
 def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
-    """One task of an atlas in a worker: the mechanism by its name (see :mod:`pkm.parallel`)."""
+    """One task of an atlas in a worker: the mechanism by its name or description (:func:`pkm.registry.reference`,
+    :mod:`pkm.parallel`)."""
     parallel.as_worker()
-    return _chunk(registry.mechanism(task.mechanism), task)
+    return _chunk(registry.resolve(task.mechanism), task)
 
 
 def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:
@@ -483,9 +484,10 @@ def compute_sweep(
     executor : "auto", "serial", "processes" or a concurrent.futures.Executor, optional
         Where the chunks of designs run (:mod:`pkm.parallel`); by default a Dask cluster when a scheduler
         is set, else in this process for small atlases and a local process pool for large ones. The
-        values are the same on every executor. A mechanism outside the registry runs in this process.
+        values are the same on every executor. A mechanism neither registered nor described as data runs in
+        this process (a task carries a described machine's description, :func:`pkm.registry.reference`).
     store : path, optional
-        A folder for the finished chunks (:class:`pkm.parallel.ChunkStore`; a registered mechanism's only):
+        A folder for the finished chunks (:class:`pkm.parallel.ChunkStore`; a registered or described mechanism's):
         run again with the same folder, an interrupted atlas computes only the chunks it lacks. A chunk
         is keyed by its task, pkm's version and the hash of the mechanism's generated module, and holds
         ``values_<index>``, ``points_<index>``, its ``mode`` and the ``start`` and ``count`` of its rows
@@ -541,15 +543,15 @@ def compute_sweep(
     }
     margin = float(singularity_margin) if sampled else None
     names = tuple(index.name for index in indices)
+    named = registry.reference(mech)
     tasks = [
-        AtlasTask(mech.name, names, region, mode, designs[k : k + chunk], pose_resolution, margin)
+        AtlasTask(named or mech.name, names, region, mode, designs[k : k + chunk], pose_resolution, margin)
         for mode in modes
         for k in range(0, len(designs), chunk)
     ]
     if not tasks:
         raise PkmError(f"the {space.name} chart at resolution {resolution} has no design inside the space")
-    registered = mech.name in registry.mechanisms() and registry.mechanism(mech.name) is mech
-    saved = ChunkStore(store) if store is not None and registered else None
+    saved = ChunkStore(store) if store is not None and named is not None else None
     stamp = (installed_version("pkm"), mech.functions.source_hash) if saved is not None else ()
     starts = dict.fromkeys(modes, 0)
     offsets = []
@@ -581,7 +583,7 @@ def compute_sweep(
             progress(done[0], total)
 
     work = len(designs) * sum(per_design.values()) * len(modes)
-    with bar, parallel.executor(executor if registered else "serial", work=work, tasks=len(missing)) as pool:
+    with bar, parallel.executor(executor if named is not None else "serial", work=work, tasks=len(missing)) as pool:
         step(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
         fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk
         computed = parallel.run_tasks(

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import json
 import pkgutil
 from functools import cache
 from types import ModuleType
@@ -54,6 +55,36 @@ def mechanism(name: str) -> Any:
     if not isinstance(name, str) or _mechanism_class(name) is None:
         raise UnknownNameError("mechanism", name, mechanisms())
     return _instance(name)
+
+
+DESCRIBED = "description:"  # a reference to a described machine begins with it, its description follows as JSON
+
+
+def reference(mech: Any) -> str | None:
+    """A text that names ``mech`` in another process (a task for a worker carries it, never the object):
+    its registered name, or for a machine described as data its normalised description as JSON; None for
+    any other object."""
+    if mech.name in mechanisms() and mechanism(mech.name) is mech:
+        return mech.name
+    description = getattr(mech, "description", None)
+    if description is not None:
+        return DESCRIBED + json.dumps(description.data)
+    return None
+
+
+def resolve(text: str) -> Any:
+    """The mechanism a :func:`reference` names: a described machine derived (once) into this process's
+    cache, or the registered one."""
+    if text.startswith(DESCRIBED):
+        from pkm import spec
+
+        return spec.load(spec.Description(json.loads(text[len(DESCRIBED) :])))
+    return mechanism(text)
+
+
+def label(text: str) -> str:
+    """A reference's mechanism name, for messages."""
+    return json.loads(text[len(DESCRIBED) :])["name"] if text.startswith(DESCRIBED) else text
 
 
 @cache

@@ -100,8 +100,9 @@ class Description:
 
     @cached_property
     def key(self) -> str:
-        """The sha256 of the normalised description, the deriving modules and CasADi's version."""
-        return hashlib.sha256(json.dumps([self.data, _tool_versions()], sort_keys=True).encode()).hexdigest()
+        """The sha256 of the normalised description (in its order: the first mode is the default), the
+        deriving modules and CasADi's version."""
+        return hashlib.sha256(json.dumps([self.data, _tool_versions()]).encode()).hexdigest()
 
 
 def _tool_versions() -> dict[str, str]:

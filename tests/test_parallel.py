@@ -227,3 +227,24 @@ def test_sigterm_to_a_parallel_atlas_ends_its_worker_processes(tmp_path):
     assert "interrupted" in parent.stderr.read()
     _, alive = psutil.wait_procs(workers, timeout=30)
     assert alive == []
+
+
+def test_a_process_pool_carries_a_machine_described_by_the_user_and_gives_the_serial_atlas():
+    """A described machine outside the registry goes to the workers as its description (registry.reference),
+    and each worker derives it into the shared cache."""
+    import tomllib
+
+    from pkm.design_space import parameter_plane
+    from pkm.models.described import DESCRIPTIONS
+
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    mech = pkm.load({**raw, "name": "my_delta"})
+    assert registry.reference(mech).startswith(registry.DESCRIBED)
+    space = parameter_plane(mech.parameters, [("L_a", 0.2, 0.3), ("L_b", 0.5, 0.7)])
+
+    def atlas(executor):
+        return compute_atlas(mech, registry.global_index("gci"), space=space, region="task", resolution=4,
+                             pose_resolution=3, executor=executor, chunk=5)
+
+    with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
+        _same(atlas("serial"), atlas(pool))

@@ -1,0 +1,148 @@
+"""A design's workspace seen through a plane of two pose coordinates: a local index over the poses a working
+mode reaches, the singularity curves (det = 0 of the type-I and type-II matrices) and a task region's
+nodes near the plane, as arrays (npz) and as a figure (PNG or SVG).
+
+The other pose coordinates are held at given values (by default the centre of the mechanism's workspace
+box). Everything is evaluated through the mechanism's batch methods (compiled at first use)."""
+
+from __future__ import annotations
+
+import json
+import os
+import textwrap
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pkm import figures, io
+from pkm.errors import PkmError
+
+RESOLUTION = 121  # poses per axis of the plane
+REGION_RESOLUTION = 8  # of the region's quadrature whose nodes are drawn
+NEAR = 0.02  # a region's node is drawn where its held coordinates lie within this share of the box's width
+
+
+@dataclass(frozen=True)
+class WorkspaceSlice:
+    """A local index over a plane of the pose (NaN where the mode does not reach), the singularity
+    measures there and the plane's placement."""
+
+    mechanism: Any
+    design: Any
+    mode: str
+    index: str
+    axes: tuple[str, str]
+    held: Mapping[str, float]
+    u: np.ndarray
+    v: np.ndarray
+    values: np.ndarray  # (len(u), len(v))
+    singular: Mapping[str, np.ndarray] = field(default_factory=dict)
+    region: str | None = None
+    region_points: np.ndarray | None = None  # (k, 2): the region's nodes near the plane
+
+    def metadata(self) -> dict[str, Any]:
+        m = self.mechanism
+        return {"mechanism": m.name, "design": dict(self.design), "mode": self.mode, "index": self.index,
+                "unit": m.index_unit(self.index), "axes": list(self.axes), "held": dict(self.held),
+                "region": self.region}
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """The arrays and the metadata (JSON) as an npz file, written atomically."""
+        singular = {f"singular_{k}": v for k, v in self.singular.items()}
+        arrays = {"u": self.u, "v": self.v, "values": self.values, **singular,
+                  "metadata": np.array(json.dumps(self.metadata()))}
+        if self.region_points is not None:
+            arrays["region_points"] = self.region_points
+        return io.atomic_write(Path(path), lambda tmp: np.savez_compressed(tmp, **arrays))
+
+    def plot(self, path: str | os.PathLike) -> Path:
+        """The map: the index's colours (robust limits), the type-I (black) and type-II (red) singularity
+        curves, the region's nodes near the plane (white dots), axes to scale where both are lengths."""
+        m = self.mechanism
+        if not np.isfinite(self.values).any():
+            raise PkmError(f"the {self.mode} mode of {m.name} reaches no pose of the plane {', '.join(self.axes)} "
+                           f"at {self.held}")
+        limits = figures.robust_limits(self.values)
+        U, V = np.meshgrid(self.u, self.v, indexing="ij")
+        fig = figures.figure(6.4, 5.6)
+        ax = fig.subplots()
+        filled = ax.pcolormesh(U, V, np.ma.masked_invalid(self.values), cmap="viridis", vmin=limits.vmin,
+                               vmax=limits.vmax, shading="nearest")
+        styles = {"det_type1": ("k", "type I"), "det_type2": ("tab:red", "type II")}
+        for name, det in self.singular.items():
+            colour, label = styles.get(name, ("tab:orange", name))
+            if np.nanmin(det) < 0 < np.nanmax(det):
+                ax.contour(U, V, det, levels=[0.0], colors=colour, linewidths=1.2)
+                ax.plot([], [], color=colour, label=f"{label} singularity")
+        if self.region_points is not None and len(self.region_points):
+            ax.plot(self.region_points[:, 0], self.region_points[:, 1], "o", markerfacecolor="white",
+                    markeredgecolor="k", markeredgewidth=0.3, markersize=3, linestyle="none",
+                    label=f"region {self.region} (nodes near the plane)")
+        units = dict(zip(m.pose_names, m.pose_units, strict=True))
+        ax.set_xlabel(f"{self.axes[0]} [{units[self.axes[0]]}]")
+        ax.set_ylabel(f"{self.axes[1]} [{units[self.axes[1]]}]")
+        if units[self.axes[0]] == units[self.axes[1]]:
+            ax.set_aspect("equal")
+        held = ", ".join(f"{k} = {v:.3g} {units[k]}" for k, v in self.held.items())
+        ax.set_title(textwrap.fill(f"{m.name}, mode {self.mode}" + (f"; {held}" if held else ""), 60), fontsize=10)
+        unit = m.index_unit(self.index)
+        figures.colour_bar(fig, filled, limits, ax=ax, label=f"{self.index}" + (f" [{unit}]" if unit != "-" else ""))
+        if ax.get_legend_handles_labels()[0]:
+            figures.legends_below([ax], fontsize=8, ncols=3)
+        return figures.save(fig, path, dpi=120)
+
+
+def workspace_slice(
+    mech: Any,
+    design: Any = None,
+    *,
+    index: str = "inverse_condition_f",
+    mode: str | None = None,
+    axes: tuple[str, str] | None = None,
+    held: Mapping[str, float] | None = None,
+    region: str | None = None,
+    resolution: int = RESOLUTION,
+) -> WorkspaceSlice:
+    """The local index ``index`` over the plane of the pose coordinates ``axes`` (the first two by default)
+    across the workspace box, the others at ``held`` (by default the box's centre), in working mode
+    ``mode``; with ``region`` (a parametrised region of the mechanism) its nodes near the plane."""
+    design = mech.design(design)
+    branch = mech.working_mode(mode)
+    names = list(mech.pose_names)
+    axes = tuple(axes or names[:2])
+    if len(axes) != 2 or len(set(axes)) != 2 or not set(axes) <= set(names):
+        raise PkmError(f"axes = {axes} violates: two distinct pose coordinates of {mech.name} ({', '.join(names)})")
+    if resolution < 3:
+        raise PkmError(f"resolution = {resolution} violates: resolution >= 3")
+    box = mech.workspace_box(design.vector())
+    centre = box.mean(axis=1)
+    given = dict(held or {})
+    unknown = sorted(set(given) - set(names))
+    if unknown:
+        raise PkmError(f"held coordinate {unknown[0]!r} violates: one of {', '.join(names)}")
+    for k, name in enumerate(names):
+        if name not in axes:
+            given.setdefault(name, float(centre[k]))
+    i, j = names.index(axes[0]), names.index(axes[1])
+    u = np.linspace(box[i, 0], box[i, 1], resolution)
+    v = np.linspace(box[j, 0], box[j, 1], resolution)
+    x = np.tile(np.array([given.get(n, 0.0) for n in names]), (resolution * resolution, 1))
+    U, V = np.meshgrid(u, v, indexing="ij")
+    x[:, i], x[:, j] = U.ravel(), V.ravel()
+    values = mech.local_index(index, x, design, mode=branch.name).reshape(resolution, resolution)
+    reach = mech.reachable(x, design, mode=branch.name).reshape(resolution, resolution)
+    values = np.where(reach, values, np.nan)
+    singular = {k: np.where(reach, d.reshape(resolution, resolution), np.nan)
+                for k, d in mech.singularity(x, design, mode=branch.name).items()}
+    nodes = None
+    if region is not None:
+        points, _ = mech.region(region).quadrature(mech.functions, design.vector(), REGION_RESOLUTION)
+        others = [k for k in range(len(names)) if k not in (i, j)]
+        width = np.maximum(box[:, 1] - box[:, 0], 1e-12)
+        near = np.all(np.abs(points[:, others] - x[0, others]) <= NEAR * width[others], axis=1)
+        nodes = points[near][:, [i, j]]
+    return WorkspaceSlice(mech, design, branch.name, index, axes, {k: v for k, v in given.items() if k not in axes},
+                          u, v, values, singular, region, nodes)
