@@ -23,6 +23,14 @@ A description is a mapping (or a TOML file) with
 * optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
   combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every
   combination is a mode, named by its signs (``pn`` for +1, -1);
+* optionally bodies, for the inertia matrices: ``platform = {mass, centre (in the platform frame), inertia
+  (planar: about z; spatial: the principal moments about x, y, z of the platform frame)}`` and in each leg
+  table ``bodies``: a rotor inertia on the actuated joint (``rotor``) and the leg's bodies, each {mass,
+  centre (the distance from the body's first joint along it), inertia (about its centre of mass)}:
+  ``proximal`` and ``distal`` of an RR leg (inertia about z), ``arm`` (inertia about the joint's axis) and
+  ``rod`` (both rods of the parallelogram, mass only: half at the arm's tip, half at the platform joint) of
+  an R_parallelogram leg, ``cylinder`` (from the base joint) and ``piston`` (from the platform joint) of a
+  UPS leg (inertia about an axis across the leg); every leg has bodies where any body is given;
 * optionally ``regions``: task regions, each {name, doc, shape (``disc``, ``rectangle``, ``box``,
   ``cylinder``), coordinates (the pose coordinates it spans, the pose's first by default; the others stay at
   the home pose's values), centre, size (a disc's radius; a rectangle's or box's half extents; a cylinder's
@@ -203,6 +211,51 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]) -> tupl
     return points, None
 
 
+BODY_FIELDS = {"mass", "centre", "inertia"}
+LEG_BODIES = {"RR": ("proximal", "distal"), "R_parallelogram": ("arm", "rod"), "UPS": ("cylinder", "piston")}
+
+
+def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -> dict[str, Any]:
+    """A body {mass, centre (``centre`` expressions: 0 for none, 1 a distance, 2 or 3 a point), inertia
+    (``inertia`` expressions: 0 for none)}: mass required, the others 0 by default."""
+    if not isinstance(raw, Mapping):
+        raise _fail(field, "a table {mass, centre, inertia}")
+    allowed = {"mass"} | ({"centre"} if centre else set()) | ({"inertia"} if inertia else set())
+    extra = set(raw) - allowed
+    if extra:
+        raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of this body ({', '.join(sorted(allowed))})")
+    if "mass" not in raw:
+        raise _fail(f"{field}.mass", "given (a body's mass)")
+    out: dict[str, Any] = {"mass": _expression(f"{field}.mass", raw["mass"], names)}
+    for key, count in (("centre", centre), ("inertia", inertia)):
+        if not count:
+            continue
+        value = raw.get(key, [0] * count if count > 1 else 0)
+        if count == 1:
+            out[key] = _expression(f"{field}.{key}", value, names)
+        else:
+            if not isinstance(value, list) or len(value) != count:
+                raise _fail(f"{field}.{key}", f"a list of {count} expressions")
+            out[key] = [_expression(f"{field}.{key}[{j}]", v, names) for j, v in enumerate(value)]
+    return out
+
+
+def _leg_bodies(raw: Any, kind: str, field: str, names: set[str]) -> dict[str, Any]:
+    if not isinstance(raw, Mapping):
+        raise _fail(field, f"a table of the {kind} leg's bodies ({', '.join(LEG_BODIES[kind])}) and rotor")
+    known = {*LEG_BODIES[kind], "rotor"}
+    extra = set(raw) - known
+    if extra:
+        raise _fail(f"{field}.{sorted(extra)[0]}", f"a body of a {kind} leg ({', '.join(sorted(known))})")
+    out: dict[str, Any] = {"rotor": _expression(f"{field}.rotor", raw.get("rotor", 0), names)}
+    for name in LEG_BODIES[kind]:
+        if name in raw:
+            point = name == "rod"
+            out[name] = _body(raw[name], f"{field}.{name}", names, centre=0 if point else 1,
+                              inertia=0 if point else 1)
+    return out
+
+
 def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
     tables = [raw] if isinstance(raw, Mapping) else raw
     if not isinstance(tables, list) or not tables:
@@ -221,7 +274,7 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
-        known = {"kind", "count", "base", "platform", "axis", "zero", "range", *lengths,
+        known = {"kind", "count", "base", "platform", "axis", "zero", "range", "bodies", *lengths,
                  *(("cone",) if kind == "UPS" else ())}
         extra = set(table) - known
         if extra:
@@ -244,6 +297,8 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
             if "cone" in table:
                 leg["cone"] = _expression(f"{where}.cone", table["cone"], names)
+            if "bodies" in table:
+                leg["bodies"] = _leg_bodies(table["bodies"], kind, f"{where}.bodies", names)
             if kind == "R_parallelogram":
                 if angles is None and ("axis" not in table or "zero" not in table):
                     raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
@@ -310,7 +365,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         return raw
     if not isinstance(raw, Mapping):
         raise _fail("(the description)", "a mapping or a TOML file")
-    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes", "regions"}
+    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes", "regions",
+             "platform"}
     extra = set(raw) - known
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
@@ -339,6 +395,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         if not (isinstance(signs, list) and len(signs) == max(branched, 1) and all(s in (1, -1) for s in signs)):
             raise _fail(f"modes.{mode}", f"a list of {max(branched, 1)} signs, each 1 or -1")
     length = raw.get("characteristic_length")
+    planar_frame = frame.startswith("planar")
     data = {
         "name": name,
         "doc": raw.get("doc", name) if isinstance(raw.get("doc", name), str) else name,
@@ -349,7 +406,14 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         "characteristic_length": None if length is None else _expression("characteristic_length", length, names),
         "modes": {k: list(v) for k, v in modes.items()},
         "regions": _regions(raw.get("regions"), pose_names, names),
+        "platform": None if "platform" not in raw else _body(
+            raw["platform"], "platform", names, centre=2 if planar_frame else 3,
+            inertia={"planar_point": 0, "planar": 1, "spatial_point": 0, "spatial": 3}[frame]),
     }
+    if data["platform"] is not None or any("bodies" in leg for leg in legs):
+        missing = [k for k, leg in enumerate(legs) if "bodies" not in leg]
+        if missing:
+            raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
     return Description(data)
 
 
@@ -515,6 +579,30 @@ class Seeds:
 _SEED_TABLES: dict[tuple, tuple[FunctionTable, dict[tuple[float, ...], tuple[np.ndarray, ...]]]] = {}
 
 
+def composed_inertia(mass_matrix: ca.Function, first_order: ca.Function) -> ca.Function:
+    """``inertia(q, x, design) -> (M_t, M_w)``: the mass matrix M of the kinetic energy in (q, x) projected
+    onto the actuated rates, M_t = P^T M P with P = d(q, x)/d(q_a) = [Psi; J_f], and onto the pose rates,
+    M_w = J^T M_t J (q_dot = J x_dot)."""
+    q, x, d = (ca.SX.sym(mass_matrix.name_in(i), mass_matrix.size_in(i)) for i in range(3))
+    M = mass_matrix(q, x, d)
+    J, J_f, psi, *_ = first_order(q, x, d)
+    P = ca.vertcat(psi, J_f)
+    M_t = P.T @ M @ P
+    return ca.Function("inertia", [q, x, d], [M_t, J.T @ M_t @ J], ["q", "x", "design"], ["M_t", "M_w"])
+
+
+def composed_energy(mass_matrix: ca.Function, first_order: ca.Function) -> ca.Function:
+    """``energy(q, x, x_dot, design) -> (T, V)``: the bodies' kinetic energy z_dot^T M z_dot / 2 at the rates
+    z_dot = (q_dot, x_dot) of all the joints (q_dot = Psi J x_dot) and the pose, and the potential energy
+    (0: a description states no gravity)."""
+    q, x, d = (ca.SX.sym(mass_matrix.name_in(i), mass_matrix.size_in(i)) for i in range(3))
+    x_dot = ca.SX.sym("x_dot", x.numel())
+    J, _, psi, *_ = first_order(q, x, d)
+    z_dot = ca.vertcat(psi @ (J @ x_dot), x_dot)
+    T = 0.5 * z_dot.T @ mass_matrix(q, x, d) @ z_dot
+    return ca.Function("energy", [q, x, x_dot, d], [T, ca.SX(1, 1)], ["q", "x", "x_dot", "design"], ["T", "V"])
+
+
 class DescribedFunctions(FunctionTable):
     """The functions of a description's derived module and those composed from them."""
 
@@ -531,6 +619,9 @@ class DescribedFunctions(FunctionTable):
         functions = module.build()
         n_act = len(module.ACTUATORS)
         functions["first_order"] = composed_first_order(functions["constraint"], n_act)
+        if "mass_matrix" in functions:
+            functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
+            functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"])
         return functions
 
     def _load(self) -> dict[str, ca.Function]:

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import json
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -46,6 +47,7 @@ from typing import Any
 import sympy as sp
 
 from symbolic import codegen
+from symbolic.bodies import angular_velocity_jacobian
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.kinematics import InverseKinematics, add_kinematics
 from symbolic.loops import LoopClosure
@@ -124,6 +126,94 @@ def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr 
     return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, reach, None)
 
 
+Kinetic = tuple[sp.Expr, Callable[[list[sp.Symbol]], sp.Matrix], sp.Matrix]  # weight, Jacobian in z, inner
+
+
+def _mass_matrix(kinetic: list[Kinetic], z: list[sp.Symbol]) -> sp.Matrix:
+    """sum of weight J^T W J over the kinetic terms (J their Jacobians in z, W their inner matrices)."""
+    M = sp.zeros(len(z), len(z))
+    for weight, jacobian, inner in kinetic:
+        J = jacobian(z)
+        M += weight * J.T * inner * J
+    return M
+
+
+def _point(mass: sp.Expr, position: sp.Matrix) -> Kinetic:
+    """A point mass: T = m |dp/dt|^2 / 2."""
+    return mass, position.jacobian, sp.eye(position.rows)
+
+
+def _turning(moment: sp.Expr, angle: sp.Expr) -> Kinetic:
+    """A body turning about a fixed axis by ``angle``: T = I angle_dot^2 / 2."""
+    return moment, sp.Matrix([angle]).jacobian, sp.eye(1)
+
+
+def _across(moment: sp.Expr, direction: sp.Matrix) -> Kinetic:
+    """A body along the unit ``direction`` turning across it (its spin about it neglected): omega = u x u_dot,
+    |omega| = |u_dot|, T = I |u_dot|^2 / 2."""
+    return moment, direction.jacobian, sp.eye(3)
+
+
+def _leg_bodies(leg: dict[str, Any], joints: _Leg, a: sp.Matrix, c: sp.Matrix, scalar: Any) -> list[Kinetic]:
+    """The kinetic terms of a leg's bodies: point masses (their centres) and turning moments (an angle, or a
+    direction whose rate is the angular velocity across it)."""
+    bodies, out = leg["bodies"], []
+    rotor = scalar(bodies["rotor"])
+    if rotor != 0:
+        out.append(_turning(rotor, joints.actuated))
+    if leg["kind"] == "RR":
+        theta, (phi,) = joints.actuated, joints.passive
+        for name, start, angle in (("proximal", a, theta),
+                                   ("distal", a + scalar(leg["proximal"]) * _e(theta), phi)):
+            if name in bodies:
+                body = bodies[name]
+                out += [_point(scalar(body["mass"]), start + scalar(body["centre"]) * _e(angle)),
+                        _turning(scalar(body["inertia"]), angle)]
+    elif leg["kind"] == "R_parallelogram":
+        theta = joints.actuated
+        zero, axis = (sp.Matrix([scalar(t) for t in leg[key]]) for key in ("zero", "axis"))
+        along = sp.cos(theta) * zero + sp.sin(theta) * axis.cross(zero)
+        if "arm" in bodies:
+            body = bodies["arm"]
+            out += [_point(scalar(body["mass"]), a + scalar(body["centre"]) * along),
+                    _turning(scalar(body["inertia"]), theta)]
+        if "rod" in bodies:
+            half = scalar(bodies["rod"]["mass"]) / 2
+            out += [_point(half, a + scalar(leg["arm"]) * along), _point(half, c)]
+    else:
+        d = c - a
+        u = d / sp.sqrt(d.dot(d))
+        for name, start, sign in (("cylinder", a, 1), ("piston", c, -1)):
+            if name in bodies:
+                body = bodies[name]
+                out += [_point(scalar(body["mass"]), start + sign * scalar(body["centre"]) * u),
+                        _across(scalar(body["inertia"]), u)]
+    return out
+
+
+def _platform(body: dict[str, Any] | None, frame: str, pose: tuple[sp.Symbol, ...], rotation: sp.Matrix, *,
+              vector: Any, scalar: Any) -> list[Kinetic]:
+    """The platform's kinetic terms: its centre of mass and, where it turns, its rotation."""
+    if body is None:
+        return []
+    origin = sp.Matrix(pose[: rotation.rows])
+    out = [_point(scalar(body["mass"]), origin + rotation * vector(body["centre"]))]
+    if frame == "planar":
+        out.append(_turning(scalar(body["inertia"]), pose[2]))
+    elif frame == "spatial":
+        W = angular_velocity_jacobian(rotation, pose[3:])
+        world = rotation * sp.diag(*[scalar(t) for t in body["inertia"]]) * rotation.T
+
+        def angular(z: list[sp.Symbol]) -> sp.Matrix:
+            out = sp.zeros(3, len(z))
+            for k, angle in enumerate(pose[3:]):
+                out[:, z.index(angle)] = W[:, k]
+            return out
+
+        out.append((sp.Integer(1), angular, world))
+    return out
+
+
 def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
     """``region_<name>(design) -> (centre, size)`` and, where the region spans other coordinates than the
     pose's own in order, ``region_<name>_pose(y, design) -> x`` (the others at the home pose's values)."""
@@ -161,6 +251,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     dim = rotation.rows
     origin = sp.Matrix(pose[:dim])
     legs = []
+    kinetic: list[Kinetic] = []
     for k, leg in enumerate(description["legs"]):
         a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
         if leg["kind"] == "RR":
@@ -179,6 +270,8 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                             (*margins, last.actuated - lo, hi - last.actuated))
         else:
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins)
+        if "bodies" in leg:
+            kinetic += _leg_bodies(leg, legs[-1], a, c, scalar)
     q_a = tuple(leg.actuated for leg in legs)
     q_p = tuple(s for leg in legs for s in leg.passive)
     signs = tuple(leg.sign for leg in legs if leg.sign is not None) or (sp.Symbol("branch", real=True),)
@@ -202,6 +295,13 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                    composed=True)
     spec.add("home", (design_port,), (Output("x", vector(description["home"]), "the home pose"),),
              "The home pose: the seed of the forward kinematics.")
+    if description.get("platform") is not None or kinetic:
+        kinetic += _platform(description.get("platform"), frame, pose, rotation, vector=vector, scalar=scalar)
+        z = [*q_a, *q_p, *pose]
+        spec.add("mass_matrix", (joints, pose_port, design_port),
+                 (Output("M", _mass_matrix(kinetic, z), "the kinetic energy's matrix in (q, x): T = z_dot^T M "
+                         "z_dot / 2, z = (q, x) [SI]"),),
+                 "The mass matrix of the bodies in all the joint and pose coordinates.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
     margins = [m for leg in legs for m in leg.margins]

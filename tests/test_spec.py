@@ -153,6 +153,48 @@ def test_the_five_bar_described_in_twenty_lines_is_the_hand_derived_one():
             np.testing.assert_allclose(a / scale, b / scale, atol=1e-12, err_msg=f"{mode}: {name}")
 
 
+def _with_bodies(description: dict, values: dict) -> dict:
+    """The five-bar's description with the hand-written model's links as bodies (the design's masses,
+    centres and moments: Lara-Molina eqs. 13-19)."""
+    m1, m2, c1, c2, g1, g2 = (values[n] for n in ("m1", "m2", "c1", "c2", "g1", "g2"))
+    bodies = {"proximal": {"mass": m1, "centre": f"{c1!r} * r1", "inertia": f"{g1 * m1!r} * r1**2"},
+              "distal": {"mass": m2, "centre": f"{c2!r} * r2", "inertia": f"{g2 * m2!r} * r2**2"}}
+    return {**description, "name": "five_bar_with_bodies", "legs": {**description["legs"], "bodies": bodies}}
+
+
+def test_the_five_bar_described_with_bodies_has_the_hand_derived_inertia_matrices():
+    """M_t = P^T M P (M of the bodies' kinetic energy in all coordinates, P = [Psi; J_f]) composed at run time
+    equals the hand-written Lagrange model's Psi^T M Psi, and M_w = J^T M_t J its, to 1e-12 at 1000 poses per
+    mode; M_t is symmetric positive definite."""
+    from pkm.batch import evaluate
+
+    hand = pkm.load("five_bar")
+    design = hand.design()
+    described = pkm.load(_with_bodies(FIVE_BAR, dict(design)))
+    small = np.array([design[n] for n in ("r1", "r2", "r3")])
+    rng = np.random.default_rng(6)
+    for mode in hand.modes:
+        x = rng.uniform(-2.0, 2.0, size=(4000, 2))
+        x = x[hand.reachable(x, design, mode=mode)][:1000]
+        q = hand.inverse_kinematics(x, design, mode=mode, passive=True)
+        mine = evaluate(described.functions["inertia"], q, x, small)
+        theirs = evaluate(hand.functions["inertia"], q, x, design.vector())
+        for k, name in enumerate(("M_t", "M_w")):
+            scale = np.maximum(1.0, np.abs(theirs[k]).reshape(len(x), -1).max(axis=1))[:, None, None]
+            np.testing.assert_allclose(mine[k] / scale, theirs[k] / scale, atol=1e-12, err_msg=f"{mode}: {name}")
+        assert np.all(np.linalg.eigvalsh(mine[0]) > 0)
+    assert "dynamic_dexterity" in described.local_indices()
+
+
+def test_bodies_must_be_given_for_every_leg_and_name_known_fields():
+    broken = _with_bodies(FIVE_BAR, dict(pkm.load("five_bar").design()))
+    legs = broken["legs"]
+    with pytest.raises(DescriptionError, match=re.escape("description field legs.bodies.elbow violates")):
+        describe({**broken, "legs": {**legs, "bodies": {**legs["bodies"], "elbow": {"mass": 1}}}})
+    with pytest.raises(DescriptionError, match=re.escape("description field legs.bodies.distal.mass violates")):
+        describe({**broken, "legs": {**legs, "bodies": {**legs["bodies"], "distal": {"centre": 0.1}}}})
+
+
 def test_the_stewart_platforms_legs_are_equal_at_home_and_its_indices_hold_for_6_x_6(machines):
     """At the home pose of the symmetric 6-UPS every leg has the length of one closed form; the indices
     whose formulas hold for any n are offered (the Frobenius condition number, the determinants), those in

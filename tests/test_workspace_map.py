@@ -21,7 +21,8 @@ def test_a_slice_holds_the_local_index_where_the_mode_reaches(tmp_path):
     want = np.where(m.reachable(x), m.local_index("inverse_condition_f", x), np.nan).reshape(U.shape)
     np.testing.assert_array_equal(np.isnan(s.values), np.isnan(want))
     np.testing.assert_allclose(s.values, want, rtol=1e-12)
-    assert np.isfinite(s.values).any() and np.isnan(s.values).any()
+    assert np.isfinite(s.values).any()
+    assert np.isnan(s.values).any()
     with np.load(s.save(tmp_path / "slice.npz")) as saved:
         assert json.loads(str(saved["metadata"]))["axes"] == ["x", "y"]
         np.testing.assert_array_equal(saved["values"], s.values)
