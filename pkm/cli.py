@@ -442,6 +442,22 @@ def _synth(args: argparse.Namespace) -> None:
     _report_synthesis(args, result)
 
 
+def cmd_design(args: argparse.Namespace) -> None:
+    """A designer's synthesis from a TOML file (:func:`pkm.synthesis.designer.read_problem`), solved and
+    reported as ``synth`` does."""
+    from pkm.synthesis.designer import read_problem
+
+    problem = read_problem(args.task)
+    args.problem = problem.name
+    try:
+        with _logs_to_stderr(args.json):
+            result = synthesize(problem, resolution=args.resolution, starts=args.starts, verbose=args.verbose)
+    except SynthesisError as exc:
+        _report_synthesis(args, exc.result)
+        raise
+    _report_synthesis(args, result)
+
+
 def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None:
     data = result.to_dict()
     if args.out:
@@ -662,6 +678,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
     scheduled(p)
+    p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
+                                      "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
+    p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "
+                                "constraints, mode, baseline; e.g. my_task.toml")
+    p.add_argument("--resolution", type=int, help="quadrature resolution (default: the file's, 8); e.g. 6")
+    p.add_argument("--starts", type=int, help="IPOPT starts from the best screening points (default 4); e.g. 2")
+    p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
+    p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: "
+                                 "none); e.g. results")
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
     listed(p, "paper", key="paper")
     p.add_argument("--out", default="out", help="folder holding <key>/ (default out); e.g. reports")

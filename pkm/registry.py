@@ -82,6 +82,15 @@ def resolve(text: str) -> Any:
     return mechanism(text)
 
 
+def resolve_name(name: str) -> Any:
+    """The mechanism of a name: a description file (``.toml``) derived on first use, or a registered one."""
+    if name.endswith(".toml"):
+        from pkm import spec
+
+        return spec.load(name)
+    return mechanism(name)
+
+
 def label(text: str) -> str:
     """A reference's mechanism name, for messages."""
     return json.loads(text[len(DESCRIBED) :])["name"] if text.startswith(DESCRIBED) else text

@@ -7,8 +7,11 @@ or Monte Carlo baseline over the same bounds on the same model."""
 from __future__ import annotations
 
 import math
+import os
+import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -16,6 +19,7 @@ import numpy as np
 from pkm import registry
 from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
+from pkm.regions import Box, Cylinder, Disc, Rectangle
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
@@ -51,6 +55,44 @@ def _variables(mech: Any, raw: Mapping[str, Sequence[float]]) -> tuple[Variable,
     return tuple(out)
 
 
+SHAPES = {"disc": (Disc, 2, 1), "rectangle": (Rectangle, 2, 2), "box": (Box, 3, 3), "cylinder": (Cylinder, 3, 2)}
+
+
+def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
+    """A task region placed in SI: {shape (disc, rectangle, box, cylinder), centre (a pose), size (a disc's
+    radius; a rectangle's or box's half extents; a cylinder's radius and half length), axis (a cylinder's,
+    a pose coordinate; the last by default)} over the mechanism's whole pose."""
+    if not isinstance(raw, Mapping):
+        raise _fail("task", "a region name of the mechanism or a table {shape, centre, size, axis}")
+    extra = set(raw) - {"shape", "centre", "size", "axis", "name"}
+    if extra:
+        raise _fail(f"task.{sorted(extra)[0]}", "a field of a task (shape, centre, size, axis, name)")
+    if raw.get("shape") not in SHAPES:
+        raise _fail("task.shape", f"one of {', '.join(SHAPES)}; got {raw.get('shape')!r}")
+    cls, dimension, sizes = SHAPES[raw["shape"]]
+    if dimension != mech.n_out:
+        raise _fail("task.shape", f"a shape of the pose's dimension {mech.n_out} ({', '.join(mech.pose_names)}); "
+                                  f"a {raw['shape']} has {dimension}")
+    values = {}
+    for field, count in (("centre", dimension), ("size", sizes)):
+        value = raw.get(field)
+        if (not isinstance(value, Sequence) or isinstance(value, str) or len(value) != count
+                or not all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)):
+            raise _fail(f"task.{field}", f"a list of {count} finite numbers")
+        values[field] = tuple(float(v) for v in value)
+    if min(values["size"]) <= 0:
+        raise _fail("task.size", f"every entry > 0; got {list(values['size'])}")
+    extra_fields = {}
+    if raw["shape"] == "cylinder":
+        axis = raw.get("axis", mech.pose_names[-1])
+        if axis not in mech.pose_names:
+            raise _fail("task.axis", f"one of {', '.join(mech.pose_names)}; got {axis!r}")
+        extra_fields["axis"] = mech.pose_names.index(axis)
+    name = raw.get("name", "task")
+    return cls(name, f"the designer's {raw['shape']} at {list(values['centre'])}, size {list(values['size'])}",
+               fixed=(values["centre"], values["size"]), **extra_fields)
+
+
 def _quantity(mech: Any, name: str, region: Any, field: str) -> Quantity:
     offered = mech.global_indices()
     if name not in offered:
@@ -81,7 +123,8 @@ def design_problem(
     baseline: tuple[str, int] = ("grid", 21),
     resolution: int = 8,
 ) -> Problem:
-    """A synthesis over the task region ``task`` (a region name of the mechanism, or a region): the
+    """A synthesis over the task region ``task`` (a region name of the mechanism, a region, or a table placing
+    one in SI, :func:`task_region`) of ``mechanism`` (a name, a description file or a mechanism): the
     ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others at their
     defaults; ``objective`` a global index over the task in its sense; ``constraints`` (index, lower,
     upper) of global indices over the task (by default the task inside the workspace: the least workspace
@@ -89,11 +132,14 @@ def design_problem(
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves).
     """
-    mech = registry.mechanism(mechanism) if isinstance(mechanism, str) else mechanism
-    region = mech.region(task) if isinstance(task, str) else task
-    task_name = task if isinstance(task, str) else getattr(task, "name", "task")
+    mech = registry.resolve_name(mechanism) if isinstance(mechanism, str) else mechanism
+    region = mech.region(task) if isinstance(task, str) else task_region(mech, task) if isinstance(task, Mapping) \
+        else task
+    task_name = task if isinstance(task, str) else region.name
     chosen = _variables(mech, variables)
-    held = dict(mech.design(dict(fixed or {}), partial=True)) if fixed else {}
+    given = dict(fixed or {})
+    checked = dict(mech.design(given, partial=True)) if given else {}
+    held = {name: checked[name] for name in given}
     overlap = set(held) & {v.name for v in chosen}
     if overlap:
         raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
@@ -137,3 +183,54 @@ def design_problem(
     else:
         raise _fail("baseline", f"('grid', points per axis) or ('monte_carlo', samples); got {kind!r}")
     return replace(problem, baselines=(found,))
+
+
+PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "objective", "constraints", "mode",
+                  "baseline", "resolution"}
+
+
+def read_problem(path: str | os.PathLike) -> Problem:
+    """:func:`design_problem` from a TOML file: ``mechanism`` (a name or a description file, relative to the
+    file), ``task`` (a region name or a table {shape, centre, size, axis}), ``variables`` {name = [lower,
+    upper]}, optionally ``fixed`` {name = value}, ``objective`` (a global index), ``constraints`` (a list of
+    {index, lower, upper}), ``mode``, ``baseline`` {kind = "grid" or "monte_carlo", size}, ``resolution``,
+    ``name`` and ``doc``."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise ProblemError(f"problem file {path}: {exc}") from None
+    extra = set(raw) - PROBLEM_FIELDS
+    if extra:
+        raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(PROBLEM_FIELDS))})")
+    for field in ("mechanism", "task", "variables"):
+        if field not in raw:
+            raise _fail(field, "given")
+    mechanism = raw["mechanism"]
+    if not isinstance(mechanism, str):
+        raise _fail("mechanism", "a mechanism's name or a description file")
+    if mechanism.endswith(".toml"):
+        mechanism = str((path.parent / mechanism).resolve())
+    constraints = raw.get("constraints", [{"index": "workspace_margin_min", "lower": 0.0}])
+    if not isinstance(constraints, list):
+        raise _fail("constraints", "a list of tables {index, lower, upper}")
+    triples = []
+    for k, c in enumerate(constraints):
+        if not isinstance(c, Mapping) or "index" not in c or set(c) - {"index", "lower", "upper"}:
+            raise _fail(f"constraints[{k}]", "a table {index, lower, upper}")
+        triples.append((c["index"], float(c.get("lower", -math.inf)), float(c.get("upper", math.inf))))
+    baseline = raw.get("baseline", {"kind": "grid", "size": 21})
+    if not isinstance(baseline, Mapping) or set(baseline) - {"kind", "size"}:
+        raise _fail("baseline", "a table {kind, size}")
+    size = baseline.get("size", 21)
+    if isinstance(size, bool) or not isinstance(size, int) or size < 2:
+        raise _fail("baseline.size", f"an integer >= 2; got {size!r}")
+    resolution = raw.get("resolution", 8)
+    if isinstance(resolution, bool) or not isinstance(resolution, int) or not 2 <= resolution <= 64:
+        raise _fail("resolution", f"an integer from 2 to 64; got {resolution!r}")
+    return design_problem(
+        mechanism, task=raw["task"], variables=raw["variables"], fixed=raw.get("fixed"),
+        objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
+        name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), size),
+        resolution=resolution,
+    )

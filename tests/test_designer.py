@@ -1,0 +1,80 @@
+"""A designer's synthesis from data (pkm.synthesis.designer): a task placed in SI over any mechanism, the
+variables, objective and constraints from Python or a TOML file (`pkm design`), solved and at least as good
+as its baseline on the same model; bad problems name the field (exit 2, one line)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+import pkm
+from pkm.cli import main
+from pkm.synthesis.designer import ProblemError, design_problem, read_problem
+
+TASK = """
+mechanism = "delta"
+name = "my_delta_cell"
+task = {shape = "cylinder", centre = [0.0, 0.0, -0.55], size = [0.12, 0.04], axis = "z"}
+variables = {L_a = [0.2, 0.45], L_b = [0.5, 0.9]}
+fixed = {R = 0.18}
+objective = "gci"
+constraints = [{index = "workspace_margin_min", lower = 0.0}]
+mode = "elbow_out"
+baseline = {kind = "grid", size = 9}
+resolution = 6
+"""
+
+
+def test_a_task_placed_in_si_gives_a_synthesis_at_least_as_good_as_its_grid(tmp_path):
+    path = tmp_path / "task.toml"
+    path.write_text(TASK)
+    problem = read_problem(path)
+    assert problem.variable_names == ("L_a", "L_b")
+    assert problem.design([0.3, 0.6])[problem.mechanism.parameter_names().index("R")] == 0.18
+    result = pkm.synthesize(problem, progress=False, starts=2)
+    assert result.optimum.feasible
+    grid = result.baselines["grid"].best
+    assert result.verified_objective >= grid.verified_objective - 1e-9
+    assert math.isfinite(result.verified_objective)
+
+
+def test_pkm_design_reports_the_optimum_as_json(tmp_path, capsys):
+    path = tmp_path / "task.toml"
+    path.write_text(TASK)
+    assert main(["design", str(path), "--json", "--starts", "1", "--out", str(tmp_path / "out")]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["problem"] == "my_delta_cell"
+    assert (tmp_path / "out" / "my_delta_cell.json").exists()
+
+
+@pytest.mark.parametrize(("change", "field"), [
+    ('task = {shape = "hexagon", centre = [0.0, 0.0, -0.5], size = [0.1]}', "task.shape"),
+    ('task = {shape = "disc", centre = [0.0, -0.5], size = [0.1]}', "task.shape"),
+    ('task = {shape = "box", centre = [0.0], size = [0.1, 0.1, 0.1]}', "task.centre"),
+    ('task = {shape = "box", centre = [0.0, 0.0, -0.5], size = [0.1, -0.1, 0.1]}', "task.size"),
+    ("variables = {L_a = [0.4, 0.2]}", "variables.L_a"),
+    ('objective = "speed"', "objective"),
+    ('colour = "red"', "colour"),
+])
+def test_a_bad_problem_file_names_its_field(tmp_path, capsys, change, field):
+    key = change.split(" = ")[0]
+    text = "\n".join(line for line in TASK.splitlines() if not line.startswith(f"{key} ="))
+    path = tmp_path / "task.toml"
+    path.write_text(f"{text}\n{change}\n")
+    with pytest.raises(ProblemError, match=f"problem field {field} violates"):
+        read_problem(path)
+    assert main(["design", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"problem field {field} violates" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_a_monte_carlo_baseline_draws_the_same_designs_each_time():
+    problem = design_problem("delta", task="task", variables={"L_a": (0.2, 0.4)}, baseline=("monte_carlo", 50))
+    (baseline,) = problem.baselines
+    first, again = baseline.points(50), baseline.points(50)
+    assert first.shape == (50, 1)
+    assert (first == again).all()
+    assert ((first >= 0.2) & (first <= 0.4)).all()
