@@ -360,7 +360,7 @@ class Mechanism:
         name: str,
         design: DesignLike = None,
         *,
-        region: str = "reachable",
+        region: str | Any = "reachable",
         mode: str | None = None,
         resolution: int | None = None,
         gradient: bool = False,
@@ -369,7 +369,8 @@ class Mechanism:
         """A global index: its local index reduced over a region (DESIGN.md section 5).
 
         ``region="reachable"`` samples the working mode's reachable workspace on a grid with a mask;
-        a parametrised region (one of ``regions``) uses a fixed quadrature mapped into the design's region
+        a parametrised region (one of ``regions`` by name, or a region object such as one of them fixed by
+        ``region.at(centre, size)``) uses a fixed quadrature mapped into the design's region
         and, with ``gradient=True``, returns CasADi's exact gradient in the design parameters too. Without a
         ``resolution`` the quadrature doubles from QUADRATURE_RESOLUTION until the index changes by at most
         ``regions.INDEX_ACCURACY`` (relative above 1); region extremes are refined between the nodes.
@@ -378,7 +379,8 @@ class Mechanism:
         """
         spec = self.global_spec(name)
         d = self.design_vector(design)
-        where = self.region(region)
+        where = region if hasattr(region, "quadrature") else self.region(region)
+        region = getattr(where, "name", region)
         branch = self.working_mode(mode)
         allowed = getattr(where, "modes", None)
         if allowed and branch.name not in allowed:
