@@ -72,6 +72,7 @@ from pkm.design import Parameter
 from pkm.errors import ComputationError, PkmError
 from pkm.kinematics import Branch, FunctionTable, NearestSeeds
 from pkm.mechanism import Mechanism
+from pkm.progress import Progress
 from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle
 
 FRAMES = {
@@ -427,7 +428,8 @@ def read(path: str | os.PathLike) -> Description:
 
 
 def module_path(description: Description) -> Path:
-    """The derived module of a description in the user's cache, derived now where it is not there yet."""
+    """The derived module of a description in the user's cache, derived now where it is not there yet (a
+    progress bar on a terminal meanwhile)."""
     folder = location() / "descriptions"
     target = folder / f"{description.name}_{description.key[:16]}.py"
     if target.exists():
@@ -437,8 +439,10 @@ def module_path(description: Description) -> Path:
         source = Path(tmp) / "description.json"
         source.write_text(json.dumps({**description.data, "key": description.key}, sort_keys=True))
         out = Path(tmp) / "module.py"
-        done = subprocess.run([sys.executable, "-m", "symbolic.describe", str(source), str(out)], cwd=ROOT,
-                              capture_output=True, text=True, check=False)
+        with Progress(1, f"deriving {description.name} (first use, into {folder})") as bar:
+            done = subprocess.run([sys.executable, "-m", "symbolic.describe", str(source), str(out)], cwd=ROOT,
+                                  capture_output=True, text=True, check=False)
+            bar.advance()
         if done.returncode != 0:
             last = (done.stderr.strip().splitlines() or ["no output"])[-1]
             raise ComputationError(f"deriving {description.name} failed: {last}")
