@@ -31,6 +31,8 @@ A description is a mapping (or a TOML file) with
   ``rod`` (both rods of the parallelogram, mass only: half at the arm's tip, half at the platform joint) of
   an R_parallelogram leg, ``cylinder`` (from the base joint) and ``piston`` (from the platform joint) of a
   UPS leg (inertia about an axis across the leg); every leg has bodies where any body is given;
+* optionally ``gravity``: the acceleration of gravity in the base frame (a vector of the pose's plane or
+  space, m/s^2), for the bodies' weight in the inverse dynamics;
 * optionally ``regions``: task regions, each {name, doc, shape (``disc``, ``rectangle``, ``box``,
   ``cylinder``), coordinates (the pose coordinates it spans, the pose's first by default; the others stay at
   the home pose's values), centre, size (a disc's radius; a rectangle's or box's half extents; a cylinder's
@@ -367,7 +369,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     if not isinstance(raw, Mapping):
         raise _fail("(the description)", "a mapping or a TOML file")
     known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes", "regions",
-             "platform"}
+             "platform", "gravity"}
     extra = set(raw) - known
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
@@ -411,7 +413,13 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
             raw["platform"], "platform", names, centre=2 if planar_frame else 3,
             inertia={"planar_point": 0, "planar": 1, "spatial_point": 0, "spatial": 3}[frame]),
     }
-    if data["platform"] is not None or any("bodies" in leg for leg in legs):
+    gravity = raw.get("gravity")
+    if gravity is not None:
+        if not isinstance(gravity, list) or len(gravity) != (2 if planar_frame else 3):
+            raise _fail("gravity", f"a vector of {2 if planar_frame else 3} expressions (the acceleration of "
+                                   "gravity in the base frame, m/s^2)")
+        data["gravity"] = [_expression(f"gravity[{k}]", g, names) for k, g in enumerate(gravity)]
+    if data["platform"] is not None or any("bodies" in leg for leg in legs) or gravity is not None:
         missing = [k for k, leg in enumerate(legs) if "bodies" not in leg]
         if missing:
             raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
@@ -595,16 +603,44 @@ def composed_inertia(mass_matrix: ca.Function, first_order: ca.Function) -> ca.F
     return ca.Function("inertia", [q, x, d], [M_t, J.T @ M_t @ J], ["q", "x", "design"], ["M_t", "M_w"])
 
 
-def composed_energy(mass_matrix: ca.Function, first_order: ca.Function) -> ca.Function:
+def composed_energy(mass_matrix: ca.Function, first_order: ca.Function, gravity: ca.Function | None) -> ca.Function:
     """``energy(q, x, x_dot, design) -> (T, V)``: the bodies' kinetic energy z_dot^T M z_dot / 2 at the rates
-    z_dot = (q_dot, x_dot) of all the joints (q_dot = Psi J x_dot) and the pose, and the potential energy
-    (0: a description states no gravity)."""
+    z_dot = (q_dot, x_dot) of all the joints (q_dot = Psi J x_dot) and the pose, and their potential energy in
+    the description's gravity (0 without)."""
     q, x, d = (ca.SX.sym(mass_matrix.name_in(i), mass_matrix.size_in(i)) for i in range(3))
     x_dot = ca.SX.sym("x_dot", x.numel())
     J, _, psi, *_ = first_order(q, x, d)
     z_dot = ca.vertcat(psi @ (J @ x_dot), x_dot)
     T = 0.5 * z_dot.T @ mass_matrix(q, x, d) @ z_dot
-    return ca.Function("energy", [q, x, x_dot, d], [T, ca.SX(1, 1)], ["q", "x", "x_dot", "design"], ["T", "V"])
+    V = gravity(q, x, d)[1] if gravity is not None else ca.SX(1, 1)
+    return ca.Function("energy", [q, x, x_dot, d], [T, V], ["q", "x", "x_dot", "design"], ["T", "V"])
+
+
+def composed_inverse_dynamics(constraint: ca.Function, mass_matrix: ca.Function, first_order: ca.Function,
+                              gravity: ca.Function | None) -> ca.Function:
+    """``inverse_dynamics(q, x, x_dot, x_ddot, design) -> tau``: Lagrange's equations of the bodies in all
+    coordinates z = (q, x), Q = M z_ddot + M_dot z_dot - (d/dz)(z_dot^T M z_dot) / 2 + dV/dz, projected onto
+    the actuated joints by virtual work, tau = P^T Q with P = dz/dq_a = [Psi; J_f] (the loop's constraint
+    forces do no work along P). The rates: q_dot = Psi J x_dot; the accelerations from the loop's second
+    order, H_q q_ddot + H_x x_ddot + (dH_q/dt) q_dot + (dH_x/dt) x_dot = 0."""
+    q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
+    x_dot, x_ddot = ca.SX.sym("x_dot", x.numel()), ca.SX.sym("x_ddot", x.numel())
+    _, H_q, H_x = constraint(q, x, d)
+    J, J_f, psi, *_ = first_order(q, x, d)
+    z = ca.vertcat(q, x)
+    q_dot = psi @ (J @ x_dot)
+    rates = ca.SX.sym("rates", z.numel())
+    z_dot = ca.vertcat(q_dot, x_dot)
+    bias = ca.substitute(ca.jtimes(H_q @ rates[: q.numel()] + H_x @ rates[q.numel() :], z, rates), rates, z_dot)
+    q_ddot = ca.solve(H_q, -(H_x @ x_ddot + bias))
+    M = mass_matrix(q, x, d)
+    coriolis = ca.jtimes(M @ rates, z, rates) - ca.gradient(0.5 * rates.T @ M @ rates, z)
+    Q = M @ ca.vertcat(q_ddot, x_ddot) + ca.substitute(coriolis, rates, z_dot)
+    if gravity is not None:
+        Q = Q + gravity(q, x, d)[0]
+    tau = ca.vertcat(psi, J_f).T @ Q
+    return ca.Function("inverse_dynamics", [q, x, x_dot, x_ddot, d], [tau],
+                       ["q", "x", "x_dot", "x_ddot", "design"], ["tau"])
 
 
 class DescribedFunctions(FunctionTable):
@@ -625,7 +661,10 @@ class DescribedFunctions(FunctionTable):
         functions["first_order"] = composed_first_order(functions["constraint"], n_act)
         if "mass_matrix" in functions:
             functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
-            functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"])
+            functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"],
+                                                  functions.get("gravity"))
+            functions["inverse_dynamics"] = composed_inverse_dynamics(
+                functions["constraint"], functions["mass_matrix"], functions["first_order"], functions.get("gravity"))
         return functions
 
     def _load(self) -> dict[str, ca.Function]:

@@ -30,9 +30,11 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   normal and from the platform's at most cone: (C - A).n - cos(cone) |C - A| >= 0 for both normals.
 
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
-``workspace_margins(q, x, design)`` gives every leg's margins at a configuration (the ranges' in the actuated
-joints), ``region_<name>(design) -> (centre, size)`` places each region, and ``region_<name>_pose(y,
-design) -> x`` maps a region's coordinates into the pose where it spans fewer or others.
+With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
+``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``workspace_margins(q, x, design)`` gives
+every leg's margins at a configuration (the ranges' in the actuated joints), ``region_<name>(design) ->
+(centre, size)`` places each region, and ``region_<name>_pose(y, design) -> x`` maps a region's coordinates
+into the pose where it spans fewer or others.
 """
 
 from __future__ import annotations
@@ -126,13 +128,14 @@ def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr 
     return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, reach, None)
 
 
-Kinetic = tuple[sp.Expr, Callable[[list[sp.Symbol]], sp.Matrix], sp.Matrix]  # weight, Jacobian in z, inner
+# weight, its Jacobian in z, the inner matrix, and a point mass's position (None for a turning term)
+Kinetic = tuple[sp.Expr, Callable[[list[sp.Symbol]], sp.Matrix], sp.Matrix, sp.Matrix | None]
 
 
 def _mass_matrix(kinetic: list[Kinetic], z: list[sp.Symbol]) -> sp.Matrix:
     """sum of weight J^T W J over the kinetic terms (J their Jacobians in z, W their inner matrices)."""
     M = sp.zeros(len(z), len(z))
-    for weight, jacobian, inner in kinetic:
+    for weight, jacobian, inner, _ in kinetic:
         J = jacobian(z)
         M += weight * J.T * inner * J
     return M
@@ -140,18 +143,18 @@ def _mass_matrix(kinetic: list[Kinetic], z: list[sp.Symbol]) -> sp.Matrix:
 
 def _point(mass: sp.Expr, position: sp.Matrix) -> Kinetic:
     """A point mass: T = m |dp/dt|^2 / 2."""
-    return mass, position.jacobian, sp.eye(position.rows)
+    return mass, position.jacobian, sp.eye(position.rows), position
 
 
 def _turning(moment: sp.Expr, angle: sp.Expr) -> Kinetic:
     """A body turning about a fixed axis by ``angle``: T = I angle_dot^2 / 2."""
-    return moment, sp.Matrix([angle]).jacobian, sp.eye(1)
+    return moment, sp.Matrix([angle]).jacobian, sp.eye(1), None
 
 
 def _across(moment: sp.Expr, direction: sp.Matrix) -> Kinetic:
     """A body along the unit ``direction`` turning across it (its spin about it neglected): omega = u x u_dot,
     |omega| = |u_dot|, T = I |u_dot|^2 / 2."""
-    return moment, direction.jacobian, sp.eye(3)
+    return moment, direction.jacobian, sp.eye(3), None
 
 
 def _leg_bodies(leg: dict[str, Any], joints: _Leg, a: sp.Matrix, c: sp.Matrix, scalar: Any) -> list[Kinetic]:
@@ -210,7 +213,7 @@ def _platform(body: dict[str, Any] | None, frame: str, pose: tuple[sp.Symbol, ..
                 out[:, z.index(angle)] = W[:, k]
             return out
 
-        out.append((sp.Integer(1), angular, world))
+        out.append((sp.Integer(1), angular, world, None))
     return out
 
 
@@ -302,6 +305,13 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  (Output("M", _mass_matrix(kinetic, z), "the kinetic energy's matrix in (q, x): T = z_dot^T M "
                          "z_dot / 2, z = (q, x) [SI]"),),
                  "The mass matrix of the bodies in all the joint and pose coordinates.")
+        if description.get("gravity") is not None:
+            g = vector(description["gravity"])
+            potential = -sum((w * g.dot(p) for w, _, _, p in kinetic if p is not None), sp.Integer(0))
+            spec.add("gravity", (joints, pose_port, design_port),
+                     (Output("G", sp.Matrix([potential]).jacobian(z).T, "dV/dz [N or N m]"),
+                      Output("V", sp.Matrix([potential]), "the bodies' potential energy in the gravity field [J]")),
+                     "The gradient of the bodies' potential energy in all the joint and pose coordinates.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
     margins = [m for leg in legs for m in leg.margins]

@@ -239,3 +239,48 @@ def test_the_stewart_platforms_legs_are_equal_at_home_and_its_indices_hold_for_6
     product = m.local_index("manipulability", x) * m.local_index("jacobian_determinant", x)
     np.testing.assert_allclose(product, 1.0, rtol=1e-10)
     assert np.all((m.local_index("inverse_condition_f", x) > 0) & (m.local_index("inverse_condition_f", x) <= 1))
+
+
+def test_the_five_bar_described_with_bodies_has_the_hand_derived_inverse_dynamics():
+    """Lagrange's equations of the bodies in all coordinates, projected by virtual work (pkm.spec), against
+    the hand-written chain model's torques on the actuated joints, to 1e-10 of the largest, in every mode."""
+    hand = pkm.load("five_bar")
+    design = hand.design()
+    described = pkm.load(_with_bodies(FIVE_BAR, dict(design)))
+    small = [design[n] for n in ("r1", "r2", "r3")]
+    rng = np.random.default_rng(7)
+    for mode in hand.modes:
+        x = rng.uniform(-2.0, 2.0, size=(2000, 2))
+        x = x[hand.reachable(x, design, mode=mode)][:200]
+        x_dot, x_ddot = rng.normal(size=(2, len(x), 2))
+        mine = described.inverse_dynamics(x, x_dot, x_ddot, small, mode=mode)
+        theirs = hand.inverse_dynamics(x, x_dot, x_ddot, design, mode=mode, joint_torques=True)
+        scale = np.abs(theirs).max(axis=1, keepdims=True)
+        np.testing.assert_allclose(mine / scale, theirs / scale, atol=1e-10, err_msg=mode)
+
+
+def test_the_power_of_the_actuators_is_the_rate_of_the_energy_with_gravity():
+    """tau . q_dot = d(T + V)/dt along a motion of the Delta with its bodies and gravity (central
+    differences of the energy, relative 1e-6), and the symmetric pose below the base's centre needs equal
+    torques to hold the weight."""
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    m = pkm.load({**raw, "name": "delta_with_gravity", "gravity": [0, 0, -9.81]})
+    from pkm.batch import evaluate
+
+    rng = np.random.default_rng(8)
+    x = _within(m, rng, [-0.15, -0.15, -0.7], [0.15, 0.15, -0.4], "elbow_out")[:50]
+    x_dot, x_ddot = rng.normal(size=(2, len(x), 3))
+    power = np.sum(m.inverse_dynamics(x, x_dot, x_ddot) * np.einsum("nij,nj->ni", m.jacobian(x), x_dot), axis=1)
+
+    def energy(pose, rate):
+        q = m.inverse_kinematics(pose, passive=True)
+        kinetic, potential = evaluate(m.functions["energy"], q, pose, rate, m.design().vector())
+        return kinetic[:, 0, 0] + potential[:, 0, 0]
+
+    h = 1e-5
+    rate = (energy(x + h * x_dot + h**2 / 2 * x_ddot, x_dot + h * x_ddot)
+            - energy(x - h * x_dot + h**2 / 2 * x_ddot, x_dot - h * x_ddot)) / (2 * h)
+    np.testing.assert_allclose(power, rate, rtol=1e-6, atol=1e-9)
+    held = m.inverse_dynamics([0.0, 0.0, -0.5], np.zeros(3), np.zeros(3))
+    np.testing.assert_allclose(held, held[0], rtol=1e-12)
+    assert held[0] != 0
