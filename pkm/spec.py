@@ -7,13 +7,14 @@ A description is a mapping (or a TOML file) with
 * ``frame``: the pose, ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
   ``spatial`` (x, y, z, roll, pitch, yaw; R = Rz(yaw) Ry(pitch) Rx(roll));
 * ``parameters``: a list of {name, default, lower, upper, unit, doc};
-* ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``R_parallelogram``, ``UPS``, see
-  :mod:`symbolic.describe`), ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and
+* ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``RPR``, ``PRR``, ``R_parallelogram``,
+  ``UPS``, see :mod:`symbolic.describe`), ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and
   ``platform`` attachments, each a list of points (one per leg, each a list of coordinates) or a pattern
   ``{circle = "R", start = "pi/2"}`` (``count`` points at ``start + 2 pi i / count``) or ``{circle = "R",
   start = "0", pairs = "theta"}`` (``count / 2`` pairs centred at ``start + 2 pi j / (count / 2)``,
   ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
-  ``arm``, ``rod`` for R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
+  ``distal`` for PRR, with the direction ``axis`` of its prismatic joint; ``arm``, ``rod`` for
+  R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
   ``"radial"`` to the base circle by default), and optionally ``range = [lower, upper]`` of the actuated
   joint (a stroke, an arm's sweep: outside it a pose is out of reach), and for a UPS leg ``cone``, the
   largest angle of the leg from the base's normal at its universal joint and from the platform's normal at
@@ -27,7 +28,8 @@ A description is a mapping (or a TOML file) with
   (planar: about z; spatial: the principal moments about x, y, z of the platform frame)}`` and in each leg
   table ``bodies``: a rotor inertia on the actuated joint (``rotor``) and the leg's bodies, each {mass,
   centre (the distance from the body's first joint along it), inertia (about its centre of mass)}:
-  ``proximal`` and ``distal`` of an RR leg (inertia about z), ``arm`` (inertia about the joint's axis) and
+  ``proximal`` and ``distal`` of an RR leg (inertia about z), ``slider`` (mass only) and ``distal`` of a PRR
+  leg, ``cylinder`` and ``piston`` of an RPR leg, ``arm`` (inertia about the joint's axis) and
   ``rod`` (both rods of the parallelogram, mass only: half at the arm's tip, half at the platform joint) of
   an R_parallelogram leg, ``cylinder`` (from the base joint) and ``piston`` (from the platform joint) of a
   UPS leg (inertia about an axis across the leg); every leg has bodies where any body is given;
@@ -83,10 +85,27 @@ FRAMES = {
     "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
     "spatial": (("x", "y", "z", "roll", "pitch", "yaw"), ("m", "m", "m", "rad", "rad", "rad")),
 }
+@dataclass(frozen=True)
+class Kind:
+    """A kind of leg: the space it moves in, its lengths, whether its inverse kinematics has two branches,
+    its actuated joint's unit, its passive angles, whether its passive joints have two branches too (their
+    side names the assembly modes) and its bodies."""
+
+    space: str
+    lengths: tuple[str, ...]
+    branched: bool
+    unit: str
+    passive: int
+    sided: bool
+    bodies: tuple[str, ...]
+
+
 KINDS = {
-    "RR": ("planar", ("proximal", "distal")),
-    "R_parallelogram": ("spatial", ("arm", "rod")),
-    "UPS": ("spatial", ()),
+    "RR": Kind("planar", ("proximal", "distal"), True, "rad", 1, True, ("proximal", "distal")),
+    "RPR": Kind("planar", (), False, "m", 1, False, ("cylinder", "piston")),
+    "PRR": Kind("planar", ("distal",), True, "m", 1, True, ("slider", "distal")),
+    "R_parallelogram": Kind("spatial", ("arm", "rod"), True, "rad", 0, False, ("arm", "rod")),
+    "UPS": Kind("spatial", (), False, "m", 0, False, ("cylinder", "piston")),
 }
 FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
 SUFFIX = ".toml"  # a mechanism name with it is a description file
@@ -215,7 +234,6 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]) -> tupl
 
 
 BODY_FIELDS = {"mass", "centre", "inertia"}
-LEG_BODIES = {"RR": ("proximal", "distal"), "R_parallelogram": ("arm", "rod"), "UPS": ("cylinder", "piston")}
 
 
 def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -> dict[str, Any]:
@@ -245,15 +263,15 @@ def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -
 
 def _leg_bodies(raw: Any, kind: str, field: str, names: set[str]) -> dict[str, Any]:
     if not isinstance(raw, Mapping):
-        raise _fail(field, f"a table of the {kind} leg's bodies ({', '.join(LEG_BODIES[kind])}) and rotor")
-    known = {*LEG_BODIES[kind], "rotor"}
+        raise _fail(field, f"a table of the {kind} leg's bodies ({', '.join(KINDS[kind].bodies)}) and rotor")
+    known = {*KINDS[kind].bodies, "rotor"}
     extra = set(raw) - known
     if extra:
         raise _fail(f"{field}.{sorted(extra)[0]}", f"a body of a {kind} leg ({', '.join(sorted(known))})")
     out: dict[str, Any] = {"rotor": _expression(f"{field}.rotor", raw.get("rotor", 0), names)}
-    for name in LEG_BODIES[kind]:
+    for name in KINDS[kind].bodies:
         if name in raw:
-            point = name == "rod"
+            point = name in ("rod", "slider")
             out[name] = _body(raw[name], f"{field}.{name}", names, centre=0 if point else 1,
                               inertia=0 if point else 1)
     return out
@@ -273,7 +291,7 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         kind = table.get("kind")
         if kind not in KINDS:
             raise _fail(f"{where}.kind", f"one of {', '.join(KINDS)}; got {kind!r}")
-        space, lengths = KINDS[kind]
+        space, lengths = KINDS[kind].space, KINDS[kind].lengths
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
@@ -302,6 +320,12 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 leg["cone"] = _expression(f"{where}.cone", table["cone"], names)
             if "bodies" in table:
                 leg["bodies"] = _leg_bodies(table["bodies"], kind, f"{where}.bodies", names)
+            if kind == "PRR":
+                if "axis" not in table:
+                    raise _fail(f"{where}.axis", "given (the direction of the PRR leg's prismatic joint)")
+                if not isinstance(table["axis"], list) or len(table["axis"]) != 2:
+                    raise _fail(f"{where}.axis", "a direction of 2 expressions")
+                leg["axis"] = [_expression(f"{where}.axis[{j}]", c, names) for j, c in enumerate(table["axis"])]
             if kind == "R_parallelogram":
                 if angles is None and ("axis" not in table or "zero" not in table):
                     raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
@@ -390,7 +414,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     home = raw.get("home")
     if not isinstance(home, list) or len(home) != len(pose_names):
         raise _fail("home", f"a pose of {len(pose_names)} values ({', '.join(pose_names)})")
-    branched = sum(leg["kind"] != "UPS" for leg in legs)
+    branched = sum(KINDS[leg["kind"]].branched for leg in legs)
     modes = raw.get("modes", {})
     if not isinstance(modes, Mapping):
         raise _fail("modes", "a table of names -> sign lists")
@@ -497,21 +521,19 @@ class Seeds:
 
     @property
     def periodic(self) -> tuple[bool, ...]:
-        return tuple(leg["kind"] != "UPS" for leg in self.data["legs"])
+        return tuple(KINDS[leg["kind"]].unit == "rad" for leg in self.data["legs"])
 
     @property
     def angles(self) -> tuple[bool, ...]:
-        elbows = sum(leg["kind"] == "RR" for leg in self.data["legs"])
-        return (True,) * elbows + tuple(unit == "rad" for unit in self.data["pose"]["units"])
+        passive = sum(KINDS[leg["kind"]].passive for leg in self.data["legs"])
+        return (True,) * passive + tuple(unit == "rad" for unit in self.data["pose"]["units"])
 
     def signature(self, functions: FunctionTable, q: np.ndarray, x: np.ndarray, design: np.ndarray) -> np.ndarray:
-        legs = self.data["legs"]
-        n_act = len(legs)
-        elbows = [k for k, leg in enumerate(legs) if leg["kind"] == "RR"]
-        passive = n_act + np.arange(len(elbows))
-        sides = np.sign(np.sin(q[:, passive] - q[:, elbows]))
         *_, det = evaluate(functions["first_order"], q, x, design)
-        return np.column_stack([sides, np.sign(det[:, 0, 0])])
+        if "branch_sides" not in functions:
+            return np.sign(det[:, 0, 0])[:, None]
+        (sides,) = evaluate(functions["branch_sides"], q, x, design)
+        return np.column_stack([np.sign(sides[:, :, 0]), np.sign(det[:, 0, 0])])
 
     def table(self, functions: FunctionTable, design: np.ndarray) -> dict[tuple[float, ...], tuple[np.ndarray, ...]]:
         return self._pooled(functions, np.asarray(design, dtype=float))
@@ -532,7 +554,7 @@ class Seeds:
 
     def _assembled(self, functions: FunctionTable, x: np.ndarray, design: np.ndarray) -> tuple[np.ndarray, ...]:
         """The configurations (q, x) of every branch of the legs at the poses x where they assemble."""
-        branched = sum(leg["kind"] != "UPS" for leg in self.data["legs"])
+        branched = sum(KINDS[leg["kind"]].branched for leg in self.data["legs"])
         qs, xs = [], []
         for signs in itertools.product((1.0, -1.0), repeat=branched) if branched else [(1.0,)]:
             with np.errstate(invalid="ignore"):
@@ -683,7 +705,7 @@ def _mode_name(signs: Sequence[int]) -> str:
 def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The working modes: the named sign combinations of the branched legs where the description names
     some, else every combination, named by its signs."""
-    branched = sum(leg["kind"] != "UPS" for leg in data["legs"])
+    branched = sum(KINDS[leg["kind"]].branched for leg in data["legs"])
     named = {tuple(float(s) for s in v): k for k, v in data["modes"].items()}
     combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=branched)) if branched else [(1.0,)])
     return tuple(Branch(named.get(c, _mode_name(c)), tuple(c), f"leg branch signs {', '.join(f'{s:+.0f}' for s in c)}")
@@ -698,7 +720,7 @@ def _assemblies(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The assembly modes: the elbow side of each RR leg, the sign of the type-II determinant (the
     signature of :class:`Seeds`) and the rank among the signature's solutions by the last pose coordinate
     (:class:`pkm.kinematics.NearestSeeds`; ``_2`` names the second) where a frame has several (RANKS)."""
-    elbows = sum(leg["kind"] == "RR" for leg in data["legs"])
+    elbows = sum(KINDS[leg["kind"]].sided for leg in data["legs"])
     last = FRAMES[data["pose"]["frame"]][0][-1]
     out = []
     for combo in itertools.product((1.0, -1.0), repeat=elbows):
@@ -729,7 +751,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "pose_names": pose_names,
         "pose_units": tuple(data["pose"]["units"]),
         "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
-        "actuator_units": tuple("m" if leg["kind"] == "UPS" else "rad" for leg in data["legs"]),
+        "actuator_units": tuple(KINDS[leg["kind"]].unit for leg in data["legs"]),
         "forward": NearestSeeds(seeds),
         "description": description,
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),

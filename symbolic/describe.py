@@ -20,6 +20,11 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   h = A + l1 e(theta) + l2 e(phi) - C. With d = C - A, theta = atan2(d) + sigma acos((l1^2 + |d|^2 -
   l2^2) / (2 l1 |d|)) and phi = atan2(C - B), B the elbow (two circles); reach: |d| within [|l1 - l2|,
   l1 + l2].
+* ``RPR``, planar: a passive revolute at A, an actuated prismatic joint of length rho along it and a passive
+  revolute at C: h = A + rho e(phi) - C, rho = |C - A|, phi = atan2(C - A), one branch.
+* ``PRR``, planar: an actuated prismatic joint s along ``axis`` from A, then a link of length ``distal`` at
+  the angle phi to C: h = A + s u + l e(phi) - C; the line meets the circle of radius l about C at s = (C -
+  A).u + sigma sqrt(l^2 - ((C - A) x u)^2); reach: l^2 - ((C - A) x u)^2.
 * ``R_parallelogram``, spatial: an actuated revolute at A about ``axis`` turning an arm of length ``arm``
   from the direction ``zero`` (theta = 0) towards ``axis`` x ``zero``, and a parallelogram of length
   ``rod`` from its tip E to C: h = |C - E|^2 - rod^2. With D = C - A, P = D.u, Q = D.w (u = zero, w =
@@ -31,7 +36,9 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
 
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
 With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
-``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``workspace_margins(q, x, design)`` gives
+``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``branch_sides(q, x, design)`` has a sign per leg with
+passive joints and two branches (RR: the elbow's side, sin(phi - theta); PRR: -e(phi).u) that names them in
+the assembly modes. ``workspace_margins(q, x, design)`` gives
 every leg's margins at a configuration (the ranges' in the actuated joints), ``region_<name>(design) ->
 (centre, size)`` places each region, and ``region_<name>_pose(y, design) -> x`` maps a region's coordinates
 into the pose where it spans fewer or others.
@@ -92,6 +99,7 @@ class _Leg:
     reach: list[sp.Expr]
     sign: sp.Symbol | None
     margins: tuple[sp.Expr, ...] = ()
+    side: sp.Expr | None = None  # of a leg with passive joints and two branches: its sign tells them apart
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -102,7 +110,27 @@ def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
     elbow = a + l1 * _e(angle)
     h = list(a + l1 * _e(theta) + l2 * _e(phi) - c)
     ik = {theta: angle, phi: sp.atan2(c[1] - elbow[1], c[0] - elbow[0])}
-    return _Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma)
+    return _Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma,
+                side=sp.sin(phi - theta))
+
+
+def _rpr(k: int, a: sp.Matrix, c: sp.Matrix) -> _Leg:
+    rho, phi = sp.symbols(f"rho{k + 1} phi{k + 1}", real=True)
+    d = c - a
+    h = list(a + rho * _e(phi) - c)
+    return _Leg(h, rho, [phi], {rho: sp.sqrt(d.dot(d)), phi: sp.atan2(d[1], d[0])}, [d.dot(d)], None)
+
+
+def _prr(k: int, a: sp.Matrix, c: sp.Matrix, axis: sp.Matrix, length: sp.Expr) -> _Leg:
+    s, phi, sigma = sp.symbols(f"s{k + 1} phi{k + 1} sigma{k + 1}", real=True)
+    u = axis / sp.sqrt(axis.dot(axis))
+    d = c - a
+    along, across = d.dot(u), d[0] * u[1] - d[1] * u[0]
+    slide = along + sigma * sp.sqrt(length**2 - across**2)
+    joint = a + slide * u
+    h = list(a + s * u + length * _e(phi) - c)
+    ik = {s: slide, phi: sp.atan2(c[1] - joint[1], c[0] - joint[0])}
+    return _Leg(h, s, [phi], ik, [length**2 - across**2], sigma, side=-(sp.cos(phi) * u[0] + sp.sin(phi) * u[1]))
 
 
 def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) -> _Leg:
@@ -154,7 +182,7 @@ def _turning(moment: sp.Expr, angle: sp.Expr) -> Kinetic:
 def _across(moment: sp.Expr, direction: sp.Matrix) -> Kinetic:
     """A body along the unit ``direction`` turning across it (its spin about it neglected): omega = u x u_dot,
     |omega| = |u_dot|, T = I |u_dot|^2 / 2."""
-    return moment, direction.jacobian, sp.eye(3), None
+    return moment, direction.jacobian, sp.eye(direction.rows), None
 
 
 def _leg_bodies(leg: dict[str, Any], joints: _Leg, a: sp.Matrix, c: sp.Matrix, scalar: Any) -> list[Kinetic]:
@@ -183,6 +211,16 @@ def _leg_bodies(leg: dict[str, Any], joints: _Leg, a: sp.Matrix, c: sp.Matrix, s
         if "rod" in bodies:
             half = scalar(bodies["rod"]["mass"]) / 2
             out += [_point(half, a + scalar(leg["arm"]) * along), _point(half, c)]
+    elif leg["kind"] == "PRR":
+        slide, (phi,) = joints.actuated, joints.passive
+        axis = sp.Matrix([scalar(t) for t in leg["axis"]])
+        joint = a + slide * axis / sp.sqrt(axis.dot(axis))
+        if "slider" in bodies:
+            out.append(_point(scalar(bodies["slider"]["mass"]), joint))
+        if "distal" in bodies:
+            body = bodies["distal"]
+            out += [_point(scalar(body["mass"]), joint + scalar(body["centre"]) * _e(phi)),
+                    _turning(scalar(body["inertia"]), phi)]
     else:
         d = c - a
         u = d / sp.sqrt(d.dot(d))
@@ -259,6 +297,10 @@ def module(description: dict[str, Any]) -> ModuleSpec:
         a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
         if leg["kind"] == "RR":
             legs.append(_rr(k, a, c, scalar(leg["proximal"]), scalar(leg["distal"])))
+        elif leg["kind"] == "RPR":
+            legs.append(_rpr(k, a, c))
+        elif leg["kind"] == "PRR":
+            legs.append(_prr(k, a, c, vector(leg["axis"]), scalar(leg["distal"])))
         elif leg["kind"] == "R_parallelogram":
             legs.append(_r_parallelogram(k, a, c, {"axis": vector(leg["axis"]), "zero": vector(leg["zero"]),
                                                    "arm": scalar(leg["arm"]), "rod": scalar(leg["rod"])}))
@@ -270,9 +312,9 @@ def module(description: dict[str, Any]) -> ModuleSpec:
             lo, hi = (scalar(t) for t in leg["range"])
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik,
                             [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign,
-                            (*margins, last.actuated - lo, hi - last.actuated))
+                            (*margins, last.actuated - lo, hi - last.actuated), last.side)
         else:
-            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins)
+            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side)
         if "bodies" in leg:
             kinetic += _leg_bodies(leg, legs[-1], a, c, scalar)
     q_a = tuple(leg.actuated for leg in legs)
@@ -312,6 +354,12 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                      (Output("G", sp.Matrix([potential]).jacobian(z).T, "dV/dz [N or N m]"),
                       Output("V", sp.Matrix([potential]), "the bodies' potential energy in the gravity field [J]")),
                      "The gradient of the bodies' potential energy in all the joint and pose coordinates.")
+    sides = [leg.side for leg in legs if leg.side is not None]
+    if sides:
+        spec.add("branch_sides", (joints, pose_port, design_port),
+                 (Output("sides", sp.Matrix(sides), "one per leg with passive joints and two branches: its sign "
+                         "tells the branches apart"),),
+                 "The side of each two-branched leg's passive joints at a configuration.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
     margins = [m for leg in legs for m in leg.margins]

@@ -284,3 +284,86 @@ def test_the_power_of_the_actuators_is_the_rate_of_the_energy_with_gravity():
     held = m.inverse_dynamics([0.0, 0.0, -0.5], np.zeros(3), np.zeros(3))
     np.testing.assert_allclose(held, held[0], rtol=1e-12)
     assert held[0] != 0
+
+
+RPR3 = {
+    "name": "rpr3", "doc": "planar 3-RPR", "frame": "planar", "home": [0, 0, 0], "characteristic_length": "r",
+    "parameters": [
+        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
+        {"name": "r", "default": 0.4, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
+    ],
+    "legs": {"kind": "RPR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+             "platform": {"circle": "r", "start": "pi/2"}, "range": [0.3, 1.5],
+             "bodies": {"cylinder": {"mass": 1.0, "centre": 0.2, "inertia": 0.01},
+                        "piston": {"mass": 0.5, "centre": 0.3, "inertia": 0.005}}},
+    "platform": {"mass": 2.0, "centre": [0, 0], "inertia": 0.05},
+}
+PRR3 = {
+    "name": "prr3", "doc": "planar 3-PRR, sliders parallel to x", "frame": "planar", "home": [0, 0, 0],
+    "characteristic_length": "r",
+    "parameters": [
+        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
+        {"name": "r", "default": 0.3, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
+        {"name": "l", "default": 0.9, "lower": 0.05, "upper": 5, "unit": "m", "doc": "links"},
+    ],
+    "legs": {"kind": "PRR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+             "platform": {"circle": "r", "start": "pi/2"}, "distal": "l", "axis": ["-1", "0"]},
+}
+
+
+def _attachments(design: dict, radius: str, x: np.ndarray) -> np.ndarray:
+    """The platform's joints in the base frame (N, 3 legs, 2) for poses (N, 3) on a circle pattern."""
+    angles = np.pi / 2 + 2 * np.pi * np.arange(3) / 3
+    local = design[radius] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    c, s = np.cos(x[:, 2])[:, None], np.sin(x[:, 2])[:, None]
+    return x[:, None, :2] + np.stack([c * local[:, 0] - s * local[:, 1], s * local[:, 0] + c * local[:, 1]], axis=2)
+
+
+@pytest.mark.parametrize("description", [RPR3, PRR3], ids=["RPR", "PRR"])
+def test_rpr_and_prr_legs_solve_their_closed_forms_and_their_forward_kinematics(description):
+    """The 3-RPR's legs have the length |C - A|; a 3-PRR's sliders put each link's end at C; J equals central
+    differences of the inverse kinematics; the forward kinematics returns every pose in some assembly."""
+    m = pkm.load(description)
+    d = dict(m.design())
+    angles = np.pi / 2 + 2 * np.pi * np.arange(3) / 3
+    base = d["R"] * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    rng = np.random.default_rng(9)
+    box = m.workspace_box(m.design().vector())
+    for mode in m.modes[:2]:
+        x = rng.uniform(box[:, 0], box[:, 1], size=(20000, 3))
+        x = x[m.reachable(x, mode=mode)][:100]
+        assert len(x) == 100
+        q = m.inverse_kinematics(x, mode=mode)
+        joints = _attachments(d, "r", x)
+        if description is RPR3:
+            np.testing.assert_allclose(q, np.linalg.norm(joints - base, axis=2), atol=1e-12)
+        else:
+            ends = base + q[:, :, None] * np.array([-1.0, 0.0])
+            np.testing.assert_allclose(np.linalg.norm(joints - ends, axis=2), d["l"], atol=1e-12)
+        step, regular = 1e-6, x[m.local_index("inverse_condition_f", x, mode=mode) > 0.05]
+        fd = np.stack([(m.inverse_kinematics(regular + step * e, mode=mode)
+                        - m.inverse_kinematics(regular - step * e, mode=mode)) / (2 * step) for e in np.eye(3)], axis=2)
+        J = m.jacobian(regular, mode=mode)
+        assert np.all(np.abs(fd - J) <= 1e-6 * np.abs(J).max(axis=(1, 2), keepdims=True))
+        errors = np.stack([np.linalg.norm(m.forward_kinematics(q, assembly=a) - x, axis=1) for a in m.assemblies])
+        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
+
+
+def test_the_3rpr_with_bodies_has_a_positive_definite_inertia_and_the_power_of_its_energy():
+    m = pkm.load(RPR3)
+    from pkm.batch import evaluate
+
+    rng = np.random.default_rng(10)
+    x = _within(m, rng, [-0.2, -0.2, -0.4], [0.2, 0.2, 0.4], "p")[:40]
+    assert np.all(np.linalg.eigvalsh(m.inertia_matrix(x, space="actuated")) > 0)
+    x_dot, x_ddot = rng.normal(size=(2, len(x), 3))
+    power = np.sum(m.inverse_dynamics(x, x_dot, x_ddot) * np.einsum("nij,nj->ni", m.jacobian(x), x_dot), axis=1)
+
+    def kinetic(pose, rate):
+        q = m.inverse_kinematics(pose, passive=True)
+        return evaluate(m.functions["energy"], q, pose, rate, m.design().vector())[0][:, 0, 0]
+
+    h = 1e-5
+    rate = (kinetic(x + h * x_dot + h**2 / 2 * x_ddot, x_dot + h * x_ddot)
+            - kinetic(x - h * x_dot + h**2 / 2 * x_ddot, x_dot - h * x_ddot)) / (2 * h)
+    np.testing.assert_allclose(power, rate, rtol=1e-6, atol=1e-9)
