@@ -20,6 +20,7 @@ from pkm.mechanism import Mechanism
 if TYPE_CHECKING:
     from pkm.parallel import use_scheduler
     from pkm.synthesis import Problem, SynthesisResult
+    from pkm.synthesis.designer import design_problem
 
 __all__ = [
     "ComputationError",
@@ -32,6 +33,7 @@ __all__ = [
     "Problem",
     "SingularityError",
     "UnknownNameError",
+    "design_problem",
     "load",
     "mechanisms",
     "synthesize",
@@ -41,7 +43,8 @@ __all__ = [
 __version__ = "0.1.0"
 
 # Imported at their first use, so that loading a mechanism does not import the synthesis and the executors.
-_LAZY = {"Problem": "pkm.synthesis", "SynthesisResult": "pkm.synthesis", "use_scheduler": "pkm.parallel"}
+_LAZY = {"Problem": "pkm.synthesis", "SynthesisResult": "pkm.synthesis", "use_scheduler": "pkm.parallel",
+         "design_problem": "pkm.synthesis.designer"}
 
 
 def __getattr__(name: str) -> Any:

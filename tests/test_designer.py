@@ -78,3 +78,29 @@ def test_a_monte_carlo_baseline_draws_the_same_designs_each_time():
     assert first.shape == (50, 1)
     assert (first == again).all()
     assert ((first >= 0.2) & (first <= 0.4)).all()
+
+
+def test_a_weighted_objective_a_singularity_margin_and_a_frame_size_hold_at_the_optimum():
+    """Maximise GCI + 0.5 x dynamic dexterity over the Delta's task with 1/kappa_f >= 0.5 everywhere on it
+    and the frame R + L_a at most 0.55 m: the verified optimum holds every constraint and beats its grid."""
+    problem = pkm.design_problem("delta", task="task", variables={"L_a": (0.2, 0.45), "L_b": (0.5, 0.9)},
+                                 objective={"gci": 1.0, "dynamic_dexterity": 0.5},
+                                 constraints=[("workspace_margin_min", 0.0, math.inf),
+                                              ("inverse_condition_f_min", 0.5, math.inf),
+                                              ("R + L_a", 0.0, 0.55)],
+                                 baseline=("grid", 7), resolution=6)
+    result = pkm.synthesize(problem, progress=False, starts=2)
+    assert result.optimum.feasible
+    assert result.optimum.variables["L_a"] <= 0.55 - 0.2 + 1e-7
+    m = problem.mechanism
+    design = m.design(result.optimum.design)
+    nodes, _ = m.region("task").quadrature(m.functions, design.vector(), 12)
+    assert m.local_index("inverse_condition_f", nodes, design).min() >= 0.5 - 1e-6
+    assert result.verified_objective >= result.baselines["grid"].best.verified_objective - 1e-9
+
+
+def test_a_constraint_on_an_unknown_name_or_expression_names_its_field():
+    with pytest.raises(ProblemError, match=r"problem field constraints\[0\] violates"):
+        pkm.design_problem("delta", task="task", variables={"L_a": (0.2, 0.4)}, constraints=[("speed_min", 0, 1)])
+    with pytest.raises(ProblemError, match=r"problem field constraints\[0\] violates: arithmetic"):
+        pkm.design_problem("delta", task="task", variables={"L_a": (0.2, 0.4)}, constraints=[("R + Q", 0, 1)])

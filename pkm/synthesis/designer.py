@@ -6,21 +6,24 @@ or Monte Carlo baseline over the same bounds on the same model."""
 
 from __future__ import annotations
 
+import ast
 import math
 import os
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import casadi as ca
 import numpy as np
 
 from pkm import registry
 from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
+from pkm.indices import GlobalIndex
 from pkm.regions import Box, Cylinder, Disc, Rectangle
-from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
+from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Terms, Variable
 
 MONTE_CARLO_SEED = 0
 
@@ -93,11 +96,68 @@ def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
                fixed=(values["centre"], values["size"]), **extra_fields)
 
 
-def _quantity(mech: Any, name: str, region: Any, field: str) -> Quantity:
-    offered = mech.global_indices()
-    if name not in offered:
-        raise _fail(field, f"a global index {mech.name} offers ({', '.join(offered)}); got {name!r}")
-    return Quantity(registry.global_index(name), region)
+EXTREMES = {"_min": ("min", "max"), "_max": ("max", "min")}  # suffix of a local index's extreme: reduce, sense
+
+
+def _index(mech: Any, name: str, field: str) -> GlobalIndex:
+    """A global index the mechanism offers, or ``<local index>_min`` / ``_max``: a local index's least or
+    largest value over the task."""
+    if name in mech.global_indices():
+        return registry.global_index(name)
+    for suffix, (reduce, sense) in EXTREMES.items():
+        local = name[: -len(suffix)]
+        if name.endswith(suffix) and local in mech.local_indices():
+            spec = registry.local_index(local)
+            return GlobalIndex(name, spec, f"the region {reduce}imum of {local} ({spec.doc})", reduce, sense)
+    offered = [*mech.global_indices(), *(f"{i}_min" for i in mech.local_indices())]
+    raise _fail(field, f"a global index {mech.name} offers or a local index's _min or _max ({', '.join(offered)}); "
+                       f"got {name!r}")
+
+
+def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Terms], Any]:
+    """An expression of the design parameters (a frame size, a sum of lengths) as a function of the terms."""
+    names = set(mech.parameter_names())
+    try:
+        tree = ast.parse(text, mode="eval")
+    except SyntaxError:
+        raise _fail(field, f"an expression of the design parameters; got {text!r}") from None
+    unknown = sorted({n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - names - set(FUNCTIONS))
+    allowed = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.operator,
+               ast.unaryop)
+    if unknown or not all(isinstance(n, allowed) for n in ast.walk(tree)):
+        raise _fail(field, f"arithmetic of the design parameters ({', '.join(sorted(names))}) and "
+                           f"{', '.join(FUNCTIONS)}; got {text!r}")
+    code = compile(tree, field, "eval")
+
+    def value(terms: Terms) -> Any:
+        symbolic = any(isinstance(terms[n], ca.SX | ca.MX) for n in names)
+        functions = {k: getattr(ca if symbolic else np, k) for k in FUNCTIONS if k != "pi"}
+        return eval(code, {"__builtins__": {}}, {"pi": math.pi, **functions, **{n: terms[n] for n in names}})
+
+    return value
+
+
+FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
+
+
+def _objective(mech: Any, raw: str | Mapping[str, float], region: Any, quantities: dict[str, Quantity]
+               ) -> Objective:
+    """A global index in its sense, or a weighted combination {index: weight}: maximise the sum of each
+    weight times its index (negated where the index is better smaller)."""
+    if isinstance(raw, str):
+        quantities[raw] = Quantity(_index(mech, raw, "objective"), region)
+        return Objective.of(raw, quantities[raw])
+    if not isinstance(raw, Mapping) or not raw:
+        raise _fail("objective", "a global index or a table {index = weight}")
+    signs = {}
+    for name, weight in raw.items():
+        if isinstance(weight, bool) or not isinstance(weight, int | float) or not math.isfinite(weight):
+            raise _fail(f"objective.{name}", "a finite weight")
+        quantities[name] = Quantity(_index(mech, name, f"objective.{name}"), region)
+        signs[name] = float(weight) * (1.0 if quantities[name].index.sense == "max" else -1.0)
+    text = " + ".join(f"{w:g} {n}" for n, w in raw.items())
+    return Objective(lambda t: sum(s * t[n] for n, s in signs.items()), "max", f"the weighted sum {text} "
+                     "(each index negated where smaller is better)")
 
 
 def monte_carlo_baseline(problem: Problem, samples: int, seed: int = MONTE_CARLO_SEED,
@@ -115,7 +175,7 @@ def design_problem(
     task: str | Any,
     variables: Mapping[str, Sequence[float]],
     fixed: Mapping[str, float] | None = None,
-    objective: str = "gci",
+    objective: str | Mapping[str, float] = "gci",
     constraints: Sequence[tuple[str, float, float]] = (("workspace_margin_min", 0.0, math.inf),),
     mode: str | None = None,
     name: str | None = None,
@@ -126,9 +186,12 @@ def design_problem(
     """A synthesis over the task region ``task`` (a region name of the mechanism, a region, or a table placing
     one in SI, :func:`task_region`) of ``mechanism`` (a name, a description file or a mechanism): the
     ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others at their
-    defaults; ``objective`` a global index over the task in its sense; ``constraints`` (index, lower,
-    upper) of global indices over the task (by default the task inside the workspace: the least workspace
-    margin over it at least 0); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
+    defaults; ``objective`` a global index over the task in its sense, or a weighted combination {index:
+    weight} (maximised, each index negated where smaller is better); ``constraints`` (what, lower, upper):
+    a global index over the task, a local index's least or largest value over it (``inverse_condition_f_min``:
+    a singularity margin), or an expression of the design parameters (a frame size, ``2 * (d1 + d2)``); by
+    default the task inside the workspace (the least workspace margin over it at least 0); the baseline
+    ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves).
     """
@@ -151,24 +214,36 @@ def design_problem(
         given = dict(zip(order, values, strict=True))
         return stack_design([given.get(n, base[n]) for n in mech.parameter_names()])
 
-    quantities = {objective: _quantity(mech, objective, region, "objective")}
+    quantities: dict[str, Quantity] = {}
+    goal = _objective(mech, objective, region, quantities)
     stated = []
     for k, item in enumerate(constraints):
         if not (isinstance(item, Sequence) and len(item) == 3):
-            raise _fail(f"constraints[{k}]", "a triple (index, lower, upper)")
-        index, lower, upper = item
-        quantities.setdefault(index, _quantity(mech, index, region, f"constraints[{k}]"))
-        stated.append(Constraint(f"{lower:g} <= {index} over {task_name} <= {upper:g}",
-                                 lambda t, index=index: t[index], float(lower), float(upper)))
+            raise _fail(f"constraints[{k}]", "a triple (index or expression, lower, upper)")
+        what, lower, upper = item
+        if not isinstance(what, str):
+            raise _fail(f"constraints[{k}]", "an index's name or an expression of the design parameters")
+        lower, upper = float(lower), float(upper)
+        if not lower <= upper:
+            raise _fail(f"constraints[{k}]", f"lower <= upper; got {lower:g}, {upper:g}")
+        if what.isidentifier() and what not in mech.parameter_names():
+            quantities.setdefault(what, Quantity(_index(mech, what, f"constraints[{k}]"), region))
+            stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
+                                     lambda t, what=what: t[what], lower, upper))
+        else:
+            stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
+                                     _parameter_expression(mech, what, f"constraints[{k}]"), lower, upper))
+    sense = "maximise" if goal.sense == "max" else "minimise"
+    named = objective if isinstance(objective, str) else "weighted"
     problem = Problem(
-        name=name or f"{mech.name}.{objective}_{task_name}",
-        doc=doc or (f"{'maximise' if quantities[objective].index.sense == 'max' else 'minimise'} {objective} over "
-                    f"the region {task_name} in {', '.join(order)}, working mode {mode}"),
+        name=name or f"{mech.name}.{named}_{task_name}",
+        doc=doc or f"{sense} {goal.doc if named == 'weighted' else named} over the region {task_name} in "
+                   f"{', '.join(order)}, working mode {mode}",
         mechanism=mech,
         variables=chosen,
         design=design,
         quantities=quantities,
-        objective=Objective.of(objective, quantities[objective]),
+        objective=goal,
         constraints=tuple(stated),
         mode=mode,
         resolution=resolution,
@@ -216,9 +291,11 @@ def read_problem(path: str | os.PathLike) -> Problem:
         raise _fail("constraints", "a list of tables {index, lower, upper}")
     triples = []
     for k, c in enumerate(constraints):
-        if not isinstance(c, Mapping) or "index" not in c or set(c) - {"index", "lower", "upper"}:
-            raise _fail(f"constraints[{k}]", "a table {index, lower, upper}")
-        triples.append((c["index"], float(c.get("lower", -math.inf)), float(c.get("upper", math.inf))))
+        if not isinstance(c, Mapping) or len({"index", "expression"} & set(c)) != 1 \
+                or set(c) - {"index", "expression", "lower", "upper"}:
+            raise _fail(f"constraints[{k}]", "a table {index or expression, lower, upper}")
+        triples.append((c.get("index", c.get("expression")), float(c.get("lower", -math.inf)),
+                        float(c.get("upper", math.inf))))
     baseline = raw.get("baseline", {"kind": "grid", "size": 21})
     if not isinstance(baseline, Mapping) or set(baseline) - {"kind", "size"}:
         raise _fail("baseline", "a table {kind, size}")
