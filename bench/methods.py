@@ -14,7 +14,10 @@ bench/ups_pu.py. The forward kinematics takes the actuated joints of those poses
 reproduces most of them, on the configurations it reproduces to REPRODUCED (the others belong to another
 assembly, or lie within round-off of a forward singularity, where a root is accurate to the square root of
 the rounding only); where the forward kinematics is a polynomial's real roots, numpy solves it by
-``numpy.roots`` one configuration at a time, on at most ROOTS_N configurations.
+``numpy.roots`` one configuration at a time, on at most ROOTS_N configurations; a machine described as data
+(rrr3, delta, stewart) solves it by Newton's method from its seed table, pkm for every assembly mode at once
+(:class:`pkm.kinematics.NearestSeeds`), numpy from the nearest seed of the one assembly mode
+(bench/numpy_models.py), also on at most ROOTS_N configurations.
 
 Before any timing each pkm result is checked against numpy: per pose, max |pkm - numpy| / max(1, max |numpy|)
 over the pose's entries (relative to its largest, as bench/gantry.py compares forces) at most TOL, and NaN
@@ -39,7 +42,7 @@ import pkm
 import pkm.batch
 import pkm.kinematics
 from bench.gantry import ACCELERATION, SPEED
-from bench.numpy_models import MODELS, ROOTS_PER_POSE
+from bench.numpy_models import MODELS, ROOTS_PER_POSE, SEEDED
 from bench.run import log, machine, write_json
 from bench.throughput import set_threads
 
@@ -47,7 +50,7 @@ SEED = 20261125
 TOL = 1e-9
 CONDITION_MARGIN = 1e-2  # least numpy 1/kappa_f of a sampled pose
 REPRODUCED = 1e-12  # [pose units] forward kinematics of a configuration back onto its pose
-ROOTS_N = 10_000  # configurations of a forward kinematics that numpy solves by numpy.roots per pose
+ROOTS_N = 10_000  # configurations of a forward kinematics by numpy.roots per pose or by Newton's method
 WRENCH_SCALE = (100, 100, 1000, 10, 10, 10)  # [N, N m]: each component normal with this deviation
 THREADS = (1, 2)
 GOAL = 10.0  # issue 22: every public batch method at least 10x numpy on 2 threads
@@ -114,7 +117,7 @@ def sample_poses(m: pkm.Mechanism, mode: str, n: int, rng: np.random.Generator) 
 def forward_case(m: pkm.Mechanism, mode: str, X: np.ndarray) -> Case:
     """The forward kinematics of the joints of poses X on the assembly mode that reproduces most of them."""
     design, model = m.design(), MODELS[m.name]
-    per_pose = m.name in ROOTS_PER_POSE
+    per_pose = m.name in ROOTS_PER_POSE | SEEDED
     candidates = X[: 4 * ROOTS_N] if per_pose else X
     q = m.inverse_kinematics(candidates, design, mode=mode)
     hits = {}
@@ -124,18 +127,33 @@ def forward_case(m: pkm.Mechanism, mode: str, X: np.ndarray) -> Case:
         hits[name] = error <= REPRODUCED
     assembly = max(hits, key=lambda name: int(hits[name].sum()))
     q = np.ascontiguousarray(q[hits[assembly]][:ROOTS_N] if per_pose else q[hits[assembly]])
-    branch, d = m.assembly_mode(assembly).signs[0], dict(design)
+    signs, d = m.assembly_mode(assembly).signs, dict(design)
 
     def solve() -> np.ndarray:
-        pkm.kinematics._ROOTS.clear()  # pkm keeps the roots of its last inputs: each call solves afresh
+        # pkm keeps the roots and the solutions of its last inputs: each call solves afresh
+        pkm.kinematics._ROOTS.clear()
+        pkm.kinematics._SOLUTIONS.clear()
         return m.forward_kinematics(q, design, assembly=assembly)
 
     note = (f"assembly {assembly}, on the {int(hits[assembly].sum())} of {len(candidates)} configurations it "
             f"reproduces to {REPRODUCED:g}")
+    if m.name in SEEDED:
+        *signature, rank = signs
+        if rank != 1:
+            raise ValueError(f"{m.name}: numpy's forward kinematics finds one solution of a signature, not the "
+                             f"{rank:g}th of {assembly}")
+        table = m.forward.seeds.table(m.functions, design.vector())
+        seeds = table[tuple(signature)]
+        note += (f"; numpy: the solutions of the assembly's signature from pkm's {m.forward.tries} seeds among the "
+                 f"{len(seeds[0])} of its seed table, each continued to the joints by Newton's method on the legs' "
+                 "closures in the pose (vectorised; 8 steps of 4 iterations, polished), the first by the last "
+                 f"pose coordinate; pkm: the same in (passive joints, pose) for each of the {len(table)} "
+                 "signatures, every assembly mode at once (its kept solutions cleared before each call)")
+        return Case(m.name, "forward_kinematics", len(q), solve, lambda: model.forward_kinematics(q, d, seeds), note)
     if per_pose:
         note += ("; numpy: numpy.roots per configuration (a Python loop) on the polynomial's vectorised "
                  "coefficients, pkm: batched companion eigenvalues (its kept roots cleared before each call)")
-    return Case(m.name, "forward_kinematics", len(q), solve, lambda: model.forward_kinematics(q, d, branch), note)
+    return Case(m.name, "forward_kinematics", len(q), solve, lambda: model.forward_kinematics(q, d, signs[0]), note)
 
 
 def mechanism_cases(name: str, n: int, rng: np.random.Generator) -> tuple[list[Case], dict[str, Any]]:

@@ -12,11 +12,18 @@ The rest is written here from symbolic/mechanisms/<name>.py and docs/papers/*.md
 The forward kinematics of passive_leg and ups_pu is the real roots of a polynomial per pose: its coefficients
 are vectorised, its roots come from ``numpy.roots`` one pose at a time (:data:`ROOTS_PER_POSE`), the only
 honest hand-written way, and assembly k is the k-th real root in ascending order, as pkm defines it.
+
+The machines described as data (pkm/models/described: rrr3, delta, stewart) take their inverse kinematics,
+J and legs' closures from tests/oracles.py (independent of pkm, checked against robsynth); their forward
+kinematics (:data:`SEEDED`) is Newton's method on the legs' closures h(x, q) = 0 in the pose, vectorised over
+the configurations, from pkm's own seed: the configuration of pkm's seed table (of the assembly's
+signature) nearest the actuated joints, continued to them as :class:`pkm.kinematics.NearestSeeds` continues
+one try (:func:`continued_newton`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -25,9 +32,23 @@ from bench.gantry import numpy_inverse_dynamics
 from bench.passive_leg import numpy_ik_jacobian_index, numpy_real_roots
 from bench.throughput import numpy_index
 from bench.ups_pu import numpy_ik_jacobian_statics
+from pkm.kinematics import CANDIDATES, NearestSeeds, _nearest, _spread
+from tests.oracles import (
+    DELTA_ARM_ANGLES,
+    delta_closure,
+    delta_ik,
+    delta_jacobian,
+    rrr3_closure,
+    rrr3_ik,
+    rrr3_jacobian,
+    sgp_closure,
+    sgp_ik,
+    sgp_jacobian,
+)
 
 Design = Mapping[str, float]
 Signs = tuple[float, ...]
+Closure = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
 def circle_intersection(a1: np.ndarray, a2: np.ndarray, radius: float, sigma: float) -> np.ndarray:
@@ -45,6 +66,103 @@ def polynomial_product(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     for i in range(p.shape[1]):
         out[:, i : i + q.shape[1]] += p[:, i : i + 1] * q
     return out
+
+
+def inverse_condition_f(J: np.ndarray) -> np.ndarray:
+    """1/kappa_f = n / sqrt(||J||^2 ||J^-1||^2) (Frobenius norms; Gao eqs. 8-11) of J (N, n, n): for n = 3
+    as n |det J| / sqrt(||J||^2 ||adj J||^2) (the adjugate by cross products of the rows), else J^-1 by
+    ``numpy.linalg.inv``."""
+    n = J.shape[-1]
+    if n != 3:
+        inverse = np.linalg.inv(J)
+        return n / np.sqrt(np.einsum("nij,nij->n", J, J) * np.einsum("nij,nij->n", inverse, inverse))
+    rows = J.transpose(1, 0, 2)
+    adjugate = np.stack([np.cross(rows[1], rows[2]), np.cross(rows[2], rows[0]), np.cross(rows[0], rows[1])])
+    det = np.einsum("ni,ni->n", rows[0], adjugate[0])
+    return 3 * np.abs(det) / np.sqrt(np.einsum("nij,nij->n", J, J) * np.einsum("kni,kni->n", adjugate, adjugate))
+
+
+STEPS, ITERATIONS, POLISH, STALL = 8, 4, 60, 1e-15  # pkm.kinematics.NearestSeeds's continuation of one try
+CLOSED = 1e-10  # largest |h| of a solution (squared lengths, m^2)
+REPEAT = 1e-7  # two solutions closer than this (relative) are one, as pkm.kinematics.REPEAT_TOLERANCE
+
+
+def newton_step(closure: Closure, x: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """x - (dh/dx)^-1 h(x, q), row by row."""
+    h, H_x, _ = closure(x, q)
+    return x - np.linalg.solve(H_x, h[..., None])[..., 0]
+
+
+def continued_newton(closure: Closure, q0: np.ndarray, gap: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """The poses (N, n) closing ``closure`` at the joints q0 + gap, from the poses x at q0: the joints moved
+    in STEPS equal steps, each solved by ITERATIONS Newton steps, then up to POLISH more until no row moves
+    (relative STALL); NaN where |h| stays above CLOSED."""
+    x = x.copy()
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+        for k in range(1, STEPS):
+            for _ in range(ITERATIONS):
+                x = newton_step(closure, x, q0 + (k / STEPS) * gap)
+        q, active = q0 + gap, np.arange(len(x))
+        for _ in range(POLISH):
+            moved = newton_step(closure, x[active], q[active])
+            change = np.abs(moved - x[active])
+            x[active] = moved
+            active = active[np.any(change > STALL * (1.0 + np.abs(moved)), axis=1)]
+            if not len(active):
+                break
+        closed = np.all(np.abs(closure(x, q)[0]) <= CLOSED, axis=1)
+    return np.where(closed[:, None], x, np.nan)
+
+
+class Seeded:
+    """A described machine's forward kinematics in numpy (module docstring) from the legs' closures of
+    tests/oracles.py: ``periodic`` whether its actuated joints are angles, ``angles`` its angular pose
+    coordinates (wrapped into [-pi, pi) as pkm gives them), ``sides`` whether the elbow sides of its legs
+    (the signs of dh_i/dq_i) belong to the signature of an assembly mode, as for pkm's RR legs."""
+
+    n_out: int = 3
+    periodic: bool = True
+    angles: tuple[int, ...] = ()
+    sides: bool = False
+
+    @staticmethod
+    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        raise NotImplementedError
+
+    @classmethod
+    def signature(cls, x: np.ndarray, q: np.ndarray, d: Design) -> np.ndarray:
+        """The signs (N, k) that tell assembly modes apart: sign det(dh/dx) (pkm's det [H_p H_x] up to a
+        constant sign) and, with ``sides``, the signs of dh_i/dq_i."""
+        _, H_x, H_q = cls.closure(x, q, d)
+        det = np.sign(np.linalg.det(H_x))[:, None]
+        return np.hstack([np.sign(H_q), det]) if cls.sides else det
+
+    @classmethod
+    def forward_kinematics(cls, q: np.ndarray, d: Design, seeds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+        """Poses (N, n) at actuated joints q (N, n_act): the first by the last pose coordinate of the
+        solutions of one signature, from pkm's tries among ``seeds``, the actuated joints (M, n_act) and z =
+        (passive joints, pose) (M, n_z) of pkm's seed table of the signature (pkm.kinematics.NearestSeeds:
+        the same seeds, each continued by :func:`continued_newton`, kept where it closes with the seed's
+        signature, repeats dropped)."""
+        q0, z0 = seeds
+        tries = min(NearestSeeds.tries, len(q0))
+        order, gap = _nearest(q, q0, np.full(q.shape[1], cls.periodic), min(CANDIDATES * tries, len(q0)))
+        order, gap = _spread(z0, order, gap, tries)
+        start, x0 = q0[order].reshape(-1, q.shape[1]), z0[order, -cls.n_out :].reshape(-1, cls.n_out)
+        gap = gap.reshape(start.shape)
+        x = continued_newton(lambda x, q: cls.closure(x, q, d), start, gap, x0)
+        with np.errstate(invalid="ignore"):
+            same = np.all(cls.signature(x, start + gap, d) == cls.signature(x0, start, d), axis=1)
+        x = np.where(same[:, None], x, np.nan).reshape(len(q), tries, cls.n_out)
+        x[..., cls.angles] = np.mod(x[..., cls.angles] + np.pi, 2 * np.pi) - np.pi
+        between = np.abs(x[:, :, None, :] - x[:, None, :, :])
+        between[..., cls.angles] = np.minimum(between[..., cls.angles], 2 * np.pi - between[..., cls.angles])
+        with np.errstate(invalid="ignore"):
+            repeats = np.any(np.tril(np.all(between <= REPEAT * (1.0 + np.abs(x[:, None])), axis=3), k=-1), axis=2)
+        last = np.where(np.isnan(x[..., -1]) | repeats, np.inf, x[..., -1])
+        first = np.argmin(last, axis=1)
+        rows = np.arange(len(q))
+        return np.where(np.isinf(last[rows, first])[:, None], np.nan, x[rows, first])
 
 
 def kth_real_root(c: np.ndarray, k: int, scale: float = 1.0) -> np.ndarray:
@@ -334,13 +452,8 @@ class UpsPu:
 
     @staticmethod
     def inverse_condition_f(x: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
-        """3 / sqrt(||J_n||^2 ||J_n^-1||^2) = 3 |det J_n| / sqrt(||J_n||^2 ||adj J_n||^2) with the angles as arc
-        lengths r theta: J_n = J diag(1, 1/r, 1/r) (pkm.regions.pipeline; Gao eqs. 8-11)."""
-        J = UpsPu.jacobian(x, d, signs) / np.array([1.0, d["r"], d["r"]])
-        rows = J.transpose(1, 0, 2)
-        adjugate = np.stack([np.cross(rows[1], rows[2]), np.cross(rows[2], rows[0]), np.cross(rows[0], rows[1])])
-        det = np.einsum("ni,ni->n", rows[0], adjugate[0])
-        return 3 * np.abs(det) / np.sqrt(np.einsum("nij,nij->n", J, J) * np.einsum("kni,kni->n", adjugate, adjugate))
+        """1/kappa_f of J_n = J diag(1, 1/r, 1/r), the angles as arc lengths r theta (pkm.regions.pipeline)."""
+        return inverse_condition_f(UpsPu.jacobian(x, d, signs) / np.array([1.0, d["r"], d["r"]]))
 
     @staticmethod
     def statics(x: np.ndarray, wrench: np.ndarray, d: Design) -> np.ndarray:
@@ -380,11 +493,144 @@ class UpsPu:
         return np.stack([q[:, 2], theta1, theta2], axis=1)
 
 
+class Rrr3(Seeded):
+    """The symmetric planar 3-RRR (pkm/models/described/rrr3.toml): the working mode's signs are the oracle's
+    elbow signs; the characteristic length is r_p."""
+
+    dynamic_index = None
+    angles = (2,)
+    sides = True
+
+    @staticmethod
+    def inverse_kinematics(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        return rrr3_ik(X, d, signs)
+
+    @staticmethod
+    def jacobian(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        return rrr3_jacobian(X, d, signs)
+
+    @staticmethod
+    def inverse_condition_f(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        """1/kappa_f of J_n = J diag(1, 1, 1/r_p): phi as the arc length r_p phi (pkm.regions.pipeline)."""
+        return inverse_condition_f(rrr3_jacobian(X, d, signs) / np.array([1.0, 1.0, d["r_p"]]))
+
+    @staticmethod
+    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return rrr3_closure(x, d, q)
+
+
+class Delta(Seeded):
+    """The Delta robot (pkm/models/described/delta.toml): the oracle's branch is minus the working mode's signs
+    (its elbow_out, signs -1, is the oracle's branch +1); one unit in the pose, no characteristic length.
+
+    Its bodies: per arm a rotor j_m, the arm a uniform bar (m_a at L_a/2, m_a L_a^2 / 12 about it) and half
+    the rods' mass m_b at its tip, about the arm's axis I_a = j_m + m_a L_a^2 / 3 + m_b L_a^2 / 2; the
+    platform m_p and the other halves of the rods, m_x = m_p + 3 m_b / 2, translating. The kinetic energy is
+    (I_a |theta_dot|^2 + m_x |x_dot|^2) / 2, with constant coefficients (no Coriolis terms); gravity g along
+    -z: V = g (m_x z - (m_a + m_b) L_a / 2 sum_i sin theta_i).
+    """
+
+    dynamic_index = "dynamic_dexterity"
+    GRAVITY = 9.81  # [m/s^2] delta.toml's gravity (0, 0, -9.81)
+
+    @staticmethod
+    def inertias(d: Design) -> tuple[float, float]:
+        """I_a [kg m^2] and m_x [kg] (class docstring)."""
+        arm = d["j_m"] + d["m_a"] * d["L_a"] ** 2 / 3 + d["m_b"] * d["L_a"] ** 2 / 2
+        return arm, d["m_p"] + 3 * d["m_b"] / 2
+
+    @classmethod
+    def inertia_task(cls, X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        """M_w = J^T M_t J = I_a J^T J + m_x I: M_t = I_a I + m_x J_f^T J_f (pkm.spec.composed_inertia)."""
+        J = cls.jacobian(X, d, signs)
+        arm, moving = cls.inertias(d)
+        return arm * np.einsum("nki,nkj->nij", J, J) + moving * np.eye(3)
+
+    @classmethod
+    def dynamic(cls, X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        """lambda_min / lambda_max of M_w, by ``numpy.linalg.eigvalsh``."""
+        eigenvalues = np.linalg.eigvalsh(cls.inertia_task(X, d, signs))
+        return eigenvalues[:, 0] / eigenvalues[:, -1]
+
+    @classmethod
+    def inverse_dynamics(cls, X: np.ndarray, V: np.ndarray, A: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        """tau = I_a theta_ddot + dV/dtheta + J^-T (m_x x_ddot + dV/dx) (virtual work; Lagrange with constant
+        coefficients). With w = P_i - E_i, E' and E'' the derivatives of the elbow in theta_i, the arm's
+        closure differentiated twice: theta_ddot_i = (w . x_ddot + |x_dot - E' theta_dot_i|^2 - w . E''
+        theta_dot_i^2) / (w . E'), theta_dot = J x_dot."""
+        theta = delta_ik(X, d, -np.asarray(signs))
+        _, H_x, H_q = delta_closure(X, d, theta)
+        w, transmission, J = H_x / 2, -H_q / 2, -H_x / H_q[..., None]  # transmission = w . E'
+        psi = DELTA_ARM_ANGLES
+        radial = np.stack([np.cos(psi), np.sin(psi), np.zeros(3)], axis=-1)
+        c, s = np.cos(theta)[..., None], np.sin(theta)[..., None]
+        dE = -d["L_a"] * (s * radial + c * np.array([0.0, 0.0, 1.0]))
+        ddE = -d["L_a"] * (c * radial - s * np.array([0.0, 0.0, 1.0]))
+        rate = np.einsum("nij,nj->ni", J, V)
+        relative = V[:, None, :] - dE * rate[..., None]
+        acceleration = (np.einsum("nij,nj->ni", w, A) + np.einsum("nij,nij->ni", relative, relative)
+                        - np.einsum("nij,nij->ni", w, ddE) * rate**2) / transmission
+        arm, moving = cls.inertias(d)
+        force = moving * (A + np.array([0.0, 0.0, cls.GRAVITY]))
+        weight = -cls.GRAVITY * (d["m_a"] + d["m_b"]) * d["L_a"] / 2 * np.cos(theta)
+        return arm * acceleration + weight + np.linalg.solve(J.transpose(0, 2, 1), force[..., None])[..., 0]
+
+    @staticmethod
+    def inverse_kinematics(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        return delta_ik(X, d, -np.asarray(signs))
+
+    @staticmethod
+    def jacobian(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        return delta_jacobian(X, d, -np.asarray(signs))
+
+    @staticmethod
+    def inverse_condition_f(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        return inverse_condition_f(delta_jacobian(X, d, -np.asarray(signs)))
+
+    @staticmethod
+    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return delta_closure(x, d, q)
+
+
+class Stewart(Seeded):
+    """The 6-UPS Stewart-Gough platform (pkm/models/described/stewart.toml): one working mode; the
+    characteristic length is r_p."""
+
+    dynamic_index = None
+    n_out = 6
+    periodic = False
+    angles = (3, 4, 5)
+
+    @staticmethod
+    def inverse_kinematics(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        del signs  # one solution per pose
+        return sgp_ik(X, d)
+
+    @staticmethod
+    def jacobian(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        del signs
+        return sgp_jacobian(X, d)
+
+    @staticmethod
+    def inverse_condition_f(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
+        """1/kappa_f of J_n = J diag(1, 1, 1, 1/r_p, 1/r_p, 1/r_p), the angles as arc lengths r_p theta."""
+        del signs
+        return inverse_condition_f(sgp_jacobian(X, d) / np.array([1.0, 1.0, 1.0, *3 * [d["r_p"]]]))
+
+    @staticmethod
+    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return sgp_closure(x, d, q)
+
+
 MODELS: dict[str, type] = {
     "five_bar": FiveBar,
     "passive_leg": PassiveLeg,
     "slider_gantry": SliderGantry,
     "slider_gantry_symmetric": SliderGantrySymmetric,
     "ups_pu": UpsPu,
+    "rrr3": Rrr3,
+    "delta": Delta,
+    "stewart": Stewart,
 }
 ROOTS_PER_POSE = frozenset({"passive_leg", "ups_pu"})
+SEEDED = frozenset({"rrr3", "delta", "stewart"})  # forward kinematics by Newton's method from pkm's seeds

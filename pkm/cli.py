@@ -259,6 +259,15 @@ def cmd_index(args: argparse.Namespace) -> None:
     if np.isnan(float(value)):
         data["undefined"] = _undefined(m, args.region)
         text += f" (undefined: {data['undefined']})"
+    if args.region not in {"reachable", "assembled"}:
+        try:
+            placed = m.region_placement(args.region, d)
+        except PkmError:
+            placed = None
+        if placed is not None:
+            data["placement"] = placed
+            text += (f"\nregion {args.region}: {placed['shape']} at {_numbers(placed['centre'])}, size "
+                     f"{_numbers(placed['size'])}" + (" (in its own coordinates)" if placed["mapped"] else ""))
     if grad is not None:
         data["gradient"] = grad
         text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
@@ -266,6 +275,10 @@ def cmd_index(args: argparse.Namespace) -> None:
             data["note"] = value.note
             text += f"\nnote: {value.note}"
     _emit(args, data, text)
+
+
+def _numbers(values: list[float]) -> str:
+    return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
 
 
 def _undefined(m: Any, region: str) -> str:

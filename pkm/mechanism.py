@@ -140,6 +140,20 @@ class Mechanism:
             raise UnknownNameError(f"{self.name} region", name, self.region_names())
         return self.regions[name]
 
+    def region_placement(self, name: str, design: DesignLike = None) -> dict[str, Any]:
+        """Where the parametrised region ``name`` lies at a design: its shape, centre and size (a disc's or
+        cylinder's radius first; half extents otherwise) in the coordinates it spans (the pose's, or those a
+        mapped region names), SI."""
+        where = self.region(name)
+        inner = getattr(where, "inner", where)
+        if isinstance(where, regions.SampledWorkspace) or not hasattr(inner, "placement"):
+            raise PkmError(f"region {name} of {self.name} violates: a placed shape (a disc, rectangle, box or "
+                           "cylinder) to have a centre and a size")
+        centre, size = (np.asarray(v, dtype=float).ravel() for v in inner.placement(self.functions,
+                                                                                     self.design_vector(design)))
+        return {"region": name, "shape": type(inner).__name__.lower(), "centre": centre.tolist(),
+                "size": size.tolist(), "mapped": inner is not where, "doc": where.doc}
+
     def design(self, values: DesignLike | Design = None, *, partial: bool = False) -> Design:
         """Validate a design: a mapping of parameter values, a sequence in parameter order, or None
         for the defaults."""

@@ -10,6 +10,9 @@ Conventions shared by all three:
 - ``J`` maps the time derivative of the pose coordinates as listed (rates of the angles, not the angular
   velocity) to the actuator rates: ``q_dot = J x_dot``. It is formed in closed form from each leg's closure
   ``h_i(x, q_i) = 0``: ``J_i = -(dh_i/dq_i)^-1 dh_i/dx``, never by finite differences.
+- ``*_closure(pose, design, q)`` gives each leg's closure h_i, dh/dx and dh_i/dq_i at any actuated joints q:
+  the Jacobians above, and Newton's method on h(x) = 0 at given q (bench/numpy_models.py's forward
+  kinematics).
 - A pose out of reach gives NaN in the legs that cannot close (``arccos`` of a number beyond +-1).
 
 3-RRR (pose ``(x, y, phi)``, design ``R_b, r_p, l1, l2``). Leg i = 0, 1, 2 at ``a_i = pi/2 + 2 pi i / 3``:
@@ -22,6 +25,7 @@ base joint ``A_i = R_b e(a_i)``, platform joint ``C_i = (x, y) + r_p e(phi + a_i
 so that ``s_i = +1`` puts the elbow counter-clockwise of the line A_i -> C_i. From
 ``h_i = |C_i - B_i|^2 - l2^2`` with ``w = C_i - B_i`` and ``rho = C_i - (x, y)``::
 
+    dh_i/dx = 2 [w_x, w_y, rho_x w_y - rho_y w_x],  dh_i/dtheta_i = -2 l1 (w_y cos theta_i - w_x sin theta_i)
     J_i = [w_x, w_y, rho_x w_y - rho_y w_x] / (l1 (w_y cos theta_i - w_x sin theta_i))
 
 Delta (pose ``(x, y, z)``, z up, platform below the base; design ``R, r, L_a, L_b``). Arm i at
@@ -40,7 +44,8 @@ outer-upper side of the line from the base joint to P_i's projection: the usual 
 always the smaller of the two theta_i. Branch -1 is the elbow folded inward. From
 ``h_i = |P_i - E_i|^2 - L_b^2`` with ``w = P_i - E_i``::
 
-    J_i = w^T / (w . dE_i/dtheta_i),   dE_i/dtheta_i = -L_a (sin theta_i e_i + cos theta_i e_z)
+    dh_i/dx = 2 w^T,  dh_i/dtheta_i = -2 w . dE_i/dtheta_i,  dE_i/dtheta_i = -L_a (sin theta_i e_i + cos theta_i e_z)
+    J_i = w^T / (w . dE_i/dtheta_i)
 
 6-UPS Stewart-Gough (pose ``(x, y, z, alpha, beta, gamma)``, ``R = Rz(gamma) Ry(beta) Rx(alpha)``; design
 ``R_b, r_p, theta_b, theta_p``). Leg k = 0..5 joins base point k to platform point k::
@@ -53,8 +58,10 @@ platform pairs, centred at 300, 60 and 180 deg with half-separation theta_p / 2,
 (3, 4): leg 2j goes from the base pair at 120 j deg to the platform pair at 120 j - 60 deg, leg 2j + 1 to
 the one at 120 j + 60 deg, so each platform pair joins two different base pairs (the classic 6-6 platform;
 its two points nearest to their base points). The actuated leg length is ``l_k = |(x, y, z) + R p_k - b_k|``
-and, with the unit leg vector ``n_k``::
+and, from ``h_k = |s_k|^2 - l_k^2`` with the leg vector ``s_k = (x, y, z) + R p_k - b_k`` and the unit leg
+vector ``n_k = s_k / l_k``::
 
+    dh_k/dx = 2 [s_k^T, ((R p_k) x s_k)^T E],  dh_k/dl_k = -2 l_k
     J_k = [n_k^T, ((R p_k) x n_k)^T E(alpha, beta, gamma)],
     omega = E [alpha_dot, beta_dot, gamma_dot],
     E = [[cos gamma cos beta, -sin gamma, 0], [sin gamma cos beta, cos gamma, 0], [-sin beta, 0, 1]]
@@ -69,15 +76,18 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 __all__ = [
+    "delta_closure",
     "delta_elbows",
     "delta_ik",
     "delta_jacobian",
+    "rrr3_closure",
     "rrr3_elbows",
     "rrr3_ik",
     "rrr3_jacobian",
     "rrr3_leg_angles",
     "sgp_angular_rate_map",
     "sgp_attachment_angles",
+    "sgp_closure",
     "sgp_ik",
     "sgp_jacobian",
     "sgp_rotation",
@@ -148,17 +158,28 @@ def rrr3_elbows(pose: np.ndarray | Sequence[float], design: Design, theta: np.nd
     return _out(A + design["l1"] * np.stack([np.cos(th), np.sin(th)], axis=-1), single)
 
 
+def rrr3_closure(
+    pose: np.ndarray | Sequence[float], design: Design, theta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each leg's closure h_i = |C_i - B_i|^2 - l2^2 at the actuated angles ``theta`` (3,) or (N, 3), with
+    dh/dx (3, 3) or (N, 3, 3) and dh_i/dtheta_i (3,) or (N, 3) (module docstring)."""
+    x, single = _batch(pose, 3)
+    th = np.atleast_2d(theta)
+    _, C, rho = _rrr3_points(x, design)
+    w = C - rrr3_elbows(x, design, th)
+    wx, wy = w[..., 0], w[..., 1]
+    h = wx * wx + wy * wy - design["l2"] ** 2
+    H_x = 2 * np.stack([wx, wy, rho[..., 0] * wy - rho[..., 1] * wx], axis=-1)
+    H_q = -2 * design["l1"] * (wy * np.cos(th) - wx * np.sin(th))
+    return _out(h, single), _out(H_x, single), _out(H_q, single)
+
+
 def rrr3_jacobian(pose: np.ndarray | Sequence[float], design: Design, signs: Signs) -> np.ndarray:
     """J (3, 3) or (N, 3, 3) of the 3-RRR, ``theta_dot = J (x_dot, y_dot, phi_dot)``, from each leg's
     closure |C_i - B_i|^2 = l2^2 (module docstring)."""
     x, single = _batch(pose, 3)
-    theta = np.atleast_2d(rrr3_ik(x, design, signs))
-    _, C, rho = _rrr3_points(x, design)
-    w = C - rrr3_elbows(x, design, theta)
-    wx, wy = w[..., 0], w[..., 1]
-    transmission = design["l1"] * (wy * np.cos(theta) - wx * np.sin(theta))
-    rows = np.stack([wx, wy, rho[..., 0] * wy - rho[..., 1] * wx], axis=-1)
-    return _out(rows / transmission[..., None], single)
+    _, H_x, H_q = rrr3_closure(x, design, rrr3_ik(x, design, signs))
+    return _out(-H_x / H_q[..., None], single)
 
 
 # --- Delta ---------------------------------------------------------------------------------------------
@@ -203,16 +224,26 @@ def delta_elbows(pose: np.ndarray | Sequence[float], design: Design, theta: np.n
     return _out(elbows, single)
 
 
+def delta_closure(
+    pose: np.ndarray | Sequence[float], design: Design, theta: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each arm's closure h_i = |P_i - E_i|^2 - L_b^2 at the arm angles ``theta`` (3,) or (N, 3), with dh/dx
+    (3, 3) or (N, 3, 3) and dh_i/dtheta_i (3,) or (N, 3) (module docstring)."""
+    x, single = _batch(pose, 3)
+    th = np.atleast_2d(theta)
+    radial, ez = _delta_frames()
+    w = _delta_platform_joints(x, design) - delta_elbows(x, design, th)
+    dE = -design["L_a"] * (np.sin(th[..., None]) * radial + np.cos(th[..., None]) * ez)
+    h = np.einsum("nij,nij->ni", w, w) - design["L_b"] ** 2
+    return _out(h, single), _out(2 * w, single), _out(-2 * np.einsum("nij,nij->ni", w, dE), single)
+
+
 def delta_jacobian(pose: np.ndarray | Sequence[float], design: Design, branch: Signs) -> np.ndarray:
     """J (3, 3) or (N, 3, 3) of the Delta, ``theta_dot = J (x_dot, y_dot, z_dot)``, from each arm's closure
     |P_i - E_i|^2 = L_b^2 (module docstring)."""
     x, single = _batch(pose, 3)
-    theta = np.atleast_2d(delta_ik(x, design, branch))
-    radial, ez = _delta_frames()
-    w = _delta_platform_joints(x, design) - delta_elbows(x, design, theta)
-    th = theta[..., None]
-    dE = -design["L_a"] * (np.sin(th) * radial + np.cos(th) * ez)
-    return _out(w / np.einsum("nij,nij->ni", w, dE)[..., None], single)
+    _, H_x, H_q = delta_closure(x, design, delta_ik(x, design, branch))
+    return _out(-H_x / H_q[..., None], single)
 
 
 # --- 6-UPS Stewart-Gough platform ------------------------------------------------------------------------
@@ -272,11 +303,22 @@ def sgp_ik(pose: np.ndarray | Sequence[float], design: Design) -> np.ndarray:
     return _out(np.linalg.norm(legs, axis=-1), single)
 
 
+def sgp_closure(
+    pose: np.ndarray | Sequence[float], design: Design, lengths: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each leg's closure h_k = |s_k|^2 - l_k^2 at the leg lengths ``lengths`` (6,) or (N, 6), with dh/dx
+    (6, 6) or (N, 6, 6) and dh_k/dl_k (6,) or (N, 6) (module docstring)."""
+    x, single = _batch(pose, 6)
+    length = np.atleast_2d(lengths)
+    legs, rotated = _sgp_legs(x, design)
+    moment = np.einsum("nkj,nji->nki", np.cross(rotated, legs), sgp_angular_rate_map(x[:, 3:]))
+    h = np.einsum("nkj,nkj->nk", legs, legs) - length * length
+    return _out(h, single), _out(2 * np.concatenate([legs, moment], axis=-1), single), _out(-2 * length, single)
+
+
 def sgp_jacobian(pose: np.ndarray | Sequence[float], design: Design) -> np.ndarray:
     """J (6, 6) or (N, 6, 6) of the 6-UPS, ``l_dot = J x_dot`` with x_dot the rates of the pose
     coordinates: rows [n_k^T, ((R p_k) x n_k)^T E] (module docstring)."""
     x, single = _batch(pose, 6)
-    legs, rotated = _sgp_legs(x, design)
-    n = legs / np.linalg.norm(legs, axis=-1, keepdims=True)
-    moment = np.einsum("nkj,nji->nki", np.cross(rotated, n), sgp_angular_rate_map(x[:, 3:]))
-    return _out(np.concatenate([n, moment], axis=-1), single)
+    _, H_x, H_q = sgp_closure(x, design, sgp_ik(x, design))
+    return _out(-H_x / H_q[..., None], single)
