@@ -277,6 +277,30 @@ def cmd_index(args: argparse.Namespace) -> None:
     _emit(args, data, text)
 
 
+def cmd_show(args: argparse.Namespace) -> None:
+    """A design card (:mod:`pkm.card`) into ``--out``."""
+    from pkm.card import design_card
+
+    m = load_mechanism(args.mechanism)
+    d = _design(m, args.design)
+    modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
+    axes = tuple(args.plane.split(",")) if args.plane else None
+    held = parse_design(args.held, "held coordinates", "pose coordinate", PkmError) if args.held else None
+    card = design_card(m, d, modes=modes, region=args.region, index=args.index, axes=axes, held=held,
+                       resolution=args.resolution)
+    folder = Path(args.out)
+    written = io.write_result(folder, card.write)
+    data = {**card.to_dict(), "files": [str(p) for p in written]}
+    lines = [f"{m.name} at {_named(dict(d))}"]
+    if card.placement is not None:
+        lines.append(f"region {card.region}: {card.placement['shape']} at {_numbers(card.placement['centre'])}, "
+                     f"size {_numbers(card.placement['size'])}")
+    lines += [f"{r['index']} ({r['mode']}) = {r['value']:.6g}{_unit(r['unit'])} (resolution {r['resolution']}, "
+              f"accuracy {r['accuracy']:.1e})" for r in card.indices]
+    lines.append(f"wrote {len(written)} files to {io.kept_path(folder)}")
+    _emit(args, data, "\n".join(lines))
+
+
 def _numbers(values: list[float]) -> str:
     return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
 
@@ -691,6 +715,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
     scheduled(p)
+    p = command("show", cmd_show, "a design card: workspace maps per working mode with singularity curves, the "
+                                  "region and the linkage, and a table of parameters and global indices")
+    listed(p, "mechanism", key="mechanism")
+    p.add_argument("--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
+                                    "r1=1.2,r2=1.0")
+    p.add_argument("--mode", help="working modes, comma-separated (default: all); e.g. out_out")
+    p.add_argument("--region", help="the region of the global indices and the map's nodes (default: the "
+                                    "mechanism's first parametrised one, else reachable); e.g. task")
+    p.add_argument("--index", default="inverse_condition_f", help="local index of the maps (default "
+                                                                  "inverse_condition_f); e.g. velocity_max")
+    p.add_argument("--plane", help="two pose coordinates of the maps (default: the first two); e.g. x,z")
+    p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
+                                  "z=-0.5")
+    p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
+    p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps; e.g. card")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "

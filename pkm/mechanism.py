@@ -11,6 +11,7 @@ fused pipeline (:mod:`pkm.regions.pipeline`), global indices over sampled or par
 from __future__ import annotations
 
 import importlib
+import itertools
 import types
 from collections.abc import Callable, Mapping
 from functools import cached_property, lru_cache
@@ -92,6 +93,7 @@ class Mechanism:
     actuator_units: tuple[str, ...] = ()
     design_spaces: ClassVar[dict[str, DesignSpace]] = {}
     regions: ClassVar[dict[str, Any]] = {}
+    skeleton_legs: ClassVar[tuple[int, ...]] = ()  # joints per leg of the generated ``skeleton`` (for drawing)
     distinct_modes: ClassVar[dict[str, tuple[str, ...]]] = {}
     forward: ForwardKinematics = ClosedForm()
     characteristic_length: ClassVar[Callable[[Mapping[str, Any]], Any] | None] = None
@@ -139,6 +141,20 @@ class Mechanism:
         if name not in self.regions:
             raise UnknownNameError(f"{self.name} region", name, self.region_names())
         return self.regions[name]
+
+    def linkage(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> list[np.ndarray]:
+        """The joints' points of each leg at one pose (base joint, the leg's joints, platform joint), for
+        drawing, from the generated ``skeleton`` where the mechanism has one (an empty list otherwise); NaN
+        where the pose is out of reach."""
+        if "skeleton" not in self.functions or not self.skeleton_legs:
+            return []
+        x = np.asarray(pose, dtype=float).ravel()
+        d = self.design_vector(design)
+        q = self.inverse_kinematics(x, d, mode=mode, passive=True)
+        (points,) = evaluate(self.functions["skeleton"], q, x, d)
+        points = points[0]
+        bounds = np.cumsum([0, *self.skeleton_legs])
+        return [points[a:b] for a, b in itertools.pairwise(bounds)]
 
     def region_placement(self, name: str, design: DesignLike = None) -> dict[str, Any]:
         """Where the parametrised region ``name`` lies at a design: its shape, centre and size (a disc's or

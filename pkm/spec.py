@@ -98,14 +98,15 @@ class Kind:
     passive: int
     sided: bool
     bodies: tuple[str, ...]
+    points: int  # joints drawn, from the base's to the platform's
 
 
 KINDS = {
-    "RR": Kind("planar", ("proximal", "distal"), True, "rad", 1, True, ("proximal", "distal")),
-    "RPR": Kind("planar", (), False, "m", 1, False, ("cylinder", "piston")),
-    "PRR": Kind("planar", ("distal",), True, "m", 1, True, ("slider", "distal")),
-    "R_parallelogram": Kind("spatial", ("arm", "rod"), True, "rad", 0, False, ("arm", "rod")),
-    "UPS": Kind("spatial", (), False, "m", 0, False, ("cylinder", "piston")),
+    "RR": Kind("planar", ("proximal", "distal"), True, "rad", 1, True, ("proximal", "distal"), 3),
+    "RPR": Kind("planar", (), False, "m", 1, False, ("cylinder", "piston"), 2),
+    "PRR": Kind("planar", ("distal",), True, "m", 1, True, ("slider", "distal"), 3),
+    "R_parallelogram": Kind("spatial", ("arm", "rod"), True, "rad", 0, False, ("arm", "rod"), 3),
+    "UPS": Kind("spatial", (), False, "m", 0, False, ("cylinder", "piston"), 2),
 }
 FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
 SUFFIX = ".toml"  # a mechanism name with it is a description file
@@ -752,6 +753,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "pose_units": tuple(data["pose"]["units"]),
         "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
         "actuator_units": tuple(KINDS[leg["kind"]].unit for leg in data["legs"]),
+        "skeleton_legs": tuple(KINDS[leg["kind"]].points for leg in data["legs"]),
         "forward": NearestSeeds(seeds),
         "description": description,
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),

@@ -10,7 +10,7 @@ from __future__ import annotations
 import json
 import os
 import textwrap
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -58,9 +58,11 @@ class WorkspaceSlice:
             arrays["region_points"] = self.region_points
         return io.atomic_write(Path(path), lambda tmp: np.savez_compressed(tmp, **arrays))
 
-    def plot(self, path: str | os.PathLike) -> Path:
+    def plot(self, path: str | os.PathLike, *, linkage: Sequence[np.ndarray] = ()) -> Path:
         """The map: the index's colours (robust limits), the type-I (black) and type-II (red) singularity
-        curves, the region's nodes near the plane (white dots), axes to scale where both are lengths."""
+        curves, the region's nodes near the plane (white dots), axes to scale where both are lengths; with
+        ``linkage`` (each leg's joint points, :meth:`pkm.Mechanism.linkage`) the legs and the platform drawn
+        in the plane's coordinates where they are positions."""
         m = self.mechanism
         if not np.isfinite(self.values).any():
             raise PkmError(f"the {self.mode} mode of {m.name} reaches no pose of the plane {', '.join(self.axes)} "
@@ -81,6 +83,7 @@ class WorkspaceSlice:
             ax.plot(self.region_points[:, 0], self.region_points[:, 1], "o", markerfacecolor="white",
                     markeredgecolor="k", markeredgewidth=0.3, markersize=3, linestyle="none",
                     label=f"region {self.region} (nodes near the plane)")
+        self._draw_linkage(ax, linkage)
         units = dict(zip(m.pose_names, m.pose_units, strict=True))
         ax.set_xlabel(f"{self.axes[0]} [{units[self.axes[0]]}]")
         ax.set_ylabel(f"{self.axes[1]} [{units[self.axes[1]]}]")
@@ -93,6 +96,20 @@ class WorkspaceSlice:
         if ax.get_legend_handles_labels()[0]:
             figures.legends_below([ax], fontsize=8, ncols=3)
         return figures.save(fig, path, dpi=120)
+
+
+    def _draw_linkage(self, ax: Any, linkage: Sequence[np.ndarray]) -> None:
+        position = ("x", "y", "z")
+        if not len(linkage) or not all(a in position for a in self.axes) or not np.all(np.isfinite(linkage[0])):
+            return
+        columns = [position.index(a) for a in self.axes]
+        if max(columns) >= linkage[0].shape[1]:
+            return
+        for k, leg in enumerate(linkage):
+            ax.plot(leg[:, columns[0]], leg[:, columns[1]], "-o", color="k", linewidth=1.6, markersize=3.5,
+                    markerfacecolor="white", label="linkage" if k == 0 else None)
+        ends = np.array([leg[-1, columns] for leg in linkage] + [linkage[0][-1, columns]])
+        ax.plot(ends[:, 0], ends[:, 1], "-", color="k", linewidth=1.0)
 
 
 def workspace_slice(

@@ -36,12 +36,13 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
 
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
 With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
-``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``branch_sides(q, x, design)`` has a sign per leg with
-passive joints and two branches (RR: the elbow's side, sin(phi - theta); PRR: -e(phi).u) that names them in
-the assembly modes. ``workspace_margins(q, x, design)`` gives
-every leg's margins at a configuration (the ranges' in the actuated joints), ``region_<name>(design) ->
-(centre, size)`` places each region, and ``region_<name>_pose(y, design) -> x`` maps a region's coordinates
-into the pose where it spans fewer or others.
+``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``skeleton(q, x, design)`` gives the joints'
+points leg by leg (base, the leg's joints between, platform). ``branch_sides(q, x, design)`` has a sign per leg
+with passive joints and two branches (RR: the elbow's side, sin(phi - theta); PRR: -e(phi).u) that names them
+in the assembly modes. ``workspace_margins(q, x, design)`` gives every leg's margins at a configuration (the
+ranges' in the actuated joints), ``region_<name>(design) -> (centre, size)`` places each region, and
+``region_<name>_pose(y, design) -> x`` maps a region's coordinates into the pose where it spans fewer or
+others.
 """
 
 from __future__ import annotations
@@ -100,6 +101,7 @@ class _Leg:
     sign: sp.Symbol | None
     margins: tuple[sp.Expr, ...] = ()
     side: sp.Expr | None = None  # of a leg with passive joints and two branches: its sign tells them apart
+    joints: tuple[sp.Matrix, ...] = ()  # the points of its joints between the base's and the platform's
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -111,7 +113,7 @@ def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
     h = list(a + l1 * _e(theta) + l2 * _e(phi) - c)
     ik = {theta: angle, phi: sp.atan2(c[1] - elbow[1], c[0] - elbow[0])}
     return _Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma,
-                side=sp.sin(phi - theta))
+                side=sp.sin(phi - theta), joints=(a + l1 * _e(theta),))
 
 
 def _rpr(k: int, a: sp.Matrix, c: sp.Matrix) -> _Leg:
@@ -130,7 +132,8 @@ def _prr(k: int, a: sp.Matrix, c: sp.Matrix, axis: sp.Matrix, length: sp.Expr) -
     joint = a + slide * u
     h = list(a + s * u + length * _e(phi) - c)
     ik = {s: slide, phi: sp.atan2(c[1] - joint[1], c[0] - joint[0])}
-    return _Leg(h, s, [phi], ik, [length**2 - across**2], sigma, side=-(sp.cos(phi) * u[0] + sp.sin(phi) * u[1]))
+    return _Leg(h, s, [phi], ik, [length**2 - across**2], sigma, side=-(sp.cos(phi) * u[0] + sp.sin(phi) * u[1]),
+                joints=(a + s * u,))
 
 
 def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) -> _Leg:
@@ -143,7 +146,7 @@ def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) ->
     big_k = (d.dot(d) + arm**2 - rod**2) / (2 * arm)
     angle = sp.atan2(q, p) + sigma * sp.acos(big_k / sp.sqrt(p**2 + q**2))
     h = [(c - tip).dot(c - tip) - rod**2]
-    return _Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma)
+    return _Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma, joints=(tip,))
 
 
 def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr | None) -> _Leg:
@@ -293,6 +296,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     origin = sp.Matrix(pose[:dim])
     legs = []
     kinetic: list[Kinetic] = []
+    skeleton: list[sp.Matrix] = []
     for k, leg in enumerate(description["legs"]):
         a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
         if leg["kind"] == "RR":
@@ -312,9 +316,11 @@ def module(description: dict[str, Any]) -> ModuleSpec:
             lo, hi = (scalar(t) for t in leg["range"])
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik,
                             [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign,
-                            (*margins, last.actuated - lo, hi - last.actuated), last.side)
+                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints)
         else:
-            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side)
+            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side,
+                            last.joints)
+        skeleton += [a, *legs[-1].joints, c]
         if "bodies" in leg:
             kinetic += _leg_bodies(leg, legs[-1], a, c, scalar)
     q_a = tuple(leg.actuated for leg in legs)
@@ -354,6 +360,10 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                      (Output("G", sp.Matrix([potential]).jacobian(z).T, "dV/dz [N or N m]"),
                       Output("V", sp.Matrix([potential]), "the bodies' potential energy in the gravity field [J]")),
                      "The gradient of the bodies' potential energy in all the joint and pose coordinates.")
+    spec.add("skeleton", (joints, pose_port, design_port),
+             (Output("points", sp.Matrix.hstack(*skeleton).T, "each leg's joints from the base's to the platform's, "
+                     "one row each [m]"),),
+             "The points of the joints, leg by leg, for drawing the linkage.")
     sides = [leg.side for leg in legs if leg.side is not None]
     if sides:
         spec.add("branch_sides", (joints, pose_port, design_port),

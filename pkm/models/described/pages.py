@@ -102,8 +102,8 @@ def page(name: str) -> str:
         "## Workspace",
         "",
         "The local index 1/kappa_f (`inverse_condition_f`) at the default design in the default working mode over "
-        "planes of the pose (`pkm.workspace_map`), the singularity curves and the task region's nodes near the "
-        "plane:",
+        "planes of the pose (`pkm.workspace_map`), the singularity curves, the task region's nodes near the "
+        "plane and the linkage at the task's centre (`pkm show` draws the same for any design):",
         "",
         *(f"![{name} workspace over {axes[0]}, {axes[1]}]({_figure_name(name, axes)})" for axes, _ in PLANES[name]),
         "",
@@ -116,8 +116,11 @@ def write(names: list[str]) -> None:
     for name in names:
         (FOLDER / f"{name}.md").write_text(page(name))
         mech = registry.mechanism(name)
+        centre = mech.region("task").quadrature(mech.functions, mech.design().vector(), 2)[0].mean(axis=0)
+        linkage = mech.linkage(centre)
         for axes, held in PLANES[name]:
-            workspace_slice(mech, axes=axes, held=held, region="task").plot(FOLDER / _figure_name(name, axes))
+            workspace_slice(mech, axes=axes, held=held, region="task").plot(FOLDER / _figure_name(name, axes),
+                                                                            linkage=linkage)
 
 
 def check(names: list[str]) -> list[str]:

@@ -1,0 +1,143 @@
+"""A design card: one design of a mechanism shown and tabulated (``pkm show``).
+
+Per working mode, a workspace map of a local index over a plane of the pose (:mod:`pkm.workspace_map`) with
+the singularity curves, a region's nodes and the linkage drawn at a pose where the mechanism can draw it; a
+table of the design's parameters with units and of its global indices over the region, each with its unit,
+resolution and accuracy. Written as report.json, report.md and one PNG and SVG per mode."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pkm import io
+from pkm.errors import PkmError
+from pkm.workspace_map import WorkspaceSlice, workspace_slice
+
+SLOW = ("lambda_e",)  # indices whose adaptive quadrature a card leaves out (an eigenvalue problem per node)
+
+
+@dataclass
+class Card:
+    """A design's card: its maps per mode and its table."""
+
+    mechanism: Any
+    design: Any
+    region: str
+    maps: dict[str, WorkspaceSlice]
+    pose: np.ndarray
+    indices: list[dict[str, Any]] = field(default_factory=list)
+    placement: dict[str, Any] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        m = self.mechanism
+        return {
+            "mechanism": m.name,
+            "design": [{"name": p.name, "value": float(self.design[p.name]), "unit": p.unit, "doc": p.doc}
+                       for p in m.parameters],
+            "region": self.region,
+            "placement": self.placement,
+            "pose": dict(zip(m.pose_names, self.pose.tolist(), strict=True)),
+            "maps": {mode: s.metadata() for mode, s in self.maps.items()},
+            "global_indices": self.indices,
+        }
+
+    def markdown(self, figures: Mapping[str, str]) -> str:
+        m = self.mechanism
+        lines = [f"# {m.name}: design card", "", m.doc, "", "## Design", "", "| parameter | value | unit | meaning |",
+                 "|---|---|---|---|"]
+        lines += [f"| {p.name} | {self.design[p.name]:.6g} | {p.unit} | {p.doc} |" for p in m.parameters]
+        if self.placement is not None:
+            lines += ["", f"Region {self.region}: {self.placement['shape']} at {self.placement['centre']}, size "
+                          f"{self.placement['size']}."]
+        lines += ["", f"## Global indices over {self.region}", "", "| index | mode | value | unit | resolution | "
+                  "accuracy |", "|---|---|---|---|---|---|"]
+        for row in self.indices:
+            value = "NaN" if not math.isfinite(row["value"]) else f"{row['value']:.6g}"
+            lines.append(f"| {row['index']} | {row['mode']} | {value} | {row['unit']} | {row['resolution']} | "
+                         f"{row['accuracy']:.1e} |")
+        lines += ["", "## Workspace", ""]
+        for mode, name in figures.items():
+            lines += [f"![{m.name} {mode}]({name})", ""]
+        return "\n".join(lines)
+
+    def write(self, folder: Path) -> list[Path]:
+        """report.json, report.md and the maps (PNG and SVG) in ``folder``."""
+        folder.mkdir(parents=True, exist_ok=True)
+        written, figures = [], {}
+        for mode, s in self.maps.items():
+            linkage = self.mechanism.linkage(self.pose, self.design, mode=mode)
+            for suffix in ("png", "svg"):
+                name = f"workspace_{mode}.{suffix}"
+                written.append(s.plot(folder / name, linkage=linkage))
+            figures[mode] = f"workspace_{mode}.png"
+        written.append(io.atomic_write(folder / "report.json", lambda p: p.write_text(io.to_json(self.to_dict()))))
+        written.append(io.atomic_write(folder / "report.md", lambda p: p.write_text(self.markdown(figures))))
+        return written
+
+
+def _default_region(mech: Any) -> str:
+    return next(iter(mech.regions), "reachable")
+
+
+def design_card(
+    mech: Any,
+    design: Any = None,
+    *,
+    modes: Sequence[str] | None = None,
+    region: str | None = None,
+    index: str = "inverse_condition_f",
+    axes: tuple[str, str] | None = None,
+    held: Mapping[str, float] | None = None,
+    pose: Sequence[float] | None = None,
+    indices: Sequence[str] | None = None,
+    resolution: int = 81,
+) -> Card:
+    """The card of a design in ``modes`` (all by default): maps of ``index`` over the plane ``axes`` (the
+    other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
+    ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
+    offers (or ``indices``) over ``region`` (its first parametrised region by default)."""
+    design = mech.design(design)
+    region = region or _default_region(mech)
+    where = mech.region(region)
+    names = list(mech.pose_names)
+    placement = None
+    if region not in ("reachable", "assembled"):
+        try:
+            placement = mech.region_placement(region, design)
+        except PkmError:
+            placement = None
+    centre = None
+    if placement is not None and not placement["mapped"]:
+        centre = np.array(placement["centre"])
+    elif region not in ("reachable", "assembled"):
+        nodes, _ = where.quadrature(mech.functions, design.vector(), 2)
+        centre = np.mean(nodes, axis=0)
+    axes = tuple(axes or names[:2])
+    if held is None and centre is not None:
+        held = {n: float(centre[k]) for k, n in enumerate(names) if n not in axes}
+    chosen = list(modes or mech.modes)
+    allowed = getattr(where, "modes", None)
+    maps = {mode: workspace_slice(mech, design, index=index, mode=mode, axes=axes, held=held,
+                                  region=None if region in ("reachable", "assembled") else region,
+                                  resolution=resolution) for mode in chosen}
+    first = next(iter(maps.values()))
+    if pose is None:
+        pose = centre if centre is not None else np.array(
+            [first.held.get(n, float(np.mean(first.u if n == axes[0] else first.v))) for n in names])
+    pose = np.asarray(pose, dtype=float)
+    rows = []
+    for name in indices or [i for i in mech.global_indices() if i not in SLOW]:
+        for mode in chosen:
+            if allowed and mode not in allowed:
+                continue
+            value = mech.global_index(name, design, region=region, mode=mode)
+            rows.append({"index": name, "mode": mode, "value": float(value), "unit": mech.index_unit(name),
+                         "resolution": value.resolution, "points": value.points,
+                         "accuracy": float(value.accuracy) if math.isfinite(value.accuracy) else float("nan")})
+    return Card(mech, design, region, maps, pose, rows, placement)

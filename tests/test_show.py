@@ -1,0 +1,52 @@
+"""pkm show: a design card writes every file it promises (a PNG and an SVG per working mode, report.json and
+report.md), its table holds the global indices the API gives, a described machine's linkage closes at the
+drawn pose, and the MIC a region placement returns is inside the workspace and touches its boundary."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm.cli import main
+
+
+def test_a_card_writes_its_maps_and_reports_and_tabulates_the_apis_indices(tmp_path, capsys):
+    folder = tmp_path / "card"
+    assert main(["show", "delta", "--mode", "elbow_out", "--plane", "x,z", "--held", "y=0", "--resolution", "31",
+                 "--out", str(folder), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for name in ("workspace_elbow_out.png", "workspace_elbow_out.svg", "report.json", "report.md"):
+        assert (folder / name).stat().st_size > 0, name
+    report = json.loads((folder / "report.json").read_text())
+    assert report["design"][0]["unit"] == "m"
+    m = pkm.load("delta")
+    gci = next(r for r in report["global_indices"] if r["index"] == "gci")
+    assert gci["value"] == pytest.approx(float(m.global_index("gci", region="task", mode="elbow_out")), rel=1e-12)
+    assert sorted(data["files"]) == sorted(str(folder / p.name) for p in folder.iterdir())
+    assert "| gci | elbow_out |" in (folder / "report.md").read_text()
+
+
+def test_the_linkage_drawn_closes_on_the_platform_at_the_pose():
+    m = pkm.load("delta")
+    pose = np.array([0.05, -0.02, -0.55])
+    legs = m.linkage(pose, mode="elbow_out")
+    assert len(legs) == 3
+    d = m.design()
+    for leg in legs:
+        np.testing.assert_allclose(np.linalg.norm(leg[1] - leg[0]), d["L_a"], rtol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(leg[2] - leg[1]), d["L_b"], rtol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(leg[2, :2] - pose[:2]), d["r"], rtol=1e-12)
+    assert pkm.load("five_bar").linkage([0.0, 1.5]) == []
+
+
+def test_the_mic_is_inside_the_workspace_and_touches_its_boundary():
+    m = pkm.load("five_bar")
+    placed = m.region_placement("miw")
+    centre, (radius,) = np.array(placed["centre"]), placed["size"]
+    angles = np.linspace(0, 2 * np.pi, 721)[:-1]
+    ring = np.column_stack([np.cos(angles), np.sin(angles)])
+    assert m.reachable(centre + (1 - 1e-6) * radius * ring, mode="out_out").all()
+    assert not m.reachable(centre + (1 + 1e-3) * radius * ring, mode="out_out").all()
