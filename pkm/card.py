@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import io
+from pkm import io, registry
 from pkm.errors import PkmError
 from pkm.workspace_map import WorkspaceSlice, workspace_slice
 
@@ -141,3 +141,73 @@ def design_card(
                          "resolution": value.resolution, "points": value.points,
                          "accuracy": float(value.accuracy) if math.isfinite(value.accuracy) else float("nan")})
     return Card(mech, design, region, maps, pose, rows, placement)
+
+
+@dataclass
+class Comparison:
+    """Designs of one mechanism side by side: their cards and one table of every global index per design and
+    mode, the best value of each row marked."""
+
+    cards: list[Card]
+
+    def rows(self) -> list[dict[str, Any]]:
+        """One row per index and mode: each design's value, and which design is best in the index's sense."""
+        table: dict[tuple[str, str], dict[str, Any]] = {}
+        for k, card in enumerate(self.cards):
+            for r in card.indices:
+                empty = {"index": r["index"], "mode": r["mode"], "unit": r["unit"],
+                         "values": [math.nan] * len(self.cards)}
+                table.setdefault((r["index"], r["mode"]), empty)["values"][k] = r["value"]
+        for row in table.values():
+            sense = registry.global_index(row["index"]).sense
+            finite = [(v, k) for k, v in enumerate(row["values"]) if math.isfinite(v)]
+            row["best"] = (max if sense == "max" else min)(finite)[1] if finite else None
+            row["differ"] = len({round(v, 9) for v, _ in finite}) > 1
+        return list(table.values())
+
+    def csv(self) -> str:
+        names = [f"design_{k + 1}" for k in range(len(self.cards))]
+        lines = [",".join(["index", "mode", "unit", *names, "best"])]
+        for row in self.rows():
+            best = "" if row["best"] is None else names[row["best"]]
+            lines.append(",".join([row["index"], row["mode"], row["unit"], *(repr(v) for v in row["values"]), best]))
+        return "\n".join(lines) + "\n"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"mechanism": self.cards[0].mechanism.name, "designs": [c.to_dict()["design"] for c in self.cards],
+                "rows": self.rows()}
+
+    def markdown(self) -> str:
+        m = self.cards[0].mechanism
+        names = [f"design {k + 1}" for k in range(len(self.cards))]
+        lines = [f"# {m.name}: {len(self.cards)} designs compared", "",
+                 "| parameter | unit | " + " | ".join(names) + " |", "|---|---|" + "---|" * len(names)]
+        for p in m.parameters:
+            lines.append(f"| {p.name} | {p.unit} | " + " | ".join(f"{c.design[p.name]:.6g}" for c in self.cards) + " |")
+        lines += ["", "Global indices (the best of each row in bold, where the designs differ):", "",
+                  "| index | mode | unit | " + " | ".join(names) + " |", "|---|---|---|" + "---|" * len(names)]
+        for row in self.rows():
+            cells = []
+            for k, v in enumerate(row["values"]):
+                text = "NaN" if not math.isfinite(v) else f"{v:.6g}"
+                cells.append(f"**{text}**" if row["differ"] and row["best"] == k else text)
+            lines.append(f"| {row['index']} | {row['mode']} | {row['unit']} | " + " | ".join(cells) + " |")
+        lines += ["", "Each design's card is in design_<k>/."]
+        return "\n".join(lines)
+
+    def write(self, folder: Path) -> list[Path]:
+        folder.mkdir(parents=True, exist_ok=True)
+        written = []
+        for k, card in enumerate(self.cards):
+            written += card.write(folder / f"design_{k + 1}")
+        written.append(io.atomic_write(folder / "comparison.json", lambda p: p.write_text(io.to_json(self.to_dict()))))
+        written.append(io.atomic_write(folder / "comparison.csv", lambda p: p.write_text(self.csv())))
+        written.append(io.atomic_write(folder / "comparison.md", lambda p: p.write_text(self.markdown())))
+        return written
+
+
+def compare(mech: Any, designs: Sequence[Any], **options: Any) -> Comparison:
+    """The cards of ``designs`` (:func:`design_card` with ``options``) and their table."""
+    if len(designs) < 2:
+        raise PkmError(f"designs = {len(designs)} violates: at least two designs to compare")
+    return Comparison([design_card(mech, d, **options) for d in designs])

@@ -301,6 +301,20 @@ def cmd_show(args: argparse.Namespace) -> None:
     _emit(args, data, "\n".join(lines))
 
 
+def cmd_compare(args: argparse.Namespace) -> None:
+    """Designs side by side (:func:`pkm.card.compare`) into ``--out``."""
+    from pkm.card import compare
+
+    m = load_mechanism(args.mechanism)
+    designs = [_design(m, text) for text in args.design]
+    modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
+    comparison = compare(m, designs, modes=modes, region=args.region, resolution=args.resolution)
+    folder = Path(args.out)
+    written = io.write_result(folder, comparison.write)
+    data = {**comparison.to_dict(), "files": [str(p) for p in written]}
+    _emit(args, data, comparison.markdown() + f"\n\nwrote {len(written)} files to {io.kept_path(folder)}")
+
+
 def _numbers(values: list[float]) -> str:
     return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
 
@@ -730,6 +744,17 @@ def build_parser() -> argparse.ArgumentParser:
                                   "z=-0.5")
     p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
     p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps; e.g. card")
+    p = command("compare", cmd_compare, "designs side by side: their cards and one table of every global index "
+                                        "per design and mode (JSON, CSV, markdown)")
+    listed(p, "mechanism", key="mechanism")
+    p.add_argument("--design", action="append", required=True, help="a design as name=value in SI (repeat for "
+                                                                    "each design, at least two); e.g. r1=1.2")
+    p.add_argument("--mode", help="working modes, comma-separated (default: all); e.g. out_out")
+    p.add_argument("--region", help="the region of the global indices (default: the mechanism's first "
+                                    "parametrised one, else reachable); e.g. task")
+    p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
+    p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design; "
+                                                "e.g. compared")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "

@@ -50,3 +50,28 @@ def test_the_mic_is_inside_the_workspace_and_touches_its_boundary():
     ring = np.column_stack([np.cos(angles), np.sin(angles)])
     assert m.reachable(centre + (1 - 1e-6) * radius * ring, mode="out_out").all()
     assert not m.reachable(centre + (1 + 1e-3) * radius * ring, mode="out_out").all()
+
+
+def test_compare_writes_cards_and_one_table_whose_csv_is_its_json(tmp_path, capsys):
+    import csv
+
+    folder = tmp_path / "compared"
+    assert main(["compare", "five_bar", "--design", "r3=0.2", "--design", "r3=0.8", "--mode", "out_out",
+                 "--resolution", "21", "--out", str(folder), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for name in ("comparison.json", "comparison.csv", "comparison.md", "design_1/report.json",
+                 "design_2/workspace_out_out.svg"):
+        assert (folder / name).stat().st_size > 0, name
+    with open(folder / "comparison.csv") as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == len(data["rows"])
+    for row, want in zip(rows, data["rows"], strict=True):
+        assert (row["index"], row["mode"]) == (want["index"], want["mode"])
+        assert [float(row["design_1"]), float(row["design_2"])] == pytest.approx(want["values"], rel=1e-15)
+    gci = next(r for r in data["rows"] if r["index"] == "gci")
+    assert gci["best"] == int(np.argmax(gci["values"]))
+
+
+def test_compare_needs_two_designs(capsys):
+    assert main(["compare", "five_bar", "--design", "r3=0.2", "--out", "unused"]) == 2
+    assert "at least two designs" in capsys.readouterr().err
