@@ -211,6 +211,7 @@ class Atlas:
             "modes": list(self.modes),
             "chart_axes": list(self.space.chart_axes),
             "chart_labels": list(self.space.chart_labels),
+            "held": dict(self.space.base),
             **{name: getattr(self, name) for name in names},
             "checks": asdict(self.checks),
             "requirements": [r.name for r in self.space.requirements],

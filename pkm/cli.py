@@ -333,7 +333,11 @@ CHUNKS = ".pkm-chunks"
 
 def _space(m: Mechanism, args: argparse.Namespace) -> Any:
     if args.axes:
-        return parameter_plane(m.parameters, _axes(args.axes))
+        base = dict(_design(m, args.design)) if args.design else None
+        return parameter_plane(m.parameters, _axes(args.axes), base=base)
+    if args.design:
+        raise PkmError("--design holds the parameters off the chart of an atlas over --axes; a design space "
+                       "fixes its own")
     if not m.design_spaces:
         raise PkmError(f"the {m.name} has no design space to draw an atlas in: give --axes")
     name = args.space or next(iter(m.design_spaces))
@@ -358,7 +362,7 @@ def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path
 
 
 def _run_key(m: Mechanism, args: argparse.Namespace, names: list[str]) -> str:
-    return task_key(m.name, names, args.space, args.axes, args.region, args.modes, args.resolution,
+    return task_key(m.name, names, args.space, args.axes, args.design, args.region, args.modes, args.resolution,
                     args.pose_resolution)
 
 
@@ -672,6 +676,8 @@ def build_parser() -> argparse.ArgumentParser:
         listed(p, "--space", key="space")
         p.add_argument("--axes", help="two design parameters with bounds instead of a design space (default: none): "
                                       "name=lower:upper,name=lower:upper; e.g. --axes r1=0.5:1.5,r2=0.5:1.5")
+        p.add_argument("--design", help="with --axes, the design whose other parameters the atlas holds (default: "
+                                        "the defaults): name=value in SI; e.g. r3=0.2")
         listed(p, "--region", key="region", default="reachable")
         listed(p, "--modes", key="modes")
         p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis (default 41, "

@@ -165,28 +165,39 @@ class DesignSpace:
 
 
 def parameter_plane(
-    parameters: Sequence[Parameter], axes: Sequence[tuple[str, float, float]], *, name: str | None = None
+    parameters: Sequence[Parameter], axes: Sequence[tuple[str, float, float]], *, name: str | None = None,
+    base: Mapping[str, float] | None = None,
 ) -> DesignSpace:
     """A design space of two of a mechanism's parameters with bounds, charted as they are: for atlases
-    over design variables of the user's choice. The other parameters keep their defaults."""
+    over design variables of the user's choice. The other parameters keep the values of ``base`` (a design)
+    or their defaults."""
     known = {p.name: p for p in parameters}
     if len(axes) != 2:
         raise DesignError(f"a parameter plane needs two axes; got {len(axes)}")
+    if axes[0][0] == axes[1][0]:
+        raise DesignError(f"axes {axes[0][0]}, {axes[1][0]} violate: two distinct design parameters")
     for axis, lower, upper in axes:
         if axis not in known:
             raise DesignError(f"unknown design parameter {axis!r}; expected one of {', '.join(known)}")
         if not (np.isfinite(lower) and np.isfinite(upper) and lower < upper):
             raise DesignError(f"axis {axis}: bounds {lower:g}, {upper:g} violate lower < upper, both finite")
+        p = known[axis]
+        if lower < p.lower or upper > p.upper:
+            raise DesignError(f"axis {axis}: bounds {lower:g}, {upper:g} violate: within the parameter's bounds "
+                              f"[{p.lower:g}, {p.upper:g}]")
     (a, a_lo, a_hi), (b, b_lo, b_hi) = axes
+    held = {k: float(v) for k, v in (base or {}).items() if k not in (a, b)}
+    others = "at the given design" if held else "at their defaults"
     index = [list(known).index(a), list(known).index(b)]
     return DesignSpace(
         name=name or f"{a}-{b}",
         doc=f"{a} in [{a_lo:g}, {a_hi:g}] {known[a].unit}, {b} in [{b_lo:g}, {b_hi:g}] {known[b].unit}; "
-        "the other parameters at their defaults",
+        f"the other parameters {others}",
         coordinates=(a, b),
         chart_axes=(a, b),
         chart_labels=(f"{a} [{known[a].unit}]", f"{b} [{known[b].unit}]"),
-        note=f"{known[a].doc}; {known[b].doc}",
+        note=f"{known[a].doc}; {known[b].doc}" + (
+            "; held: " + ", ".join(f"{k} = {v:.4g}" for k, v in held.items()) if held else ""),
         to_design=lambda c, _scale=1.0: [c[0], c[1]],
         from_design=lambda d: ([d[index[0]], d[index[1]]], 1.0),
         to_chart=lambda c: (c[0], c[1]),
@@ -194,4 +205,5 @@ def parameter_plane(
         polygon=((a_lo, b_lo), (a_hi, b_lo), (a_hi, b_hi), (a_lo, b_hi)),
         parameters=(a, b),
         bounds=((a_lo, a_hi), (b_lo, b_hi)),
+        base=held,
     )

@@ -75,3 +75,29 @@ def test_compare_writes_cards_and_one_table_whose_csv_is_its_json(tmp_path, caps
 def test_compare_needs_two_designs(capsys):
     assert main(["compare", "five_bar", "--design", "r3=0.2", "--out", "unused"]) == 2
     assert "at least two designs" in capsys.readouterr().err
+
+
+def test_an_atlas_over_two_parameters_holds_the_others_at_the_given_design(tmp_path):
+    out = tmp_path / "atlas"
+    assert main(["atlas", "five_bar", "gci", "--axes", "r1=0.8:1.4,r2=0.8:1.4", "--design", "r3=0.2",
+                 "--resolution", "5", "--pose-resolution", "8", "--executor", "serial", "--out", str(out)]) == 0
+    (npz,) = out.glob("*.npz")
+    with np.load(npz) as data:
+        metadata = json.loads(str(data["metadata"]))
+        values = data["values_out_out"]
+    assert metadata["held"]["r3"] == 0.2
+    m = pkm.load("five_bar")
+    middle = m.global_index("gci", {"r1": 1.1, "r2": 1.1, "r3": 0.2}, mode="out_out", resolution=8)
+    assert values[2, 2] == pytest.approx(float(middle), rel=1e-12)
+
+
+@pytest.mark.parametrize(("axes", "condition"), [
+    ("r1=0.8:1.4,r1=0.8:1.4", "r1 is given twice"),
+    ("r1=1.4:0.8,r2=0.8:1.4", "lower < upper"),
+    ("r1=-1:1.4,r2=0.8:1.4", "within the parameter's bounds"),
+])
+def test_bad_atlas_axes_exit_2_naming_the_condition(axes, condition, tmp_path, capsys):
+    assert main(["atlas", "five_bar", "gci", "--axes", axes, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert condition in err
+    assert len(err.strip().splitlines()) == 1
