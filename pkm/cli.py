@@ -172,7 +172,9 @@ def _children_cpu() -> float:
 def cmd_eval(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     d = _design(m, args.design)
-    x = _poses(args.pose, m.n_out)
+    if args.poses and args.pose:
+        raise PkmError("--pose and --poses violate: one or the other")
+    x = io.read_poses(args.poses, m.pose_names) if args.poses else _poses(args.pose, m.n_out)
     mode = m.working_mode(args.mode).name
     q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=args.strict)
     reached = np.all(np.isfinite(q), axis=1)
@@ -204,7 +206,20 @@ def cmd_eval(args: argparse.Namespace) -> None:
         if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}{_why(m, r)}"
         for r in rows
     )
-    _emit(args, {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}, text)
+    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}
+    if args.out:
+        columns = [*(f"{n} [{u}]" for n, u in units["pose"].items()), "reachable",
+                   *(f"{n} [{u}]" for n, u in units["actuators"].items()),
+                   *(f"{n} [{u}]" for n, u in units["indices"].items()), *sing]
+        table = [[*r["pose"], r["reachable"], *r["q"][: m.n_act], *(r[n] for n in local), *(r[n] for n in sing)]
+                 for r in rows]
+
+        def write(folder: Path) -> list[Path]:
+            return [io.write_text(folder / "eval.json", io.to_json(data)),
+                    io.write_text(folder / "eval.csv", io.csv_text(columns, table))]
+
+        text += "\nwrote " + ", ".join(str(p) for p in io.write_result(Path(args.out), write))
+    _emit(args, data, text)
 
 
 def _why(m: Any, row: dict[str, Any]) -> str:
@@ -268,6 +283,17 @@ def cmd_index(args: argparse.Namespace) -> None:
             data["placement"] = placed
             text += (f"\nregion {args.region}: {placed['shape']} at {_numbers(placed['centre'])}, size "
                      f"{_numbers(placed['size'])}" + (" (in its own coordinates)" if placed["mapped"] else ""))
+    if args.out:
+        columns = ["mechanism", "index", "region", "mode", f"value [{data['unit']}]", "points", "resolution",
+                   "accuracy", *(f"{k} [{p.unit}]" for k, p in zip(d, m.parameters, strict=True))]
+        row = [m.name, args.index, args.region, mode, data["value"], value.points, value.resolution, value.accuracy,
+               *d.values()]
+
+        def write(folder: Path) -> list[Path]:
+            return [io.write_text(folder / "index.json", io.to_json({**data, **({"gradient": grad} if grad else {})})),
+                    io.write_text(folder / "index.csv", io.csv_text(columns, [row]))]
+
+        text += "\nwrote " + ", ".join(str(p) for p in io.write_result(Path(args.out), write))
     if grad is not None:
         data["gradient"] = grad
         text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
@@ -655,10 +681,14 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("eval", cmd_eval, "inverse kinematics, Jacobian and local indices at poses")
     listed(p, "mechanism", key="mechanism")
     listed(p, "--pose", key="pose", action="append")
+    p.add_argument("--poses", help="poses from a file instead of --pose: .npy (N x n) or CSV (a header of the pose's "
+                                   "coordinates, optional); e.g. path.csv")
     listed(p, "--design", key="design")
     listed(p, "--mode", key="mode")
     p.add_argument("--strict", action="store_true",
                    help="fail on a pose out of reach (default: report it with reachable false and null values)")
+    p.add_argument("--out", help="folder for eval.json and eval.csv (SI, units in the header; default: none); "
+                                 "e.g. results")
     p = command("index", cmd_index, "a global index of a design")
     listed(p, "mechanism", key="mechanism")
     listed(p, "index", key="index")
@@ -671,6 +701,7 @@ def build_parser() -> argparse.ArgumentParser:
                                                 f"e.g. 0.05")
     p.add_argument("--gradient", action="store_true",
                    help="also the exact gradient in every design parameter (parametrised regions; default off)")
+    p.add_argument("--out", help="folder for index.json and index.csv (default: none); e.g. results")
 
     def grid_options(p: argparse.ArgumentParser) -> None:
         listed(p, "--space", key="space")

@@ -16,7 +16,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from pkm.errors import ComputationError
+from pkm.errors import ComputationError, PkmError
 from pkm.interrupts import check_interrupted
 
 T = TypeVar("T")
@@ -82,6 +82,55 @@ def _write_beside(path: Path, write: Callable[[Path], None]) -> Path:
 
 def write_text(path: Path, text: str) -> Path:
     return atomic_write(path, lambda tmp: tmp.write_text(text))
+
+
+def csv_text(columns: list[str], rows: list[list[Any]]) -> str:
+    """A CSV table: a header of ``columns`` (names with their units, ``x [m]``) and rows of numbers (repr,
+    so that they read back to the same floats), text or booleans (0/1)."""
+    def cell(value: Any) -> str:
+        if isinstance(value, bool | np.bool_):
+            return str(int(value))
+        if isinstance(value, float | np.floating | int | np.integer):
+            return repr(float(value)) if isinstance(value, float | np.floating) else str(int(value))
+        text = str(value)
+        return f'"{text}"' if "," in text else text
+
+    return "\n".join([",".join(columns), *(",".join(cell(v) for v in row) for row in rows)]) + "\n"
+
+
+def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:
+    """Poses (N, len(names)) from a .npy array or a CSV file (a header of the pose's names, optionally with
+    units in brackets, or none); :class:`PkmError` naming the file and the violated condition."""
+    path = Path(path)
+    try:
+        if path.suffix == ".npy":
+            poses = np.load(path, allow_pickle=False)
+        else:
+            lines = [line for line in path.read_text().splitlines() if line.strip()]
+            header = [c.strip().split(" [")[0] for c in lines[0].split(",")] if lines else []
+            start = 1 if header and not _numeric(header[0]) else 0
+            if start and header[: len(names)] != list(names):
+                raise PkmError(f"poses file {path} violates: a header of the pose's coordinates {', '.join(names)}; "
+                               f"got {', '.join(header)}")
+            rows = [[float(v) for v in line.split(",")] for line in lines[start:]]
+            if any(len(row) != len(names) for row in rows):
+                raise PkmError(f"poses file {path} violates: rows of {len(names)} values ({', '.join(names)})")
+            poses = np.array(rows)
+    except (OSError, ValueError) as exc:
+        raise PkmError(f"poses file {path} violates: a readable .npy or CSV file of numbers ({exc})") from None
+    poses = np.atleast_2d(np.asarray(poses, dtype=float))
+    if poses.ndim != 2 or poses.shape[1] != len(names) or not len(poses):
+        raise PkmError(f"poses file {path} violates: rows of {len(names)} values ({', '.join(names)}); got shape "
+                       f"{poses.shape}")
+    return poses
+
+
+def _numeric(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def copy_file(source: Path, path: Path) -> Path:

@@ -101,3 +101,54 @@ def test_bad_atlas_axes_exit_2_naming_the_condition(axes, condition, tmp_path, c
     err = capsys.readouterr().err
     assert condition in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_eval_reads_poses_from_csv_and_npy_and_writes_a_csv_equal_to_its_json(tmp_path, capsys):
+    import csv
+
+    poses = np.array([[0.0, 1.5], [0.1, 1.4], [3.0, 3.0]])
+    lines = [",".join(str(float(v)) for v in p) for p in poses]
+    (tmp_path / "poses.csv").write_text("\n".join(["x [m],y [m]", *lines]) + "\n")
+    np.save(tmp_path / "poses.npy", poses)
+    outputs = []
+    for name in ("poses.csv", "poses.npy"):
+        out = tmp_path / name.replace(".", "_")
+        assert main(["eval", "five_bar", "--poses", str(tmp_path / name), "--out", str(out), "--json"]) == 0
+        data = json.loads(capsys.readouterr().out)
+        outputs.append(data)
+        with open(out / "eval.csv") as handle:
+            rows = list(csv.DictReader(handle))
+        assert [[float(r["x [m]"]), float(r["y [m]"])] for r in rows] == poses.tolist()
+        for row, want in zip(rows, data["poses"], strict=True):
+            assert bool(int(row["reachable"])) == want["reachable"]
+            if want["reachable"]:
+                assert float(row["inverse_condition_f [-]"]) == want["inverse_condition_f"]
+                assert float(row["theta1 [rad]"]) == want["actuators"]["theta1"]
+    assert outputs[0]["poses"] == outputs[1]["poses"]
+
+
+def test_index_writes_a_csv_row_equal_to_its_json(tmp_path, capsys):
+    import csv
+
+    assert main(["index", "five_bar", "gci", "--region", "miw", "--resolution", "8", "--out", str(tmp_path),
+                 "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    with open(tmp_path / "index.csv") as handle:
+        (row,) = list(csv.DictReader(handle))
+    assert float(row["value [-]"]) == data["value"]
+    assert float(row["r1 [m]"]) == data["design"]["r1"]
+    assert data["placement"]["shape"] == "disc"
+
+
+@pytest.mark.parametrize(("text", "condition"), [
+    ("a,b\n0,1\n", "a header of the pose's coordinates x, y"),
+    ("x,y\n0,1,2\n0\n", "rows of 2 values"),
+    ("x,y\nzero,1\n", "a readable .npy or CSV file of numbers"),
+])
+def test_a_bad_poses_file_exits_2_naming_it(tmp_path, capsys, text, condition):
+    path = tmp_path / "poses.csv"
+    path.write_text(text)
+    assert main(["eval", "five_bar", "--poses", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert condition in err
+    assert len(err.strip().splitlines()) == 1
