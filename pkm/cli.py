@@ -41,6 +41,7 @@ from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
 from pkm.reproduce import reproduce
 from pkm.synthesis import SynthesisError, SynthesisResult, synthesize
+from pkm.units import Units
 
 
 class _Parser(argparse.ArgumentParser):
@@ -48,8 +49,19 @@ class _Parser(argparse.ArgumentParser):
         raise PkmError(f"{self.prog}: {message}")
 
 
-def _design(mech: Mechanism, text: str | None) -> Design:
-    return mech.design(parse_design(text) if text else None, partial=True)
+def _design(mech: Mechanism, text: str | None, units: Units | None = None) -> Design:
+    """A design from ``name=value,...`` in the user's units (SI by default)."""
+    if not text:
+        return mech.design(None, partial=True)
+    values = parse_design(text)
+    if units is not None:
+        scale = {p.name: units.scale(p.unit) for p in mech.parameters}
+        values = {k: v * scale.get(k, 1.0) for k, v in values.items()}
+    return mech.design(values, partial=True)
+
+
+def _units(args: argparse.Namespace) -> Units:
+    return Units.parse(getattr(args, "units", None))
 
 
 def _poses(text: list[str] | None, n: int) -> np.ndarray:
@@ -171,10 +183,12 @@ def _children_cpu() -> float:
 
 def cmd_eval(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
-    d = _design(m, args.design)
+    units = _units(args)
+    d = _design(m, args.design, units)
     if args.poses and args.pose:
         raise PkmError("--pose and --poses violate: one or the other")
-    x = io.read_poses(args.poses, m.pose_names) if args.poses else _poses(args.pose, m.n_out)
+    given = io.read_poses(args.poses, m.pose_names) if args.poses else _poses(args.pose, m.n_out)
+    x = units.to_si(given, m.pose_units)
     mode = m.working_mode(args.mode).name
     q = m.inverse_kinematics(x, d, mode=mode, passive=True, strict=args.strict)
     reached = np.all(np.isfinite(q), axis=1)
@@ -197,20 +211,23 @@ def cmd_eval(args: argparse.Namespace) -> None:
             }
         )
     shown = [name for name in ("inverse_condition_f", "velocity_max", "velocity_min") if name in local]
-    units = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
-             "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
-             "indices": {name: m.index_unit(name) for name in local}}
+    si = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
+          "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
+          "indices": {name: m.index_unit(name) for name in local}}
+    mine = {key: {n: units.name(u) for n, u in si[key].items()} for key in ("pose", "actuators")}
     text = "\n".join(
-        f"pose {_valued(r['pose'], units['pose'])}: {_valued(r['q'][: m.n_act], units['actuators'])}, "
-        + ", ".join(f"{name} = {r[name]:.6g}{_unit(units['indices'][name])}" for name in shown)
-        if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}{_why(m, r)}"
+        f"pose {_valued(units.from_si(r['pose'], m.pose_units), mine['pose'])}: "
+        f"{_valued(units.from_si(r['q'][: m.n_act], m.actuator_units), mine['actuators'])}, "
+        + ", ".join(f"{name} = {r[name]:.6g}{_unit(si['indices'][name])}" for name in shown)
+        if r["reachable"] else f"pose {units.from_si(r['pose'], m.pose_units).tolist()}: out of reach in mode "
+                               f"{mode}{_why(m, r, d)}"
         for r in rows
     )
-    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "units": units, "poses": rows}
+    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "units": si, "poses": rows}
     if args.out:
-        columns = [*(f"{n} [{u}]" for n, u in units["pose"].items()), "reachable",
-                   *(f"{n} [{u}]" for n, u in units["actuators"].items()),
-                   *(f"{n} [{u}]" for n, u in units["indices"].items()), *sing]
+        columns = [*(f"{n} [{u}]" for n, u in si["pose"].items()), "reachable",
+                   *(f"{n} [{u}]" for n, u in si["actuators"].items()),
+                   *(f"{n} [{u}]" for n, u in si["indices"].items()), *sing]
         table = [[*r["pose"], r["reachable"], *r["q"][: m.n_act], *(r[n] for n in local), *(r[n] for n in sing)]
                  for r in rows]
 
@@ -222,14 +239,20 @@ def cmd_eval(args: argparse.Namespace) -> None:
     _emit(args, data, text)
 
 
-def _why(m: Any, row: dict[str, Any]) -> str:
-    """Why a pose is out of reach, where pkm can say: the stated limits it violates, and an angle beyond a
-    turn (typed in degrees where radians go?)."""
+def _why(m: Any, row: dict[str, Any], design: Any) -> str:
+    """Why a pose is out of reach, where pkm can say: the stated limits it violates, an angle beyond a turn
+    (typed in degrees where radians go?) and a length beyond the workspace box that would lie in it read in
+    mm."""
     reasons = [f"violates {', '.join(row['violated_limits'])}"] if row["violated_limits"] else []
     turns = [f"{name} = {v:g} rad: in degrees?" for name, unit, v in zip(m.pose_names, m.pose_units, row["pose"],
                                                                          strict=True)
              if unit == "rad" and abs(v) > 2 * math.pi]
-    return f" ({'; '.join(reasons + turns)})" if reasons or turns else ""
+    box = m.workspace_box(m.design_vector(design))
+    lengths = [f"{name} = {v:g} m: in mm? (--units mm)" for name, unit, v, (lo, hi)
+               in zip(m.pose_names, m.pose_units, row["pose"], box, strict=True)
+               if unit == "m" and not lo <= v <= hi and lo <= v / 1000 <= hi]
+    notes = reasons + turns + lengths
+    return f" ({'; '.join(notes)})" if notes else ""
 
 
 def _unit(unit: str) -> str:
@@ -244,7 +267,7 @@ def _valued(values: np.ndarray, units: dict[str, str]) -> str:
 
 def cmd_index(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
-    d = _design(m, args.design)
+    d = _design(m, args.design, _units(args))
     mode = m.working_mode(args.mode).name
     out = m.global_index(
         args.index,
@@ -308,7 +331,7 @@ def cmd_show(args: argparse.Namespace) -> None:
     from pkm.card import design_card
 
     m = load_mechanism(args.mechanism)
-    d = _design(m, args.design)
+    d = _design(m, args.design, _units(args))
     modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
     axes = tuple(args.plane.split(",")) if args.plane else None
     held = parse_design(args.held, "held coordinates", "pose coordinate", PkmError) if args.held else None
@@ -332,7 +355,7 @@ def cmd_compare(args: argparse.Namespace) -> None:
     from pkm.card import compare
 
     m = load_mechanism(args.mechanism)
-    designs = [_design(m, text) for text in args.design]
+    designs = [_design(m, text, _units(args)) for text in args.design]
     modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
     comparison = compare(m, designs, modes=modes, region=args.region, resolution=args.resolution)
     folder = Path(args.out)
@@ -689,6 +712,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="fail on a pose out of reach (default: report it with reachable false and null values)")
     p.add_argument("--out", help="folder for eval.json and eval.csv (SI, units in the header; default: none); "
                                  "e.g. results")
+    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
+                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
     p = command("index", cmd_index, "a global index of a design")
     listed(p, "mechanism", key="mechanism")
     listed(p, "index", key="index")
@@ -702,6 +727,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--gradient", action="store_true",
                    help="also the exact gradient in every design parameter (parametrised regions; default off)")
     p.add_argument("--out", help="folder for index.json and index.csv (default: none); e.g. results")
+    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
+                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
 
     def grid_options(p: argparse.ArgumentParser) -> None:
         listed(p, "--space", key="space")
@@ -781,6 +808,8 @@ def build_parser() -> argparse.ArgumentParser:
                                   "z=-0.5")
     p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
     p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps; e.g. card")
+    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
+                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
     p = command("compare", cmd_compare, "designs side by side: their cards and one table of every global index "
                                         "per design and mode (JSON, CSV, markdown)")
     listed(p, "mechanism", key="mechanism")
@@ -792,6 +821,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
     p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design; "
                                                 "e.g. compared")
+    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
+                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "

@@ -11,6 +11,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from pkm import units
 from pkm.errors import DesignError, PkmError
 
 MAX_MAGNITUDE = 1e12  # of a design value in SI units: beyond it the models overflow, not the mechanism
@@ -53,6 +54,7 @@ class Parameter:
             raise DesignError(
                 f"design parameter {self.name} = {value:g} {self.unit} violates "
                 f"{self.name} in {left}{self.lower:g}, {self.upper:g})"
+                + units.hint(value, self.unit, self.lower, self.upper)
             )
 
 
