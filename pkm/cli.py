@@ -705,7 +705,7 @@ def build_parser() -> argparse.ArgumentParser:
     listed(p, "mechanism", key="mechanism")
     listed(p, "--pose", key="pose", action="append")
     p.add_argument("--poses", help="poses from a file instead of --pose: .npy (N x n) or CSV (a header of the pose's "
-                                   "coordinates, optional); e.g. path.csv")
+                                   "coordinates, optional; default: none); e.g. path.csv")
     listed(p, "--design", key="design")
     listed(p, "--mode", key="mode")
     p.add_argument("--strict", action="store_true",
@@ -807,20 +807,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
     p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
-    p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps; e.g. card")
+    p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps (no default); "
+                                                "e.g. card")
     p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
                                    "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
     p = command("compare", cmd_compare, "designs side by side: their cards and one table of every global index "
                                         "per design and mode (JSON, CSV, markdown)")
     listed(p, "mechanism", key="mechanism")
     p.add_argument("--design", action="append", required=True, help="a design as name=value in SI (repeat for "
-                                                                    "each design, at least two); e.g. r1=1.2")
+                                                                    "each design, at least two; no default); e.g. "
+                                                                    "r1=1.2")
     p.add_argument("--mode", help="working modes, comma-separated (default: all); e.g. out_out")
     p.add_argument("--region", help="the region of the global indices (default: the mechanism's first "
                                     "parametrised one, else reachable); e.g. task")
     p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
-    p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design; "
-                                                "e.g. compared")
+    p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design "
+                                                "(no default); e.g. compared")
     p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
                                    "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
