@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import pytest
 
@@ -104,3 +105,21 @@ def test_a_constraint_on_an_unknown_name_or_expression_names_its_field():
         pkm.design_problem("delta", task="task", variables={"L_a": (0.2, 0.4)}, constraints=[("speed_min", 0, 1)])
     with pytest.raises(ProblemError, match=r"problem field constraints\[0\] violates: arithmetic"):
         pkm.design_problem("delta", task="task", variables={"L_a": (0.2, 0.4)}, constraints=[("R + Q", 0, 1)])
+
+
+TASKS = Path(__file__).resolve().parent.parent / "docs" / "tasks"
+
+
+def test_every_mechanism_has_an_example_task_file():
+    assert {read_problem(p).mechanism.name for p in TASKS.glob("*.toml")} == set(pkm.mechanisms())
+
+
+@pytest.mark.parametrize("path", sorted(TASKS.glob("*.toml")), ids=lambda p: p.stem)
+def test_an_example_task_file_gives_a_verified_optimum_at_least_as_good_as_its_baseline(path):
+    problem = read_problem(path)
+    result = pkm.synthesize(problem, progress=False, starts=1)
+    assert result.optimum.feasible
+    assert math.isfinite(result.verified_objective)
+    (baseline,) = result.baselines.values()
+    sign = 1.0 if result.sense == "max" else -1.0
+    assert sign * (result.verified_objective - baseline.best.verified_objective) >= -1e-9
