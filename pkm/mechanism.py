@@ -357,7 +357,7 @@ class Mechanism:
         is_global = isinstance(name, str) and name in {i.name for i in registry.global_indices()}
         spec = self.global_spec(name) if is_global else self.local_spec(name)
         return spec.unit.format(pose=_coordinate_unit(self.pose_units), actuator=_coordinate_unit(self.actuator_units),
-                                n=self.n_out)
+                                n=self.n_out, volume=_product_unit(self.pose_units))
 
     def local_indices(self) -> tuple[str, ...]:
         """Names of the local indices this mechanism can evaluate."""
@@ -476,6 +476,12 @@ class Mechanism:
     inverse_dynamics = _Delegate("pkm.dynamics")
     natural_frequencies = _Delegate("pkm.dynamics")
     simulate = _Delegate("pkm.dynamics")
+
+
+def _product_unit(units: tuple[str, ...]) -> str:
+    """The unit of a product of coordinates of these units: ``m^2``, ``m rad^2``."""
+    counts = {u: units.count(u) for u in dict.fromkeys(units)}
+    return " ".join(u if k == 1 else f"{u}^{k}" for u, k in counts.items())
 
 
 def _coordinate_unit(units: tuple[str, ...]) -> str:

@@ -384,7 +384,10 @@ def test_units_come_from_the_mechanism_the_gantrys_sliders_in_metres(capsys):
 def test_index_units_follow_the_mechanisms_coordinates(capsys):
     assert pkm.load("five_bar").index_unit("velocity_max") == "m/rad"
     assert pkm.load("slider_gantry").index_unit("gamma_max") == "m/m"
-    assert pkm.load("ups_pu").index_unit("region_measure") == "m^3"
+    assert pkm.load("ups_pu").index_unit("region_measure") == "m rad^2"
+    assert pkm.load("five_bar").index_unit("region_measure") == "m^2"
+    assert pkm.load("five_bar").index_unit("manipulability") == "(m/rad)^2"
+    assert pkm.load("five_bar").index_unit("jacobian_determinant") == "(rad/m)^2"
     assert main(["eval", "slider_gantry", "--pose", "0,0.5", "--json"]) == 0
     units = json.loads(capsys.readouterr().out)["units"]
     assert units["actuators"] == {"q1": "m", "q2": "m"}

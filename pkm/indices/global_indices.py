@@ -39,9 +39,10 @@ class GlobalIndex:
 
     @property
     def unit(self) -> str:
-        """The unit as a template: ``{pose}``, ``{actuator}`` and ``{n}`` (the pose's dimension) are the
-        mechanism's (:meth:`pkm.Mechanism.index_unit`)."""
-        unit = "{pose}^{n}" if self.reduce == "measure" else self.local.unit
+        """The unit as a template: ``{pose}``, ``{actuator}``, ``{n}`` (the pose's dimension) and ``{volume}``
+        (the product of the pose's units, a region's measure) are the mechanism's
+        (:meth:`pkm.Mechanism.index_unit`)."""
+        unit = "{volume}" if self.reduce == "measure" else self.local.unit
         return f"{unit} per {self.per}" if self.per is not None else unit
 
     def better(self, a: float, b: float) -> bool:

@@ -200,12 +200,12 @@ VELOCITY_MIN = LocalIndex(
 MANIPULABILITY = LocalIndex(
     "manipulability",
     "w = |det J_f| = sqrt(det(J_f J_f^T)): volume of the output velocities of unit actuator rates",
-    "-", 0.0, np.inf, 0.0, _manipulability, dimension=None,
+    "({pose}/{actuator})^{n}", 0.0, np.inf, 0.0, _manipulability, dimension=None,
 )
 JACOBIAN_DETERMINANT = LocalIndex(
     "jacobian_determinant",
     "|det J| = 1 / |det J_f|: volume of the actuator rates of unit output velocities",
-    "-", 0.0, np.inf, np.inf, lambda J, _J_f: ca.fabs(ca.det(J)), dimension=None,
+    "({actuator}/{pose})^{n}", 0.0, np.inf, np.inf, lambda J, _J_f: ca.fabs(ca.det(J)), dimension=None,
 )
 VELOCITY_RATIO = LocalIndex(
     "velocity_ratio",
