@@ -294,8 +294,9 @@ class Atlas:
             ax.yaxis.set_major_locator(MaxNLocator(6))
             ax.set_aspect("equal" if to_scale else "auto")
         sense = "larger" if self.index.sense == "max" else "smaller"
-        figures.colour_bar(fig, filled, limits, ax=list(axes), label=f"{self.index.name} ({sense} is better)",
-                           shrink=0.8)
+        unit = self.mechanism.index_unit(self.index.name)
+        figures.colour_bar(fig, filled, limits, ax=list(axes), shrink=0.8,
+                           label=f"{self.index.name}{'' if unit == '-' else f' [{unit}]'} ({sense} is better)")
         hatched = " Hatched: designs that fail the space's requirements." if excluded.any() else ""
         title = (f"{self.mechanism.name}: {self.index.name} atlas over the {space.name} design space. {space.note}."
                  f"{hatched}")
