@@ -573,7 +573,8 @@ def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None
         f"variables: {_named(o.variables)}",
         f"design: {_named(o.design)}",
         f"mode {result.mode}; regions: " + ", ".join(f"{q} over {r}" for q, r in result.regions.items()),
-        f"objective ({result.sense}) {o.objective:.6g} at resolution {result.resolutions['quadrature']}, "
+        f"objective ({result.sense}; {result.objective_unit}) {o.objective:.6g} at resolution "
+        f"{result.resolutions['quadrature']}, "
         f"verified {o.verified_objective:.6g} (4x quadrature; accuracy {result.accuracy:.1e}), "
         f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)",
     ]

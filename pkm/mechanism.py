@@ -350,12 +350,16 @@ class Mechanism:
             self.functions.require(spec.per, f"the global index {name}")
         return spec
 
-    def index_unit(self, name: str) -> str:
-        """The unit of a local or global index of this mechanism: its template filled with the unit of the
+    def index_unit(self, name: Any) -> str:
+        """The unit of a local or global index of this mechanism (by name, or the index itself): its template
+        filled with the unit of the
         pose coordinates and of the actuators (angles count as lengths where a mechanism's coordinates mix
         them: indices are taken in arc lengths, :mod:`pkm.regions.pipeline`)."""
-        is_global = isinstance(name, str) and name in {i.name for i in registry.global_indices()}
-        spec = self.global_spec(name) if is_global else self.local_spec(name)
+        if hasattr(name, "unit"):
+            spec = name
+        else:
+            is_global = isinstance(name, str) and name in {i.name for i in registry.global_indices()}
+            spec = self.global_spec(name) if is_global else self.local_spec(name)
         return spec.unit.format(pose=_coordinate_unit(self.pose_units), actuator=_coordinate_unit(self.actuator_units),
                                 n=self.n_out, volume=_product_unit(self.pose_units))
 

@@ -94,6 +94,7 @@ class SynthesisResult:
     settings: dict[str, float] = field(default_factory=dict)
     mode: str = ""
     regions: dict[str, str] = field(default_factory=dict)
+    objective_unit: str = ""
 
     @property
     def design(self) -> dict[str, float]:
@@ -156,6 +157,7 @@ class SynthesisResult:
             "settings": self.settings,
             "mode": self.mode,
             "regions": self.regions,
+            "objective_unit": self.objective_unit,
         }
 
 
@@ -247,8 +249,11 @@ def _settings(problem: Problem) -> str:
 
 
 def _where(problem: Problem) -> dict[str, Any]:
-    """The working mode and the region of each quantity a result of ``problem`` belongs to."""
-    return {"mode": problem.mechanism.working_mode(problem.mode).name,
+    """The working mode, the region of each quantity a result of ``problem`` belongs to and the objective's
+    unit (its quantity's where it is one quantity, else the objective's statement)."""
+    m, quantity = problem.mechanism, problem.objective.quantity
+    unit = m.index_unit(problem.quantities[quantity].index) if quantity is not None else problem.objective.doc
+    return {"mode": m.working_mode(problem.mode).name, "objective_unit": unit,
             "regions": {name: q.region.name for name, q in problem.quantities.items()}}
 
 
