@@ -23,7 +23,7 @@ from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex
 from pkm.regions import Box, Cylinder, Disc, Rectangle
-from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Terms, Variable
+from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
 
@@ -114,9 +114,12 @@ def _index(mech: Any, name: str, field: str) -> GlobalIndex:
                        f"got {name!r}")
 
 
-def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Terms], Any]:
-    """An expression of the design parameters (a frame size, a sum of lengths) as a function of the terms."""
+def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Mapping[str, Any]], Any]:
+    """An expression of the design parameters (a frame size, a sum of lengths) as a function of their values
+    by name (numbers, arrays or CasADi)."""
     names = set(mech.parameter_names())
+    if not isinstance(text, str):
+        raise _fail(field, f"an expression of the design parameters; got {text!r}")
     try:
         tree = ast.parse(text, mode="eval")
     except SyntaxError:
@@ -129,15 +132,16 @@ def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Terms],
                            f"{', '.join(FUNCTIONS)}; got {text!r}")
     code = compile(tree, field, "eval")
 
-    def value(terms: Terms) -> Any:
-        symbolic = any(isinstance(terms[n], ca.SX | ca.MX) for n in names)
-        functions = {k: getattr(ca if symbolic else np, k) for k in FUNCTIONS if k != "pi"}
-        return eval(code, {"__builtins__": {}}, {"pi": math.pi, **functions, **{n: terms[n] for n in names}})
+    def value(values: Mapping[str, Any]) -> Any:
+        symbolic = any(isinstance(values[n], ca.SX | ca.MX) for n in names)
+        functions = {k: getattr(ca, k) if symbolic else getattr(np, NUMPY.get(k, k)) for k in FUNCTIONS if k != "pi"}
+        return eval(code, {"__builtins__": {}}, {"pi": math.pi, **functions, **{n: values[n] for n in names}})
 
     return value
 
 
-FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
+FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt", "asin", "acos", "atan")
+NUMPY = {"asin": "arcsin", "acos": "arccos", "atan": "arctan"}
 
 
 def _objective(mech: Any, raw: str | Mapping[str, float], region: Any, quantities: dict[str, Quantity]
@@ -177,6 +181,7 @@ def design_problem(
     fixed: Mapping[str, float] | None = None,
     objective: str | Mapping[str, float] = "gci",
     constraints: Sequence[tuple[str, float, float]] = (("workspace_margin_min", 0.0, math.inf),),
+    derived: Mapping[str, str] | None = None,
     mode: str | None = None,
     name: str | None = None,
     doc: str | None = None,
@@ -190,7 +195,8 @@ def design_problem(
     weight} (maximised, each index negated where smaller is better); ``constraints`` (what, lower, upper):
     a global index over the task, a local index's least or largest value over it (``inverse_condition_f_min``:
     a singularity margin), or an expression of the design parameters (a frame size, ``2 * (d1 + d2)``); by
-    default the task inside the workspace (the least workspace margin over it at least 0); the baseline
+    default the task inside the workspace (the least workspace margin over it at least 0); ``derived``
+    parameters set by expressions of the others, in order (a stroke that follows a link length); the baseline
     ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves).
@@ -209,10 +215,17 @@ def design_problem(
     base = {**dict(mech.design()), **held}
     order = [v.name for v in chosen]
     mode = mech.working_mode(mode).name
+    rules = {}
+    for target, text in (derived or {}).items():
+        if target not in base or target in order or target in held:
+            raise _fail(f"derived.{target}", "a design parameter that is neither a variable nor fixed")
+        rules[target] = _parameter_expression(mech, text, f"derived.{target}")
 
     def design(values: Sequence[Any]) -> Any:
-        given = dict(zip(order, values, strict=True))
-        return stack_design([given.get(n, base[n]) for n in mech.parameter_names()])
+        given = {**base, **dict(zip(order, values, strict=True))}
+        for target, rule in rules.items():
+            given[target] = rule(given)
+        return stack_design([given[n] for n in mech.parameter_names()])
 
     quantities: dict[str, Quantity] = {}
     goal = _objective(mech, objective, region, quantities)
@@ -231,8 +244,10 @@ def design_problem(
             stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
                                      lambda t, what=what: t[what], lower, upper))
         else:
+            rule = _parameter_expression(mech, what, f"constraints[{k}]")
             stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
-                                     _parameter_expression(mech, what, f"constraints[{k}]"), lower, upper))
+                                     lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
+                                     lower, upper))
     sense = "maximise" if goal.sense == "max" else "minimise"
     named = objective if isinstance(objective, str) else "weighted"
     problem = Problem(
@@ -260,8 +275,8 @@ def design_problem(
     return replace(problem, baselines=(found,))
 
 
-PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "objective", "constraints", "mode",
-                  "baseline", "resolution"}
+PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "derived", "objective", "constraints",
+                  "mode", "baseline", "resolution"}
 
 
 def read_problem(path: str | os.PathLike) -> Problem:
@@ -306,7 +321,7 @@ def read_problem(path: str | os.PathLike) -> Problem:
     if isinstance(resolution, bool) or not isinstance(resolution, int) or not 2 <= resolution <= 64:
         raise _fail("resolution", f"an integer from 2 to 64; got {resolution!r}")
     return design_problem(
-        mechanism, task=raw["task"], variables=raw["variables"], fixed=raw.get("fixed"),
+        mechanism, task=raw["task"], variables=raw["variables"], fixed=raw.get("fixed"), derived=raw.get("derived"),
         objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
         name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), size),
         resolution=resolution,
