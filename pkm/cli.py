@@ -68,7 +68,7 @@ def _poses(text: list[str] | None, n: int) -> np.ndarray:
     if not text:
         raise PkmError(f"--pose is required (comma-separated, {n} values)")
     try:
-        poses = [[float(v) for v in item.split(",")] for item in text]
+        poses = [[float(v) for v in str(item).split(",")] for item in text]
     except ValueError:
         raise PkmError(f"--pose values must be numbers; got {text}") from None
     if any(len(p) != n for p in poses):

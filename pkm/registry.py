@@ -72,25 +72,6 @@ def reference(mech: Any) -> str | None:
     return None
 
 
-def resolve(text: str) -> Any:
-    """The mechanism a :func:`reference` names: a described machine derived (once) into this process's
-    cache, or the registered one."""
-    if text.startswith(DESCRIBED):
-        from pkm import spec
-
-        return spec.load(spec.Description(json.loads(text[len(DESCRIBED) :])))
-    return mechanism(text)
-
-
-def resolve_name(name: str) -> Any:
-    """The mechanism of a name: a description file (``.toml``) derived on first use, or a registered one."""
-    if name.endswith(".toml"):
-        from pkm import spec
-
-        return spec.load(name)
-    return mechanism(name)
-
-
 def label(text: str) -> str:
     """A reference's mechanism name, for messages."""
     return json.loads(text[len(DESCRIBED) :])["name"] if text.startswith(DESCRIBED) else text

@@ -69,7 +69,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import io
+from pkm import io, registry
 from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Parameter
@@ -815,6 +815,19 @@ def load(source: Mapping[str, Any] | Description | str | os.PathLike) -> Mechani
     first use and checked (:func:`check_mobility`)."""
     description = read(source) if isinstance(source, str | os.PathLike) else describe(source)
     return _instance(description)
+
+
+def resolve(text: str) -> Mechanism:
+    """The mechanism a :func:`pkm.registry.reference` names: a described machine derived (once) into this
+    process's cache, or the registered one."""
+    if text.startswith(registry.DESCRIBED):
+        return load(Description(json.loads(text[len(registry.DESCRIBED) :])))
+    return registry.mechanism(text)
+
+
+def resolve_name(name: str) -> Mechanism:
+    """The mechanism of a name: a description file (``.toml``) derived on first use, or a registered one."""
+    return load(name) if name.endswith(SUFFIX) else registry.mechanism(name)
 
 
 def check_mobility(mech: Mechanism) -> None:

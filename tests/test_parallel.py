@@ -246,5 +246,9 @@ def test_a_process_pool_carries_a_machine_described_by_the_user_and_gives_the_se
         return compute_atlas(mech, registry.global_index("gci"), space=space, region="task", resolution=4,
                              pose_resolution=3, executor=executor, chunk=5)
 
+    from pkm.catalogue import warm
+
+    warm([mech])  # compiled before either run: a first evaluation would run on the interpreter while it compiles
+    serial = atlas("serial")
     with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
-        _same(atlas("serial"), atlas(pool))
+        _same(serial, atlas(pool))

@@ -18,7 +18,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import registry
+from pkm import registry, spec
 from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex
@@ -201,7 +201,7 @@ def design_problem(
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves).
     """
-    mech = registry.resolve_name(mechanism) if isinstance(mechanism, str) else mechanism
+    mech = spec.resolve_name(mechanism) if isinstance(mechanism, str) else mechanism
     region = mech.region(task) if isinstance(task, str) else task_region(mech, task) if isinstance(task, Mapping) \
         else task
     task_name = task if isinstance(task, str) else region.name
