@@ -172,7 +172,7 @@ def make_design(
     given = {} if values is None else dict(values)
     extra = sorted((k for k in given if k not in names), key=repr)
     if extra:
-        shown = ", ".join(k if isinstance(k, str) else repr(k) for k in extra)
+        shown = ", ".join(k if isinstance(k, str) and k.isidentifier() else repr(k) for k in extra)
         raise DesignError(f"unknown design parameter(s) {shown}; expected {', '.join(names)}")
     missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:

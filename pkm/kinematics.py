@@ -428,10 +428,23 @@ def _embedded(q: np.ndarray, periodic: np.ndarray) -> np.ndarray:
     return np.hstack([q[:, ~periodic], np.cos(q[:, periodic]), np.sin(q[:, periodic])])
 
 
+_EMBEDDED: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _embedded_table(q0: np.ndarray, periodic: np.ndarray) -> np.ndarray:
+    """:func:`_embedded` of a seed table, kept while the table lives (a table is computed once per design)."""
+    kept = _EMBEDDED.get(id(q0))
+    if kept is None or kept[0] is not q0:
+        if len(_EMBEDDED) >= 64:
+            _EMBEDDED.pop(next(iter(_EMBEDDED)))
+        kept = _EMBEDDED[id(q0)] = (q0, _embedded(q0, periodic))
+    return kept[1]
+
+
 def _nearest(q_a: np.ndarray, q0: np.ndarray, periodic: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` seeds nearest each row of q_a (indices (N, count), nearest first), and the gaps q_a - q0
     (N, count, n_act) to them, angles (``periodic``) wrapped into [-pi, pi)."""
-    a, b = _embedded(q_a, periodic), _embedded(q0, periodic)
+    a, b = _embedded(q_a, periodic), _embedded_table(q0, periodic)
     order = []
     chunk = max(1, SEED_CHUNK // max(1, len(q0)))
     for start in range(0, len(q_a), chunk):

@@ -713,7 +713,7 @@ def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
                  for c in combos)
 
 
-RANKS = {"planar_point": 1, "planar": 3, "spatial_point": 1, "spatial": 8}  # solutions of one signature told
+RANKS = {"planar_point": 1, "planar": 2, "spatial_point": 1, "spatial": 8}  # solutions of one signature told
 # apart by rank, by the pose (a planar 3-DOF machine has up to 6 assemblies, a 6-DOF one up to 40)
 
 
