@@ -237,8 +237,8 @@ def test_a_process_pool_carries_a_machine_described_by_the_user_and_gives_the_se
     from pkm.design_space import parameter_plane
     from pkm.models.described import DESCRIPTIONS
 
-    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
-    mech = pkm.load({**raw, "name": "my_delta"})
+    mech = pkm.load(tomllib.loads(DESCRIPTIONS["delta"].read_text()))
+    assert mech is not registry.mechanism("delta")
     assert registry.reference(mech).startswith(registry.DESCRIBED)
     space = parameter_plane(mech.parameters, [("L_a", 0.2, 0.3), ("L_b", 0.5, 0.7)])
 
