@@ -16,7 +16,7 @@ assembly, or lie within round-off of a forward singularity, where a root is accu
 the rounding only); where the forward kinematics is a polynomial's real roots, numpy solves it by
 ``numpy.roots`` one configuration at a time, on at most ROOTS_N configurations; a machine described as data
 (rrr3, delta, stewart) solves it by Newton's method from its seed table, pkm for every assembly mode at once
-(:class:`pkm.kinematics.NearestSeeds`), numpy from the nearest seed of the one assembly mode
+(:class:`pkm.kinematics.NearestSeeds`), numpy from pkm's seeds of the one assembly mode's signature
 (bench/numpy_models.py), also on at most ROOTS_N configurations.
 
 Before any timing each pkm result is checked against numpy: per pose, max |pkm - numpy| / max(1, max |numpy|)
@@ -140,15 +140,16 @@ def forward_case(m: pkm.Mechanism, mode: str, X: np.ndarray) -> Case:
     if m.name in SEEDED:
         *signature, rank = signs
         if rank != 1:
-            raise ValueError(f"{m.name}: numpy's forward kinematics finds one solution of a signature, not the "
-                             f"{rank:g}th of {assembly}")
+            raise ValueError(f"{m.name}: numpy's forward kinematics gives the first solution of a signature, not "
+                             f"solution {rank:g} of {assembly}")
         table = m.forward.seeds.table(m.functions, design.vector())
         seeds = table[tuple(signature)]
-        note += (f"; numpy: the solutions of the assembly's signature from pkm's {m.forward.tries} seeds among the "
-                 f"{len(seeds[0])} of its seed table, each continued to the joints by Newton's method on the legs' "
-                 "closures in the pose (vectorised; 8 steps of 4 iterations, polished), the first by the last "
-                 f"pose coordinate; pkm: the same in (passive joints, pose) for each of the {len(table)} "
-                 "signatures, every assembly mode at once (its kept solutions cleared before each call)")
+        note += (f"; numpy: from pkm's {m.forward.tries} seeds of the assembly's signature (among the {len(seeds[0])} "
+                 "of its seed table), Newton's method on the legs' loops in (passive joints, pose) as the "
+                 "description states them, continued to the joints in 8 steps of 4 iterations and polished "
+                 "(vectorised over configurations and seeds), the first solution of the signature by the last pose "
+                 f"coordinate; pkm: the same for every signature of its seed table ({len(table)}), every assembly "
+                 "mode at once (its kept solutions cleared before each call)")
         return Case(m.name, "forward_kinematics", len(q), solve, lambda: model.forward_kinematics(q, d, seeds), note)
     if per_pose:
         note += ("; numpy: numpy.roots per configuration (a Python loop) on the polynomial's vectorised "
@@ -214,7 +215,8 @@ def check(cases: list[Case]) -> list[dict[str, Any]]:
             for c in cases]
 
 
-def _best(fn: Callable[[], Any], repeats: int) -> float:
+def best_of(fn: Callable[[], Any], repeats: int) -> float:
+    """The least wall time [s] of ``repeats`` calls of ``fn``."""
     best = np.inf
     for _ in range(repeats):
         start = time.perf_counter()
@@ -231,12 +233,12 @@ def measure(cases: list[Case], repeats: int, log: Callable[[str], None]) -> list
         for c in cases:
             what = f"{c.mechanism} {c.method}"
             reference = c.numpy()
-            numpy_seconds = _best(c.numpy, repeats)
+            numpy_seconds = best_of(c.numpy, repeats)
             for threads in THREADS:
                 set_threads(threads)
                 err = discrepancy(c.pkm(), reference, f"{what} on {threads} thread(s)")
                 c.pkm()
-                seconds = _best(c.pkm, repeats)
+                seconds = best_of(c.pkm, repeats)
                 rows.append({"mechanism": c.mechanism, "method": c.method, "threads": threads, "n": c.n,
                              "seconds": seconds, "per_second": c.n / seconds, "numpy_seconds": numpy_seconds,
                              "ratio_vs_numpy": numpy_seconds / seconds, "max_discrepancy": err, "note": c.note})

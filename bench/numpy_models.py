@@ -14,11 +14,13 @@ are vectorised, its roots come from ``numpy.roots`` one pose at a time (:data:`R
 honest hand-written way, and assembly k is the k-th real root in ascending order, as pkm defines it.
 
 The machines described as data (pkm/models/described: rrr3, delta, stewart) take their inverse kinematics,
-J and legs' closures from tests/oracles.py (independent of pkm, checked against robsynth); their forward
-kinematics (:data:`SEEDED`) is Newton's method on the legs' closures h(x, q) = 0 in the pose, vectorised over
-the configurations, from pkm's own seed: the configuration of pkm's seed table (of the assembly's
-signature) nearest the actuated joints, continued to them as :class:`pkm.kinematics.NearestSeeds` continues
-one try (:func:`continued_newton`).
+J and legs' closures from tests/oracles.py (independent of pkm, checked against robsynth), and the Delta's
+dynamics is written here from its bodies. Their forward kinematics (:data:`SEEDED`, :class:`Seeded`) starts
+from pkm's own seeds: the tries :class:`pkm.kinematics.NearestSeeds` picks in pkm's seed table of the
+assembly's signature; each is continued to the actuated joints by Newton's method on the legs' loops
+h(z, q) = 0 in z = (passive joints, pose) as the description states them (:func:`continued_newton`),
+vectorised over the configurations and the tries, and the solutions of the signature are ordered by the
+last pose coordinate, as pkm ranks them.
 """
 
 from __future__ import annotations
@@ -32,15 +34,16 @@ from bench.gantry import numpy_inverse_dynamics
 from bench.passive_leg import numpy_ik_jacobian_index, numpy_real_roots
 from bench.throughput import numpy_index
 from bench.ups_pu import numpy_ik_jacobian_statics
-from pkm.kinematics import CANDIDATES, NearestSeeds, _nearest, _spread
+from pkm.kinematics import CANDIDATES, ROOT_TOLERANCE, NearestSeeds, _nearest, _spread
 from tests.oracles import (
     DELTA_ARM_ANGLES,
     delta_closure,
     delta_ik,
     delta_jacobian,
-    rrr3_closure,
+    rrr3_elbows,
     rrr3_ik,
     rrr3_jacobian,
+    rrr3_points,
     sgp_closure,
     sgp_ik,
     sgp_jacobian,
@@ -48,7 +51,7 @@ from tests.oracles import (
 
 Design = Mapping[str, float]
 Signs = tuple[float, ...]
-Closure = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+Loop = Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
 
 
 def circle_intersection(a1: np.ndarray, a2: np.ndarray, radius: float, sigma: float) -> np.ndarray:
@@ -83,86 +86,87 @@ def inverse_condition_f(J: np.ndarray) -> np.ndarray:
 
 
 STEPS, ITERATIONS, POLISH, STALL = 8, 4, 60, 1e-15  # pkm.kinematics.NearestSeeds's continuation of one try
-CLOSED = 1e-10  # largest |h| of a solution (squared lengths, m^2)
 REPEAT = 1e-7  # two solutions closer than this (relative) are one, as pkm.kinematics.REPEAT_TOLERANCE
 
 
-def newton_step(closure: Closure, x: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """x - (dh/dx)^-1 h(x, q), row by row."""
-    h, H_x, _ = closure(x, q)
-    return x - np.linalg.solve(H_x, h[..., None])[..., 0]
+def newton_step(loop: Loop, z: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """z - (dh/dz)^-1 h(z, q), row by row."""
+    h, H = loop(z, q)
+    return z - np.linalg.solve(H, h[..., None])[..., 0]
 
 
-def continued_newton(closure: Closure, q0: np.ndarray, gap: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """The poses (N, n) closing ``closure`` at the joints q0 + gap, from the poses x at q0: the joints moved
-    in STEPS equal steps, each solved by ITERATIONS Newton steps, then up to POLISH more until no row moves
-    (relative STALL); NaN where |h| stays above CLOSED."""
-    x = x.copy()
+def continued_newton(loop: Loop, q0: np.ndarray, gap: np.ndarray, z: np.ndarray, tolerance: float) -> np.ndarray:
+    """The solutions z (N, n_z) of the loop h(z, q) = 0 at the actuated joints q0 + gap, from z at q0: the joints
+    moved in STEPS equal steps, each solved by ITERATIONS Newton steps, then up to POLISH more until no row
+    moves (relative STALL); NaN where some |h| stays above ``tolerance``."""
+    z = z.copy()
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         for k in range(1, STEPS):
             for _ in range(ITERATIONS):
-                x = newton_step(closure, x, q0 + (k / STEPS) * gap)
-        q, active = q0 + gap, np.arange(len(x))
+                z = newton_step(loop, z, q0 + (k / STEPS) * gap)
+        q, active = q0 + gap, np.arange(len(z))
         for _ in range(POLISH):
-            moved = newton_step(closure, x[active], q[active])
-            change = np.abs(moved - x[active])
-            x[active] = moved
+            moved = newton_step(loop, z[active], q[active])
+            change = np.abs(moved - z[active])
+            z[active] = moved
             active = active[np.any(change > STALL * (1.0 + np.abs(moved)), axis=1)]
             if not len(active):
                 break
-        closed = np.all(np.abs(closure(x, q)[0]) <= CLOSED, axis=1)
-    return np.where(closed[:, None], x, np.nan)
+        closed = np.all(np.abs(loop(z, q)[0]) <= tolerance, axis=1)
+    return np.where(closed[:, None], z, np.nan)
+
+
+def wrap(angles: np.ndarray) -> np.ndarray:
+    """Angles wrapped into [-pi, pi), as pkm gives them."""
+    return np.mod(angles + np.pi, 2 * np.pi) - np.pi
 
 
 class Seeded:
-    """A described machine's forward kinematics in numpy (module docstring) from the legs' closures of
-    tests/oracles.py: ``periodic`` whether its actuated joints are angles, ``angles`` its angular pose
-    coordinates (wrapped into [-pi, pi) as pkm gives them), ``sides`` whether the elbow sides of its legs
-    (the signs of dh_i/dq_i) belong to the signature of an assembly mode, as for pkm's RR legs."""
+    """A described machine's forward kinematics in numpy (module docstring): its loop h(z, q) = 0 in z =
+    (passive joints, pose), as pkm's description states it (symbolic/describe.py), ``n_out`` pose
+    coordinates, ``periodic`` whether the actuated joints are angles, ``angles`` the angles of z (wrapped into
+    [-pi, pi) as pkm gives them)."""
 
     n_out: int = 3
     periodic: bool = True
     angles: tuple[int, ...] = ()
-    sides: bool = False
 
     @staticmethod
-    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def loop(z: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray]:
+        """h (N, n_z) and dh/dz (N, n_z, n_z)."""
         raise NotImplementedError
 
     @classmethod
-    def signature(cls, x: np.ndarray, q: np.ndarray, d: Design) -> np.ndarray:
-        """The signs (N, k) that tell assembly modes apart: sign det(dh/dx) (pkm's det [H_p H_x] up to a
-        constant sign) and, with ``sides``, the signs of dh_i/dq_i."""
-        _, H_x, H_q = cls.closure(x, q, d)
-        det = np.sign(np.linalg.det(H_x))[:, None]
-        return np.hstack([np.sign(H_q), det]) if cls.sides else det
+    def signature(cls, z: np.ndarray, q: np.ndarray, d: Design) -> np.ndarray:
+        """The signs (N, k) that tell the assembly modes apart (pkm.spec.Seeds.signature): here sign det dh/dz."""
+        return np.sign(np.linalg.det(cls.loop(z, q, d)[1]))[:, None]
 
     @classmethod
     def forward_kinematics(cls, q: np.ndarray, d: Design, seeds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
-        """Poses (N, n) at actuated joints q (N, n_act): the first by the last pose coordinate of the
-        solutions of one signature, from pkm's tries among ``seeds``, the actuated joints (M, n_act) and z =
-        (passive joints, pose) (M, n_z) of pkm's seed table of the signature (pkm.kinematics.NearestSeeds:
-        the same seeds, each continued by :func:`continued_newton`, kept where it closes with the seed's
-        signature, repeats dropped)."""
+        """Poses (N, n) at the actuated joints q (N, n_act): the first by the last pose coordinate of the
+        solutions of one signature from pkm's tries among ``seeds``, the actuated joints (M, n_act) and z (M,
+        n_z) of pkm's seed table of the signature, as :class:`pkm.kinematics.NearestSeeds` chooses them; each
+        try continued by :func:`continued_newton`, kept where it closes (pkm's ROOT_TOLERANCE) with the
+        signature of its seed, repeats dropped."""
         q0, z0 = seeds
         tries = min(NearestSeeds.tries, len(q0))
         order, gap = _nearest(q, q0, np.full(q.shape[1], cls.periodic), min(CANDIDATES * tries, len(q0)))
         order, gap = _spread(z0, order, gap, tries)
-        start, x0 = q0[order].reshape(-1, q.shape[1]), z0[order, -cls.n_out :].reshape(-1, cls.n_out)
-        gap = gap.reshape(start.shape)
-        x = continued_newton(lambda x, q: cls.closure(x, q, d), start, gap, x0)
+        start, gap = q0[order].reshape(-1, q.shape[1]), gap.reshape(-1, q.shape[1])
+        first = z0[order].reshape(-1, z0.shape[1])
+        tolerance = ROOT_TOLERANCE * max(1.0, *map(abs, d.values()))
+        z = continued_newton(lambda z, q: cls.loop(z, q, d), start, gap, first, tolerance)
         with np.errstate(invalid="ignore"):
-            same = np.all(cls.signature(x, start + gap, d) == cls.signature(x0, start, d), axis=1)
-        x = np.where(same[:, None], x, np.nan).reshape(len(q), tries, cls.n_out)
-        x[..., cls.angles] = np.mod(x[..., cls.angles] + np.pi, 2 * np.pi) - np.pi
-        between = np.abs(x[:, :, None, :] - x[:, None, :, :])
+            same = np.all(cls.signature(z, start + gap, d) == cls.signature(first, start, d), axis=1)
+        z = np.where(same[:, None], z, np.nan).reshape(len(q), tries, -1)
+        z[..., cls.angles] = wrap(z[..., cls.angles])
+        between = np.abs(z[:, :, None, :] - z[:, None, :, :])
         between[..., cls.angles] = np.minimum(between[..., cls.angles], 2 * np.pi - between[..., cls.angles])
         with np.errstate(invalid="ignore"):
-            repeats = np.any(np.tril(np.all(between <= REPEAT * (1.0 + np.abs(x[:, None])), axis=3), k=-1), axis=2)
-        last = np.where(np.isnan(x[..., -1]) | repeats, np.inf, x[..., -1])
-        first = np.argmin(last, axis=1)
-        rows = np.arange(len(q))
-        return np.where(np.isinf(last[rows, first])[:, None], np.nan, x[rows, first])
+            repeats = np.any(np.tril(np.all(between <= REPEAT * (1.0 + np.abs(z[:, None])), axis=3), k=-1), axis=2)
+        last = np.where(np.isnan(z[..., -1]) | repeats, np.inf, z[..., -1])
+        pick, rows = np.argmin(last, axis=1), np.arange(len(q))
+        return np.where(np.isinf(last[rows, pick])[:, None], np.nan, z[rows, pick, -cls.n_out :])
 
 
 def kth_real_root(c: np.ndarray, k: int, scale: float = 1.0) -> np.ndarray:
@@ -498,8 +502,7 @@ class Rrr3(Seeded):
     elbow signs; the characteristic length is r_p."""
 
     dynamic_index = None
-    angles = (2,)
-    sides = True
+    angles = (0, 1, 2, 5)  # the distal links' angles and phi
 
     @staticmethod
     def inverse_kinematics(X: np.ndarray, d: Design, signs: Signs) -> np.ndarray:
@@ -515,8 +518,23 @@ class Rrr3(Seeded):
         return inverse_condition_f(rrr3_jacobian(X, d, signs) / np.array([1.0, 1.0, d["r_p"]]))
 
     @staticmethod
-    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return rrr3_closure(x, d, q)
+    def loop(z: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray]:
+        """B_i + l2 e(phi_i) - C_i = 0 (two rows per leg) in z = (phi_1, phi_2, phi_3, x, y, phi), phi_i the
+        distal links' angles: d/dphi_i = l2 e'(phi_i), d/d(x, y) = -I, d/dphi = -r_p e'(phi + a_i)."""
+        n, phi, x = len(z), z[:, :3], z[:, 3:]
+        _, C, rho = rrr3_points(x, d)
+        h = rrr3_elbows(x, d, q) + d["l2"] * np.stack([np.cos(phi), np.sin(phi)], axis=-1) - C
+        H = np.zeros((n, 3, 2, 6))
+        legs = np.arange(3)
+        H[:, legs, :, legs] = d["l2"] * np.stack([-np.sin(phi), np.cos(phi)], axis=-1).transpose(1, 0, 2)
+        H[:, :, 0, 3] = H[:, :, 1, 4] = -1.0
+        H[:, :, :, 5] = np.stack([rho[..., 1], -rho[..., 0]], axis=-1)
+        return h.reshape(n, 6), H.reshape(n, 6, 6)
+
+    @classmethod
+    def signature(cls, z: np.ndarray, q: np.ndarray, d: Design) -> np.ndarray:
+        """The elbow sides sin(phi_i - theta_i) and sign det dh/dz (pkm.spec.Seeds.signature)."""
+        return np.hstack([np.sign(np.sin(z[:, :3] - q)), super().signature(z, q, d)])
 
 
 class Delta(Seeded):
@@ -588,8 +606,9 @@ class Delta(Seeded):
         return inverse_condition_f(delta_jacobian(X, d, -np.asarray(signs)))
 
     @staticmethod
-    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return delta_closure(x, d, q)
+    def loop(z: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray]:
+        """The arms' closures |P_i - E_i|^2 - L_b^2 (z the pose: no passive joints)."""
+        return delta_closure(z, d, q)[:2]
 
 
 class Stewart(Seeded):
@@ -618,8 +637,9 @@ class Stewart(Seeded):
         return inverse_condition_f(sgp_jacobian(X, d) / np.array([1.0, 1.0, 1.0, *3 * [d["r_p"]]]))
 
     @staticmethod
-    def closure(x: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return sgp_closure(x, d, q)
+    def loop(z: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray]:
+        """The legs' closures |s_k|^2 - l_k^2 (z the pose: no passive joints)."""
+        return sgp_closure(z, d, q)[:2]
 
 
 MODELS: dict[str, type] = {

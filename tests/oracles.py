@@ -11,8 +11,8 @@ Conventions shared by all three:
   velocity) to the actuator rates: ``q_dot = J x_dot``. It is formed in closed form from each leg's closure
   ``h_i(x, q_i) = 0``: ``J_i = -(dh_i/dq_i)^-1 dh_i/dx``, never by finite differences.
 - ``*_closure(pose, design, q)`` gives each leg's closure h_i, dh/dx and dh_i/dq_i at any actuated joints q:
-  the Jacobians above, and Newton's method on h(x) = 0 at given q (bench/numpy_models.py's forward
-  kinematics).
+  the Jacobians above and, for the Delta and the 6-UPS, the loops of bench/numpy_models.py's forward
+  kinematics by Newton's method (the 3-RRR's there is in its distal angles too, as pkm states it).
 - A pose out of reach gives NaN in the legs that cannot close (``arccos`` of a number beyond +-1).
 
 3-RRR (pose ``(x, y, phi)``, design ``R_b, r_p, l1, l2``). Leg i = 0, 1, 2 at ``a_i = pi/2 + 2 pi i / 3``:
@@ -85,6 +85,7 @@ __all__ = [
     "rrr3_ik",
     "rrr3_jacobian",
     "rrr3_leg_angles",
+    "rrr3_points",
     "sgp_angular_rate_map",
     "sgp_attachment_angles",
     "sgp_closure",
@@ -127,8 +128,9 @@ def rrr3_leg_angles() -> np.ndarray:
     return RRR3_LEG_ANGLES.copy()
 
 
-def _rrr3_points(x: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Base joints A (3, 2), platform joints C (N, 3, 2) and platform vectors rho = C - (x, y) (N, 3, 2)."""
+def rrr3_points(x: np.ndarray, design: Design) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Base joints A (3, 2), platform joints C (N, 3, 2) and platform vectors rho = C - (x, y) (N, 3, 2) at
+    the poses x (N, 3)."""
     a = RRR3_LEG_ANGLES
     A = design["R_b"] * np.stack([np.cos(a), np.sin(a)], axis=-1)
     t = x[:, 2:3] + a
@@ -141,7 +143,7 @@ def rrr3_ik(pose: np.ndarray | Sequence[float], design: Design, signs: Signs) ->
     signs ``signs`` (+1 or -1, one per leg or one for all); NaN where a leg cannot close."""
     x, single = _batch(pose, 3)
     s = _signs(signs, 3)
-    A, C, _ = _rrr3_points(x, design)
+    A, C, _ = rrr3_points(x, design)
     d = C - A
     dist = np.hypot(d[..., 0], d[..., 1])
     l1, l2 = design["l1"], design["l2"]
@@ -154,7 +156,7 @@ def rrr3_elbows(pose: np.ndarray | Sequence[float], design: Design, theta: np.nd
     """Elbows B_i = A_i + l1 e(theta_i), (3, 2) or (N, 3, 2), for the actuated angles ``theta``."""
     single = np.ndim(pose) == 1
     th = np.atleast_2d(theta)
-    A, _, _ = _rrr3_points(_batch(pose, 3)[0], design)
+    A, _, _ = rrr3_points(_batch(pose, 3)[0], design)
     return _out(A + design["l1"] * np.stack([np.cos(th), np.sin(th)], axis=-1), single)
 
 
@@ -165,7 +167,7 @@ def rrr3_closure(
     dh/dx (3, 3) or (N, 3, 3) and dh_i/dtheta_i (3,) or (N, 3) (module docstring)."""
     x, single = _batch(pose, 3)
     th = np.atleast_2d(theta)
-    _, C, rho = _rrr3_points(x, design)
+    _, C, rho = rrr3_points(x, design)
     w = C - rrr3_elbows(x, design, th)
     wx, wy = w[..., 0], w[..., 1]
     h = wx * wx + wy * wy - design["l2"] ** 2
