@@ -111,12 +111,14 @@ def parse_design(text: str, what: str = "design", entry: str = "design parameter
         name, sep, value = item.partition("=")
         if not sep:
             raise error(f"{what} item {item!r} is not of the form name=value")
-        if name.strip() in out:
-            raise error(f"{entry} {name.strip()} is given twice")
+        name = name.strip()
+        shown = name if name.isidentifier() else repr(name)
+        if name in out:
+            raise error(f"{entry} {shown} is given twice")
         try:
-            out[name.strip()] = float(value)
+            out[name] = float(value)
         except ValueError:
-            raise error(f"{entry} {name.strip()} = {value!r} is not a number") from None
+            raise error(f"{entry} {shown} = {value!r} is not a number") from None
     return out
 
 

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from pkm import figures, registry
+from pkm.atlas import default_modes
 from pkm.cli import main
 
 
@@ -50,10 +51,12 @@ def _chart(name: str) -> list[str]:
 def test_the_atlas_and_sweep_figures_of_every_mechanism_can_be_read(name, drawn, tmp_path):
     mech = registry.mechanism(name)
     grid = [*_chart(name), "--resolution", "4", "--pose-resolution", "4", "--executor", "serial",
-            "--modes", ",".join(mech.modes[:2]), "--out", str(tmp_path)]
-    assert main(["atlas", name, "gci", "--region", "reachable", *grid]) == 0
+            "--out", str(tmp_path)]
+    region = mech.region_names()[-1]
+    assert main(["atlas", name, "gci", "--region", "reachable", "--modes", ",".join(mech.modes[:2]), *grid]) == 0
     swept = "gamma_max" if "gamma_max" in mech.global_indices() else "manipulability"
-    assert main(["sweep", name, "--indices", swept, "--region", mech.region_names()[-1], *grid]) == 0
+    modes = ",".join(default_modes(mech, region)[:2])
+    assert main(["sweep", name, "--indices", swept, "--region", region, "--modes", modes, *grid]) == 0
     assert len(drawn) == 2
     assert {name: problems for name, problems in drawn.items() if problems} == {}
 
