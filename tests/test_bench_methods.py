@@ -9,7 +9,7 @@ import pytest
 import pkm
 from bench import methods
 
-POSES = 2000
+POSES = 600
 
 
 @pytest.fixture(scope="module")
