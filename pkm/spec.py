@@ -572,7 +572,16 @@ class Seeds:
     def box(self, functions: FunctionTable, design: np.ndarray) -> np.ndarray:
         """The box of the poses where some branch of the legs assembles, estimated from random poses about
         the home pose (in boxes of BOX_SCALES sizes, halving, so that a small workspace is found in a large
-        box), grown by BOX_MARGIN of its width on each side."""
+        box), grown by BOX_MARGIN of its width on each side; kept for the last SEEDS_KEPT designs."""
+        design = np.asarray(design, dtype=float)
+        key = (id(functions), design.tobytes())
+        if key not in _BOXES:
+            if len(_BOXES) >= SEEDS_KEPT:
+                _BOXES.pop(next(iter(_BOXES)))
+            _BOXES[key] = (functions, self._box(functions, design))
+        return _BOXES[key][1].copy()
+
+    def _box(self, functions: FunctionTable, design: np.ndarray) -> np.ndarray:
         units = self.data["pose"]["units"]
         (home,) = evaluate(functions["home"], design)
         lengths = [abs(v) for p, v in zip(self.data["parameters"], design, strict=True) if p["unit"] == "m"]
@@ -612,6 +621,7 @@ class Seeds:
 
 
 _SEED_TABLES: dict[tuple, tuple[FunctionTable, dict[tuple[float, ...], tuple[np.ndarray, ...]]]] = {}
+_BOXES: dict[tuple, tuple[FunctionTable, np.ndarray]] = {}
 
 
 def composed_inertia(mass_matrix: ca.Function, first_order: ca.Function) -> ca.Function:
