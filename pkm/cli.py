@@ -60,6 +60,11 @@ def _design(mech: Mechanism, text: str | None, units: Units | None = None) -> De
     return mech.design(values, partial=True)
 
 
+def _modes(m: Mechanism, text: str | None) -> list[str] | None:
+    """Working modes from ``a,b`` (names or aliases), or None for all."""
+    return [m.working_mode(mode).name for mode in text.split(",")] if text else None
+
+
 def _units(args: argparse.Namespace) -> Units:
     return Units.parse(getattr(args, "units", None))
 
@@ -332,7 +337,7 @@ def cmd_show(args: argparse.Namespace) -> None:
 
     m = load_mechanism(args.mechanism)
     d = _design(m, args.design, _units(args))
-    modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
+    modes = _modes(m, args.mode)
     axes = tuple(args.plane.split(",")) if args.plane else None
     held = parse_design(args.held, "held coordinates", "pose coordinate", PkmError) if args.held else None
     card = design_card(m, d, modes=modes, region=args.region, index=args.index, axes=axes, held=held,
@@ -356,7 +361,7 @@ def cmd_compare(args: argparse.Namespace) -> None:
 
     m = load_mechanism(args.mechanism)
     designs = [_design(m, text, _units(args)) for text in args.design]
-    modes = [m.working_mode(mode).name for mode in args.mode.split(",")] if args.mode else None
+    modes = _modes(m, args.mode)
     comparison = compare(m, designs, modes=modes, region=args.region, resolution=args.resolution)
     folder = Path(args.out)
     written = io.write_result(folder, comparison.write)
@@ -702,6 +707,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("build", cmd_build, "compile the kernels of mechanisms ahead of time into the kernel cache, in "
                                     "parallel (everything else compiles at first use)")
     listed(p, "mechanisms", key="mechanism", nargs="*")
+    def units_option(p: argparse.ArgumentParser) -> None:
+        p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: "
+                                       "mm or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+
     p = command("eval", cmd_eval, "inverse kinematics, Jacobian and local indices at poses")
     listed(p, "mechanism", key="mechanism")
     listed(p, "--pose", key="pose", action="append")
@@ -713,8 +722,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="fail on a pose out of reach (default: report it with reachable false and null values)")
     p.add_argument("--out", help="folder for eval.json and eval.csv (SI, units in the header; default: none); "
                                  "e.g. results")
-    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
-                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+    units_option(p)
     p = command("index", cmd_index, "a global index of a design")
     listed(p, "mechanism", key="mechanism")
     listed(p, "index", key="index")
@@ -728,8 +736,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--gradient", action="store_true",
                    help="also the exact gradient in every design parameter (parametrised regions; default off)")
     p.add_argument("--out", help="folder for index.json and index.csv (default: none); e.g. results")
-    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
-                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+    units_option(p)
 
     def grid_options(p: argparse.ArgumentParser) -> None:
         listed(p, "--space", key="space")
@@ -810,8 +817,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
     p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps (no default); "
                                                 "e.g. card")
-    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
-                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+    units_option(p)
     p = command("compare", cmd_compare, "designs side by side: their cards and one table of every global index "
                                         "per design and mode (JSON, CSV, markdown)")
     listed(p, "mechanism", key="mechanism")
@@ -824,8 +830,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
     p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design "
                                                 "(no default); e.g. compared")
-    p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: mm "
-                                   "or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+    units_option(p)
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "
