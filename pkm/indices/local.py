@@ -39,7 +39,9 @@ class LocalIndex:
     is computed from, and its formula on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a
     smooth g with g >= 0 exactly where the index is >= t (value - t otherwise), and ``epigraph_upper`` one
     with g >= 0 exactly where it is <= t (t - value otherwise); ``dimension`` the largest matrices its
-    formula takes (the closed forms of singular values and eigenvalues stop at 3 x 3; None: any)."""
+    formula takes (the closed forms of singular values and eigenvalues stop at 3 x 3; None: any); ``raw``
+    takes the arguments as generated, in SI, where the index is a physical quantity (an actuator effort,
+    a joint angle) rather than a ratio of normalised matrices (:mod:`pkm.regions.pipeline`)."""
 
     name: str
     doc: str
@@ -53,6 +55,7 @@ class LocalIndex:
     epigraph: Callable[..., ca.SX] | None = None
     epigraph_upper: Callable[..., ca.SX] | None = None
     dimension: int | None = MAX_DIMENSION  # the largest n x n its formula takes (None: any)
+    raw: bool = False
 
 
 def _check_square(A: ca.SX) -> int:

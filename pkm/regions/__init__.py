@@ -3,7 +3,7 @@
 * :mod:`pkm.regions.shapes`: parametrised regions, small shape classes with one protocol (disc,
   rectangle, box, cylinder, a domain between curves, a shape mapped from other coordinates, shapes side
   by side), each
-  with a fixed quadrature mapped into the region that the design places;
+  with a fixed quadrature mapped into the region that the design places, and given poses (a path, a cloud);
 * :mod:`pkm.regions.sampled`: the sampled reachable workspace, an n-D grid with a mask;
 * :mod:`pkm.regions.pipeline`: the one fused graph pose -> IK -> first order (and inertia) -> local index;
 * :mod:`pkm.regions.quadrature`: global indices over parametrised regions with exact design gradients.
@@ -16,7 +16,18 @@ from importlib import import_module
 from typing import Any
 
 from pkm.regions.pipeline import Evaluation, evaluate_at, first_order_outputs, pipeline
-from pkm.regions.shapes import Box, Cylinder, Disc, Mapped, MappedSquare, PlacedRegion, Rectangle, Union, grid
+from pkm.regions.shapes import (
+    Box,
+    Cylinder,
+    Disc,
+    Mapped,
+    MappedSquare,
+    PlacedRegion,
+    Poses,
+    Rectangle,
+    Union,
+    grid,
+)
 from pkm.regions.value import GlobalValue
 
 _LAZY = {
@@ -54,6 +65,7 @@ __all__ = [
     "Mapped",
     "MappedSquare",
     "PlacedRegion",
+    "Poses",
     "Rectangle",
     "SampledWorkspace",
     "Union",

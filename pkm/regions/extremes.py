@@ -84,7 +84,7 @@ def refine(
     step = 1.0 / (2 * resolution)
     for k, piece in enumerate(pieces):
         rows, cols = np.nonzero((owner[starts] == k) & defined[:, None])
-        if not len(rows):
+        if not len(rows) or not getattr(piece, "refinable", True):
             continue
         nodes = starts[rows, cols]
         u = references[k][nodes - offset[k]].copy()

@@ -128,6 +128,7 @@ def pipeline(
         q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
     else:
         q, reach = ik(x, mode, design)
+    sources["inverse_kinematics"] = {"q": q}
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     scales = _scales(mech, design)
     wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
@@ -144,14 +145,15 @@ def pipeline(
         missing = [a for a in spec.arguments if a not in sources[spec.source]]
         if missing:
             raise PkmError(f"the local index {spec.name} needs {', '.join(missing)} of {spec.source}")
-        args = [normalise(a, sources[spec.source][a], scales) for a in spec.arguments]
+        args = [sources[spec.source][a] if spec.raw else normalise(a, sources[spec.source][a], scales)
+                for a in spec.arguments]
         arguments[spec.name] = args
         value = local_function(spec, args[0].size1(), tuple(a.shape for a in args))(*args)
         outputs.append(ca.if_else(reachable, value, np.nan))
         names.append(spec.name)
     if matrices:
         outputs += arguments[locals_[0].name]
-        names += list(locals_[0].arguments)
+        names += [f"argument_{a}" for a in locals_[0].arguments]
     if first_order:
         outputs += list(sources["first_order"].values())
         names += list(sources["first_order"])

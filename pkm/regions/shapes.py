@@ -593,3 +593,55 @@ class Union:
         points = np.concatenate([s[0] for s in samples])
         cells = np.concatenate([np.broadcast_to(np.asarray(s[1], dtype=float), (len(s[0]),)) for s in samples])
         return points, cells
+
+
+@dataclass(frozen=True)
+class Poses:
+    """Given poses (a path's samples, a cloud of task points), fixed in SI and each of the same weight
+    1 / count: a mean over them is their average, an extreme their least or largest value; nothing lies
+    between them, so extremes are not refined (``refinable``) and every resolution gives the same nodes.
+    Its reference coordinates are the pose's own."""
+
+    name: str
+    doc: str
+    poses: tuple[tuple[float, ...], ...]
+    guard: str | None = None
+
+    refinable = False
+
+    @property
+    def dimension(self) -> int:
+        return len(self.poses[0])
+
+    def node_count(self, resolution: int, reduce: str = "mean") -> int:  # noqa: ARG002
+        return len(self.poses)
+
+    def pieces(self) -> tuple[Any, ...]:
+        return (self,)
+
+    def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:  # noqa: ARG002
+        points = np.array(self.poses, dtype=float)
+        return points, np.full(len(points), 1.0 / len(points))
+
+    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+        return u
+
+    def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+        return ca.SX(1.0) if isinstance(design, ca.SX) else ca.DM(1.0)
+
+    def project(self, u: np.ndarray) -> np.ndarray:
+        """Each point (n, d) onto its nearest given pose."""
+        points = np.array(self.poses, dtype=float)
+        nearest = np.argmin(((u[:, None, :] - points[None]) ** 2).sum(axis=2), axis=1)
+        return points[nearest]
+
+    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):  # noqa: ARG002
+        points, weights = self.reference(resolution, reduce)
+        if _numeric(design):
+            return points, weights
+        return ca.DM(points.T), ca.DM(weights).T
+
+    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"  # noqa: ARG002
+               ) -> tuple[np.ndarray, float]:
+        points, weights = self.reference(resolution, reduce)
+        return points, float(weights[0])

@@ -18,11 +18,11 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import registry, spec
+from pkm import io, registry, spec
 from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
-from pkm.indices import GlobalIndex
-from pkm.regions import Box, Cylinder, Disc, Rectangle
+from pkm.indices import GlobalIndex, LocalIndex
+from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
@@ -61,12 +61,47 @@ def _variables(mech: Any, raw: Mapping[str, Sequence[float]]) -> tuple[Variable,
 SHAPES = {"disc": (Disc, 2, 1), "rectangle": (Rectangle, 2, 2), "box": (Box, 3, 3), "cylinder": (Cylinder, 3, 2)}
 
 
+def task_poses(mech: Any, raw: Mapping[str, Any]) -> Poses:
+    """A task of given poses in SI: {poses = [[...], ...]} or {file = a .npy or CSV file of them}, each a pose
+    of the mechanism, every one of the same weight."""
+    extra = set(raw) - {"poses", "file", "name"}
+    if extra or len({"poses", "file"} & set(raw)) != 1:
+        field = f"task.{sorted(extra)[0]}" if extra else "task"
+        raise _fail(field, "a table {poses} or {file}, with an optional name")
+    if "file" in raw:
+        if not isinstance(raw["file"], str):
+            raise _fail("task.file", f"a file name; got {raw['file']!r}")
+        try:
+            poses = io.read_poses(raw["file"], mech.pose_names)
+        except PkmError as exc:
+            raise _fail("task.file", str(exc)) from None
+    else:
+        rows = raw["poses"]
+        if (not isinstance(rows, Sequence) or isinstance(rows, str) or not rows
+                or not all(_numbers(row, mech.n_out) for row in rows)):
+            raise _fail("task.poses", f"a non-empty list of poses, each {mech.n_out} finite numbers "
+                                      f"({', '.join(mech.pose_names)})")
+        poses = np.array(rows, dtype=float)
+    if not np.all(np.isfinite(poses)):
+        raise _fail("task.file", "finite poses")
+    name = raw.get("name", "task")
+    return Poses(name, f"the designer's {len(poses)} poses", tuple(map(tuple, poses.tolist())))
+
+
+def _numbers(value: Any, count: int) -> bool:
+    return (isinstance(value, Sequence) and not isinstance(value, str) and len(value) == count
+            and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value))
+
+
 def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
     """A task region placed in SI: {shape (disc, rectangle, box, cylinder), centre (a pose), size (a disc's
     radius; a rectangle's or box's half extents; a cylinder's radius and half length), axis (a cylinder's,
-    a pose coordinate; the last by default)} over the mechanism's whole pose."""
+    a pose coordinate; the last by default)} over the mechanism's whole pose, or given poses
+    (:func:`task_poses`)."""
     if not isinstance(raw, Mapping):
-        raise _fail("task", "a region name of the mechanism or a table {shape, centre, size, axis}")
+        raise _fail("task", "a region name of the mechanism or a table {shape, centre, size, axis} or {poses}")
+    if "poses" in raw or "file" in raw:
+        return task_poses(mech, raw)
     extra = set(raw) - {"shape", "centre", "size", "axis", "name"}
     if extra:
         raise _fail(f"task.{sorted(extra)[0]}", "a field of a task (shape, centre, size, axis, name)")
@@ -79,8 +114,7 @@ def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
     values = {}
     for field, count in (("centre", dimension), ("size", sizes)):
         value = raw.get(field)
-        if (not isinstance(value, Sequence) or isinstance(value, str) or len(value) != count
-                or not all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)):
+        if not _numbers(value, count):
             raise _fail(f"task.{field}", f"a list of {count} finite numbers")
         values[field] = tuple(float(v) for v in value)
     if min(values["size"]) <= 0:
@@ -112,6 +146,66 @@ def _index(mech: Any, name: str, field: str) -> GlobalIndex:
     offered = [*mech.global_indices(), *(f"{i}_min" for i in mech.local_indices())]
     raise _fail(field, f"a global index {mech.name} offers or a local index's _min or _max ({', '.join(offered)}); "
                        f"got {name!r}")
+
+
+PHYSICAL = ("joint", "joint_range", "effort")
+
+
+def _joint(mech: Any, name: str, field: str) -> LocalIndex:
+    """An actuated joint's value as a local index (SI, as the inverse kinematics gives it)."""
+    if name not in mech.actuator_names:
+        raise _fail(field, f"an actuated joint of {mech.name} ({', '.join(mech.actuator_names)}); got {name!r}")
+    k = mech.actuator_names.index(name)
+    unit = mech.actuator_units[k]
+    return LocalIndex(name, f"actuated joint {name} [{unit}] as the inverse kinematics gives it", unit, -np.inf,
+                      np.inf, np.nan, lambda q: q[k], "inverse_kinematics", ("q",), dimension=None, raw=True)
+
+
+EFFORT_UNITS = {"rad": "N m", "m": "N"}
+
+
+def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
+    """The largest actuator effort |tau_i| that holds the wrench w at the end effector, tau = J_f^T w (virtual
+    work: tau . q_dot = w . x_dot with x_dot = J_f q_dot); w in the pose's dual units (N for a length, N m for
+    an angle)."""
+    if not _numbers(wrench, mech.n_out):
+        raise _fail(field, f"a wrench of {mech.n_out} finite numbers, dual to the pose ({', '.join(mech.pose_names)})")
+    w = ca.DM(wrench)
+    units = {EFFORT_UNITS.get(u, f"N m/{u}") for u in mech.actuator_units}
+    return LocalIndex(
+        "effort", f"largest actuator effort |J_f^T w| holding the wrench w = {list(wrench)} at the end effector",
+        " or ".join(sorted(units)), 0.0, np.inf, np.inf, lambda J_f: ca.mmax(ca.fabs(J_f.T @ w)), "first_order",
+        ("J_f",), epigraph_upper=lambda J_f, t: ca.vertcat(t - J_f.T @ w, t + J_f.T @ w), dimension=None, raw=True,
+    )
+
+
+def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], field: str, *, region: Any,
+              quantities: dict[str, Quantity]) -> list[Constraint]:
+    """{joint: an actuated joint} within [lower, upper] over the task, {joint_range: one} moving at most
+    ``upper`` over it (its largest minus its least value), or {effort: a wrench} needing actuator efforts of
+    at most ``upper`` at every pose of it; each a region extreme, refined between the nodes."""
+    if len(what) != 1 or next(iter(what)) not in PHYSICAL:
+        raise _fail(field, f"a table with one of {', '.join(PHYSICAL)}; got {sorted(what)}")
+    kind, value = next(iter(what.items()))
+    lower, upper = bounds
+    if kind == "effort":
+        local = _effort(mech, value, f"{field}.effort")
+        name = next(n for n in (f"effort_{k}" if k else "effort" for k in range(len(quantities) + 1))
+                    if n not in quantities)
+        quantities[name] = Quantity(GlobalIndex(name, local, f"the region maximum of {local.doc}", "max", "min"),
+                                    region)
+        return [Constraint(f"{name} holding {list(value)} <= {upper:g} {local.unit}", lambda t: t[name], -math.inf,
+                           upper)]
+    local = _joint(mech, value, f"{field}.{kind}")
+    least, largest = f"{value}_least", f"{value}_largest"
+    quantities[least] = Quantity(GlobalIndex(least, local, f"the least {value} over the task", "min", "max"), region)
+    quantities[largest] = Quantity(GlobalIndex(largest, local, f"the largest {value} over the task", "max", "min"),
+                                   region)
+    if kind == "joint_range":
+        return [Constraint(f"range of {value} <= {upper:g} {local.unit}", lambda t: t[largest] - t[least],
+                           -math.inf, upper)]
+    return [Constraint(f"{least} >= {lower:g} {local.unit}", lambda t: t[least], lower, math.inf),
+            Constraint(f"{largest} <= {upper:g} {local.unit}", lambda t: t[largest], -math.inf, upper)]
 
 
 def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Mapping[str, Any]], Any]:
@@ -188,16 +282,18 @@ def design_problem(
     baseline: tuple[str, int] = ("grid", 21),
     resolution: int = 8,
 ) -> Problem:
-    """A synthesis over the task region ``task`` (a region name of the mechanism, a region, or a table placing
-    one in SI, :func:`task_region`) of ``mechanism`` (a name, a description file or a mechanism): the
-    ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others at their
-    defaults; ``objective`` a global index over the task in its sense, or a weighted combination {index:
-    weight} (maximised, each index negated where smaller is better); ``constraints`` (what, lower, upper):
-    a global index over the task, a local index's least or largest value over it (``inverse_condition_f_min``:
-    a singularity margin), or an expression of the design parameters (a frame size, ``2 * (d1 + d2)``); by
-    default the task inside the workspace (the least workspace margin over it at least 0); ``derived``
-    parameters set by expressions of the others, in order (a stroke that follows a link length); the baseline
-    ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
+    """A synthesis over the task region ``task`` (a region name of the mechanism, a region, a table placing one in
+    SI, :func:`task_region`, or given poses, :func:`task_poses`) of ``mechanism`` (a name, a description file or a
+    mechanism): the ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others
+    at their defaults; ``objective`` a global index over the task in its sense, or a weighted combination {index:
+    weight} (maximised, each index negated where smaller is better); ``constraints`` (what, lower, upper): a global
+    index over the task, a local index's least or largest value over it (``inverse_condition_f_min``: a singularity
+    margin), an expression of the design parameters (a frame size, ``2 * (d1 + d2)``), or a table: ``{"joint":
+    name}`` (an actuated joint within [lower, upper] over the task), ``{"joint_range": name}`` (its largest minus
+    its least value at most upper) or ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
+    every pose of the task at most upper, :func:`_effort`); by default the task inside the workspace (the least
+    workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
+    stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves).
     """
@@ -234,12 +330,16 @@ def design_problem(
         if not (isinstance(item, Sequence) and len(item) == 3):
             raise _fail(f"constraints[{k}]", "a triple (index or expression, lower, upper)")
         what, lower, upper = item
-        if not isinstance(what, str):
-            raise _fail(f"constraints[{k}]", "an index's name or an expression of the design parameters")
+        if not isinstance(what, str | Mapping):
+            raise _fail(f"constraints[{k}]", "an index's name, an expression of the design parameters or a table "
+                                             "{joint}, {joint_range} or {effort}")
         lower, upper = float(lower), float(upper)
         if not lower <= upper:
             raise _fail(f"constraints[{k}]", f"lower <= upper; got {lower:g}, {upper:g}")
-        if what.isidentifier() and what not in mech.parameter_names():
+        if isinstance(what, Mapping):
+            stated += _physical(mech, what, (lower, upper), f"constraints[{k}]", region=region,
+                                quantities=quantities)
+        elif what.isidentifier() and what not in mech.parameter_names():
             quantities.setdefault(what, Quantity(_index(mech, what, f"constraints[{k}]"), region))
             stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
                                      lambda t, what=what: t[what], lower, upper))
@@ -248,6 +348,9 @@ def design_problem(
             stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
                                      lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
                                      lower, upper))
+    measured = [n for n, q in quantities.items() if q.index.reduce == "measure"]
+    if measured and isinstance(region, Poses):
+        raise _fail("task", f"a region with a measure for {measured[0]}; given poses have none")
     sense = "maximise" if goal.sense == "max" else "minimise"
     named = objective if isinstance(objective, str) else "weighted"
     problem = Problem(
@@ -305,12 +408,16 @@ def read_problem(path: str | os.PathLike) -> Problem:
     if not isinstance(constraints, list):
         raise _fail("constraints", "a list of tables {index, lower, upper}")
     triples = []
+    kinds = ("index", "expression", *PHYSICAL)
     for k, c in enumerate(constraints):
-        if not isinstance(c, Mapping) or len({"index", "expression"} & set(c)) != 1 \
-                or set(c) - {"index", "expression", "lower", "upper"}:
-            raise _fail(f"constraints[{k}]", "a table {index or expression, lower, upper}")
-        triples.append((c.get("index", c.get("expression")), float(c.get("lower", -math.inf)),
-                        float(c.get("upper", math.inf))))
+        if not isinstance(c, Mapping) or len(set(kinds) & set(c)) != 1 or set(c) - {*kinds, "lower", "upper"}:
+            raise _fail(f"constraints[{k}]", f"a table {{one of {', '.join(kinds)}; lower, upper}}")
+        (kind,) = set(kinds) & set(c)
+        what = c[kind] if kind in ("index", "expression") else {kind: c[kind]}
+        triples.append((what, float(c.get("lower", -math.inf)), float(c.get("upper", math.inf))))
+    task = raw["task"]
+    if isinstance(task, Mapping) and isinstance(task.get("file"), str):
+        task = {**task, "file": str(path.parent / task["file"])}
     baseline = raw.get("baseline", {"kind": "grid", "size": 21})
     if not isinstance(baseline, Mapping) or set(baseline) - {"kind", "size"}:
         raise _fail("baseline", "a table {kind, size}")
@@ -321,7 +428,7 @@ def read_problem(path: str | os.PathLike) -> Problem:
     if isinstance(resolution, bool) or not isinstance(resolution, int) or not 2 <= resolution <= 64:
         raise _fail("resolution", f"an integer from 2 to 64; got {resolution!r}")
     return design_problem(
-        mechanism, task=raw["task"], variables=raw["variables"], fixed=raw.get("fixed"), derived=raw.get("derived"),
+        mechanism, task=task, variables=raw["variables"], fixed=raw.get("fixed"), derived=raw.get("derived"),
         objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
         name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), size),
         resolution=resolution,
