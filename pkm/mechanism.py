@@ -99,6 +99,7 @@ class Mechanism:
     characteristic_length: ClassVar[Callable[[Mapping[str, Any]], Any] | None] = None
     limits: ClassVar[str | None] = None
     limit_names: tuple[str, ...] = ()
+    structure: ClassVar[Callable[..., Any] | None] = None  # (mechanism, design, pose, mode) -> its links and joints
 
     @cached_property
     def functions(self) -> FunctionTable:
@@ -480,6 +481,7 @@ class Mechanism:
     inverse_dynamics = _Delegate("pkm.dynamics")
     natural_frequencies = _Delegate("pkm.dynamics")
     simulate = _Delegate("pkm.dynamics")
+    export_urdf = _Delegate("pkm.export")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

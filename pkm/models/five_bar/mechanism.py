@@ -18,6 +18,7 @@ from pkm.design_space import DesignSpace
 from pkm.kinematics import Branch
 from pkm.mechanism import Mechanism
 from pkm.models.five_bar.spaces import GAO1998, LARA_MOLINA2016
+from pkm.models.five_bar.structure import structure
 from pkm.regions import Disc
 
 
@@ -89,6 +90,7 @@ class FiveBar(Mechanism):
         )
     }
 
+    structure = staticmethod(structure)
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """The intersection of the chains' annuli lies in |x| <= R - r3, |y| <= sqrt(R^2 - r3^2)."""
         r1, r2, r3 = design[:3]

@@ -1,0 +1,84 @@
+"""Export a design as an Extended URDF: the mechanism cut open into a tree (``robot.urdf``) and its loop
+closures and motors (``robot.yaml``, Gepetto's format, which Pinocchio's closed-loop loaders read), with a
+README of what was cut and why.
+
+A mechanism knows its structure through its ``structure`` function ``(mechanism, reference) ->``
+:class:`~pkm.export.structure.Structure` (the hand-derived ones in their package), or, for a described
+machine, through its description's legs (:mod:`pkm.export.legs`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pkm.errors import PkmError, PoseError
+from pkm.export.structure import Reference, Structure, Tree, cut
+from pkm.export.urdf import write
+
+__all__ = ["Reference", "Structure", "Tree", "export_command", "export_urdf", "reference", "structure", "tree"]
+
+
+def _builder(mech: Any) -> Callable[[Any, Reference], Structure]:
+    if mech.structure is not None:
+        return mech.structure
+    if getattr(mech, "description", None) is not None:
+        from pkm.export.legs import structure as described
+
+        return described
+    raise PkmError(f"mechanism {mech.name} violates: a mechanism whose structure (links, joints, axes) pkm knows, "
+                   "to be exported")
+
+
+def reference(mech: Any, design: Any, pose: Any, mode: str | None, home: Callable[[np.ndarray], Any]) -> Reference:
+    """The reference configuration of a structure: the design validated (its bounds and conditions), the pose
+    (``home(design vector)`` without one) and every joint there in the working mode, within the mechanism's
+    stated limits; :class:`PoseError` where the pose is out of reach."""
+    d = mech.design_vector(design)
+    branch = mech.working_mode(mode)
+    x = np.asarray(home(d) if pose is None else pose, dtype=float).ravel()
+    if x.shape != (mech.n_out,) or not np.all(np.isfinite(x)):
+        raise PoseError(f"pose {x.tolist()} violates: {mech.n_out} finite values ({', '.join(mech.pose_names)})")
+    q = mech.inverse_kinematics(x, d, mode=branch.name, passive=True)
+    if not np.all(np.isfinite(q)):
+        raise PoseError(f"pose {x.tolist()} violates: a pose that working mode {branch.name} of {mech.name} reaches "
+                        "within its stated limits (the reference configuration of the export)")
+    return Reference(mech.design_dict(d), x, branch.name, q)
+
+
+def structure(mech: Any, design: Any = None, *, pose: Any = None, mode: str | None = None) -> Structure:
+    """The mechanism's structure at a design, with the reference configuration at ``pose`` in working mode
+    ``mode`` (the mechanism's own reference pose and first mode by default)."""
+    return _builder(mech)(mech, design, pose, mode)
+
+
+def tree(mech: Any, design: Any = None, *, pose: Any = None, mode: str | None = None) -> Tree:
+    """The structure cut into a tree (:func:`pkm.export.structure.cut`)."""
+    return cut(structure(mech, design, pose=pose, mode=mode))
+
+
+def export_urdf(mech: Any, design: Any, folder: str | Path, *, pose: Any = None, mode: str | None = None) -> Path:
+    """Write the Extended URDF of a design into ``folder``: ``robot.urdf``, ``robot.yaml`` and ``README.md``.
+
+    The reference configuration (where every joint of the URDF is zero and every loop closes) is ``pose`` in
+    working mode ``mode`` (by default the mechanism's reference pose and its first working mode). Raises
+    :class:`~pkm.errors.PkmError` for a mechanism whose structure pkm does not know, a design outside its
+    bounds, a pose out of reach or a folder that cannot be written. Returns the folder.
+    """
+    cut_tree = tree(mech, design, pose=pose, mode=mode)
+    parameters = [(p.name, cut_tree.structure.reference.design[p.name], p.unit, p.doc) for p in mech.parameters]
+    return write(cut_tree, mech, parameters, Path(folder))
+
+
+def export_command(mechanism_name_or_path: str, design_text: str, out_folder: str | Path) -> Path:
+    """``pkm export MECHANISM --design name=value,... --out DIR``: the mechanism by name or description file,
+    the design as text (its defaults for the parameters not given); :class:`PkmError` on bad input."""
+    from pkm.design import parse_design
+    from pkm.spec import resolve_name
+
+    mech = resolve_name(mechanism_name_or_path)
+    design = mech.design(parse_design(design_text or ""), partial=True)
+    return export_urdf(mech, design, out_folder)

@@ -1,0 +1,223 @@
+"""The Extended URDF export (pkm.export), checked by Pinocchio: each export loaded with its closures as
+Gepetto's loader reads them, its closed-loop kinematics solved at random reachable poses by continuation from
+the reference configuration, and the actuated joints, the Jacobian and (where the mechanism has bodies) the
+actuated-space inertia compared with pkm's. Pinocchio (``pin`` on PyPI) is an optional test dependency: these
+tests skip without it, and fail without it where PKM_REQUIRE_PINOCCHIO=1."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import pkm
+from pkm.errors import DesignError, PkmError, UnknownNameError
+from pkm.export import export_command, structure
+
+try:
+    import pinocchio as pin
+except ImportError:
+    pin = None
+
+REQUIRED = os.environ.get("PKM_REQUIRE_PINOCCHIO") == "1"
+DATA = Path(__file__).resolve().parent / "data"
+POSES = 20  # random reachable poses per working mode
+STEPS = 4  # continuation steps from the reference pose to each pose
+TOLERANCE = 1e-9
+
+
+@pytest.fixture
+def pinocchio():
+    if pin is None:
+        if REQUIRED:
+            pytest.fail("PKM_REQUIRE_PINOCCHIO=1 but pinocchio (pip install pin) is not importable")
+        pytest.skip("pinocchio (pip install pin) is not installed: the optional test dependency of the URDF export")
+    return pin
+
+
+@dataclass
+class Loaded:
+    """An export loaded as Gepetto's completeRobotLoader reads it: the tree, its constraints and motors."""
+
+    model: object
+    data: object
+    constraints: list
+    constraint_data: list
+    motors: list[int]
+    offsets: np.ndarray
+    effector: int
+    spec: dict
+
+    @classmethod
+    def of(cls, folder: Path) -> Loaded:
+        model = pin.buildModelFromUrdf(str(folder / "robot.urdf"), mimic=True)
+        spec = yaml.safe_load((folder / "robot.yaml").read_text())
+        constraints = []
+        for (a, b), kind in zip(spec["closed_loop"], spec["type"], strict=True):
+            fa, fb = (model.frames[model.getFrameId(name)] for name in (a, b))
+            contact = pin.ContactType.CONTACT_3D if kind == "3d" else pin.ContactType.CONTACT_6D
+            constraints.append(pin.RigidConstraintModel(contact, model, fa.parentJoint, fa.placement,
+                                                        fb.parentJoint, fb.placement, pin.ReferenceFrame.LOCAL))
+        return cls(model, model.createData(), constraints, [c.createData() for c in constraints],
+                   [model.getJointId(name) for name in spec["name_mot"]], np.array(spec["pkm"]["offset"]),
+                   model.getFrameId(spec["pkm"]["effector"]), spec)
+
+    def update(self, q: np.ndarray) -> None:
+        zero = np.zeros(self.model.nv)
+        pin.forwardKinematics(self.model, self.data, q, zero, zero)
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
+        for c, d in zip(self.constraints, self.constraint_data, strict=True):
+            c.calc(self.model, self.data, d)
+
+    def closure(self) -> tuple[np.ndarray, np.ndarray]:
+        """The closures' residual and Jacobian (rows: each constraint's, in its frame A) at the last update."""
+        residuals, rows = [], []
+        for c, d in zip(self.constraints, self.constraint_data, strict=True):
+            error = -(d.c1Mc2.translation if c.type == pin.ContactType.CONTACT_3D else pin.log6(d.c1Mc2).vector)
+            residuals.append(error)
+            rows.append(c.jacobian(self.model, self.data, d))
+        return np.concatenate(residuals), np.vstack(rows)
+
+    def effector_rows(self, oriented: bool) -> tuple[np.ndarray, np.ndarray]:
+        """The effector frame's placement and its Jacobian rows (base frame) that the pose fixes."""
+        J = pin.getFrameJacobian(self.model, self.data, self.effector, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        return self.data.oMf[self.effector], J if oriented else J[:3]
+
+    def actuated(self, q: np.ndarray) -> np.ndarray:
+        out = []
+        for jid in self.motors:
+            joint = self.model.joints[jid]
+            value = q[joint.idx_q] if joint.nq == 1 else math.atan2(q[joint.idx_q + 1], q[joint.idx_q])
+            out.append(value)
+        return np.array(out) + self.offsets
+
+    def selection(self) -> np.ndarray:
+        S = np.zeros((len(self.motors), self.model.nv))
+        for row, jid in enumerate(self.motors):
+            S[row, self.model.joints[jid].idx_v] = 1.0
+        return S
+
+
+def _target_error(placement, target: np.ndarray, oriented: bool) -> np.ndarray:
+    position = placement.translation - target[:3, 3]
+    if not oriented:
+        return position
+    return np.concatenate([position, placement.rotation @ pin.log3(placement.rotation.T @ target[:3, :3])])
+
+
+def solve(loaded: Loaded, effector, q: np.ndarray, target: np.ndarray, tolerance: float) -> tuple[np.ndarray, float]:
+    """Newton's method (least-norm steps) on the closures and the effector's placement from ``q``."""
+    error = math.inf
+    for _ in range(30):
+        loaded.update(q)
+        h, K = loaded.closure()
+        placement, E = loaded.effector_rows(effector.oriented)
+        r = np.concatenate([h, _target_error(placement, target, effector.oriented)])
+        error = float(np.abs(r).max())
+        if error < tolerance:
+            break
+        step = np.linalg.lstsq(np.vstack([K, E]), r, rcond=None)[0]
+        q = pin.integrate(loaded.model, q, -step)
+    return q, error
+
+
+def null_space(K: np.ndarray) -> np.ndarray:
+    _, s, vt = np.linalg.svd(K)
+    rank = int(np.sum(s > 1e-10 * max(1.0, s.max(initial=0.0))))
+    return vt[rank:].T
+
+
+def first_order(loaded: Loaded, effector, q: np.ndarray, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """J (q_a_dot = J x_dot) and P = dq/dq_a along the closed loops at a closed configuration, and the
+    mechanism's degrees of freedom there (the closures' null space)."""
+    loaded.update(q)
+    _, K = loaded.closure()
+    N = null_space(K)
+    _, E = loaded.effector_rows(effector.oriented)
+    rows = effector.rates(pose)[: E.shape[0]]
+    X = np.linalg.lstsq(rows, E @ N, rcond=None)[0]  # pose rates of the null space's directions
+    SN = loaded.selection() @ N
+    return SN @ np.linalg.inv(X), N @ np.linalg.inv(SN), N.shape[1]
+
+
+def sample(m, design, mode: str, reference: np.ndarray, rng) -> np.ndarray:
+    """Up to POSES poses near the reference pose that the working mode reaches along a straight path from it,
+    away from singularities (the sign of both determinants kept, their size at least a tenth of the
+    reference's)."""
+    box = m.workspace_box(m.design_vector(design))
+    width = box[:, 1] - box[:, 0]
+    det_ref = m.singularity(reference, design, mode=mode)
+    poses = []
+    for _ in range(40):
+        x = reference + 0.15 * width * rng.uniform(-1, 1, size=len(reference))
+        path = reference + np.linspace(0, 1, 9)[:, None] * (x - reference)
+        if not m.reachable(path, design, mode=mode, limits=False).all():
+            continue
+        dets = m.singularity(path, design, mode=mode)
+        if all(np.all(np.sign(dets[k]) == np.sign(det_ref[k])) and np.all(np.abs(dets[k]) > 0.1 * abs(det_ref[k]))
+               for k in dets):
+            poses.append(x)
+        if len(poses) == POSES:
+            break
+    assert len(poses) >= POSES // 2, f"{m.name} {mode}: {len(poses)} poses near the reference"
+    return np.array(poses)
+
+
+def check_export(m, design, mode: str, folder: Path, rng) -> dict[str, float]:
+    """Export, load, solve at random poses; the largest differences from pkm's q_a, J and M_t."""
+    m.export_urdf(design, folder, mode=mode)
+    s = structure(m, design, mode=mode)
+    loaded = Loaded.of(folder)
+    q0 = pin.neutral(loaded.model)
+    loaded.update(q0)
+    assert np.abs(loaded.closure()[0]).max() < 1e-12, "the reference configuration closes every loop"
+    reference = s.reference.pose
+    poses = sample(m, design, mode, reference, rng)
+    qa_pkm = m.inverse_kinematics(poses, design, mode=mode, limits=False)
+    J_pkm = m.jacobian(poses, design, mode=mode)
+    inertia = "inertia" in m.functions
+    M_pkm = m.inertia_matrix(poses, design, mode=mode, space="actuated") if inertia else None
+    errors = {"q_a": 0.0, "J": 0.0, "M_t": 0.0}
+    for k, x in enumerate(poses):
+        q = q0
+        for step in range(1, STEPS + 1):
+            target = s.effector.frame(reference + step / STEPS * (x - reference))
+            q, residual = solve(loaded, s.effector, q, target, 1e-13 if step == STEPS else 1e-9)
+        assert residual < 1e-12, f"{m.name} {mode}: Newton did not close the loops at {x} ({residual:.1e})"
+        qa = loaded.actuated(q)
+        angles = np.array([u == "rad" for u in m.actuator_units])
+        diff = qa - qa_pkm[k]
+        diff[angles] = (diff[angles] + math.pi) % (2 * math.pi) - math.pi
+        errors["q_a"] = max(errors["q_a"], float(np.abs(diff).max()))
+        J, P, freedom = first_order(loaded, s.effector, q, x)
+        assert freedom == m.n_out, f"{m.name}: {freedom} degrees of freedom, not {m.n_out}"
+        errors["J"] = max(errors["J"], float(np.abs(J - J_pkm[k]).max() / max(1.0, np.abs(J_pkm[k]).max())))
+        if inertia:
+            M = pin.crba(loaded.model, loaded.data, q)
+            M = np.triu(M) + np.triu(M, 1).T
+            M_t = P.T @ M @ P
+            errors["M_t"] = max(errors["M_t"], float(np.abs(M_t - M_pkm[k]).max() / max(1.0, np.abs(M_pkm[k]).max())))
+    return errors
+
+
+CASES = [
+    ("five_bar", None, ("out_out", "out_in", "in_out", "in_in")),
+]
+
+
+@pytest.mark.parametrize(("name", "design", "modes"), CASES, ids=[c[0] for c in CASES])
+def test_export_agrees_with_pkm_in_pinocchio(pinocchio, tmp_path, name, design, modes):
+    m = pkm.load(name)
+    rng = np.random.default_rng(28)
+    for mode in modes:
+        errors = check_export(m, design, mode, tmp_path / mode, rng)
+        assert errors["q_a"] < TOLERANCE, (mode, errors)
+        assert errors["J"] < TOLERANCE, (mode, errors)
+        assert errors["M_t"] < TOLERANCE, (mode, errors)
