@@ -6,9 +6,9 @@ tests skip without it, and fail without it where PKM_REQUIRE_PINOCCHIO=1."""
 
 from __future__ import annotations
 
-import json
 import math
 import os
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -49,6 +49,7 @@ class Loaded:
     data: object
     constraints: list
     constraint_data: list
+    frames: list[tuple[int, int]]
     motors: list[int]
     offsets: np.ndarray
     effector: int
@@ -58,13 +59,14 @@ class Loaded:
     def of(cls, folder: Path) -> Loaded:
         model = pin.buildModelFromUrdf(str(folder / "robot.urdf"), mimic=True)
         spec = yaml.safe_load((folder / "robot.yaml").read_text())
-        constraints = []
+        constraints, frames = [], []
         for (a, b), kind in zip(spec["closed_loop"], spec["type"], strict=True):
-            fa, fb = (model.frames[model.getFrameId(name)] for name in (a, b))
+            frames.append((model.getFrameId(a), model.getFrameId(b)))
+            fa, fb = (model.frames[f] for f in frames[-1])
             contact = pin.ContactType.CONTACT_3D if kind == "3d" else pin.ContactType.CONTACT_6D
             constraints.append(pin.RigidConstraintModel(contact, model, fa.parentJoint, fa.placement,
                                                         fb.parentJoint, fb.placement, pin.ReferenceFrame.LOCAL))
-        return cls(model, model.createData(), constraints, [c.createData() for c in constraints],
+        return cls(model, model.createData(), constraints, [c.createData() for c in constraints], frames,
                    [model.getJointId(name) for name in spec["name_mot"]], np.array(spec["pkm"]["offset"]),
                    model.getFrameId(spec["pkm"]["effector"]), spec)
 
@@ -77,12 +79,18 @@ class Loaded:
             c.calc(self.model, self.data, d)
 
     def closure(self) -> tuple[np.ndarray, np.ndarray]:
-        """The closures' residual and Jacobian (rows: each constraint's, in its frame A) at the last update."""
+        """The closures' residual (frame B's origin less frame A's, and for 6d the rotation from A to B, in the
+        base frame) and its Jacobian from the frames' Jacobians, at the last update. (Pinocchio 4.1's
+        RigidConstraintModel.jacobian misplaces the columns after a mimic joint: the frames' are right.)"""
         residuals, rows = [], []
-        for c, d in zip(self.constraints, self.constraint_data, strict=True):
-            error = -(d.c1Mc2.translation if c.type == pin.ContactType.CONTACT_3D else pin.log6(d.c1Mc2).vector)
-            residuals.append(error)
-            rows.append(c.jacobian(self.model, self.data, d))
+        for c, d, (a, b) in zip(self.constraints, self.constraint_data, self.frames, strict=True):
+            rotation = self.data.oMf[a].rotation
+            J = [pin.getFrameJacobian(self.model, self.data, f, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED) for f in (a, b)]
+            residuals.append(rotation @ d.c1Mc2.translation)
+            rows.append(J[1][:3] - J[0][:3])
+            if c.type == pin.ContactType.CONTACT_6D:
+                residuals.append(rotation @ pin.log3(d.c1Mc2.rotation))
+                rows.append(J[1][3:] - J[0][3:])
         return np.concatenate(residuals), np.vstack(rows)
 
     def effector_rows(self, oriented: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -109,7 +117,7 @@ def _target_error(placement, target: np.ndarray, oriented: bool) -> np.ndarray:
     position = placement.translation - target[:3, 3]
     if not oriented:
         return position
-    return np.concatenate([position, placement.rotation @ pin.log3(placement.rotation.T @ target[:3, :3])])
+    return np.concatenate([position, target[:3, :3] @ pin.log3(target[:3, :3].T @ placement.rotation)])
 
 
 def solve(loaded: Loaded, effector, q: np.ndarray, target: np.ndarray, tolerance: float) -> tuple[np.ndarray, float]:
@@ -209,6 +217,10 @@ def check_export(m, design, mode: str, folder: Path, rng) -> dict[str, float]:
 
 CASES = [
     ("five_bar", None, ("out_out", "out_in", "in_out", "in_in")),
+    ("slider_gantry", None, ("below", "above")),
+    ("slider_gantry_symmetric", None, ("below", "above")),
+    ("passive_leg", None, ("out_out", "out_in", "in_out", "in_in")),
+    ("ups_pu", None, ("legs",)),
 ]
 
 
@@ -221,3 +233,31 @@ def test_export_agrees_with_pkm_in_pinocchio(pinocchio, tmp_path, name, design, 
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)
         assert errors["M_t"] < TOLERANCE, (mode, errors)
+
+
+def test_bad_input_is_refused_naming_it(tmp_path):
+    m = pkm.load("five_bar")
+    with pytest.raises(UnknownNameError, match="unknown mechanism 'nothing'"):
+        export_command("nothing", "", tmp_path / "out")
+    with pytest.raises(DesignError, match="r1"):
+        m.export_urdf({"r1": -1.0, "r2": 1.0, "r3": 0.8}, tmp_path / "out")
+    with pytest.raises(DesignError, match="r1"):
+        export_command("five_bar", "r1=-1", tmp_path / "out")
+    with pytest.raises(DesignError, match="nothing"):
+        export_command("five_bar", "nothing=1", tmp_path / "out")
+    with pytest.raises(PkmError, match=r"pose .* reaches"):
+        m.export_urdf(None, tmp_path / "out", pose=[0.0, 10.0])
+    blocked = tmp_path / "file"
+    blocked.write_text("a file, not a folder")
+    with pytest.raises(PkmError, match=re.escape(f"folder '{blocked / 'out'}' violates: a folder that can be "
+                                                 "written")):
+        m.export_urdf(None, blocked / "out")
+    assert not (tmp_path / "out").exists()
+    assert blocked.read_text() == "a file, not a folder"
+
+
+def test_a_mechanism_without_a_structure_is_refused(tmp_path):
+    m = pkm.load("five_bar")
+    bare = type("Bare", (type(m),), {"structure": None})()
+    with pytest.raises(PkmError, match="mechanism five_bar violates: a mechanism whose structure"):
+        bare.export_urdf(None, tmp_path / "out")

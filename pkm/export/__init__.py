@@ -57,7 +57,7 @@ def structure(mech: Any, design: Any = None, *, pose: Any = None, mode: str | No
 
 def tree(mech: Any, design: Any = None, *, pose: Any = None, mode: str | None = None) -> Tree:
     """The structure cut into a tree (:func:`pkm.export.structure.cut`)."""
-    return cut(structure(mech, design, pose=pose, mode=mode))
+    return cut(structure(mech, design, pose=pose, mode=mode), mech.actuator_names)
 
 
 def export_urdf(mech: Any, design: Any, folder: str | Path, *, pose: Any = None, mode: str | None = None) -> Path:

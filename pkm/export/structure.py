@@ -262,6 +262,7 @@ class _Builder:
     def __init__(self, structure: Structure) -> None:
         self.structure = structure
         self.frames: dict[str, np.ndarray] = {structure.base: np.eye(4)}
+        self.path: dict[str, frozenset[str]] = {structure.base: frozenset()}  # joints from the base to a link
         self.links = {link.name: link for link in structure.links}
         self.out_links: list[UrdfLink] = []
         self.out_joints: list[UrdfJoint] = []
@@ -297,6 +298,10 @@ class _Builder:
     def chain(self, joint: Joint, child: str, child_doc: str = "") -> np.ndarray:
         """The joint as URDF joints from its parent to ``child``; the frame of ``child``."""
         parent = joint.parent
+        if joint.mimic is not None and joint.mimic[0] not in self.path[parent]:
+            raise AssertionError(f"joint {joint.name} mimics {joint.mimic[0]}, which is not between it and the base "
+                                 "(a parser reads a mimic joint after the joint it mimics)")
+        self.path[child] = self.path[parent] | {joint.name}
         if joint.kind in ("fixed", "free"):
             frame = placement(np.eye(3), joint.origin)
             self.attach(joint.name, parent, child, frame, joint.doc,
@@ -339,8 +344,9 @@ class _Builder:
         self.closures.append(Closure((a, b), kind, joint.name, f"{joint.doc}: {why}"))
 
 
-def cut(structure: Structure) -> Tree:
-    """The tree of a structure (module docstring): its URDF links and joints, closures and motors."""
+def cut(structure: Structure, actuators: tuple[str, ...]) -> Tree:
+    """The tree of a structure (module docstring): its URDF links and joints, closures and motors (in the order
+    of pkm's ``actuators``)."""
     builder = _Builder(structure)
     builder.add_link(structure.base, np.eye(4), builder.links[structure.base].doc)
     for joint in structure.joints:
@@ -358,8 +364,11 @@ def cut(structure: Structure) -> Tree:
     effector = structure.effector
     builder.attach(f"{EFFECTOR}_frame", effector.link, EFFECTOR, effector.frame(structure.reference.pose),
                    f"the end effector: {effector.doc}")
-    motors = tuple(Motor(j.name, j.actuator, j.value, "m" if j.kind == "P" else "rad")
-                   for j in structure.joints if j.actuator is not None)
+    actuated = {j.actuator: j for j in structure.joints if j.actuator is not None}
+    if sorted(actuated) != sorted(actuators):
+        raise AssertionError(f"the actuated joints {sorted(actuated)} are not the actuators {list(actuators)}")
+    motors = tuple(Motor(actuated[a].name, a, actuated[a].value, "m" if actuated[a].kind == "P" else "rad")
+                   for a in actuators)
     return Tree(structure, tuple(builder.out_links), tuple(builder.out_joints), tuple(builder.closures), motors,
                 EFFECTOR)
 

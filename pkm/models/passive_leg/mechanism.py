@@ -34,6 +34,7 @@ from pkm.kinematics import (
 )
 from pkm.mechanism import Mechanism
 from pkm.models.passive_leg.spaces import NAM2006
+from pkm.models.passive_leg.structure import structure
 from pkm.regions import Mapped, MappedSquare, Union
 
 DEG = math.pi / 180
@@ -198,6 +199,7 @@ class PassiveLeg(Mechanism):
     actuator_units = ("rad", "rad")
     forward = PolynomialRoots(back="forward_refined", scale="leg_reach")
     design_spaces: ClassVar[dict[str, DesignSpace]] = {"nam2006": NAM2006}
+    structure = staticmethod(structure)
     regions: ClassVar[dict[str, Any]] = {
         "workspace": Mapped(
             "workspace",

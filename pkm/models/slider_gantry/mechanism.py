@@ -20,6 +20,7 @@ from pkm.design import Condition, Parameter
 from pkm.errors import DesignError, check_real
 from pkm.kinematics import Branch, DesignLike
 from pkm.mechanism import Mechanism
+from pkm.models.slider_gantry.structure import structure
 from pkm.regions import Rectangle
 
 DEG = math.pi / 180
@@ -163,6 +164,7 @@ class SliderGantry(Mechanism):
             function="task_rectangle",
         )
     }
+    structure = staticmethod(structure)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """|x| <= l - d1 (both links reach); y within the strokes plus or minus l and l2/2."""

@@ -36,6 +36,7 @@ from pkm.kinematics import (
 )
 from pkm.mechanism import Mechanism
 from pkm.models.ups_pu import workspace
+from pkm.models.ups_pu.structure import structure
 from pkm.regions import Cylinder, Mapped
 
 DEG = math.pi / 180
@@ -184,6 +185,7 @@ class UpsPu(Mechanism):
             "tilt_to_pose",
         )
     }
+    structure = staticmethod(structure)
 
     @cached_property
     def functions(self) -> FunctionTable:
