@@ -136,7 +136,8 @@ class DesignSpace:
         fixed = {p.name: self.base.get(p.name, p.default) for p in parameters}
         for p in parameters:
             if p.name not in values and p.name not in self.base and p.default_from is not None:
-                fixed[p.name] = p.default_from[1] * fixed[p.default_from[0]]
+                source = p.default_from[0]
+                fixed[p.name] = p.default_from[1] * values.get(source, fixed[source])
         symbolic = any(isinstance(v, ca.MX | ca.SX) for v in values.values())
         if check and not symbolic:
             self.check(c)

@@ -45,3 +45,24 @@ def test_a_length_given_in_mm_is_caught_with_the_unit_suggested(capsys):
     assert "given in mm? 400 mm = 0.4 m" in err
     assert main(["eval", "five_bar", "--pose", "0,1500"]) == 0
     assert "y = 1500 m: in mm?" in capsys.readouterr().out
+
+
+def test_the_five_bars_dynamic_defaults_are_a_physical_machine_and_the_papers_values_a_named_space():
+    """The defaults: links of an aluminium tube (0.821 kg/m, the mass following the length), a steel shaft of
+    G pi d^4 / (32 l) and a rotor of 0.5 m r^2 times the reduction squared; Lara-Molina's non-dimensional
+    values (m1 = 1.2, m2 = 0.8, k = 1, j = 0.5 m1) are the base of its named design space."""
+    m = pkm.load("five_bar")
+    design = m.design({"r1": 0.3, "r2": 0.4, "r3": 0.1})
+    assert design["m1"] == pytest.approx(3.04e-4 * 2700 * 0.3, rel=1e-3)
+    assert design["m2"] == pytest.approx(3.04e-4 * 2700 * 0.4, rel=1e-3)
+    assert design["k1"] == pytest.approx(79.3e9 * math.pi * 0.02**4 / 32 / 0.1, rel=1e-2)
+    assert design["j1"] == pytest.approx(0.5 * 7850 * math.pi * 0.03**2 * 0.06 * 0.03**2 * 10**2, rel=1e-2)
+    space = m.design_spaces["lara_molina2016"]
+    paper = dict(zip(m.parameter_names(), space.designs(m.parameters, [1.0, 1.0, 1.0]), strict=True))
+    assert {k: paper[k] for k in ("m1", "m2", "k1", "k2", "j1", "j2")} == {
+        "m1": 1.2, "m2": 0.8, "k1": 1.0, "k2": 1.0, "j1": 0.6, "j2": 0.6}
+    gao = dict(zip(m.parameter_names(), m.design_spaces["gao1998"].designs(m.parameters, [1.0, 0.5, 1.0]),
+                   strict=True))
+    assert gao["m1"] == pytest.approx(0.821 * gao["r1"])
+    frequency = m.global_index("lambda_e", design, region="miw", mode="out_out", resolution=4)
+    assert math.sqrt(design["k1"] / design["j1"]) < float(frequency) < 1e4  # rad/s, above the rotor on its spring

@@ -28,9 +28,16 @@ def _optional(name, default, lower, unit, doc, *, closed=False, default_from=Non
     )
 
 
+R1, R2, R3 = 1.2, 1.0, 0.8  # m: the default proximal and distal links and half base
+LINK_MASS_PER_LENGTH = 0.821  # kg/m: an aluminium square tube 40 x 40 x 2 mm (3.04e-4 m^2, 2700 kg/m^3)
+SHAFT_STIFFNESS = 1.25e4  # N m/rad: G pi d^4 / (32 l), a steel shaft (G = 79.3 GPa) d = 20 mm, l = 100 mm
+ROTOR_INERTIA = 0.06  # kg m^2: a steel rotor of radius 30 mm and length 60 mm (6.0e-4 kg m^2) behind 10:1
+
 DYNAMIC_PARAMETERS = (
-    _optional("m1", 1.2, 0.0, "kg", "mass of each proximal link (Lara-Molina section IV: 1.2)"),
-    _optional("m2", 0.8, 0.0, "kg", "mass of each distal link (Lara-Molina section IV: 0.8)"),
+    _optional("m1", LINK_MASS_PER_LENGTH * R1, 0.0, "kg", "mass of each proximal link; default 0.821 kg/m r1 (a "
+              "40 x 40 x 2 mm aluminium tube)", default_from=("r1", LINK_MASS_PER_LENGTH)),
+    _optional("m2", LINK_MASS_PER_LENGTH * R2, 0.0, "kg", "mass of each distal link; default 0.821 kg/m r2 (the "
+              "same tube)", default_from=("r2", LINK_MASS_PER_LENGTH)),
     Parameter("c1", 0.5, -math.inf, math.inf, "-", "centre of mass of a proximal link from its base joint, in r1",
               required=False),
     Parameter("c2", 0.5, -math.inf, math.inf, "-", "centre of mass of a distal link from its elbow, in r2",
@@ -39,12 +46,13 @@ DYNAMIC_PARAMETERS = (
               closed=True),
     _optional("g2", 1 / 12, 0.0, "-", "distal link inertia about its centre of mass, in m2 r2^2 (bar: 1/12)",
               closed=True),
-    _optional("k1", 1.0, 0.0, "N m/rad", "stiffness of the transmission of motor 1 (eq. 13)"),
-    _optional("k2", 1.0, 0.0, "N m/rad", "stiffness of the transmission of motor 2 (eq. 13)"),
-    _optional("j1", 0.6, 0.0, "kg m^2", "rotor inertia of motor 1 after the reduction; default 0.5 m1",
-              default_from=("m1", 0.5)),
-    _optional("j2", 0.6, 0.0, "kg m^2", "rotor inertia of motor 2 after the reduction; default 0.5 m1",
-              default_from=("m1", 0.5)),
+    _optional("k1", SHAFT_STIFFNESS, 0.0, "N m/rad", "stiffness of the transmission of motor 1 (eq. 13); default "
+              "a steel shaft of 20 mm diameter and 100 mm length"),
+    _optional("k2", SHAFT_STIFFNESS, 0.0, "N m/rad", "stiffness of the transmission of motor 2 (eq. 13); default "
+              "as k1"),
+    _optional("j1", ROTOR_INERTIA, 0.0, "kg m^2", "rotor inertia of motor 1 after the reduction; default a steel "
+              "rotor of radius 30 mm and length 60 mm behind a 10:1 reduction"),
+    _optional("j2", ROTOR_INERTIA, 0.0, "kg m^2", "rotor inertia of motor 2 after the reduction; default as j1"),
     _optional("fv", 0.0, 0.0, "N m s/rad", "viscous friction at each actuated joint (eq. 22)", closed=True),
     _optional("fc", 0.0, 0.0, "N m", "Coulomb friction at each actuated joint (eq. 22)", closed=True),
     _optional("vm", 0.0, 0.0, "N m s/rad", "viscous friction at each rotor (eq. 13)", closed=True),
@@ -55,9 +63,9 @@ class FiveBar(Mechanism):
     name = "five_bar"
     doc = "symmetric planar 5R: two actuated proximal links, two distal links, end effector (x, y)"
     parameters = (
-        Parameter("r1", 1.2, 0.0, math.inf, "m", "proximal (actuated) link length, base joint to elbow"),
-        Parameter("r2", 1.0, 0.0, math.inf, "m", "distal link length, elbow to end effector"),
-        Parameter("r3", 0.8, 0.0, math.inf, "m", "half the distance between the two base joints", closed_lower=True),
+        Parameter("r1", R1, 0.0, math.inf, "m", "proximal (actuated) link length, base joint to elbow"),
+        Parameter("r2", R2, 0.0, math.inf, "m", "distal link length, elbow to end effector"),
+        Parameter("r3", R3, 0.0, math.inf, "m", "half the distance between the two base joints", closed_lower=True),
         *DYNAMIC_PARAMETERS,
     )
     conditions = (
@@ -82,6 +90,7 @@ class FiveBar(Mechanism):
     actuator_names = ("theta1", "theta2")
     actuator_units = ("rad", "rad")
     design_spaces: ClassVar[dict[str, DesignSpace]] = {"gao1998": GAO1998, "lara_molina2016": LARA_MOLINA2016}
+    structure = staticmethod(structure)
     regions: ClassVar[dict[str, Disc]] = {
         "miw": Disc(
             "miw",
@@ -90,7 +99,6 @@ class FiveBar(Mechanism):
         )
     }
 
-    structure = staticmethod(structure)
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """The intersection of the chains' annuli lies in |x| <= R - r3, |y| <= sqrt(R^2 - r3^2)."""
         r1, r2, r3 = design[:3]
