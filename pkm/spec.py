@@ -87,26 +87,38 @@ FRAMES = {
 }
 @dataclass(frozen=True)
 class Kind:
-    """A kind of leg: the space it moves in, its lengths, whether its inverse kinematics has two branches,
-    its actuated joint's unit, its passive angles, whether its passive joints have two branches too (their
-    side names the assembly modes) and its bodies."""
+    """A kind of leg: the space it moves in, its lengths, the words for the two branches of its inverse
+    kinematics (sign +1, then -1; none where it has one), what they mean, its actuated joint's unit, its
+    passive angles, whether its passive joints have two branches too (their side names the assembly modes)
+    and its bodies."""
 
     space: str
     lengths: tuple[str, ...]
-    branched: bool
+    branches: tuple[str, ...]
+    meaning: str
     unit: str
     passive: int
     sided: bool
     bodies: tuple[str, ...]
     points: int  # joints drawn, from the base's to the platform's
 
+    @property
+    def branched(self) -> bool:
+        return bool(self.branches)
+
 
 KINDS = {
-    "RR": Kind("planar", ("proximal", "distal"), True, "rad", 1, True, ("proximal", "distal"), 3),
-    "RPR": Kind("planar", (), False, "m", 1, False, ("cylinder", "piston"), 2),
-    "PRR": Kind("planar", ("distal",), True, "m", 1, True, ("slider", "distal"), 3),
-    "R_parallelogram": Kind("spatial", ("arm", "rod"), True, "rad", 0, False, ("arm", "rod"), 3),
-    "UPS": Kind("spatial", (), False, "m", 0, False, ("cylinder", "piston"), 2),
+    "RR": Kind("planar", ("proximal", "distal"), ("left", "right"),
+               "the elbow left or right of the line from the base joint to the platform joint, seen from +z", "rad",
+               1, True, ("proximal", "distal"), 3),
+    "RPR": Kind("planar", (), (), "", "m", 1, False, ("cylinder", "piston"), 2),
+    "PRR": Kind("planar", ("distal",), ("ahead", "behind"),
+                "the slider ahead of or behind the platform joint's foot on the slide's axis", "m", 1, True,
+                ("slider", "distal"), 3),
+    "R_parallelogram": Kind("spatial", ("arm", "rod"), ("ccw", "cw"),
+                            "the arm turned counter-clockwise or clockwise about its axis from the plane of the axis "
+                            "and the platform joint", "rad", 0, False, ("arm", "rod"), 3),
+    "UPS": Kind("spatial", (), (), "", "m", 0, False, ("cylinder", "piston"), 2),
 }
 FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
 SUFFIX = ".toml"  # a mechanism name with it is a description file
@@ -715,11 +727,19 @@ def _mode_name(signs: Sequence[int]) -> str:
 
 def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The working modes: the named sign combinations of the branched legs where the description names
-    some, else every combination, named by its signs."""
-    branched = sum(KINDS[leg["kind"]].branched for leg in data["legs"])
+    some, else every combination, named by the words of each leg's branch in order (``left_left_right``)."""
+    kinds = [KINDS[leg["kind"]] for leg in data["legs"] if KINDS[leg["kind"]].branched]
     named = {tuple(float(s) for s in v): k for k, v in data["modes"].items()}
-    combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=branched)) if branched else [(1.0,)])
-    return tuple(Branch(named.get(c, _mode_name(c)), tuple(c), f"leg branch signs {', '.join(f'{s:+.0f}' for s in c)}")
+    combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=len(kinds))) if kinds else [(1.0,)])
+    meanings = "; ".join(dict.fromkeys(f"{'/'.join(k.branches)}: {k.meaning}" for k in kinds))
+
+    def words(combo: tuple[float, ...]) -> list[str]:
+        return [k.branches[0 if s > 0 else 1] for k, s in zip(kinds, combo, strict=True)]
+
+    if not kinds:
+        return tuple(Branch(named.get(c, "single"), tuple(c), "every leg has one branch") for c in combos)
+    return tuple(Branch(named.get(c, "_".join(words(c))), tuple(c),
+                        f"legs {', '.join(words(c))} ({meanings}); branch signs {', '.join(f'{s:+.0f}' for s in c)}")
                  for c in combos)
 
 

@@ -162,7 +162,7 @@ def test_the_five_bar_described_has_the_hand_derived_global_indices_and_synthesi
     design = hand.design()
     small = {n: design[n] for n in ("r1", "r2", "r3")}
     disc = hand.region("miw")
-    centre, radius = (np.ravel(v) for v in disc.placement(hand.functions, design.vector()))
+    centre, radius = (np.array(v).ravel() for v in disc.placement(hand.functions, design.vector()))
     task = {"shape": "disc", "centre": centre.tolist(), "size": [0.8 * float(radius[0])]}
     fixed = disc.at(centre, 0.8 * radius)
     for mode in ("out_out", "in_out"):
@@ -354,7 +354,7 @@ def test_the_3rpr_with_bodies_has_a_positive_definite_inertia_and_the_power_of_i
     from pkm.batch import evaluate
 
     rng = np.random.default_rng(10)
-    x = _within(m, rng, [-0.2, -0.2, -0.4], [0.2, 0.2, 0.4], "p")[:40]
+    x = _within(m, rng, [-0.2, -0.2, -0.4], [0.2, 0.2, 0.4], "single")[:40]
     assert np.all(np.linalg.eigvalsh(m.inertia_matrix(x, space="actuated")) > 0)
     x_dot, x_ddot = rng.normal(size=(2, len(x), 3))
     power = np.sum(m.inverse_dynamics(x, x_dot, x_ddot) * np.einsum("nij,nj->ni", m.jacobian(x), x_dot), axis=1)

@@ -90,8 +90,8 @@ def _file(tmp_path, constraints):
 
 
 def test_a_task_file_reads_its_poses_from_a_csv_beside_it_and_states_physical_limits(tmp_path):
-    problem = read_problem(_file(tmp_path, '{joint = "theta1", lower = -0.5, upper = 1.9}, '
-                                           '{effort = [0.0, -50.0], upper = 60.0}, {joint_range = "theta2", upper = 1}'))
+    problem = read_problem(_file(tmp_path, '{joint = "theta1", lower = -0.5, upper = 1.9}, {effort = [0.0, -50.0], '
+                                           'upper = 60.0}, {joint_range = "theta2", upper = 1}'))
     (region,) = {q.region for q in problem.quantities.values()}
     assert np.array_equal(np.array(region.poses), PATH)
     assert {"theta1_least", "theta1_largest", "theta2_least", "theta2_largest", "effort"} <= set(problem.quantities)

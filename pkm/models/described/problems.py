@@ -17,8 +17,8 @@ def problems() -> tuple[Problem, ...]:
             registry.mechanism("rrr3"), task="task", name="rrr3.max_gci_task",
             variables={"r_p": (0.1, 0.6), "l1": (0.3, 1.0), "l2": (0.3, 1.0)},
             doc="maximise the GCI over the task cylinder (a disc of radius 0.15 m, platform angles within 15 deg) "
-                "in the platform radius and the two link lengths, the base radius 1 m, working mode ppp; the task "
-                "inside the workspace",
+                "in the platform radius and the two link lengths, the base radius 1 m, working mode left_left_left; "
+                "the task inside the workspace",
             baseline=("grid", 11),
         ),
         design_problem(
