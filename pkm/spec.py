@@ -23,7 +23,8 @@ A description is a mapping (or a TOML file) with
 * ``home``: the home pose (expressions), the seed of the forward kinematics;
 * optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
   combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every
-  combination is a mode, named by its signs (``pn`` for +1, -1);
+  combination is a mode, named by the words of its legs' branches (``left_right`` for two RR legs on +1, -1:
+  :data:`KINDS`);
 * optionally bodies, for the inertia matrices: ``platform = {mass, centre (in the platform frame), inertia
   (planar: about z; spatial: the principal moments about x, y, z of the platform frame)}`` and in each leg
   table ``bodies``: a rotor inertia on the actuated joint (``rotor``) and the leg's bodies, each {mass,
