@@ -34,7 +34,7 @@ from pkm import load as load_mechanism
 from pkm.compiled import CompiledPathWarning
 from pkm.compiled import status as compiled_status
 from pkm.design import Design, parse_design
-from pkm.design_space import parameter_plane
+from pkm.design_space import parameter_plane, parse_axes
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.interrupts import interruptible
 from pkm.mechanism import Mechanism
@@ -369,6 +369,37 @@ def cmd_compare(args: argparse.Namespace) -> None:
     _emit(args, data, comparison.markdown() + f"\n\nwrote {len(written)} files to {io.kept_path(folder)}")
 
 
+def cmd_explore(args: argparse.Namespace) -> None:
+    """The explorer (:mod:`pkm.explore`): a local server and its page until Ctrl-C or the page's stop
+    request, or with ``--html`` the page with its data as one file."""
+    from pkm.explore import Explorer, Server, export_html, require_plotly
+
+    require_plotly()
+    m = load_mechanism(args.mechanism)
+    problem = args.problem
+    if problem and problem.endswith(".toml"):
+        from pkm.synthesis.designer import read_problem
+
+        problem = read_problem(problem)
+    explorer = Explorer(m, index=args.index, region=args.region, space=args.space, axes=args.axes,
+                        design=args.design, problem=problem, resolution=args.resolution,
+                        map_resolution=args.map_resolution)
+    if args.html:
+        path = export_html(explorer, args.html, grid=args.grid)
+        _emit(args, {"mechanism": m.name, "html": str(path)}, f"wrote {path}")
+        return
+    server = Server(explorer, port=args.port)
+    _emit(args, {"mechanism": m.name, "url": server.url},
+          f"pkm explore: {m.name} at {server.url} (Ctrl-C or the page's stop button ends it)")
+    sys.stdout.flush()
+    if not args.no_browser:
+        import webbrowser
+
+        webbrowser.open(server.url)
+    server.serve_forever()
+    print("pkm explore: stopped", file=sys.stderr)
+
+
 def _numbers(values: list[float]) -> str:
     return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
 
@@ -388,7 +419,7 @@ CHUNKS = ".pkm-chunks"
 def _space(m: Mechanism, args: argparse.Namespace) -> Any:
     if args.axes:
         base = dict(_design(m, args.design)) if args.design else None
-        return parameter_plane(m.parameters, _axes(args.axes), base=base)
+        return parameter_plane(m.parameters, parse_axes(args.axes, "--axes"), base=base)
     if args.design:
         raise PkmError("--design holds the parameters off the chart of an atlas over --axes; a design space "
                        "fixes its own")
@@ -491,23 +522,6 @@ def _remove_if_empty(folder: Path) -> None:
     with contextlib.suppress(OSError):
         if folder.is_dir() and not any(folder.iterdir()):
             folder.rmdir()
-
-
-def _axes(text: str) -> list[tuple[str, float, float]]:
-    """``"R=0.1:0.3,beta=0.2:1.2"`` -> [("R", 0.1, 0.3), ("beta", 0.2, 1.2)]."""
-    out = []
-    for item in filter(None, (t.strip() for t in text.split(","))):
-        name, sep, bounds = item.partition("=")
-        lower, colon, upper = bounds.partition(":")
-        try:
-            if not (sep and colon):
-                raise ValueError
-            out.append((name.strip(), float(lower), float(upper)))
-        except ValueError:
-            raise PkmError(f"--axes item {item!r} is not of the form name=lower:upper") from None
-        if [name for name, *_ in out].count(out[-1][0]) > 1:
-            raise PkmError(f"--axes {text} violates: each parameter once; {out[-1][0]} is given twice")
-    return out
 
 
 def _named(values: dict[str, float]) -> str:
@@ -831,6 +845,33 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design "
                                                 "(no default); e.g. compared")
     units_option(p)
+    p = command("explore", cmd_explore, "an atlas in the browser: click or hover a design to see its workspace "
+                                        "map, singularities, region, linkage and card (a local server on "
+                                        "127.0.0.1; needs pip install 'pkm[explore]')")
+    listed(p, "mechanism", key="mechanism")
+    p.add_argument("--index", help="global index of the atlas (default: the mechanism's first, see pkm list); e.g. "
+                                   "gci")
+    p.add_argument("--region", help="region of the atlas and the cards (default: the mechanism's first "
+                                    "parametrised one, else reachable); e.g. miw")
+    listed(p, "--space", key="space")
+    p.add_argument("--axes", help="two design parameters with bounds instead of a design space (default: the "
+                                  "first design space, else the first two parameters at half to 1.5 times their "
+                                  "defaults): name=lower:upper,name=lower:upper; e.g. r1=0.5:1.5,r2=0.5:1.5")
+    p.add_argument("--design", help="the parameters off the atlas's chart, name=value in SI (default: the "
+                                    "defaults); e.g. r3=0.2")
+    p.add_argument("--problem", help="a synthesis problem whose optimum the atlas marks: a registered name or a "
+                                     "task file (default: a registered problem of the mechanism that optimises "
+                                     "the index over the region); e.g. my_task.toml")
+    p.add_argument("--resolution", type=int, default=21, help="design grid nodes per chart axis (default 21, 3 to "
+                                                              "81); e.g. 41")
+    p.add_argument("--map-resolution", type=int, default=128, help="poses per axis of the workspace maps "
+                                                                   "(default 128, 3 to 256); e.g. 256")
+    p.add_argument("--port", type=int, default=0, help="port on 127.0.0.1 (default 0: a free port); e.g. 8765")
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser (default: open one)")
+    p.add_argument("--html", help="write the page with a precomputed atlas and grid of cards as one "
+                                  "self-contained file instead of serving it (default: serve); e.g. atlas.html")
+    p.add_argument("--grid", type=int, default=5, help="with --html, precomputed designs per chart axis (default "
+                                                       "5, 1 to 21); e.g. 7")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "

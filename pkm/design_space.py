@@ -165,6 +165,24 @@ class DesignSpace:
         return u, v, inside.reshape(U.shape)
 
 
+def parse_axes(text: str, what: str = "axes") -> list[tuple[str, float, float]]:
+    """``"R=0.1:0.3,beta=0.2:1.2"`` -> [("R", 0.1, 0.3), ("beta", 0.2, 1.2)]; :class:`DesignError` naming ``what``
+    (the option or field that gave the text) for an item of another form or a parameter given twice."""
+    out = []
+    for item in filter(None, (t.strip() for t in text.split(","))):
+        name, sep, bounds = item.partition("=")
+        lower, colon, upper = bounds.partition(":")
+        try:
+            if not (sep and colon):
+                raise ValueError
+            out.append((name.strip(), float(lower), float(upper)))
+        except ValueError:
+            raise DesignError(f"{what} item {item!r} is not of the form name=lower:upper") from None
+        if [name for name, *_ in out].count(out[-1][0]) > 1:
+            raise DesignError(f"{what} {text} violates: each parameter once; {out[-1][0]} is given twice")
+    return out
+
+
 def parameter_plane(
     parameters: Sequence[Parameter], axes: Sequence[tuple[str, float, float]], *, name: str | None = None,
     base: Mapping[str, float] | None = None,

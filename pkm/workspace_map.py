@@ -23,6 +23,7 @@ from pkm.errors import PkmError
 RESOLUTION = 121  # poses per axis of the plane
 REGION_RESOLUTION = 8  # of the region's quadrature whose nodes are drawn
 NEAR = 0.02  # a region's node is drawn where its held coordinates lie within this share of the box's width
+POSITION = ("x", "y", "z")  # pose coordinates that are the columns of a linkage's points
 
 
 @dataclass(frozen=True)
@@ -99,17 +100,23 @@ class WorkspaceSlice:
 
 
     def _draw_linkage(self, ax: Any, linkage: Sequence[np.ndarray]) -> None:
-        position = ("x", "y", "z")
-        if not len(linkage) or not all(a in position for a in self.axes) or not np.all(np.isfinite(linkage[0])):
-            return
-        columns = [position.index(a) for a in self.axes]
-        if max(columns) >= linkage[0].shape[1]:
+        columns = plane_columns(self.axes, linkage)
+        if columns is None:
             return
         for k, leg in enumerate(linkage):
             ax.plot(leg[:, columns[0]], leg[:, columns[1]], "-o", color="k", linewidth=1.6, markersize=3.5,
                     markerfacecolor="white", label="linkage" if k == 0 else None)
         ends = np.array([leg[-1, columns] for leg in linkage] + [linkage[0][-1, columns]])
         ax.plot(ends[:, 0], ends[:, 1], "-", color="k", linewidth=1.0)
+
+
+def plane_columns(axes: Sequence[str], linkage: Sequence[np.ndarray]) -> list[int] | None:
+    """The columns of the linkage's points (:meth:`pkm.Mechanism.linkage`) that are the plane's ``axes``, where
+    both axes are positions and the linkage is drawn (finite); None otherwise."""
+    if not len(linkage) or not all(a in POSITION for a in axes) or not np.all(np.isfinite(linkage[0])):
+        return None
+    columns = [POSITION.index(a) for a in axes]
+    return None if max(columns) >= linkage[0].shape[1] else columns
 
 
 def workspace_slice(

@@ -1,0 +1,180 @@
+"""The explorer's local server: the standard library's ThreadingHTTPServer on 127.0.0.1 only, serving the
+page, plotly.js from the installed plotly package and the JSON API (:mod:`pkm.explore.api`).
+
+Routes: ``GET /`` the page, ``GET /explore.js``, ``/explore.css`` and ``/plotly.min.js`` its assets,
+``GET /api/<endpoint>?field=value&...`` an endpoint's JSON (400 with ``{"error", "field"}`` for a bad
+request, 500 with a one-line ``{"error"}`` for anything else), ``POST /api/stop`` (with a JSON content
+type, which a page of another origin cannot send without the server's consent) stops the server. A request
+whose Host header is not this server's loopback address is refused (403): a page of another site cannot reach
+the API through a name that resolves to 127.0.0.1.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from functools import cache
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from importlib import resources
+from typing import Any
+from urllib.parse import parse_qsl, urlsplit
+
+from pkm import io
+from pkm.errors import PkmError, check_integer
+from pkm.explore.api import FIELDS, Explorer, RequestError
+
+HOST = "127.0.0.1"
+ASSETS = {"/explore.js": "text/javascript", "/explore.css": "text/css", "/": "text/html"}
+MAX_QUERY = 65536
+
+
+def require_plotly() -> None:
+    """PkmError with the command that installs plotly, where it is missing."""
+    try:
+        import plotly  # noqa: F401
+    except ImportError:
+        raise PkmError("pkm explore needs plotly: pip install 'pkm[explore]'") from None
+
+
+@cache
+def plotly_js() -> bytes:
+    """plotly.js as the installed plotly package carries it."""
+    require_plotly()
+    return (resources.files("plotly") / "package_data" / "plotly.min.js").read_bytes()
+
+
+def asset(name: str) -> bytes:
+    """A file of the page (``index.html``, ``explore.js``, ``explore.css``), package data of pkm.explore."""
+    return (resources.files("pkm.explore") / "page" / name).read_bytes()
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server: _HTTPServer
+    protocol_version = "HTTP/1.1"
+
+    def log_message(self, format: str, *args: Any) -> None:
+        if self.server.verbose:
+            super().log_message(format, *args)
+
+    def _send(self, status: int, body: bytes, content_type: str) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", content_type)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        self.wfile.write(body)
+
+    def _json(self, status: int, data: Any) -> None:
+        self._send(status, io.to_json(data).encode(), "application/json")
+
+    def _local(self) -> bool:
+        port = self.server.server_address[1]
+        if self.headers.get("Host") not in (f"{HOST}:{port}", f"localhost:{port}"):
+            self._json(HTTPStatus.FORBIDDEN, {"error": "requests name this server by its loopback address",
+                                              "field": "Host"})
+            return False
+        return True
+
+    def do_GET(self) -> None:
+        if not self._local():
+            return
+        parts = urlsplit(self.path)
+        if parts.path.startswith("/api/"):
+            self._api(parts.path[len("/api/"):], parts.query)
+        elif parts.path == "/favicon.ico":
+            self._send(HTTPStatus.NO_CONTENT, b"", "image/x-icon")
+        elif parts.path == "/plotly.min.js":
+            self._send(HTTPStatus.OK, plotly_js(), "text/javascript")
+        elif parts.path in ASSETS:
+            name = "index.html" if parts.path == "/" else parts.path[1:]
+            self._send(HTTPStatus.OK, asset(name), f"{ASSETS[parts.path]}; charset=utf-8")
+        else:
+            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {parts.path!r}", "field": "path"})
+
+    def do_POST(self) -> None:
+        if not self._local():
+            return
+        self.rfile.read(int(self.headers.get("Content-Length") or 0))
+        if urlsplit(self.path).path != "/api/stop":
+            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {self.path!r}", "field": "path"})
+        elif not (self.headers.get("Content-Type") or "").startswith("application/json"):
+            self._json(HTTPStatus.BAD_REQUEST, {"error": "stop violates: a JSON request (Content-Type "
+                                                         "application/json)", "field": "Content-Type"})
+        else:
+            self._json(HTTPStatus.OK, {"stopped": True})
+            threading.Thread(target=self.server.shutdown, daemon=True).start()
+
+    def _api(self, endpoint: str, query: str) -> None:
+        try:
+            if len(query) > MAX_QUERY:
+                raise RequestError("query", f"a query of {len(query)} characters violates: at most {MAX_QUERY}")
+            pairs = parse_qsl(query, keep_blank_values=True)
+            names = [name for name, _ in pairs]
+            repeated = sorted({name for name in names if names.count(name) > 1})
+            if repeated:
+                raise RequestError(repeated[0], f"field {repeated[0]!r} violates: given once")
+            if endpoint not in FIELDS:
+                self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {endpoint!r}", "field": "endpoint"})
+                return
+            data = self.server.explorer.handle(endpoint, dict(pairs))
+        except RequestError as exc:
+            self._json(HTTPStatus.BAD_REQUEST, exc.to_dict())
+        except PkmError as exc:
+            self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc), "field": None})
+        except Exception as exc:
+            message = " ".join(f"{type(exc).__name__}: {exc}".split())
+            print(f"pkm explore: {endpoint} failed: {message}", file=sys.stderr)
+            self._json(HTTPStatus.INTERNAL_SERVER_ERROR, {"error": message})
+        else:
+            self._json(HTTPStatus.OK, data)
+
+
+class _HTTPServer(ThreadingHTTPServer):
+    daemon_threads = True
+
+    def __init__(self, explorer: Explorer, port: int, verbose: bool) -> None:
+        self.explorer = explorer
+        self.verbose = verbose
+        super().__init__((HOST, port), _Handler)
+
+
+class Server:
+    """A running explorer: ``url``, :meth:`serve_forever` (in this thread, until :meth:`shutdown` or a stop
+    request), :meth:`start` (in a thread of its own) and :meth:`shutdown`, which also closes the socket."""
+
+    def __init__(self, explorer: Explorer, *, port: int = 0, verbose: bool = False) -> None:
+        require_plotly()
+        port = check_integer("port", port, 0, 65535)
+        try:
+            self._httpd = _HTTPServer(explorer, port, verbose)
+        except OSError as exc:
+            raise PkmError(f"port = {port} violates: a free port of {HOST} ({exc.strerror or exc})") from None
+        self.explorer = explorer
+        self._thread: threading.Thread | None = None
+
+    @property
+    def port(self) -> int:
+        return self._httpd.server_address[1]
+
+    @property
+    def url(self) -> str:
+        return f"http://{HOST}:{self.port}/"
+
+    def serve_forever(self) -> None:
+        try:
+            self._httpd.serve_forever(poll_interval=0.2)
+        finally:
+            self._httpd.server_close()
+
+    def start(self) -> Server:
+        self._thread = threading.Thread(target=self.serve_forever, name="pkm-explore", daemon=True)
+        self._thread.start()
+        return self
+
+    def shutdown(self) -> None:
+        """Stop serving and close the socket (waits for the serving thread where :meth:`start` began one)."""
+        self._httpd.shutdown()
+        if self._thread is not None:
+            self._thread.join()
+        self._httpd.server_close()
