@@ -13,13 +13,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from pkm.errors import PkmError, PoseError
+from pkm.errors import PkmError
 from pkm.export.structure import Reference, Structure, Tree, cut
 from pkm.export.urdf import write
 
-__all__ = ["Reference", "Structure", "Tree", "export_command", "export_urdf", "reference", "structure", "tree"]
+__all__ = ["Reference", "Structure", "Tree", "export_command", "export_urdf", "structure", "tree"]
 
 
 def _builder(mech: Any) -> Callable[[Any, Reference], Structure]:
@@ -31,22 +29,6 @@ def _builder(mech: Any) -> Callable[[Any, Reference], Structure]:
         return described
     raise PkmError(f"mechanism {mech.name} violates: a mechanism whose structure (links, joints, axes) pkm knows, "
                    "to be exported")
-
-
-def reference(mech: Any, design: Any, pose: Any, mode: str | None, home: Callable[[np.ndarray], Any]) -> Reference:
-    """The reference configuration of a structure: the design validated (its bounds and conditions), the pose
-    (``home(design vector)`` without one) and every joint there in the working mode, within the mechanism's
-    stated limits; :class:`PoseError` where the pose is out of reach."""
-    d = mech.design_vector(design)
-    branch = mech.working_mode(mode)
-    x = np.asarray(home(d) if pose is None else pose, dtype=float).ravel()
-    if x.shape != (mech.n_out,) or not np.all(np.isfinite(x)):
-        raise PoseError(f"pose {x.tolist()} violates: {mech.n_out} finite values ({', '.join(mech.pose_names)})")
-    q = mech.inverse_kinematics(x, d, mode=branch.name, passive=True)
-    if not np.all(np.isfinite(q)):
-        raise PoseError(f"pose {x.tolist()} violates: a pose that working mode {branch.name} of {mech.name} reaches "
-                        "within its stated limits (the reference configuration of the export)")
-    return Reference(mech.design_dict(d), x, branch.name, q)
 
 
 def structure(mech: Any, design: Any = None, *, pose: Any = None, mode: str | None = None) -> Structure:

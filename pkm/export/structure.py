@@ -19,10 +19,11 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
-from pkm.errors import PkmError
+from pkm.errors import PkmError, PoseError
 
 KINDS = {"R": 1, "P": 1, "U": 2, "S": 3, "fixed": 0, "free": 6}  # joint kinds and their degrees of freedom
 PARALLEL = 1e-9  # a hint direction within this sine of a joint's axis is not used to orient its frame
@@ -181,6 +182,23 @@ class Structure:
     effector: Effector
     notes: tuple[str, ...] = ()
     gravity: np.ndarray | None = None
+
+
+def reference(mech: Any, design: Any, pose: Any, mode: str | None, home: Callable[[np.ndarray], Any]) -> Reference:
+    """The reference configuration of a structure: the design validated (its bounds and conditions), the pose
+    (``home(design vector)`` without one) and every joint there in the working mode, within the mechanism's
+    stated limits; :class:`PoseError` where the pose is out of reach."""
+    d = mech.design_vector(design)
+    branch = mech.working_mode(mode)
+    x = np.asarray(home(d) if pose is None else pose, dtype=float).ravel()
+    if x.shape != (mech.n_out,) or not np.all(np.isfinite(x)):
+        raise PoseError(f"pose {x.tolist()} violates: {mech.n_out} finite values ({', '.join(mech.pose_names)})")
+    q = mech.inverse_kinematics(x, d, mode=branch.name, passive=True)
+    if not np.all(np.isfinite(q)):
+        raise PoseError(f"pose {x.tolist()} violates: a pose that working mode {branch.name} of {mech.name} reaches "
+                        "within its stated limits (the reference configuration of the export)")
+    return Reference(mech.design_dict(d), x, branch.name, q)
+
 
 
 # the URDF side

@@ -14,8 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.export import reference
-from pkm.export.structure import Inertial, Joint, Link, Structure, translation_effector
+from pkm.export.structure import Inertial, Joint, Link, Structure, reference, translation_effector
 
 Z = np.array([0.0, 0.0, 1.0])
 

@@ -14,8 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.export import reference
-from pkm.export.structure import Effector, Joint, Link, Structure, placement, rotation_z
+from pkm.export.structure import Effector, Joint, Link, Structure, placement, reference, rotation_z
 
 Z = np.array([0.0, 0.0, 1.0])
 

@@ -16,8 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.export import reference
-from pkm.export.structure import Inertial, Joint, Link, Structure, translation_effector
+from pkm.export.structure import Inertial, Joint, Link, Structure, reference, translation_effector
 
 Y = np.array([0.0, 1.0, 0.0])
 TURN = np.array([0.0, 0.0, -1.0])  # theta_i turns a link from +y towards +x

@@ -14,8 +14,18 @@ from typing import Any
 
 import numpy as np
 
-from pkm.export import reference
-from pkm.export.structure import Effector, Inertial, Joint, Link, Structure, placement, rotation_x, rotation_y, unit
+from pkm.export.structure import (
+    Effector,
+    Inertial,
+    Joint,
+    Link,
+    Structure,
+    placement,
+    reference,
+    rotation_x,
+    rotation_y,
+    unit,
+)
 
 X, Z = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
 
