@@ -6,6 +6,7 @@ tests skip without it, and fail without it where PKM_REQUIRE_PINOCCHIO=1."""
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -291,3 +292,80 @@ def test_a_mechanism_without_a_structure_is_refused(tmp_path):
     bare = type("Bare", (type(m),), {"structure": None})()
     with pytest.raises(PkmError, match="mechanism five_bar violates: a mechanism whose structure"):
         bare.export_urdf(None, tmp_path / "out")
+
+
+def _gepetto_five_bar(pinocchio) -> tuple[object, dict[str, int]]:
+    """Gepetto's five-bar linkage as its robot.urdf places its joints (tests/data, with the source named)."""
+    data = json.loads((DATA / "gepetto_5bar_linkage.json").read_text())
+    model, joint_of = pinocchio.Model(), {}
+    pending = list(data["joints"])
+    links = {"built": 0}
+    while pending:
+        joint = next(j for j in pending if j["parent"] in links)
+        pending.remove(joint)
+        assert joint["axis"] == [0.0, 0.0, 1.0]
+        placement = pinocchio.SE3(pinocchio.rpy.rpyToMatrix(np.array(joint["rpy"])), np.array(joint["xyz"]))
+        joint_of[joint["name"]] = links[joint["child"]] = model.addJoint(links[joint["parent"]],
+                                                                         pinocchio.JointModelRZ(), placement,
+                                                                         joint["name"])
+    return model, joint_of
+
+
+def test_gepetto_five_bar_dimensions_reproduce_its_joint_placements(pinocchio, tmp_path):
+    """Gepetto's five-bar has r1 = r2 = 0.46 m and a base of 0.3 m (the distances between its joints' axes):
+    the export of those dimensions, at its reference configuration, puts every joint where Gepetto's robot.urdf
+    puts it at the same link angles, to 1e-12 in the plane of the linkage (Gepetto's links are stacked in layers
+    along the joints' axes, pkm's lie in one plane)."""
+    theirs, joint = _gepetto_five_bar(pinocchio)
+    data = theirs.createData()
+    pinocchio.forwardKinematics(theirs, data, pinocchio.neutral(theirs))
+    at = {name: data.oMi[j].translation.copy() for name, j in joint.items()}
+    axis = data.oMi[joint["mot1"]].rotation[:, 2]
+    assert all(np.allclose(data.oMi[j].rotation[:, 2], axis, atol=1e-12) for j in joint.values())
+    x_axis = unit_in_plane(at["mot2"] - at["mot1"], axis)
+    to_plane = np.array([x_axis, np.cross(axis, x_axis)])  # their space -> pkm's plane, the base's centre at 0
+    centre = (at["mot1"] + at["mot2"]) / 2
+
+    def planar(point):
+        return to_plane @ (point - centre)
+
+    def length(a, b):
+        return float(np.linalg.norm(planar(at[b]) - planar(at[a])))
+
+    design = {"r1": length("mot1", "free1"), "r2": length("free1", "closedloop1_A"),
+              "r3": length("mot1", "mot2") / 2}
+    assert design == pytest.approx({"r1": 0.46, "r2": 0.46, "r3": 0.15}, abs=1e-15)
+    assert length("mot2", "free2") == pytest.approx(design["r1"], abs=1e-15)
+    assert length("free2", "closedloop1_B") == pytest.approx(design["r2"], abs=1e-15)
+    m = pkm.load("five_bar")
+    m.export_urdf(design, tmp_path / "gepetto")
+    ours = Loaded.of(tmp_path / "gepetto")
+    ours.update(pinocchio.neutral(ours.model))
+    placed = {name: ours.data.oMi[ours.model.getJointId(name)].translation for name in
+              ("theta1", "theta2", "elbow1", "elbow2")}
+    placed |= {name: ours.data.oMf[ours.model.getFrameId(name)].translation for name in ("end_A", "end_B")}
+    assert max(abs(p[2]) for p in placed.values()) == 0.0
+
+    def angle(a, b, points):
+        d = points[b] - points[a]
+        return math.atan2(d[1], d[0])
+
+    theirs_zero = {name: planar(p) for name, p in at.items()}
+    q = pinocchio.neutral(theirs)
+    for k in (1, 2):
+        proximal = angle(f"theta{k}", f"elbow{k}", placed)
+        distal = angle(f"elbow{k}", "end_A", placed)
+        q[theirs.joints[joint[f"mot{k}"]].idx_q] = proximal - angle(f"mot{k}", f"free{k}", theirs_zero)
+        end = "closedloop1_A" if k == 1 else "closedloop1_B"
+        q[theirs.joints[joint[f"free{k}"]].idx_q] = (distal - proximal) - (angle(f"free{k}", end, theirs_zero)
+                                                           - angle(f"mot{k}", f"free{k}", theirs_zero))
+    pinocchio.forwardKinematics(theirs, data, q)
+    pairs = {"mot1": "theta1", "mot2": "theta2", "free1": "elbow1", "free2": "elbow2", "closedloop1_A": "end_A",
+             "closedloop1_B": "end_B"}
+    gap = max(float(np.abs(planar(data.oMi[joint[g]].translation) - placed[p][:2]).max()) for g, p in pairs.items())
+    assert gap < 1e-12, gap
+
+
+def unit_in_plane(vector: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    v = vector - normal * (normal @ vector)
+    return v / np.linalg.norm(v)
