@@ -369,3 +369,37 @@ def test_gepetto_five_bar_dimensions_reproduce_its_joint_placements(pinocchio, t
 def unit_in_plane(vector: np.ndarray, normal: np.ndarray) -> np.ndarray:
     v = vector - normal * (normal @ vector)
     return v / np.linalg.norm(v)
+
+
+MIXED = {
+    "name": "export_mixed",
+    "doc": "a planar 3-DOF machine with an RPR, a PRR and an RR leg, every body given",
+    "frame": "planar",
+    "home": [0, 0.3, 0],
+    "characteristic_length": "a",
+    "parameters": [
+        {"name": "a", "default": 0.6, "lower": 0.1, "upper": 2.0, "unit": "m", "doc": "link length"},
+        {"name": "m", "default": 2.0, "lower": 0.0, "upper": 10.0, "unit": "kg", "doc": "link mass"},
+    ],
+    "legs": [
+        {"kind": "RPR", "base": [[-1, 0]], "platform": [[-0.2, 0]], "range": [0.3, 1.5],
+         "bodies": {"cylinder": {"mass": "m", "centre": 0.2, "inertia": "m*0.16/12"},
+                    "piston": {"mass": "m/2", "centre": 0.15, "inertia": "m*0.01"}}},
+        {"kind": "PRR", "base": [[0.6, -0.5]], "platform": [[0.2, 0]], "axis": [0, 1], "distal": 0.5,
+         "bodies": {"slider": {"mass": "3*m"}, "distal": {"mass": "m", "centre": 0.25, "inertia": "m*0.25/12"}}},
+        {"kind": "RR", "base": [[0, 1.2]], "platform": [[0, 0.2]], "proximal": "a", "distal": "a",
+         "bodies": {"rotor": 0.01, "proximal": {"mass": "m", "centre": "a/2", "inertia": "m*a**2/12"},
+                    "distal": {"mass": "m", "centre": "a/3", "inertia": "m*a**2/10"}}},
+    ],
+    "platform": {"mass": "2*m", "centre": [0.05, 0.02], "inertia": 0.05},
+}
+
+
+def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, tmp_path):
+    m = pkm.load(MIXED)
+    rng = np.random.default_rng(28)
+    for mode in m.modes[:2]:
+        errors = check_export(m, None, mode, tmp_path / mode, rng)
+        assert errors["q_a"] < TOLERANCE, (mode, errors)
+        assert errors["J"] < TOLERANCE, (mode, errors)
+        assert errors["M_t"] < TOLERANCE, (mode, errors)
