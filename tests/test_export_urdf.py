@@ -403,3 +403,11 @@ def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, 
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)
         assert errors["M_t"] < TOLERANCE, (mode, errors)
+
+
+def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch):
+    text = (Path(__file__).resolve().parent.parent / "docs" / "export.md").read_text()
+    example = text.split("## Loading it in Pinocchio", 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(example, "docs/export.md", "exec"), {})
+    assert (tmp_path / "five_bar_export" / "robot.urdf").exists()

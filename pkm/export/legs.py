@@ -274,6 +274,10 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
         *(f"{kind} legs: {_KIND_NOTES[kind]}" for kind in kinds),
         *(note for leg in legs for note in leg.notes),
     ]
+    turning = [leg for leg in legs if leg.leg["kind"] in ("RR", "R_parallelogram") and leg.bodies is not None]
+    if any(values.scalar(leg.bodies.get("rotor", "0")) for leg in turning):
+        notes.append("A rotor's inertia after its reduction is a massless disc about the actuated revolute's axis, "
+                     "on the link it turns.")
     if frame.endswith("point"):
         notes.append("The pose fixes the platform's position only; pkm's model has the platform translate.")
     effector = _effector(frame)

@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from pkm.errors import PkmError, PoseError
+from pkm.errors import PoseError
 
-KINDS = {"R": 1, "P": 1, "U": 2, "S": 3, "fixed": 0, "free": 6}  # joint kinds and their degrees of freedom
+KINDS = ("R", "P", "U", "S", "fixed", "free")  # revolute, prismatic, universal, spherical, rigid, floating
 PARALLEL = 1e-9  # a hint direction within this sine of a joint's axis is not used to orient its frame
 
 
@@ -398,13 +398,6 @@ def rpy(rotation: np.ndarray) -> np.ndarray:
         return np.array([math.atan2(-rotation[1, 2], rotation[1, 1]), pitch, 0.0])
     return np.array([math.atan2(rotation[2, 1], rotation[2, 2]), pitch, math.atan2(rotation[1, 0], rotation[0, 0])])
 
-
-def check_inertial(name: str, inertial: Inertial, parameters: str) -> None:
-    """:class:`PkmError` naming ``parameters`` where a body's mass or inertia about its centre is negative."""
-    scale = max(1.0, np.abs(inertial.tensor).max())
-    if inertial.mass < 0 or np.linalg.eigvalsh(inertial.tensor).min() < -1e-12 * scale:
-        raise PkmError(f"{parameters} violates: a body ({name}) with a mass and an inertia about its centre of mass "
-                       "that are not negative")
 
 
 def rotation_z(angle: float) -> np.ndarray:

@@ -18,6 +18,7 @@ from pkm.export.structure import Tree, UrdfJoint, UrdfLink, rpy
 
 URDF, YAML, README = "robot.urdf", "robot.yaml", "README.md"
 WRITER = "pkm (pkm.export)"
+PINOCCHIO_GRAVITY = np.array([0.0, 0.0, -9.81])
 
 
 def number(value: float) -> str:
@@ -162,9 +163,19 @@ def readme_text(tree: Tree, mech: object, parameters: list[tuple[str, float, str
         joint_rows.append([f"`{joint.name}`", joint.type, f"{joint.parent} -> {joint.child}", zero, joint.doc])
     closure_rows = [["frames", "type", "cut joint", "why"]]
     closure_rows += [[f"`{c.frames[0]}`, `{c.frames[1]}`", c.type, f"`{c.joint}`", c.doc] for c in tree.closures]
-    gravity = ("The mechanism states no gravity." if s.gravity is None else
-               f"Gravity in the base frame: ({_vector(s.gravity)}) m/s^2; Pinocchio's default is (0 0 -9.81): set "
-               "`model.gravity.linear` to it.")
+    if s.gravity is None:
+        gravity = "The mechanism states no gravity."
+    else:
+        gravity = f"Gravity in the base frame: ({_vector(s.gravity)}) m/s^2" + (
+            ", Pinocchio's default." if np.allclose(s.gravity, PINOCCHIO_GRAVITY, rtol=0, atol=1e-12) else
+            f"; Pinocchio's default is ({_vector(PINOCCHIO_GRAVITY)}): set `model.gravity.linear` to it.")
+    mimic = [] if not any(j.mimic for j in tree.joints) else [
+        "",
+        "Mimic joints: load with `mimic=True`. In Pinocchio 4.1, `RigidConstraintModel.jacobian` misplaces the "
+        "columns after a mimic joint and `crba` is wrong where a mimic joint has bodies below it: take the "
+        "closures' Jacobians from the frames' (`getFrameJacobian`) and the mass matrix as the sum of J_i^T I_i J_i "
+        "over the joints (`getJointJacobian` in LOCAL), as pkm's tests do.",
+    ]
     lines = [
         f"# {s.mechanism}: Extended URDF",
         "",
@@ -223,6 +234,7 @@ def readme_text(tree: Tree, mech: object, parameters: list[tuple[str, float, str
         "",
         "`pin.neutral(model)` is the reference configuration and closes every loop. Gepetto's "
         "`example_parallel_robots.loader_tools.completeRobotLoader` reads the same two files.",
+        *mimic,
         "",
     ]
     return "\n".join(lines)
