@@ -85,6 +85,22 @@ def _default_region(mech: Any) -> str:
     return next(iter(mech.regions), "reachable")
 
 
+def region_centre(mech: Any, design: Any, region: str) -> tuple[dict[str, Any] | None, np.ndarray | None]:
+    """A region's placement at a design (:meth:`pkm.Mechanism.region_placement`, None where it has none) and its
+    centre in the pose's coordinates: the placement's centre, else the mean of its coarsest quadrature's nodes;
+    None for a sampled region."""
+    if region in ("reachable", "assembled"):
+        return None, None
+    try:
+        placement = mech.region_placement(region, design)
+    except PkmError:
+        placement = None
+    if placement is not None and not placement["mapped"]:
+        return placement, np.array(placement["centre"])
+    nodes, _ = mech.region(region).quadrature(mech.functions, mech.design_vector(design), 2)
+    return placement, np.mean(nodes, axis=0)
+
+
 def design_card(
     mech: Any,
     design: Any = None,
@@ -106,18 +122,7 @@ def design_card(
     region = region or _default_region(mech)
     where = mech.region(region)
     names = list(mech.pose_names)
-    placement = None
-    if region not in ("reachable", "assembled"):
-        try:
-            placement = mech.region_placement(region, design)
-        except PkmError:
-            placement = None
-    centre = None
-    if placement is not None and not placement["mapped"]:
-        centre = np.array(placement["centre"])
-    elif region not in ("reachable", "assembled"):
-        nodes, _ = where.quadrature(mech.functions, design.vector(), 2)
-        centre = np.mean(nodes, axis=0)
+    placement, centre = region_centre(mech, design, region)
     axes = tuple(axes or names[:2])
     if held is None and centre is not None:
         held = {n: float(centre[k]) for k, n in enumerate(names) if n not in axes}

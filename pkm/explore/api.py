@@ -25,7 +25,7 @@ import numpy as np
 
 from pkm import figures, registry
 from pkm.atlas import compute_atlas, default_modes
-from pkm.card import design_card
+from pkm.card import design_card, region_centre
 from pkm.design import Design, parse_design
 from pkm.design_space import DesignSpace, parameter_plane, parse_axes
 from pkm.errors import PkmError, check_integer
@@ -461,6 +461,10 @@ class Explorer:
         resolution = self._integer(fields, "resolution", 3, MAX_MAP)
         arrays = self._arrays(fields)
         with self._lock, blame("design"):
+            _, centre = region_centre(mech, design, region)
+            if centre is not None:
+                at_centre = {n: float(c) for n, c in zip(mech.pose_names, centre, strict=True) if n not in plane}
+                held = at_centre | (held or {})
             s = workspace_slice(mech, design, index=index, mode=mode, axes=plane, held=held,
                                 region=None if region in SAMPLED else region, resolution=resolution)
             inside = region_section(s, region)

@@ -93,6 +93,20 @@
     return z;
   }
 
+  // the plots' legends in the page, so that a plot's area does not move when a legend entry comes or goes
+  const SYMBOLS = { star: "\u2605", diamond: "\u25c6", "square-open": "\u25a1", "x-thin": "\u00d7",
+    "circle-open": "\u25cb", "cross-thin": "+" };
+
+  function legend(traces) {
+    return traces.filter((t) => t.type !== "heatmap" && t.name && t.showlegend !== false).map((t) => {
+      const marker = t.mode === "markers";
+      const symbol = marker ? SYMBOLS[t.marker.symbol] || "\u25cf" : t.line.dash ? "\u254c\u254c" : "\u2501\u2501";
+      const color = marker ? t.marker.color || t.marker.line.color : t.line.color;
+      const shown = ["white", "#ffffff"].includes(color) ? "#777777" : color;
+      return `<span class="key"><span style="color:${shown}">${symbol}</span> ${escape(t.name)}</span>`;
+    }).join(" ");
+  }
+
   // curves [[[u, v], ...], ...] as one line trace, the curves apart
   function polyline(curves) {
     const x = [];
@@ -207,13 +221,14 @@
       title: { text: `${a.index} over ${a.region} (${space}), mode ${state.mode}`, font: { size: 14 } },
       xaxis: { title: { text: a.chart_labels[0] }, zeroline: false },
       yaxis: { title: { text: a.chart_labels[1] }, zeroline: false },
-      legend: { orientation: "h", y: -0.18 }, margin: { l: 60, r: 20, t: 40, b: 40 }, hovermode: "closest",
+      showlegend: false, margin: { l: 60, r: 20, t: 40, b: 50 }, hovermode: "closest",
       uirevision: `${a.index}/${a.region}/${space}`,
     };
   }
 
   async function drawAtlas() {
-    await Plotly.react("atlas", atlasTraces(), atlasLayout(), PLOT);
+    const traces = atlasTraces();
+    await Plotly.react("atlas", traces, atlasLayout(), PLOT);
     state.drawn.atlas += 1;
     const a = state.atlas;
     const best = a.best[state.mode];
@@ -223,12 +238,15 @@
     const o = state.optimum;
     if (o && o.problem) {
       const where = o.on_chart ? "" : " (off this chart)";
-      lines.push(`optimum of ${o.problem}, mode ${o.mode}${where}: ${o.status}, verified ${fmt(o.verified_objective)}`);
+      const apart = Object.entries(a.held).filter(([k, v]) => Math.abs(o.design[k] - v) > 1e-9 * Math.max(1, Math.abs(v)))
+        .map(([k]) => `${k} = ${fmt(o.design[k])}`);
+      const off = apart.length ? `, at ${apart.join(", ")} where the atlas holds other values` : "";
+      lines.push(`optimum of ${o.problem}, mode ${o.mode}${where}${off}: ${o.status}, verified ${fmt(o.verified_objective)}`);
     } else if (o && o.reason) {
       lines.push(o.reason);
     }
     if (offline) lines.push(`static export: a click shows the nearest of ${offline.entries.length} precomputed designs`);
-    $("atlas-note").textContent = lines.join(" · ");
+    $("atlas-note").innerHTML = `${legend(traces)}<br>${escape(lines.join(" · "))}`;
   }
 
   function bindAtlas() {
@@ -423,16 +441,17 @@
       title: { text: `${state.meta.name}, mode ${m.mode}${held ? `; ${held}` : ""}`, font: { size: 14 } },
       xaxis: { title: { text: m.axes[0] + unit(m.axis_units[0]) }, zeroline: false },
       yaxis: { title: { text: m.axes[1] + unit(m.axis_units[1]) }, zeroline: false, ...(sameUnits ? { scaleanchor: "x" } : {}) },
-      legend: { orientation: "h", y: -0.18 }, margin: { l: 60, r: 20, t: 40, b: 40 }, hovermode: "closest",
+      showlegend: false, margin: { l: 60, r: 20, t: 40, b: 50 }, hovermode: "closest",
       uirevision: `${m.axes.join(",")}`,
     };
-    await Plotly.react("map", mapTraces(), layout, PLOT);
+    const traces = mapTraces();
+    await Plotly.react("map", traces, layout, PLOT);
     const link = state.linkage;
     const notes = [`${m.index}${unit(m.unit)} over ${m.u.length} x ${m.v.length} poses`];
     if (link && !link.legs.length) notes.push("this mechanism has no drawing of its linkage");
     else if (link && !link.projected) notes.push(`the linkage is not drawn in the plane ${m.axes.join(", ")}`);
     if (link && link.legs.length) notes.push(`pose ${Object.values(link.pose).map(fmt).join(", ")}${link.reachable ? "" : " (out of reach)"}`);
-    $("map-note").textContent = notes.join(" · ");
+    $("map-note").innerHTML = `${legend(traces)}<br>${escape(notes.join(" · "))}`;
   }
 
   function bindMap() {

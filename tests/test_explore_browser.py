@@ -1,0 +1,185 @@
+"""``pkm explore``'s page in a real headless browser: Debian's chromium driven by playwright, every request to an
+address other than 127.0.0.1 aborted (and counted: there must be none). A click on an atlas cell shows that
+cell's design in the card and a workspace map whose values are ``Mechanism.local_index`` at the map's poses;
+hovering shows a design; the index selector recomputes the atlas and the map; the static export opens with the
+network blocked and shows the atlas and a card.
+
+Without playwright or /usr/bin/chromium these tests are skipped, unless ``PKM_REQUIRE_BROWSER=1`` (CI sets it):
+then they fail."""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from pathlib import Path
+from urllib.parse import urlsplit
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm.explore import export_html, serve
+
+CHROMIUM = Path("/usr/bin/chromium")
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+        "--disable-sync", "--no-first-run"]
+LOADED = "window.pkmExplore && window.pkmExplore.drawn.map >= 1 && window.pkmExplore.drawn.card >= 1"
+CELL = """([i, j]) => {
+  const gd = document.getElementById("atlas"), L = gd._fullLayout, a = window.pkmExplore.atlas;
+  const box = gd.getBoundingClientRect();
+  return {x: box.left + L._size.l + L.xaxis.l2p(a.u[i]), y: box.top + L._size.t + L.yaxis.l2p(a.v[j])};
+}"""
+SHOWN_MAP = """() => {
+  const m = window.pkmExplore.map;
+  return {u: m.u, v: m.v, held: m.held, axes: m.axes, mode: m.mode, index: m.index, design: m.design,
+          values: m.values.map((row) => row.map((x) => (Number.isFinite(x) ? x : null)))};
+}"""
+SHOWS = """(design) => { const c = window.pkmExplore.card;
+  return Boolean(c) && c.design.every((p) => p.value === design[p.name]); }"""
+CARD_DESIGN = """() => Object.fromEntries(Array.from(document.querySelectorAll("#card-design td[data-param]"))
+  .map((td) => [td.dataset.param, Number(td.dataset.value)]))"""
+
+
+def _missing() -> str | None:
+    for package in ("playwright", "plotly"):
+        if importlib.util.find_spec(package) is None:
+            return f"the Python package {package} is not installed (pip install -e '.[test]')"
+    if not CHROMIUM.exists():
+        return f"{CHROMIUM} is missing (apt-get install chromium)"
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    missing = _missing()
+    if missing and os.environ.get("PKM_REQUIRE_BROWSER") == "1":
+        pytest.fail(f"PKM_REQUIRE_BROWSER=1 but {missing}")
+    if missing:
+        pytest.skip(missing)
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as playwright:
+        launched = playwright.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        yield launched
+        launched.close()
+
+
+@pytest.fixture(scope="module")
+def server():
+    running = serve("five_bar", resolution=9, map_resolution=48)
+    yield running
+    running.shutdown()
+
+
+@pytest.fixture
+def page(browser):
+    """A page whose requests to anywhere but this machine are aborted; ``page.blocked`` lists them."""
+    context = browser.new_context(viewport={"width": 1400, "height": 1000})
+    opened = context.new_page()
+    opened.blocked = []
+    errors = []
+
+    def local_only(route):
+        parts = urlsplit(route.request.url)
+        if parts.scheme in ("file", "data", "blob") or parts.hostname == "127.0.0.1":
+            route.continue_()
+        else:
+            opened.blocked.append(route.request.url)
+            route.abort()
+
+    def record(error):  # playwright wraps a listener in attributes that a builtin method cannot take
+        errors.append(error)
+
+    opened.route("**/*", local_only)
+    opened.on("pageerror", record)
+    yield opened
+    context.close()
+    assert errors == []
+
+
+def _finite_nodes(atlas: dict, mode: str) -> list[tuple[int, int]]:
+    """The atlas's nodes with a value in ``mode``, the best first."""
+    values = np.array(atlas["values"][mode], dtype=float)
+    nodes = [(int(i), int(j)) for i, j in np.argwhere(np.isfinite(values)) if atlas["designs"][i][j]]
+    return sorted(nodes, key=lambda n: -values[n])
+
+
+def _design(atlas: dict, node: tuple[int, int]) -> dict[str, float]:
+    return {**atlas["held"], **atlas["designs"][node[0]][node[1]]}
+
+
+def _assert_map_is_the_local_index(mech, shown: dict) -> None:
+    U, V = np.meshgrid(shown["u"], shown["v"], indexing="ij")
+    names = list(mech.pose_names)
+    poses = np.zeros((U.size, len(names)))
+    for k, name in enumerate(names):
+        poses[:, k] = U.ravel() if name == shown["axes"][0] else V.ravel() if name == shown["axes"][1] else \
+            shown["held"][name]
+    expected = mech.local_index(shown["index"], poses, shown["design"], mode=shown["mode"]).reshape(U.shape)
+    np.testing.assert_array_equal(np.array(shown["values"], dtype=float), expected)
+    assert np.isfinite(expected).sum() > 50
+
+
+def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, tmp_path):
+    five_bar = pkm.load("five_bar")
+    page.goto(server.url)
+    page.wait_for_function(LOADED, timeout=60_000)
+    page.wait_for_function("window.pkmExplore.optimum", timeout=60_000)
+    assert "optimum of five_bar.max_gci_miw" in page.inner_text("#atlas-note")
+    atlas = page.evaluate("window.pkmExplore.atlas")
+    mode = page.evaluate("window.pkmExplore.mode")
+    shown = tuple(page.evaluate("window.pkmExplore.shown.node"))
+    nodes = [n for n in _finite_nodes(atlas, mode) if n != shown]
+    hovered, clicked = nodes[0], nodes[len(nodes) // 2]
+
+    point = page.evaluate(CELL, list(hovered))
+    page.mouse.move(point["x"], point["y"])
+    page.wait_for_function(SHOWS, arg=_design(atlas, hovered))
+    assert page.evaluate("window.pkmExplore.shown.node") == list(hovered)
+
+    clicks = page.evaluate("window.pkmExplore.timings.length")
+    point = page.evaluate(CELL, list(clicked))
+    page.mouse.click(point["x"], point["y"])
+    page.wait_for_function(f"window.pkmExplore.timings.length > {clicks}")
+    expected = _design(atlas, clicked)
+    page.wait_for_function(SHOWS, arg=expected)
+    assert page.evaluate("window.pkmExplore.clicked.node") == list(clicked)
+    assert page.evaluate(CARD_DESIGN) == expected
+    assert page.inner_text("#card-indices").count("\n") >= 2
+    shown_map = page.evaluate(SHOWN_MAP)
+    assert shown_map["design"] == pytest.approx({**five_bar.design(expected, partial=True)})
+    assert (shown_map["index"], shown_map["mode"]) == ("inverse_condition_f", mode)
+    _assert_map_is_the_local_index(five_bar, shown_map)
+
+    page.select_option("#index", "gamma_max")
+    page.wait_for_function("window.pkmExplore.atlas.index === 'gamma_max' && window.pkmExplore.map.index === "
+                           "'velocity_max'", timeout=60_000)
+    shown_map = page.evaluate(SHOWN_MAP)
+    assert shown_map["design"] == pytest.approx({**five_bar.design(expected, partial=True)})
+    _assert_map_is_the_local_index(five_bar, shown_map)
+    assert page.evaluate(CARD_DESIGN) == expected
+
+    page.screenshot(path=str(tmp_path / "explore.png"), full_page=True)
+    assert (tmp_path / "explore.png").stat().st_size > 20_000
+    assert page.evaluate("window.pkmExplore.errors") == []
+    assert page.blocked == []
+
+
+def test_the_static_export_shows_the_atlas_and_a_card_offline(page, server, tmp_path):
+    path = export_html(server.explorer, tmp_path / "atlas.html", grid=2, map_resolution=24)
+    page.goto(path.as_uri())
+    page.wait_for_function(LOADED, timeout=60_000)
+    assert page.evaluate("window.pkmExplore.static")
+    assert page.evaluate("document.querySelectorAll('#atlas .hm image').length") >= 1
+    atlas = page.evaluate("window.pkmExplore.atlas")
+    entries = page.evaluate("JSON.parse(document.getElementById('pkm-static').textContent).entries")
+    first = page.evaluate(CARD_DESIGN)
+    assert first in [e["design"] for e in entries]
+    target = entries[-1] if first == entries[0]["design"] else entries[0]
+    point = page.evaluate(CELL, target["node"])
+    page.mouse.click(point["x"], point["y"])
+    page.wait_for_function(SHOWS, arg=target["design"])
+    assert page.evaluate("window.pkmExplore.clicked.node") == target["node"]
+    assert page.evaluate(CARD_DESIGN) == target["design"] == _design(atlas, tuple(target["node"]))
+    assert page.inner_text("#card-indices").count("\n") >= 2
+    assert page.blocked == []
