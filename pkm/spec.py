@@ -70,7 +70,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import io, registry
+from pkm import expressions, io, registry
 from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Parameter
@@ -164,17 +164,12 @@ def _expression(field: str, text: Any, names: set[str]) -> str:
     if isinstance(text, bool) or not isinstance(text, int | float | str):
         raise _fail(field, "a number or an expression of the parameters")
     text = repr(float(text)) if not isinstance(text, str) else text
-    try:
-        tree = ast.parse(text, mode="eval")
-    except SyntaxError:
-        raise _fail(field, f"an expression of the parameters; got {text!r}") from None
-    unknown = sorted({n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - names - set(FUNCTIONS))
+    tree = expressions.parse(text)
+    if tree is None:
+        raise _fail(field, f"arithmetic of the parameters; got {text!r}")
+    unknown = expressions.unknown_names(tree, {*names, *FUNCTIONS})
     if unknown:
         raise _fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names {unknown}")
-    allowed = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.operator,
-               ast.unaryop)
-    if not all(isinstance(n, allowed) for n in ast.walk(tree)):
-        raise _fail(field, f"arithmetic of the parameters; got {text!r}")
     return text
 
 

@@ -6,7 +6,6 @@ or Monte Carlo baseline over the same bounds on the same model."""
 
 from __future__ import annotations
 
-import ast
 import math
 import os
 import tomllib
@@ -18,7 +17,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import io, registry, spec
+from pkm import expressions, io, registry, spec
 from pkm.design import stack_design
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex, LocalIndex
@@ -214,14 +213,8 @@ def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Mapping
     names = set(mech.parameter_names())
     if not isinstance(text, str):
         raise _fail(field, f"an expression of the design parameters; got {text!r}")
-    try:
-        tree = ast.parse(text, mode="eval")
-    except SyntaxError:
-        raise _fail(field, f"an expression of the design parameters; got {text!r}") from None
-    unknown = sorted({n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - names - set(FUNCTIONS))
-    allowed = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.operator,
-               ast.unaryop)
-    if unknown or not all(isinstance(n, allowed) for n in ast.walk(tree)):
+    tree = expressions.parse(text)
+    if tree is None or expressions.unknown_names(tree, {*names, *FUNCTIONS}):
         raise _fail(field, f"arithmetic of the design parameters ({', '.join(sorted(names))}) and "
                            f"{', '.join(FUNCTIONS)}; got {text!r}")
     code = compile(tree, field, "eval")
