@@ -411,3 +411,17 @@ def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch
     monkeypatch.chdir(tmp_path)
     exec(compile(example, "docs/export.md", "exec"), {})
     assert (tmp_path / "five_bar_export" / "robot.urdf").exists()
+
+
+def test_export_command_writes_the_three_files_for_a_name_or_a_description_file(tmp_path):
+    folder = export_command("five_bar", "r1=0.46,r2=0.46,r3=0.15", tmp_path / "five_bar")
+    spec = yaml.safe_load((folder / "robot.yaml").read_text())
+    assert spec["name_mot"] == ["theta1", "theta2"]
+    assert spec["closed_loop"] == [["end_A", "end_B"]]
+    assert "r1 = 0.46 m" in (folder / "robot.urdf").read_text()
+    described = Path(__file__).resolve().parent.parent / "pkm" / "models" / "described" / "stewart.toml"
+    folder = export_command(str(described), "", tmp_path / "stewart")
+    spec = yaml.safe_load((folder / "robot.yaml").read_text())
+    assert spec["type"] == ["3d"] * 6
+    assert spec["pkm"]["actuators"] == [f"q{k}" for k in range(1, 7)]
+    assert sorted(p.name for p in folder.iterdir()) == ["README.md", "robot.urdf", "robot.yaml"]
