@@ -26,13 +26,13 @@ kinetic energy of :mod:`symbolic.describe` has them).
 
 from __future__ import annotations
 
-import ast
 import math
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
+from pkm import expressions
 from pkm.export.structure import (
     Effector,
     Inertial,
@@ -62,7 +62,8 @@ class _Values:
         self.names = {**FUNCTIONS, **design}
 
     def scalar(self, text: str) -> float:
-        return float(eval(compile(ast.parse(text, mode="eval"), "<description>", "eval"), {"__builtins__": {}},
+        """The value of an expression the description has checked (:mod:`pkm.expressions`)."""
+        return float(eval(compile(expressions.parse(text), "<description>", "eval"), {"__builtins__": {}},
                           self.names))
 
     def point(self, texts: list[str]) -> np.ndarray:
