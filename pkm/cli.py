@@ -369,6 +369,20 @@ def cmd_compare(args: argparse.Namespace) -> None:
     _emit(args, data, comparison.markdown() + f"\n\nwrote {len(written)} files to {io.kept_path(folder)}")
 
 
+def cmd_export(args: argparse.Namespace) -> None:
+    """An Extended URDF of a design (:mod:`pkm.export`) into ``--out``."""
+    m = load_mechanism(args.mechanism)
+    units = _units(args)
+    d = _design(m, args.design, units)
+    pose = units.to_si(_poses([args.pose], m.n_out), m.pose_units)[0] if args.pose else None
+    mode = m.working_mode(args.mode).name
+    folder = m.export_urdf(d, args.out, pose=pose, mode=mode)
+    files = sorted(str(p) for p in folder.iterdir())
+    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "folder": str(folder), "files": files}
+    _emit(args, data, f"{m.name} at {_named(dict(d))}, reference in working mode {mode}\nwrote {len(files)} files "
+                      f"to {folder}: {', '.join(Path(f).name for f in files)}")
+
+
 def cmd_explore(args: argparse.Namespace) -> None:
     """The explorer (:mod:`pkm.explore`): a local server and its page until Ctrl-C or the page's stop
     request, or with ``--html`` the page with its data as one file."""
@@ -881,6 +895,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: "
                                  "none); e.g. results")
+    p = command("export", cmd_export, "a design as an Extended URDF: the mechanism cut open into a tree "
+                                      "(robot.urdf), its loop closures and motors (robot.yaml, read by Pinocchio's "
+                                      "closed-loop loaders) and a README of what was cut (docs/export.md)")
+    listed(p, "mechanism", key="mechanism")
+    p.add_argument("--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
+                                    "r1=0.46,r2=0.46,r3=0.15")
+    p.add_argument("--mode", help="working mode of the reference configuration, where every joint of the URDF is "
+                                  "zero (default: the first); e.g. out_out")
+    p.add_argument("--pose", help="the reference pose, comma-separated (default: the mechanism's reference pose); "
+                                  "e.g. 0,1.4")
+    p.add_argument("--out", required=True, help="folder for robot.urdf, robot.yaml and README.md (no default); "
+                                                "e.g. five_bar_urdf")
+    units_option(p)
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
     listed(p, "paper", key="paper")
     p.add_argument("--out", default="out", help="folder holding <key>/ (default out); e.g. reports")

@@ -18,8 +18,9 @@ import pytest
 import yaml
 
 import pkm
+from pkm.cli import main
 from pkm.errors import DesignError, PkmError, PoseError, UnknownNameError
-from pkm.export import export_command, structure
+from pkm.export import structure
 
 try:
     import pinocchio as pin
@@ -269,13 +270,11 @@ def test_export_agrees_with_pkm_in_pinocchio(pinocchio, tmp_path, name, design, 
 def test_bad_input_is_refused_naming_it(tmp_path):
     m = pkm.load("five_bar")
     with pytest.raises(UnknownNameError, match="unknown mechanism 'nothing'"):
-        export_command("nothing", "", tmp_path / "out")
+        pkm.load("nothing").export_urdf(None, tmp_path / "out")
     with pytest.raises(DesignError, match="r1"):
         m.export_urdf({"r1": -1.0, "r2": 1.0, "r3": 0.8}, tmp_path / "out")
-    with pytest.raises(DesignError, match="r1"):
-        export_command("five_bar", "r1=-1", tmp_path / "out")
     with pytest.raises(DesignError, match="nothing"):
-        export_command("five_bar", "nothing=1", tmp_path / "out")
+        m.export_urdf({"nothing": 1.0}, tmp_path / "out")
     with pytest.raises(PkmError, match=r"pose .* reaches"):
         m.export_urdf(None, tmp_path / "out", pose=[0.0, 10.0])
     blocked = tmp_path / "file"
@@ -413,14 +412,35 @@ def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch
     assert (tmp_path / "five_bar_export" / "robot.urdf").exists()
 
 
-def test_export_command_writes_the_three_files_for_a_name_or_a_description_file(tmp_path):
-    folder = export_command("five_bar", "r1=0.46,r2=0.46,r3=0.15", tmp_path / "five_bar")
+@pytest.mark.parametrize(("argv", "message"), [
+    (["export", "nothing"], "unknown mechanism 'nothing'"),
+    (["export", "five_bar", "--design", "r1=-1"], "r1 = -1 m violates"),
+    (["export", "five_bar", "--design", "nothing=1"], "nothing"),
+    (["export", "five_bar", "--mode", "sideways"], "sideways"),
+    (["export", "five_bar", "--pose", "0,10"], "reaches"),
+])
+def test_pkm_export_refuses_bad_input_with_one_line_and_exit_2(tmp_path, capsys, argv, message):
+    assert main([*argv, "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+    blocked = tmp_path / "file"
+    blocked.write_text("a file, not a folder")
+    assert main(["export", "five_bar", "--out", str(blocked / "out")]) == 2
+
+
+def test_pkm_export_writes_the_three_files_for_a_name_or_a_description_file(tmp_path, capsys):
+    assert main(["export", "five_bar", "--design", "r1=0.46,r2=0.46,r3=0.15", "--out", str(tmp_path / "five_bar"),
+                 "--json"]) == 0
+    folder = Path(json.loads(capsys.readouterr().out)["folder"])
     spec = yaml.safe_load((folder / "robot.yaml").read_text())
     assert spec["name_mot"] == ["theta1", "theta2"]
     assert spec["closed_loop"] == [["end_A", "end_B"]]
     assert "r1 = 0.46 m" in (folder / "robot.urdf").read_text()
     described = Path(__file__).resolve().parent.parent / "pkm" / "models" / "described" / "stewart.toml"
-    folder = export_command(str(described), "", tmp_path / "stewart")
+    assert main(["export", str(described), "--out", str(tmp_path / "stewart")]) == 0
+    folder = tmp_path / "stewart"
     spec = yaml.safe_load((folder / "robot.yaml").read_text())
     assert spec["type"] == ["3d"] * 6
     assert spec["pkm"]["actuators"] == [f"q{k}" for k in range(1, 7)]

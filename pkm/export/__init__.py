@@ -17,7 +17,7 @@ from pkm.errors import PkmError
 from pkm.export.structure import Reference, Structure, Tree, cut
 from pkm.export.urdf import write
 
-__all__ = ["Reference", "Structure", "Tree", "export_command", "export_urdf", "structure", "tree"]
+__all__ = ["Reference", "Structure", "Tree", "export_urdf", "structure", "tree"]
 
 
 def _builder(mech: Any) -> Callable[[Any, Reference], Structure]:
@@ -53,14 +53,3 @@ def export_urdf(mech: Any, design: Any, folder: str | Path, *, pose: Any = None,
     cut_tree = tree(mech, design, pose=pose, mode=mode)
     parameters = [(p.name, cut_tree.structure.reference.design[p.name], p.unit, p.doc) for p in mech.parameters]
     return write(cut_tree, mech, parameters, Path(folder))
-
-
-def export_command(mechanism_name_or_path: str, design_text: str, out_folder: str | Path) -> Path:
-    """``pkm export MECHANISM --design name=value,... --out DIR``: the mechanism by name or description file,
-    the design as text (its defaults for the parameters not given); :class:`PkmError` on bad input."""
-    from pkm.design import parse_design
-    from pkm.spec import resolve_name
-
-    mech = resolve_name(mechanism_name_or_path)
-    design = mech.design(parse_design(design_text or ""), partial=True)
-    return export_urdf(mech, design, out_folder)
