@@ -6,6 +6,7 @@ tests skip without it, and fail without it where PKM_REQUIRE_PINOCCHIO=1."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import os
@@ -250,7 +251,7 @@ CASES = [
     ("slider_gantry_symmetric", None, ("below", "above")),
     ("passive_leg", None, ("out_out", "out_in", "in_out", "in_in")),
     ("ups_pu", None, ("legs",)),
-    ("rrr3", None, ("left_left_left", "left_right_left")),
+    ("rrr3", None, tuple("_".join(sides) for sides in itertools.product(("left", "right"), repeat=3))),
     ("delta", None, ("elbow_out", "elbow_in")),
     ("stewart", None, ("single",)),
 ]
