@@ -2,7 +2,9 @@
 
 A global index is the region mean of its local index (Gao eqs. 6-7, Lara-Molina eq. 36, Wu eqs. 7 and
 44), its standard deviation (Wu section 6.1), its minimum (Lara-Molina eq. 38) or maximum, or a region measure:
-the area or volume of the points where the local index is defined. Each carries its sense: larger
+the area or volume of the points where the local index is defined; or its integral over the region (over a
+trajectory, whose measure is time: an energy from a power), or the square root of its mean (``"rms"``: of a
+local index that is a square, a root mean square). Each carries its sense: larger
 (``"max"``) or smaller (``"min"``) is better.
 """
 
@@ -16,7 +18,7 @@ from pkm.errors import PkmError
 from pkm.indices import local
 from pkm.indices.local import LocalIndex
 
-REDUCTIONS = ("mean", "std", "min", "max", "measure")
+REDUCTIONS = ("mean", "std", "min", "max", "measure", "integral", "rms")
 EXTREMES_REDUCE = ("min", "max")
 SENSES = ("max", "min")
 
@@ -68,6 +70,10 @@ def reduce_samples(values: np.ndarray, keep: np.ndarray, cell: float | np.ndarra
     mean = float(np.average(kept, weights=w))
     if reduce == "std":
         return float(np.sqrt(np.average((kept - mean) ** 2, weights=w)))
+    if reduce == "integral":
+        return float(np.sum(kept * w)) if keep.all() else float("nan")
+    if reduce == "rms":
+        return float(np.sqrt(mean))
     return mean
 
 

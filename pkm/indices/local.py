@@ -41,7 +41,9 @@ class LocalIndex:
     with g >= 0 exactly where it is <= t (t - value otherwise); ``dimension`` the largest matrices its
     formula takes (the closed forms of singular values and eigenvalues stop at 3 x 3; None: any); ``raw``
     takes the arguments as generated, in SI, where the index is a physical quantity (an actuator effort,
-    a joint angle) rather than a ratio of normalised matrices (:mod:`pkm.regions.pipeline`)."""
+    a joint angle) rather than a ratio of normalised matrices (:mod:`pkm.regions.pipeline`); ``smooth``,
+    where given, a smooth stand-in of the formula (same arguments) that an optimiser's quadrature integrates
+    instead (a positive part smoothed), while every reported value takes the formula."""
 
     name: str
     doc: str
@@ -56,6 +58,7 @@ class LocalIndex:
     epigraph_upper: Callable[..., ca.SX] | None = None
     dimension: int | None = MAX_DIMENSION  # the largest n x n its formula takes (None: any)
     raw: bool = False
+    smooth: Callable[..., ca.SX] | None = None
 
 
 def _check_square(A: ca.SX) -> int:

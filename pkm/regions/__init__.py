@@ -4,6 +4,7 @@
   rectangle, box, cylinder, a domain between curves, a shape mapped from other coordinates, shapes side
   by side), each
   with a fixed quadrature mapped into the region that the design places, and given poses (a path, a cloud);
+* :mod:`pkm.regions.trajectory`: a trajectory, a region in time whose nodes know the pose's motion;
 * :mod:`pkm.regions.sampled`: the sampled reachable workspace, an n-D grid with a mask;
 * :mod:`pkm.regions.pipeline`: the one fused graph pose -> IK -> first order (and inertia) -> local index;
 * :mod:`pkm.regions.quadrature`: global indices over parametrised regions with exact design gradients.
@@ -35,6 +36,7 @@ _LAZY = {
                    "epigraph_point_margins", "epigraph_values", "global_value", "node_quadrature",
                    "parametrised_global", "quadrature_function", "quadrature_value", "refined_extremes",
                    "sampled_check"),
+    "trajectory": ("TimeSegment", "TrajectoryRegion", "trajectory_region"),
     "sampled": ("ASSEMBLED_WORKSPACE", "SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin",
                 "sampled_global"),
 }
@@ -68,6 +70,8 @@ __all__ = [
     "Poses",
     "Rectangle",
     "SampledWorkspace",
+    "TimeSegment",
+    "TrajectoryRegion",
     "Union",
     "adaptive_value",
     "admissible",
@@ -87,4 +91,5 @@ __all__ = [
     "refined_extremes",
     "sampled_check",
     "sampled_global",
+    "trajectory_region",
 ]

@@ -9,6 +9,13 @@ index is a function of sums over the nodes of every piece:
     mean      S = sum w (e f, e)           value = S_0 / S_1
     std       S = sum w (e f, e f^2, e)    value = sqrt(max(0, S_1 / S_2 - (S_0 / S_2)^2))
     measure   S = sum w (e valid)          value = S_0
+    integral  S = sum w (e f)              value = S_0
+    rms       S = sum w (e f, e)           value = sqrt(S_0 / S_1)   (f a square)
+
+A local index that reads the pose's motion (:func:`pkm.regions.pipeline.reads_motion`) takes it from the
+piece (``piece.motion(u)``: a trajectory's velocity and acceleration at the reference time u). A local index
+with a ``smooth`` stand-in integrates it instead of its formula where ``smooth`` is asked (the optimiser's
+quadrature, :func:`pkm.regions.quadrature.quadrature_value`); every reported value takes the formula.
 
 :func:`sum_function` is the integrand w c(u, d) of these components as one SX function of
 ``(u, w, mode, design)``, with (``order`` 1) its Jacobian and (``order`` 2) the lower triangle of its
@@ -32,10 +39,12 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate, total
+from pkm.errors import PkmError
 from pkm.indices import LocalIndex, epigraph_function
 from pkm.regions.pipeline import pipeline
 
-COMPONENTS = {"mean": ("e f", "e"), "std": ("e f", "e f^2", "e"), "measure": ("e valid",)}
+COMPONENTS = {"mean": ("e f", "e"), "std": ("e f", "e f^2", "e"), "measure": ("e valid",), "integral": ("e f",),
+              "rms": ("e f", "e")}
 SUMMED = tuple(COMPONENTS)
 
 Derivatives = tuple[np.ndarray, np.ndarray | None, np.ndarray | None]
@@ -82,19 +91,35 @@ def _symbols(mech: Any, piece: Any) -> tuple[ca.SX, ca.SX, ca.SX]:
     return (ca.SX.sym("u", piece.dimension), ca.SX.sym("mode", ik.numel_in(1)), ca.SX.sym("design", ik.numel_in(2)))
 
 
+def fused(mech: Any, locals_: tuple[LocalIndex, ...], piece: Any, *, design: ca.SX, u: ca.SX, mode: ca.SX,
+          **options: Any) -> list[ca.SX]:
+    """The outputs of :func:`pkm.regions.pipeline.pipeline` (reached where the mechanism assembles) at the
+    piece's reference point u, with the piece's motion there where an index reads it."""
+    fn = pipeline(mech, locals_, assembled=True, **options)
+    args = [piece.to_pose(mech.functions, design, u), mode, design]
+    if fn.n_in() == 4:
+        motion = getattr(piece, "motion", None)
+        if motion is None:
+            raise PkmError(f"the local index {locals_[0].name} reads the motion, which a region has only along a "
+                           "trajectory (pkm.regions.TrajectoryRegion)")
+        args.append(motion(u))
+    return fn(*args)
+
+
 @lru_cache(maxsize=512)
 def sum_function(
-    mech: Any, local: LocalIndex, piece: Any, reduce: str, order: int
+    mech: Any, local: LocalIndex, piece: Any, reduce: str, order: int, *, smooth: bool = False
 ) -> tuple[ca.Function, tuple[int, ...]]:
     """SX ``(u, w, mode, design) -> (value, jacobian, hessian)`` of the integrand w c(u, d) of the
-    reduction ``reduce`` (module docstring) up to ``order``, and the design entries it depends on."""
+    reduction ``reduce`` (module docstring) up to ``order``, and the design entries it depends on; with
+    ``smooth``, of the local index's smooth stand-in where it has one."""
     u, mode, design = _symbols(mech, piece)
     w = ca.SX.sym("w")
-    x = piece.to_pose(mech.functions, design, u)
     e = piece.element(mech.functions, design, u)
-    _, _, valid, f = pipeline(mech, (local,), assembled=True)(x, mode, design)
-    components = {"mean": [e * f, e], "std": [e * f, e * f * f, e], "measure": [e * valid]}[reduce]
-    return _with_derivatives(_name(mech, local, f"{reduce}_integrand", order),
+    _, _, valid, f = fused(mech, (local,), piece, design=design, u=u, mode=mode, smooth=smooth)
+    components = {"mean": [e * f, e], "std": [e * f, e * f * f, e], "measure": [e * valid], "integral": [e * f],
+                  "rms": [e * f, e]}[reduce]
+    return _with_derivatives(_name(mech, local, f"{reduce}_integrand{'_smooth' if smooth else ''}", order),
                              {"u": u, "w": w, "mode": mode, "design": design}, w * ca.vertcat(*components), design,
                              order=order)
 
@@ -109,13 +134,12 @@ def rows_function(
     the node's epigraph margin, >= 0 where the index is at least t (at most t for a maximum); the
     derivatives are in (design, t)."""
     u, mode, design = _symbols(mech, piece)
-    x = piece.to_pose(mech.functions, design, u)
     if epigraph is None:
-        _, _, valid, f = pipeline(mech, (local,), assembled=True)(x, mode, design)
+        _, _, valid, f = fused(mech, (local,), piece, design=design, u=u, mode=mode)
         return _with_derivatives(_name(mech, local, "node", order), {"u": u, "mode": mode, "design": design},
                                  ca.vertcat(f, valid), design, order=order)
     t = ca.SX.sym("t")
-    _, _, _, _, *matrices = pipeline(mech, (local,), matrices=True, assembled=True)(x, mode, design)
+    _, _, _, _, *matrices = fused(mech, (local,), piece, design=design, u=u, mode=mode, matrices=True)
     shapes = tuple(m.shape for m in matrices)
     g = epigraph_function(local, shapes, epigraph == "max")(*matrices, t)
     return _with_derivatives(_name(mech, local, f"{epigraph}_epigraph", order),
@@ -144,17 +168,18 @@ def reference(piece: Any, resolution: int, reduce: str) -> tuple[np.ndarray, np.
 
 def region_sums(
     mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, design: np.ndarray,
-    resolution: int, order: int,
+    resolution: int, order: int, smooth: bool = False,
 ) -> Derivatives:
     """The sums S (k,) of the reduction ``reduce`` over the region's nodes for one design (n_p,), with
-    their Jacobian (k, n_p) and Hessians (k, n_p, n_p) up to ``order``."""
+    their Jacobian (k, n_p) and Hessians (k, n_p, n_p) up to ``order`` (with ``smooth``, of the local
+    index's smooth stand-in, :func:`sum_function`)."""
     k, p = len(COMPONENTS[reduce]), len(design)
     sums = np.zeros(k)
     jacobian = np.zeros((k, p)) if order >= 1 else None
     hessian = np.zeros((k, p, p)) if order >= 2 else None
     for piece in region.pieces():
         nodes, weights = reference(piece, resolution, reduce)
-        fn, active = sum_function(mech, local, piece, reduce, order)
+        fn, active = sum_function(mech, local, piece, reduce, order, smooth=smooth)
         out = total(fn, nodes, weights[:, None], signs, design)
         sums += out[0][:, 0]
         if order >= 1:
@@ -283,17 +308,23 @@ def reduce_sums(sums: Any, reduce: str) -> Any:
     arrays (k, ...)."""
     if reduce == "mean":
         return sums[0] / sums[1]
+    sqrt, fmax = (np.sqrt, np.fmax) if isinstance(sums, np.ndarray) else (ca.sqrt, ca.fmax)
     if reduce == "std":
-        sqrt, fmax = (np.sqrt, np.fmax) if isinstance(sums, np.ndarray) else (ca.sqrt, ca.fmax)
         return sqrt(fmax(0, sums[1] / sums[2] - (sums[0] / sums[2]) ** 2))
+    if reduce == "rms":
+        return sqrt(sums[0] / sums[1])
     return sums[0]
 
 
 def reduce_gradient(sums: np.ndarray, jacobian: np.ndarray, reduce: str) -> np.ndarray:
     """The gradient (n_p,) of :func:`reduce_sums` from the sums (k,) and their Jacobian (k, n_p) in the
     design (the deviation's gradient 0 where its variance is clipped at 0, as CasADi's fmax gives it)."""
-    if reduce == "mean":
-        return (jacobian[0] - sums[0] / sums[1] * jacobian[1]) / sums[1]
+    if reduce in ("mean", "rms"):
+        gradient = (jacobian[0] - sums[0] / sums[1] * jacobian[1]) / sums[1]
+        if reduce == "mean":
+            return gradient
+        root = np.sqrt(sums[0] / sums[1])
+        return gradient / (2 * root) if root > 0 else np.zeros_like(gradient)
     if reduce == "std":
         mean = sums[0] / sums[2]
         d_mean = (jacobian[0] - mean * jacobian[2]) / sums[2]

@@ -22,12 +22,19 @@ index is taken: each angular coordinate is replaced by the arc length L theta (G
 with S_x = diag(1 for a length, L for an angle) over the pose and S_q likewise over the actuators.
 A mechanism whose pose and actuators each have one unit is left as it is (its indices are invariant
 to a uniform scaling).
+
+A local index of the source ``"motion"`` reads the pose's motion as well: the pipeline then takes a fourth
+input, ``motion`` = (x_dot, x_ddot) at the pose (a trajectory's pieces give it, exact for the velocity
+profile, :mod:`pkm.regions.trajectory`), and offers the arguments ``x_dot``, ``x_ddot``, ``q_dot`` = J x_dot
+and ``tau``, the actuator efforts of the mechanism's rigid inverse dynamics
+(:func:`pkm.dynamics.rigid.inverse_dynamics_pipeline`), each in SI. Such a graph is built with common
+subexpressions merged, as the inverse dynamics repeats the kinematics.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any, Protocol
 
@@ -40,6 +47,8 @@ from pkm.indices import LocalIndex, local_function
 from pkm.kinematics import ASSEMBLED, closed, from_pose, nan_unless
 
 ANGLE = "rad"
+MOTION = "motion"  # the source of the local indices that read the pose's velocity and acceleration
+MOTION_ARGUMENTS = ("x_dot", "x_ddot", "q_dot", "tau")
 FROM_POSE = from_pose("first_order")
 TRANSFORMS: dict[str, tuple[str, str]] = {
     "J": ("q", "x^-1"),
@@ -105,17 +114,43 @@ def _outputs(fn: ca.Function, args: list[ca.SX]) -> dict[str, ca.SX]:
     return dict(zip(fn.name_out(), fn.call(args), strict=True))
 
 
+def reads_motion(locals_: Sequence[LocalIndex]) -> bool:
+    """Whether any of the local indices reads the pose's motion (the source ``"motion"``)."""
+    return any(spec.source == MOTION for spec in locals_)
+
+
+def _motion(mech: PipelineModel, arguments: set[str], *, x: ca.SX, mode: ca.SX, design: ca.SX, motion: ca.SX,
+            first: dict[str, ca.SX]) -> dict[str, ca.SX]:
+    """The arguments of the source ``"motion"`` that the local indices read, from the pose, the motion
+    (x_dot, x_ddot) and the first order's J."""
+    n = mech.n_out
+    x_dot, x_ddot = motion[:n], motion[n:]
+    out = {"x_dot": x_dot, "x_ddot": x_ddot}
+    if "q_dot" in arguments:
+        out["q_dot"] = first["J"] @ x_dot
+    if "tau" in arguments:
+        from pkm.dynamics.rigid import inverse_dynamics_pipeline
+
+        fns = mech.functions
+        if not any(name in fns for name in ("inverse_dynamics", "inverse_dynamics_from_pose", "elastic_dynamics")):
+            raise PkmError(f"the {mech.name} has no dynamic model: its actuator efforts along a motion are undefined")
+        out["tau"] = inverse_dynamics_pipeline(mech)(x, x_dot, x_ddot, mode, design)[1]
+    return out
+
+
 @lru_cache(maxsize=256)
 def pipeline(
     mech: PipelineModel, locals_: tuple[LocalIndex, ...], matrices: bool = False, first_order: bool = False,
-    assembled: bool = False,
+    assembled: bool = False, *, smooth: bool = False,
 ) -> ca.Function:
     """``(x, mode, design) -> (q, reach, valid, *values)``: one fused SX graph for the local indices
-    ``locals_``; ``valid`` is 1 where the pose is reached and 0 elsewhere, where the values are NaN.
+    ``locals_``; ``valid`` is 1 where the pose is reached and 0 elsewhere, where the values are NaN. Where an
+    index reads the motion (:func:`reads_motion`), ``(x, mode, design, motion)`` with motion (x_dot, x_ddot).
     With ``matrices`` the normalised argument matrices of the first index follow, with ``first_order``
     every output of the generated ``first_order`` (as generated, not normalised). A pose is reached
     where the mechanism assembles within its stated limits (:func:`pkm.kinematics.within_limits`); with
-    ``assembled``, and for indices that measure those limits, where it assembles."""
+    ``assembled``, and for indices that measure those limits, where it assembles. With ``smooth``, an index's
+    smooth stand-in replaces its formula where it has one."""
     fns = mech.functions
     measures_limits = bool(locals_) and all(spec.source == getattr(mech, "limits", None) for spec in locals_)
     ik = fns[ASSEMBLED if (assembled or measures_limits) and ASSEMBLED in fns else "inverse_kinematics"]
@@ -131,7 +166,8 @@ def pipeline(
     sources["inverse_kinematics"] = {"q": q}
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     scales = _scales(mech, design)
-    wanted = [s.source for s in locals_] + (["first_order"] if first_order else [])
+    moving = reads_motion(locals_)
+    wanted = [s.source for s in locals_ if s.source != MOTION] + (["first_order"] if first_order or moving else [])
     for source in [name for name in dict.fromkeys(wanted) if name not in sources]:
         if from_pose(source) in fns and ASSEMBLED not in fns:
             sources[source] = _outputs(fns[from_pose(source)], [x, mode, design])
@@ -139,6 +175,18 @@ def pipeline(
         else:
             fn = fns.require(source, f"the {mech.name} pipeline")
             sources[source] = _outputs(fn, [q, x, design])
+    inputs, input_names = [x, mode, design], ["x", "mode", "design"]
+    if moving:
+        motion = ca.SX.sym("motion", 2 * mech.n_out)
+        read = {a for spec in locals_ if spec.source == MOTION for a in spec.arguments}
+        unknown = sorted(read - set(MOTION_ARGUMENTS))
+        if unknown:
+            raise PkmError(f"a local index reads {unknown[0]} of the motion, which offers "
+                           f"{', '.join(MOTION_ARGUMENTS)}")
+        sources[MOTION] = _motion(mech, read, x=x, mode=mode, design=design, motion=motion,
+                                  first=sources["first_order"])
+        inputs.append(motion)
+        input_names.append("motion")
     outputs, names = [q, reach, reachable], ["q", "reach", "valid"]
     arguments = {}
     for spec in locals_:
@@ -148,7 +196,8 @@ def pipeline(
         args = [sources[spec.source][a] if spec.raw else normalise(a, sources[spec.source][a], scales)
                 for a in spec.arguments]
         arguments[spec.name] = args
-        value = local_function(spec, args[0].size1(), tuple(a.shape for a in args))(*args)
+        formula = replace(spec, formula=spec.smooth, smooth=None) if smooth and spec.smooth is not None else spec
+        value = local_function(formula, args[0].size1(), tuple(a.shape for a in args))(*args)
         outputs.append(ca.if_else(reachable, value, np.nan))
         names.append(spec.name)
     if matrices:
@@ -158,7 +207,7 @@ def pipeline(
         outputs += list(sources["first_order"].values())
         names += list(sources["first_order"])
     label = "_".join([*(s.name for s in locals_), *(["first_order"] if first_order else [])])
-    return ca.Function(f"{mech.name}_{label}", [x, mode, design], outputs, ["x", "mode", "design"], names)
+    return ca.Function(f"{mech.name}_{label}", inputs, outputs, input_names, names, {"cse": True} if moving else {})
 
 
 @lru_cache(maxsize=256)

@@ -52,16 +52,18 @@ ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
 
 @cache
 def _sums(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int
+    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: tuple[float, ...], resolution: int,
+    smooth: bool = False,
 ) -> Smooth:
     """CasADi ``design -> S``: the sums of the reduction's components over the region's nodes
-    (:mod:`pkm.regions.integrand`), with exact derivatives."""
+    (:mod:`pkm.regions.integrand`), with exact derivatives; with ``smooth``, of the local index's smooth
+    stand-in where it has one."""
     def fn(design: np.ndarray, order: int) -> Any:
         return region_sums(mech, local, region, reduce, signs=np.array(signs), design=design, resolution=resolution,
-                           order=order)
+                           order=order, smooth=smooth)
 
-    return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_sums", fn, _design_size(mech),
-                  len(COMPONENTS[reduce]))
+    return Smooth(f"{region.name}_{local.name}_{reduce}_{resolution}_sums{'_smooth' if smooth else ''}", fn,
+                  _design_size(mech), len(COMPONENTS[reduce]))
 
 
 @cache
@@ -134,8 +136,9 @@ def quadrature_value(
     mech: Any, spec: GlobalIndex, region: Any, branch: Any, design: ca.MX, *, resolution: int
 ) -> ca.MX:
     """The global index over the region as a CasADi expression of the design, with exact derivatives:
-    the reduction of the sums of :mod:`pkm.regions.integrand`, or a region extreme over the nodes (NaN
-    where a node is not reached)."""
+    the reduction of the sums of :mod:`pkm.regions.integrand` (of the local index's smooth stand-in where it
+    has one: this is the optimiser's value), or a region extreme over the nodes (NaN where a node is not
+    reached)."""
     resolution = check_resolution(resolution, 1)
     signs = tuple(branch.signs)
     if spec.reduce in EXTREMES_REDUCE:
@@ -145,7 +148,7 @@ def quadrature_value(
         extreme = ca.mmin(values) if spec.reduce == "min" else ca.mmax(values)
         value = ca.if_else(ca.mmin(reached) > 0, extreme, np.nan)
     else:
-        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution)(design)
+        sums = _sums(mech, spec.local, region, spec.reduce, signs=signs, resolution=resolution, smooth=True)(design)
         value = reduce_sums(sums, spec.reduce)
     if region.guard is not None:
         value = ca.if_else(guard_holds(mech, region, branch, design) > 0, value, np.nan)
@@ -385,6 +388,8 @@ def sampled_check(
     (and its boundary for a minimum). An independent check of the quadrature; singular poses are kept
     (margin 0), as in the quadrature."""
     design = np.asarray(design, dtype=float)
+    if getattr(region, "timed", False):
+        return _sampled_in_time(mech, spec, region, design, branch=branch, resolution=resolution)
     x, cell = region.sample(mech.functions, design, resolution, spec.reduce)
     d = np.broadcast_to(design, (len(x), len(design)))
     value, keep = sample_values(mech, spec, x, d, signs=np.array(branch.signs), margin=0.0, assembled=True)
@@ -396,3 +401,24 @@ def sampled_check(
             return GlobalValue(np.nan, points=0, region=region.name, resolution=resolution)
     result = reduce_samples(value, keep, cell, spec.reduce) / per_design(mech, spec, design)
     return GlobalValue(result, points=int(keep.sum()), region=region.name, resolution=resolution)
+
+
+def _sampled_in_time(
+    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, resolution: int
+) -> GlobalValue:
+    """A trajectory's global index by sampling: the local index at the midpoints of equal time steps of every
+    piece (and the pieces' ends for an extreme), reduced with the steps as weights; NaN where a sample is out
+    of reach. The midpoint rule beside the quadrature's Gauss-Legendre rule, an independent check."""
+    pieces = region.pieces()
+    values, reached, cells = [], [], []
+    for k, u, cell in region.samples(resolution, spec.reduce):
+        fn = rows_function(mech, spec.local, pieces[k], None, 0)[0]
+        out = evaluate(fn, u, np.array(branch.signs, dtype=float), design)[0]
+        values.append(out[:, 0, 0])
+        reached.append(out[:, 1, 0] > 0)
+        cells.append(cell)
+    value, keep, cell = (np.concatenate(a) for a in (values, reached, cells))
+    if not keep.all():
+        return GlobalValue(np.nan, points=0, region=region.name, resolution=resolution)
+    result = reduce_samples(value, keep, cell, spec.reduce) / per_design(mech, spec, design)
+    return GlobalValue(result, points=len(value), region=region.name, resolution=resolution)

@@ -19,6 +19,7 @@ import numpy as np
 
 from pkm import expressions, io, registry, spec
 from pkm.design import stack_design
+from pkm.dynamics.quantities import effort_unit, joint_extremes, joint_index
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle
@@ -154,13 +155,7 @@ def _joint(mech: Any, name: str, field: str) -> LocalIndex:
     """An actuated joint's value as a local index (SI, as the inverse kinematics gives it)."""
     if name not in mech.actuator_names:
         raise _fail(field, f"an actuated joint of {mech.name} ({', '.join(mech.actuator_names)}); got {name!r}")
-    k = mech.actuator_names.index(name)
-    unit = mech.actuator_units[k]
-    return LocalIndex(name, f"actuated joint {name} [{unit}] as the inverse kinematics gives it", unit, -np.inf,
-                      np.inf, np.nan, lambda q: q[k], "inverse_kinematics", ("q",), dimension=None, raw=True)
-
-
-EFFORT_UNITS = {"rad": "N m", "m": "N"}
+    return joint_index(mech, name)
 
 
 def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
@@ -170,10 +165,9 @@ def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
     if not _numbers(wrench, mech.n_out):
         raise _fail(field, f"a wrench of {mech.n_out} finite numbers, dual to the pose ({', '.join(mech.pose_names)})")
     w = ca.DM(wrench)
-    units = {EFFORT_UNITS.get(u, f"N m/{u}") for u in mech.actuator_units}
     return LocalIndex(
         "effort", f"largest actuator effort |J_f^T w| holding the wrench w = {list(wrench)} at the end effector",
-        " or ".join(sorted(units)), 0.0, np.inf, np.inf, lambda J_f: ca.mmax(ca.fabs(J_f.T @ w)), "first_order",
+        effort_unit(mech), 0.0, np.inf, np.inf, lambda J_f: ca.mmax(ca.fabs(J_f.T @ w)), "first_order",
         ("J_f",), epigraph_upper=lambda J_f, t: ca.vertcat(t - J_f.T @ w, t + J_f.T @ w), dimension=None, raw=True,
     )
 
@@ -196,10 +190,9 @@ def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], f
         return [Constraint(f"{name} holding {list(value)} <= {upper:g} {local.unit}", lambda t: t[name], -math.inf,
                            upper)]
     local = _joint(mech, value, f"{field}.{kind}")
-    least, largest = f"{value}_least", f"{value}_largest"
-    quantities[least] = Quantity(GlobalIndex(least, local, f"the least {value} over the task", "min", "max"), region)
-    quantities[largest] = Quantity(GlobalIndex(largest, local, f"the largest {value} over the task", "max", "min"),
-                                   region)
+    low, high = joint_extremes(mech, value)
+    least, largest = low.name, high.name
+    quantities[least], quantities[largest] = Quantity(low, region), Quantity(high, region)
     if kind == "joint_range":
         return [Constraint(f"range of {value} <= {upper:g} {local.unit}", lambda t: t[largest] - t[least],
                            -math.inf, upper)]
