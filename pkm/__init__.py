@@ -19,8 +19,9 @@ from pkm.mechanism import Mechanism
 
 if TYPE_CHECKING:
     from pkm.parallel import use_scheduler
-    from pkm.synthesis import Problem, SynthesisResult
+    from pkm.synthesis import Objective, Problem, SynthesisResult
     from pkm.synthesis.designer import design_problem
+    from pkm.synthesis.pareto import ParetoFront
 
 __all__ = [
     "ComputationError",
@@ -36,6 +37,7 @@ __all__ = [
     "design_problem",
     "load",
     "mechanisms",
+    "pareto",
     "synthesize",
     "use_scheduler",
 ]
@@ -80,3 +82,15 @@ def synthesize(problem: str | Problem, **options: Any) -> SynthesisResult:
     if not isinstance(problem, synthesis.Problem):
         problem = registry.problem(problem)
     return synthesis.synthesize(problem, **options)
+
+
+def pareto(problem: str | Problem, secondary: str | Objective, **options: Any) -> ParetoFront:
+    """The verified Pareto front of a synthesis problem (a registered name or a :class:`pkm.synthesis.Problem`)
+    against a secondary objective by the epsilon-constraint method; see :func:`pkm.synthesis.pareto.pareto` for
+    the options."""
+    from pkm import synthesis
+    from pkm.synthesis.pareto import pareto as front
+
+    if not isinstance(problem, synthesis.Problem):
+        problem = registry.problem(problem)
+    return front(problem, secondary, **options)

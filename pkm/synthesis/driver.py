@@ -63,6 +63,7 @@ class Run:
     objective: float
     variables: dict[str, float]
     verified_objective: float = float("nan")
+    multipliers: list[float] = field(default_factory=list)  # IPOPT's of the problem's constraints, in order
 
 
 @dataclass
@@ -240,7 +241,7 @@ def _model(name: str, settings: str) -> ProblemModel:
 
 @lru_cache(maxsize=8)
 def _solver(name: str, settings: str, resolution: int, options: str) -> tuple[Any, dict[str, Any]]:
-    return _nlp(_model(name, settings), resolution, json.loads(options))
+    return nlp_solver(_model(name, settings), resolution, json.loads(options))
 
 
 def _settings(problem: Problem) -> str:
@@ -264,7 +265,7 @@ def _registered(problem: Problem) -> bool:
     return known is problem or (known is not None and known.build is not None and known.build is problem.build)
 
 
-def _nlp(
+def nlp_solver(
     model: ProblemModel, resolution: int, options: dict[str, Any], rows: dict[str, tuple[int, ...]] | None = None,
     points: Points | None = None,
 ) -> tuple[Any, dict[str, Any]]:
@@ -284,7 +285,7 @@ def _nlp(
     return solver, bounds
 
 
-def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask,
+def solve_from(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: StartTask,
            points: Points | None = None) -> Run:
     """IPOPT from the task's start. A problem with many epigraph rows (region extremes) is solved by
     exchange: IPOPT holds the rows of least margin at the start, then again from its solution with the rows
@@ -302,7 +303,7 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
     for round_ in range(EXCHANGE_ROUNDS + 1):
         if round_ == EXCHANGE_ROUNDS:
             rows, x0 = None, start
-        step = (solver, bounds) if rows is None else _nlp(model, res, json.loads(task.options), rows, points)
+        step = (solver, bounds) if rows is None else nlp_solver(model, res, json.loads(task.options), rows, points)
         with interruptible():
             sol = step[0](x0=np.concatenate([x0[:nv], x0[nv:] / scale]), **given, **step[1])
         stats = step[0].stats()
@@ -321,14 +322,16 @@ def _solve(model: ProblemModel, solver: Any, bounds: dict[str, Any], task: Start
     status, success = stats["return_status"], bool(stats["success"])
     if success and not model.tight(w, x[len(problem.variables) :], res, points):
         status, success = "Epigraph_Not_Tight", False
-    return Run(_named(problem, task.start), status, success, iterations, calls, value, _named(problem, w))
+    multipliers = np.asarray(sol["lam_g"], dtype=float).ravel()[: len(problem.constraints)].tolist()
+    return Run(_named(problem, task.start), status, success, iterations, calls, value, _named(problem, w),
+               multipliers=multipliers)
 
 
 def solve_start(task: StartTask) -> Run:
     """One start of a registered problem in a worker (the model and solver built once per process)."""
     parallel.as_worker()
     solver, bounds = _solver(task.problem, task.settings, task.resolution, task.options)
-    return _solve(_model(task.problem, task.settings), solver, bounds, task)
+    return solve_from(_model(task.problem, task.settings), solver, bounds, task)
 
 
 def _points(model: ProblemModel, task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
@@ -371,7 +374,7 @@ def _polish(
             break
         task = StartTask(model.problem.name, np.array(list(run.variables.values())), 2 * res,
                          json.dumps(options, sort_keys=True), _settings(model.problem))
-        polished = _solve(model, *_nlp(model, 2 * res, options), task)
+        polished = solve_from(model, *nlp_solver(model, 2 * res, options), task)
         extra.append(polished)
         if not polished.success:
             break
@@ -402,7 +405,7 @@ def _refine(
         found = [model.extreme_points(point, r) for r in (2 * res, max(2 * res, EXTREME_SEARCH))]
         points = {name: tuple(dict.fromkeys(points[name] + found[0][name] + found[1][name])) for name in points}
         task = StartTask(model.problem.name, point, res, json.dumps(options, sort_keys=True), _settings(model.problem))
-        refined = _solve(model, *_nlp(model, res, options, points=points), task, points)
+        refined = solve_from(model, *nlp_solver(model, res, options, points=points), task, points)
         extra.append(refined)
         if not refined.success:
             break
@@ -490,7 +493,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
              for index in order]
     with parallel.executor(where, tasks=len(tasks)) as pool:
         local = isinstance(pool, parallel.SerialExecutor)
-        solve = partial(_solve, model, *_nlp(model, res, options)) if local else solve_start
+        solve = partial(solve_from, model, *nlp_solver(model, res, options)) if local else solve_start
         runs = parallel.run_tasks(pool, solve, tasks, describe=StartTask.describe, done=lambda _k, _run: step())
     evaluations = len(points) + sum(r.evaluations for r in runs)
     opt_time = time.perf_counter() - t0

@@ -126,13 +126,18 @@ class ProblemModel:
         objective, ok, _ = self.assess_points(points, resolution)
         return objective, ok
 
-    def assess_points(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Objective (N,), feasibility (N,) and the total constraint violation (N,; inf where the
-        model is undefined) at the variable points (N, n)."""
+    def values(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+        """The objective (N,) and the constraint values (N, m) at the variable points (N, n), the quantities
+        at ``resolution`` (region extremes over the nodes)."""
         points = np.atleast_2d(np.asarray(points, dtype=float))
         quantities = self.quantity_values(points, resolution)
         f, g = evaluate(self._with_quantities(), points, *(v[:, None] for v in quantities.values()))
-        objective, g = f[:, 0, 0], g[:, :, 0]
+        return f[:, 0, 0], g[:, :, 0]
+
+    def assess_points(self, points: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Objective (N,), feasibility (N,) and the total constraint violation (N,; inf where the
+        model is undefined) at the variable points (N, n)."""
+        objective, g = self.values(points, resolution)
         ok = self.feasible(g) & np.isfinite(objective)
         with np.errstate(invalid="ignore"):
             violation = np.sum(np.maximum(self.lower - g, 0) + np.maximum(g - self.upper, 0), axis=1)
@@ -299,8 +304,8 @@ class ProblemModel:
             starts.append(value + inside * EPIGRAPH_SLACK * max(abs(value), 1.0))
         return [*point, *starts]
 
-    def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
-        """The objective and the feasibility at ``point`` with the quadratures at ``resolution`` and
+    def verified_values(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, np.ndarray]:
+        """The objective and the constraint values (m,) at ``point`` with the quadratures at ``resolution`` and
         each region extreme refined between the nodes (:mod:`pkm.regions.extremes`)."""
         named = self._quantities_at(point, resolution)
         for name in self.extremes:
@@ -308,7 +313,11 @@ class ProblemModel:
             named[name] = float(parametrised_global(
                 self.mech, quantity.index, quantity.region, design[None], branch=self.branch, resolution=resolution
             )[0])
-        f, g = self._expressions_with(point, named)
+        return self._expressions_with(point, named)
+
+    def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
+        """The objective and the feasibility at ``point`` as :meth:`verified_values` takes them."""
+        f, g = self.verified_values(point, design, resolution)
         return f, bool(self.feasible(g[None])[0] and np.isfinite(f))
 
     def candidate(self, point: np.ndarray, objective: float, resolution: int) -> Candidate:

@@ -187,6 +187,7 @@ class Problem:
     settings: tuple[Setting, ...] = ()
     values: Mapping[str, float] = field(default_factory=dict)
     build: Callable[[Mapping[str, float]], Problem] | None = None
+    secondaries: Mapping[str, Objective | Quantity] = field(default_factory=dict)
 
     def configure(self, **values: object) -> Problem:
         """The same problem with some settings at other values (the others as they are here)."""

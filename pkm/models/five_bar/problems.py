@@ -1,5 +1,6 @@
 """The five-bar's synthesis problems: a global index over the maximum inscribed workspace, maximised
-in the chart of a normalised design space (Gao 1998; Lara-Molina 2016), against the papers' atlas grid."""
+in the chart of a normalised design space (Gao 1998; Lara-Molina 2016), against the papers' atlas grid; each
+may be traded against the MIW's radius (``pkm pareto five_bar.max_gci_miw --secondary miw_radius``)."""
 
 from __future__ import annotations
 
@@ -40,6 +41,8 @@ def _chart_problem(
         mode="out_out",
         hessian=hessian,
         notes={"space": space.name, "min_length": MIN_LENGTH, "min_radius": MIN_RADIUS},
+        secondaries={"miw_radius": Objective(lambda t: t.call("maximum_inscribed_circle", "radius"), "max",
+                                             f"radius of the maximum inscribed circle [{space.name} unit length]")},
     )
     baseline = problem.grid_baseline(baseline_resolution, "the best node of the atlas grid over the chart")
     return replace(problem, baselines=(baseline,))

@@ -1,0 +1,134 @@
+"""Pareto fronts by the epsilon-constraint method (pkm.pareto): an analytic front, the multipliers as its slope,
+the two mechanisms' fronts verified and non-dominated, the baselines on the same model, bad input."""
+
+from __future__ import annotations
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm import registry
+from pkm.errors import PkmError, UnknownNameError
+from pkm.synthesis import Objective, Problem, Variable
+from pkm.synthesis.pareto import hypervolume, non_dominated, pareto
+
+
+def _analytic() -> Problem:
+    """min f1 = (x - 1)^2 + y^2 against f2 = x^2 + (y - 1)^2: the front is the segment (1 - s, s), s in [0, 1],
+    f1 = 2 s^2 and f2 = 2 (1 - s)^2, so f1 = (sqrt(2) - sqrt(f2))^2 and d f1 / d f2 = -s / (1 - s). The
+    mechanism only carries the variables (its design stays at the defaults)."""
+    mech = pkm.load("five_bar")
+    design = mech.design_vector(None)
+    return Problem(
+        name="analytic", doc="squared distances to (1, 0) and (0, 1)", mechanism=mech,
+        variables=(Variable("x", -1.0, 2.0), Variable("y", -1.0, 2.0)), design=lambda _w: design, quantities={},
+        objective=Objective(lambda t: (t["x"] - 1) ** 2 + t["y"] ** 2, "min", "squared distance to (1, 0)"),
+        secondaries={"f2": Objective(lambda t: t["x"] ** 2 + (t["y"] - 1) ** 2, "min", "squared distance to (0, 1)")},
+        starts=2, screening_resolution=5,
+    )
+
+
+def test_analytic_front_points_and_multipliers():
+    epsilons = [1.8, 1.2, 0.7, 0.3, 0.05]
+    front = pareto(_analytic(), "f2", epsilons=epsilons, baselines=(), progress=False)
+    assert [p.status for p in front.points] == ["optimal"] * len(epsilons)
+    for p, eps in zip(front.points, epsilons, strict=True):
+        s = 1 - np.sqrt(eps / 2)
+        assert p.variables["x"] == pytest.approx(1 - s, abs=1e-8)
+        assert p.variables["y"] == pytest.approx(s, abs=1e-8)
+        assert p.verified_objective == pytest.approx(2 * s**2, abs=1e-8)
+        assert p.verified_secondary == pytest.approx(eps, abs=1e-8)
+        assert p.trade_off == pytest.approx(-s / (1 - s), abs=1e-6)
+
+
+def test_the_multiplier_is_the_slope_between_neighbouring_points():
+    """The trade-off rate at a point against the central difference of the front through its two neighbours."""
+    h = 1e-4
+    front = pareto(_analytic(), "f2", epsilons=[1.0 + h, 1.0, 1.0 - h], baselines=(), progress=False)
+    before, middle, after = front.points
+    central = (after.verified_objective - before.verified_objective) / (after.verified_secondary
+                                                                        - before.verified_secondary)
+    assert middle.trade_off == pytest.approx(central, rel=1e-6)
+
+
+def test_anchors_span_the_front_and_the_grid_baseline_lies_behind_it():
+    front = pareto(_analytic(), "f2", n=5, grid=11, progress=False)
+    # the anchors are IPOPT's optima of each objective alone: (1, 0) and (0, 1) to its tolerance
+    assert list(front.anchors["objective"]["variables"].values()) == pytest.approx([1.0, 0.0], abs=1e-5)
+    assert list(front.anchors["secondary"]["variables"].values()) == pytest.approx([0.0, 1.0], abs=1e-5)
+    assert front.points[0].verified_objective == pytest.approx(0.0, abs=1e-8)
+    assert front.points[-1].verified_secondary == pytest.approx(0.0, abs=1e-8)
+    grid = front.baselines["grid"]
+    assert grid.evaluations == 121
+    assert grid.dominating == 0
+    exact = (np.sqrt(2) - np.sqrt(np.array(grid.secondary))) ** 2
+    assert np.all(np.array(grid.objective) >= exact - 1e-12)
+    assert grid.hypervolume > 0
+    assert front.hypervolume > 0
+
+
+def test_hypervolume_and_dominance():
+    costs = np.array([[0.0, 2.0], [1.0, 1.0], [2.0, 0.0], [1.5, 1.5]])
+    assert non_dominated(costs).tolist() == [True, True, True, False]
+    assert hypervolume(costs, np.array([3.0, 3.0])) == pytest.approx(3 * 1 + 2 * 1 + 1 * 1)
+
+
+def test_bad_input():
+    problem = _analytic()
+    with pytest.raises(PkmError, match="n = 1"):
+        pareto(problem, "f2", n=1)
+    with pytest.raises(UnknownNameError, match="kappa_d_mean"):
+        pareto(problem, "kappa_d_mean")
+    with pytest.raises(UnknownNameError, match="annealing"):
+        pareto(problem, "f2", baselines=("annealing",))
+    with pytest.raises(UnknownNameError, match="gci"):
+        pareto(registry.problem("five_bar.max_gci_miw"), "gci")
+
+
+def _non_dominated_and_verified(front, tolerance):
+    good = front.optimal
+    assert len(good) >= 2
+    signs = np.array([1.0 if front.objective["sense"] == "min" else -1.0,
+                      1.0 if front.secondary["sense"] == "min" else -1.0])
+    costs = np.array([[p.verified_objective, p.verified_secondary] for p in good]) * signs
+    assert non_dominated(costs, tolerance * np.ptp(costs, axis=0)).all()
+    for p in front.points:
+        assert p.status in ("optimal", "dominated", "failed", "infeasible")
+        assert abs(p.verified_objective - p.objective) <= 1e-2 * max(1.0, abs(p.objective))
+    return costs
+
+
+def test_five_bar_gci_against_the_miw_radius(tmp_path):
+    front = pareto(registry.problem("five_bar.max_gci_miw"), "miw_radius", n=4, resolution=4, grid=9,
+                   progress=False)
+    _non_dominated_and_verified(front, 1e-6)
+    radius = [p.verified_secondary for p in front.optimal]
+    assert min(radius) == pytest.approx(0.3, abs=1e-6)
+    front.write(tmp_path / "front")
+    saved = json.loads((tmp_path / "front" / "front.json").read_text())
+    assert len(saved["points"]) == 4
+    assert "grid" in saved["baselines"]
+    assert {"front.csv", "front.png", "front.svg", "report.md"} <= {p.name for p in (tmp_path / "front").iterdir()}
+
+
+def test_gantry_kappa_d_against_the_peak_force_along_the_move():
+    front = pareto(registry.problem("slider_gantry.min_kappa_d_task"), "effort_peak", n=3, resolution=4,
+                   baselines=(), progress=False)
+    costs = _non_dominated_and_verified(front, 1e-6)
+    assert np.all(np.diff(costs[np.argsort(costs[:, 1]), 0]) <= 0)
+    assert front.points[1].trade_off < 0
+
+
+def test_nsga2_baseline_does_not_dominate_the_front():
+    if os.environ.get("PKM_REQUIRE_PYMOO") != "1":
+        pytest.importorskip("pymoo")
+    front = pareto(_analytic(), "f2", n=6, baselines=("nsga2",), nsga=(20, 10), progress=False)
+    nsga = front.baselines["nsga2"]
+    assert nsga.evaluations == 200
+    assert len(nsga.objective) > 0
+    assert nsga.dominating == 0
+    exact = (np.sqrt(2) - np.sqrt(np.array(nsga.secondary))) ** 2
+    assert np.all(np.array(nsga.objective) >= exact - 1e-12)
