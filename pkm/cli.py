@@ -595,6 +595,19 @@ def cmd_design(args: argparse.Namespace) -> None:
     _report_synthesis(args, result)
 
 
+def cmd_pareto(args: argparse.Namespace) -> None:
+    """A verified Pareto front of a problem's objective against a secondary one (:func:`pkm.pareto`), written
+    with its figure and report where ``--out`` is given."""
+    from pkm.synthesis.pareto import pareto
+
+    with _logs_to_stderr(args.json):
+        front = pareto(registry.problem(args.problem), args.secondary, n=args.points, resolution=args.resolution,
+                       baselines=tuple(b for b in args.baselines.split(",") if b))
+    if args.out:
+        front.write(Path(args.out))
+    _emit(args, front.to_dict(), str(front))
+
+
 def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None:
     data = result.to_dict()
     if args.out:
@@ -829,6 +842,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
     scheduled(p)
+    p = command("pareto", cmd_pareto, "a verified Pareto front of a problem's objective against a secondary one by "
+                                      "the epsilon-constraint method (front.json, front.csv, figures, report.md)")
+    listed(p, "problem", key="problem")
+    p.add_argument("--secondary", required=True, help="the secondary objective, one of the problem's quantities or "
+                                                      "secondaries (required, no default); e.g. miw_radius")
+    p.add_argument("--points", type=int, default=9, help="points of the front, at least 2 (default 9); e.g. 5")
+    p.add_argument("--resolution", type=int, help="quadrature resolution (default: the problem's); e.g. 4")
+    p.add_argument("--baselines", default="grid", help="comma-separated among grid and nsga2 (pymoo) (default "
+                                                       "grid); e.g. grid,nsga2")
+    p.add_argument("--out", help="folder for the front's files (default: none); e.g. fronts")
     p = command("show", cmd_show, "a design card: workspace maps per working mode with singularity curves, the "
                                   "region and the linkage, and a table of parameters and global indices")
     listed(p, "mechanism", key="mechanism")
