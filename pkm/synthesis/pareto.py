@@ -163,6 +163,13 @@ def secondary_objective(problem: Problem, secondary: str | Objective) -> tuple[s
     return secondary, Objective.of(secondary, value), extended
 
 
+def front_model(problem: Problem, secondary: str | Objective) -> ProblemModel:
+    """The problem's model with the secondary objective as its last, unbounded constraint (the model the front's
+    baselines evaluate)."""
+    _, second, extended = secondary_objective(problem, secondary)
+    return ProblemModel(_with_epsilon(extended, second, None))
+
+
 def _with_epsilon(problem: Problem, secondary: Objective, epsilon: float | None) -> Problem:
     """The problem with the secondary as its last constraint: at most (at least, where larger is better)
     ``epsilon``, or unbounded (None), a row that reads its value."""
@@ -199,8 +206,7 @@ def pareto(
         raise UnknownNameError("baseline of a Pareto front", unknown[0], list(BASELINES))
     res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1, 1024)
     options = ipopt_options(problem, verbose=False, max_iter=None, tol=None, print_level=None)
-    free = _with_epsilon(problem, second, None)
-    measure = ProblemModel(free)
+    measure = ProblemModel(_with_epsilon(problem, second, None))
     total = count + 2 + len(baselines)
     bar = Progress(total, f"pareto {problem.name}", enabled=None if progress is None else False)
     done = [0]
@@ -245,7 +251,7 @@ def pareto(
                         "variables": a.variables}
                  for k, (kind, a) in enumerate(zip(("objective", "secondary"), anchors, strict=True))},
     )
-    _hypervolumes(front)
+    compare_fronts(front)
     return front
 
 
@@ -296,9 +302,9 @@ def _repair(problem: Problem, second: Objective, points: list[FrontPoint], *, re
     for k, p in enumerate(points):
         if p.status != "dominated":
             continue
-        mine = _minimised(np.array([p.verified_objective]), np.array([p.verified_secondary]), senses)[0]
+        mine = minimised(np.array([p.verified_objective]), np.array([p.verified_secondary]), senses)[0]
         better = [q for q in points if q.status == "optimal" and np.all(
-            _minimised(np.array([q.verified_objective]), np.array([q.verified_secondary]), senses)[0] <= mine)]
+            minimised(np.array([q.verified_objective]), np.array([q.verified_secondary]), senses)[0] <= mine)]
         start = min(better, key=lambda q: abs(q.verified_secondary - p.epsilon), default=None)
         if start is None:
             continue
@@ -352,7 +358,7 @@ def _feasible_except_last(model: ProblemModel, g: np.ndarray) -> bool:
         return bool(np.all((g[:-1] >= model.lower[:-1] - tol) & (g[:-1] <= model.upper[:-1] + tol)))
 
 
-def _minimised(f1: np.ndarray, f2: np.ndarray, senses: tuple[str, str]) -> np.ndarray:
+def minimised(f1: np.ndarray, f2: np.ndarray, senses: tuple[str, str]) -> np.ndarray:
     """The objectives (N, 2) as both minimised."""
     return np.stack([f1 if senses[0] == "min" else -f1, f2 if senses[1] == "min" else -f2], axis=1)
 
@@ -375,7 +381,7 @@ def _classify(points: list[FrontPoint], sense1: str, sense2: str) -> None:
     good = [p for p in points if p.status == "optimal"]
     if len(good) < 2:
         return
-    costs = _minimised(np.array([p.verified_objective for p in good]), np.array([p.verified_secondary for p in good]),
+    costs = minimised(np.array([p.verified_objective for p in good]), np.array([p.verified_secondary for p in good]),
                        (sense1, sense2))
     span = np.ptp(costs, axis=0)
     keep = non_dominated(costs, DOMINANCE * np.where(span > 0, span, 1.0))
@@ -397,14 +403,14 @@ def hypervolume(costs: np.ndarray, reference: np.ndarray) -> float:
     return float(np.sum(widths * np.maximum.accumulate(heights)))
 
 
-def _hypervolumes(front: ParetoFront) -> None:
+def compare_fronts(front: ParetoFront) -> None:
     """Every front's hypervolume from one reference point (the pkm front's nadir moved out by REFERENCE_MARGIN
     of its spans), and how many of the pkm front's points each baseline dominates."""
     senses = (front.objective["sense"], front.secondary["sense"])
     good = front.optimal
     if not good:
         return
-    costs = _minimised(np.array([p.verified_objective for p in good]), np.array([p.verified_secondary for p in good]),
+    costs = minimised(np.array([p.verified_objective for p in good]), np.array([p.verified_secondary for p in good]),
                        senses)
     span = np.ptp(costs, axis=0)
     reference = costs.max(axis=0) + REFERENCE_MARGIN * np.where(span > 0, span, np.abs(costs.max(axis=0)) + 1.0)
@@ -412,7 +418,7 @@ def _hypervolumes(front: ParetoFront) -> None:
     front.hypervolume = hypervolume(costs, reference)
     tolerance = DOMINANCE * np.where(span > 0, span, 1.0)
     for base in front.baselines.values():
-        theirs = _minimised(np.array(base.objective), np.array(base.secondary), senses).reshape(-1, 2)
+        theirs = minimised(np.array(base.objective), np.array(base.secondary), senses).reshape(-1, 2)
         base.hypervolume = hypervolume(theirs, reference)
         base.dominating = int(sum(np.any(np.all(theirs <= c + tolerance, axis=1) & np.any(theirs < c - tolerance,
                                                                                          axis=1)) for c in costs))
@@ -428,7 +434,7 @@ def _front_of(model: ProblemModel, points: np.ndarray, resolution: int, senses: 
     with np.errstate(invalid="ignore"):
         ok = np.all((g[:, :-1] >= model.lower[:-1] - tol) & (g[:, :-1] <= model.upper[:-1] + tol), axis=1)
     ok &= np.isfinite(f1) & np.isfinite(g[:, -1])
-    points = points[ok][non_dominated(_minimised(f1[ok], g[ok, -1], senses))]
+    points = points[ok][non_dominated(minimised(f1[ok], g[ok, -1], senses))]
     verified = []
     for point in points:
         design = np.asarray(model.problem.design(list(point)), dtype=float).ravel()
@@ -438,7 +444,7 @@ def _front_of(model: ProblemModel, points: np.ndarray, resolution: int, senses: 
     if not verified:
         return np.zeros(0), np.zeros(0)
     f1, f2 = np.array(verified).T
-    keep = non_dominated(_minimised(f1, f2, senses))
+    keep = non_dominated(minimised(f1, f2, senses))
     order = np.argsort(f2[keep])
     return f1[keep][order], f2[keep][order]
 
@@ -475,7 +481,7 @@ def nsga2_front(model: ProblemModel, resolution: int, *, nsga: tuple[int, int], 
 
         def _evaluate(self, x: np.ndarray, out: dict[str, Any], *_: Any, **__: Any) -> None:
             f1, g = model.values(x, resolution)
-            costs = _minimised(f1, g[:, -1], senses)
+            costs = minimised(f1, g[:, -1], senses)
             undefined = ~np.all(np.isfinite(costs), axis=1) | ~np.all(np.isfinite(g), axis=1)
             rows = [col for k, lo, hi in bounded for col in (lo - g[:, k], g[:, k] - hi)] or [np.zeros(len(x))]
             violation = np.stack(rows, axis=1)
