@@ -144,3 +144,22 @@ def test_a_trajectory_out_of_the_workspace_is_named(gantry):
     with pytest.raises(PoseError, match=r"leaves the workspace of the slider_gantry .* t = [0-9.]+ s at \[[-0-9.]+, "
                                         r"0\.5\]"):
         trajectory_values(gantry, move, mode="below")
+
+
+def test_a_designer_problem_takes_trajectory_quantities(gantry):
+    """design_problem with a trajectory: the objective along its waypoints' moves, verified as
+    trajectory_values gives it at the optimum; without a trajectory the name is refused."""
+    from pkm.synthesis.designer import ProblemError, design_problem
+
+    trajectory = {"waypoints": [[-0.2, 0.5], [0.2, 0.5], [0.0, 0.45]], "v_max": 1.0, "a_max": 5.0}
+    problem = design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="effort_peak",
+                             trajectory=trajectory, mode="below", constraints=[], resolution=RESOLUTION,
+                             baseline=("grid", 3))
+    result = pkm.synthesize(problem, resolution=RESOLUTION, progress=False)
+    moves = [Trajectory.trapezoidal(a, b, 1.0, 5.0) for a, b in zip(trajectory["waypoints"][:-1],
+                                                                     trajectory["waypoints"][1:], strict=True)]
+    expected = trajectory_values(gantry, moves, result.design, mode="below", names=["effort_peak"],
+                                 resolution=2 * RESOLUTION)["effort_peak"]
+    assert result.verified_objective == pytest.approx(float(expected), rel=1e-12)
+    with pytest.raises(ProblemError, match="effort_peak is taken along a trajectory"):
+        design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="effort_peak", mode="below")

@@ -6,6 +6,7 @@ or Monte Carlo baseline over the same bounds on the same model."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import tomllib
@@ -19,10 +20,11 @@ import numpy as np
 
 from pkm import expressions, io, registry, spec
 from pkm.design import stack_design
-from pkm.dynamics.quantities import effort_unit, joint_extremes, joint_index
+from pkm.dynamics import Trajectory
+from pkm.dynamics.quantities import effort_unit, joint_extremes, joint_index, trajectory_indices
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex, LocalIndex
-from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle
+from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle, TrajectoryRegion, trajectory_region
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
@@ -148,6 +150,37 @@ def _index(mech: Any, name: str, field: str) -> GlobalIndex:
                        f"got {name!r}")
 
 
+def _trajectory(mech: Any, raw: Any) -> TrajectoryRegion | None:
+    """A trajectory through the task: a region or move as given, or {waypoints = [[...], ...], v_max, a_max} in SI,
+    trapezoidal moves from rest to rest between consecutive waypoints."""
+    if raw is None or isinstance(raw, TrajectoryRegion):
+        return raw
+    if isinstance(raw, Trajectory):
+        return trajectory_region(raw)
+    if not isinstance(raw, Mapping) or set(raw) != {"waypoints", "v_max", "a_max"}:
+        raise _fail("trajectory", "a table {waypoints = [[...], ...], v_max, a_max} in SI")
+    points = raw["waypoints"]
+    if not (isinstance(points, Sequence) and len(points) >= 2 and all(_numbers(p, mech.n_out) for p in points)):
+        raise _fail("trajectory.waypoints", f"two or more poses, each {mech.n_out} finite numbers "
+                                            f"({', '.join(mech.pose_names)})")
+    try:
+        moves = [Trajectory.trapezoidal(a, b, raw["v_max"], raw["a_max"]) for a, b in itertools.pairwise(points)]
+    except PkmError as exc:
+        raise _fail("trajectory", str(exc)) from None
+    return trajectory_region(moves)
+
+
+def _quantity(mech: Any, name: str, field: str, *, region: Any, along: TrajectoryRegion | None,
+              indices: Mapping[str, GlobalIndex]) -> Quantity:
+    """A trajectory quantity (:mod:`pkm.dynamics.quantities`) over the trajectory, or a global index over the
+    task (:func:`_index`)."""
+    if name in indices:
+        if along is None:
+            raise _fail(field, f"{name} is taken along a trajectory: give the problem a trajectory")
+        return Quantity(indices[name], along)
+    return Quantity(_index(mech, name, field), region)
+
+
 PHYSICAL = ("joint", "joint_range", "effort")
 
 
@@ -224,12 +257,13 @@ FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt", "asin", "acos", "atan")
 NUMPY = {"asin": "arcsin", "acos": "arccos", "atan": "arctan"}
 
 
-def _objective(mech: Any, raw: str | Mapping[str, float], region: Any, quantities: dict[str, Quantity]
-               ) -> Objective:
+def _objective(raw: str | Mapping[str, float], quantity: Callable[[str, str], Quantity],
+               quantities: dict[str, Quantity]) -> Objective:
     """A global index in its sense, or a weighted combination {index: weight}: maximise the sum of each
-    weight times its index (negated where the index is better smaller)."""
+    weight times its index (negated where the index is better smaller); ``quantity(name, field)`` the quantity
+    a name stands for."""
     if isinstance(raw, str):
-        quantities[raw] = Quantity(_index(mech, raw, "objective"), region)
+        quantities[raw] = quantity(raw, "objective")
         return Objective.of(raw, quantities[raw])
     if not isinstance(raw, Mapping) or not raw:
         raise _fail("objective", "a global index or a table {index = weight}")
@@ -237,7 +271,7 @@ def _objective(mech: Any, raw: str | Mapping[str, float], region: Any, quantitie
     for name, weight in raw.items():
         if isinstance(weight, bool) or not isinstance(weight, int | float) or not math.isfinite(weight):
             raise _fail(f"objective.{name}", "a finite weight")
-        quantities[name] = Quantity(_index(mech, name, f"objective.{name}"), region)
+        quantities[name] = quantity(name, f"objective.{name}")
         signs[name] = float(weight) * (1.0 if quantities[name].index.sense == "max" else -1.0)
     text = " + ".join(f"{w:g} {n}" for n, w in raw.items())
     return Objective(lambda t: sum(s * t[n] for n, s in signs.items()), "max", f"the weighted sum {text} "
@@ -267,6 +301,8 @@ def design_problem(
     doc: str | None = None,
     baseline: tuple[str, int] = ("grid", 21),
     resolution: int = 8,
+    trajectory: Any = None,
+    encoder: Sequence[float] | None = None,
 ) -> Problem:
     """A synthesis over the task region ``task`` (a region name of the mechanism, a region, a table placing one in
     SI, :func:`task_region`, or given poses, :func:`task_poses`) of ``mechanism`` (a name, a description file or a
@@ -281,7 +317,10 @@ def design_problem(
     workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
     stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
-    holds every node, and the exact Hessian of those rows costs more than it saves).
+    holds every node, and the exact Hessian of those rows costs more than it saves). With ``trajectory`` (a
+    :class:`pkm.regions.TrajectoryRegion`, a move, or {waypoints, v_max, a_max}: trapezoidal moves between the
+    waypoints), the objective and constraints may name the trajectory quantities (``effort_peak``, ``energy``,
+    ..., :mod:`pkm.dynamics.quantities`; ``encoder`` the resolutions of ``positioning_error``), taken along it.
     """
     mech = spec.resolve_name(mechanism) if isinstance(mechanism, str) else mechanism
     region = mech.region(task) if isinstance(task, str) else task_region(mech, task) if isinstance(task, Mapping) \
@@ -309,8 +348,14 @@ def design_problem(
             given[target] = rule(given)
         return stack_design([given[n] for n in mech.parameter_names()])
 
+    along = _trajectory(mech, trajectory)
+    indices = trajectory_indices(mech, encoder=encoder)
+
+    def quantity(name: str, field: str) -> Quantity:
+        return _quantity(mech, name, field, region=region, along=along, indices=indices)
+
     quantities: dict[str, Quantity] = {}
-    goal = _objective(mech, objective, region, quantities)
+    goal = _objective(objective, quantity, quantities)
     stated = []
     for k, item in enumerate(constraints):
         if not (isinstance(item, Sequence) and len(item) == 3):
@@ -326,7 +371,7 @@ def design_problem(
             stated += _physical(mech, what, (lower, upper), f"constraints[{k}]", region=region,
                                 quantities=quantities)
         elif what.isidentifier() and what not in mech.parameter_names():
-            quantities.setdefault(what, Quantity(_index(mech, what, f"constraints[{k}]"), region))
+            quantities.setdefault(what, quantity(what, f"constraints[{k}]"))
             stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
                                      lambda t, what=what: t[what], lower, upper))
         else:
@@ -365,7 +410,7 @@ def design_problem(
 
 
 PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "derived", "objective", "constraints",
-                  "mode", "baseline", "resolution"}
+                  "mode", "baseline", "resolution", "trajectory", "encoder"}
 
 
 def read_problem(path: str | os.PathLike) -> Problem:
@@ -373,7 +418,7 @@ def read_problem(path: str | os.PathLike) -> Problem:
     file), ``task`` (a region name or a table {shape, centre, size, axis}), ``variables`` {name = [lower,
     upper]}, optionally ``fixed`` {name = value}, ``objective`` (a global index), ``constraints`` (a list of
     {index, lower, upper}), ``mode``, ``baseline`` {kind = "grid" or "monte_carlo", size}, ``resolution``,
-    ``name`` and ``doc``."""
+    ``trajectory`` {waypoints, v_max, a_max} and ``encoder`` (:func:`design_problem`), ``name`` and ``doc``."""
     path = Path(path)
     try:
         raw = tomllib.loads(path.read_text())
@@ -417,5 +462,5 @@ def read_problem(path: str | os.PathLike) -> Problem:
         mechanism, task=task, variables=raw["variables"], fixed=raw.get("fixed"), derived=raw.get("derived"),
         objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
         name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), size),
-        resolution=resolution,
+        resolution=resolution, trajectory=raw.get("trajectory"), encoder=raw.get("encoder"),
     )
