@@ -102,7 +102,7 @@ def _non_dominated_and_verified(front, tolerance):
 
 
 def test_five_bar_gci_against_the_miw_radius(tmp_path):
-    front = pareto(registry.problem("five_bar.max_gci_miw"), "miw_radius", n=4, resolution=4, grid=9,
+    front = pareto(registry.problem("five_bar.max_gci_miw"), "miw_radius", n=4, resolution=4, grid=9, starts=1,
                    progress=False)
     _non_dominated_and_verified(front, 1e-6)
     radius = [p.verified_secondary for p in front.optimal]
