@@ -23,6 +23,7 @@ of its spans).
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import time
@@ -56,6 +57,9 @@ NSGA_POPULATION = 40
 NSGA_GENERATIONS = 25
 NSGA_SEED = 0
 EPSILON = "epsilon"  # the name of the epsilon constraint
+COMPASS_STEP = 1e-9  # the anchors' compass search stops at this step, of each variable's span
+COMPASS_ITERATIONS = 2000  # moves and halvings at most
+COMPASS_GAIN = 1e-14  # a move must improve the objective by this much, relative: round-off never leads it
 
 
 @dataclass
@@ -92,7 +96,8 @@ class BaselineFront:
     evaluations: int
     wall_time_s: float
     hypervolume: float = float("nan")
-    dominating: int = 0  # its points that dominate a verified point of the pkm front (beyond DOMINANCE of a span)
+    dominating: int = 0  # pkm front points one of its points dominates (beyond DOMINANCE of a span)
+    dominating_beyond_accuracy: int = 0  # those it beats in both objectives by more than their verification change
 
 
 @dataclass
@@ -258,7 +263,8 @@ def pareto(
 def _anchor(problem: Problem, resolution: int, starts: int | None, grid: int) -> SynthesisResult:
     """The optimum of one objective alone (:func:`pkm.synthesize` at the resolution, without polishing); where
     IPOPT converges from no start (an objective with kinks: a largest inscribed circle) the best feasible of its
-    last iterate and the nodes of a grid of ``grid`` nodes per variable, its status saying so."""
+    last iterate and the nodes of a grid of ``grid`` nodes per variable, improved by a compass search
+    (:func:`_compass`), its status saying so."""
     try:
         return synthesize(problem, resolution=resolution, starts=starts, progress=False)
     except SynthesisError as exc:
@@ -273,9 +279,44 @@ def _anchor(problem: Problem, resolution: int, starts: int | None, grid: int) ->
     if not len(best):
         raise ComputationError(f"no feasible point for {problem.objective.doc} of {problem.name}: IPOPT ended with "
                                f"{result.status} and no node of a {grid}-per-variable grid is feasible")
-    result.optimum = model.candidate(points[best[0]], objective[best[0]], resolution)
-    result.status = f"{result.status}; the best feasible of its last iterate and a {grid}-per-variable grid"
+    point, value = _compass(model, points[best[0]], float(objective[best[0]]), resolution, 1.0 / (grid - 1))
+    result.optimum = model.candidate(point, value, resolution)
+    result.status = (f"{result.status}; the best feasible of its last iterate and a {grid}-per-variable grid, "
+                     f"then a compass search to steps of {COMPASS_STEP:g} of each variable's span")
     return result
+
+
+def _stencil(count: int) -> np.ndarray:
+    """The compass's directions in ``count`` variables: every neighbour of a cube's centre (26 in three
+    variables), or the axes both ways beyond three."""
+    if count > 3:
+        return np.concatenate([np.eye(count), -np.eye(count)])
+    steps = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=count)))
+    return steps[np.any(steps != 0, axis=1)]
+
+
+def _compass(model: ProblemModel, point: np.ndarray, value: float, resolution: int, step: float
+             ) -> tuple[np.ndarray, float]:
+    """A feasible point improved by compass search: the stencil's neighbours at ``step`` of each variable's span
+    (clipped to the bounds) evaluated in one batch, the best feasible improvement taken, the step halved where
+    there is none, down to COMPASS_STEP. It needs no derivative, so it climbs an objective with kinks (a maximum
+    where two smooth pieces meet) where IPOPT stops."""
+    lower = np.array([v.lower for v in model.problem.variables])
+    upper = np.array([v.upper for v in model.problem.variables])
+    directions = _stencil(len(lower)) * (upper - lower)
+    score = model.sign * value
+    for _ in range(COMPASS_ITERATIONS):
+        if step <= COMPASS_STEP:
+            break
+        trial = np.clip(point + step * directions, lower, upper)
+        objective, ok = model.evaluate(trial, resolution)
+        scores = np.where(ok & np.isfinite(objective), model.sign * objective, np.inf)
+        k = int(np.argmin(scores))
+        if scores[k] < score - COMPASS_GAIN * max(1.0, abs(score)):
+            point, score = trial[k], float(scores[k])
+        else:
+            step /= 2
+    return point, model.sign * score
 
 
 def _march(problem: Problem, second: Objective, epsilons: np.ndarray, ends: np.ndarray, *, res: int,
@@ -405,7 +446,11 @@ def hypervolume(costs: np.ndarray, reference: np.ndarray) -> float:
 
 def compare_fronts(front: ParetoFront) -> None:
     """Every front's hypervolume from one reference point (the pkm front's nadir moved out by REFERENCE_MARGIN
-    of its spans), and how many of the pkm front's points each baseline dominates."""
+    of its spans), how many of the pkm front's points each baseline dominates (no worse in both objectives and
+    better in one, beyond DOMINANCE of the front's span), and how many it beats in both objectives by more than
+    the point's accuracy (in each, the change of the point's value from the optimiser's quadrature to the
+    verification's, at least DOMINANCE of the span): the points a baseline shows off the front at the accuracy
+    pkm states."""
     senses = (front.objective["sense"], front.secondary["sense"])
     good = front.optimal
     if not good:
@@ -417,11 +462,16 @@ def compare_fronts(front: ParetoFront) -> None:
     front.reference = reference.tolist()
     front.hypervolume = hypervolume(costs, reference)
     tolerance = DOMINANCE * np.where(span > 0, span, 1.0)
+    changes = np.array([[abs(p.verified_objective - p.objective), abs(p.verified_secondary - p.secondary)]
+                        for p in good])
+    accuracy = np.maximum(tolerance, changes)
     for base in front.baselines.values():
         theirs = minimised(np.array(base.objective), np.array(base.secondary), senses).reshape(-1, 2)
         base.hypervolume = hypervolume(theirs, reference)
         base.dominating = int(sum(np.any(np.all(theirs <= c + tolerance, axis=1) & np.any(theirs < c - tolerance,
                                                                                          axis=1)) for c in costs))
+        base.dominating_beyond_accuracy = int(sum(np.any(np.all(theirs < c - a, axis=1))
+                                                  for c, a in zip(costs, accuracy, strict=True)))
 
 
 def _front_of(model: ProblemModel, points: np.ndarray, resolution: int, senses: tuple[str, str]
@@ -569,9 +619,9 @@ def report(front: ParetoFront) -> str:
                      f"{p.trade_off:.6g} | {p.status} | {p.ipopt_status} | {p.iterations} |")
     if front.baselines:
         lines += ["", "| method | points on its front | evaluations | wall time [s] | hypervolume | pkm points it "
-                  "dominates |", "|---|---|---|---|---|---|",
+                  "dominates | beyond their accuracy in both |", "|---|---|---|---|---|---|---|",
                   f"| pkm (IPOPT) | {len(front.optimal)} | {front.evaluations} | {front.wall_time_s:.2f} | "
-                  f"{front.hypervolume:.6g} | - |"]
+                  f"{front.hypervolume:.6g} | - | - |"]
         lines += [f"| {b.name} | {len(b.objective)} | {b.evaluations} | {b.wall_time_s:.2f} | {b.hypervolume:.6g} | "
-                  f"{b.dominating} |" for b in front.baselines.values()]
+                  f"{b.dominating} | {b.dominating_beyond_accuracy} |" for b in front.baselines.values()]
     return "\n".join(lines) + "\n"
