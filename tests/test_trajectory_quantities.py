@@ -163,3 +163,25 @@ def test_a_designer_problem_takes_trajectory_quantities(gantry):
     assert result.verified_objective == pytest.approx(float(expected), rel=1e-12)
     with pytest.raises(ProblemError, match="effort_peak is taken along a trajectory"):
         design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="effort_peak", mode="below")
+
+
+def test_a_task_file_trajectory_may_be_smooth_moves_of_given_durations(gantry):
+    """{waypoints, durations}: one rest-to-rest move of the degree-9 profile per segment, the same region as
+    Trajectory.point_to_point gives; a count of durations other than the segments' is refused naming it."""
+    from pkm.synthesis.designer import ProblemError, design_problem
+
+    waypoints = [[-0.2, 0.5], [0.2, 0.5], [0.0, 0.45]]
+    problem = design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="energy", mode="below",
+                             trajectory={"waypoints": waypoints, "durations": [0.6, 0.4]}, constraints=[],
+                             resolution=RESOLUTION, baseline=("grid", 3))
+    design = problem.design([0.75])
+    moves = [Trajectory.point_to_point(waypoints[0], waypoints[1], 0.6),
+             Trajectory.point_to_point(waypoints[1], waypoints[2], 0.4)]
+    expected = trajectory_values(gantry, moves, design, mode="below", names=["energy"], resolution=RESOLUTION)
+    region = problem.quantities["energy"].region
+    assert region.duration == pytest.approx(1.0)
+    assert float(expected["energy"]) == pytest.approx(float(trajectory_values(
+        gantry, region, design, mode="below", names=["energy"], resolution=RESOLUTION)["energy"]), rel=1e-12)
+    with pytest.raises(ProblemError, match=r"trajectory\.durations"):
+        design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="energy", mode="below",
+                       trajectory={"waypoints": waypoints, "durations": [0.6]})

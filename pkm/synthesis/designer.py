@@ -151,20 +151,30 @@ def _index(mech: Any, name: str, field: str) -> GlobalIndex:
 
 
 def _trajectory(mech: Any, raw: Any) -> TrajectoryRegion | None:
-    """A trajectory through the task: a region or move as given, or {waypoints = [[...], ...], v_max, a_max} in SI,
-    trapezoidal moves from rest to rest between consecutive waypoints."""
+    """A trajectory through the task: a region or move as given, or in SI moves from rest to rest between
+    consecutive waypoints: {waypoints = [[...], ...], v_max, a_max}, trapezoidal velocity profiles (jumps of
+    acceleration at the switches), or {waypoints, durations = [...]}, one smooth move per segment in its
+    duration (the degree-9 polynomial of :func:`pkm.dynamics.trajectories.rest_to_rest`: velocity,
+    acceleration, jerk and snap zero at both ends, the jerk bounded)."""
     if raw is None or isinstance(raw, TrajectoryRegion):
         return raw
     if isinstance(raw, Trajectory):
         return trajectory_region(raw)
-    if not isinstance(raw, Mapping) or set(raw) != {"waypoints", "v_max", "a_max"}:
-        raise _fail("trajectory", "a table {waypoints = [[...], ...], v_max, a_max} in SI")
+    if not isinstance(raw, Mapping) or set(raw) not in ({"waypoints", "v_max", "a_max"}, {"waypoints", "durations"}):
+        raise _fail("trajectory", "a table {waypoints = [[...], ...], v_max, a_max} (trapezoidal) or {waypoints, "
+                                  "durations} (smooth) in SI")
     points = raw["waypoints"]
     if not (isinstance(points, Sequence) and len(points) >= 2 and all(_numbers(p, mech.n_out) for p in points)):
         raise _fail("trajectory.waypoints", f"two or more poses, each {mech.n_out} finite numbers "
                                             f"({', '.join(mech.pose_names)})")
+    segments = list(itertools.pairwise(points))
+    if "durations" in raw and not _numbers(raw["durations"], len(segments)):
+        raise _fail("trajectory.durations", f"{len(segments)} finite durations in s, one per segment between the "
+                                            "waypoints")
     try:
-        moves = [Trajectory.trapezoidal(a, b, raw["v_max"], raw["a_max"]) for a, b in itertools.pairwise(points)]
+        moves = ([Trajectory.trapezoidal(a, b, raw["v_max"], raw["a_max"]) for a, b in segments]
+                 if "v_max" in raw else
+                 [Trajectory.point_to_point(a, b, t) for (a, b), t in zip(segments, raw["durations"], strict=True)])
     except PkmError as exc:
         raise _fail("trajectory", str(exc)) from None
     return trajectory_region(moves)
