@@ -18,17 +18,10 @@ import numpy as np
 import pytest
 
 import pkm
+from bench.explore import ARGS, CELL, CHROMIUM, clickable
 from pkm.explore import export_html, serve
 
-CHROMIUM = Path("/usr/bin/chromium")
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-        "--disable-sync", "--no-first-run"]
 LOADED = "window.pkmExplore && window.pkmExplore.drawn.map >= 1 && window.pkmExplore.drawn.card >= 1"
-CELL = """([i, j]) => {
-  const gd = document.getElementById("atlas"), L = gd._fullLayout, a = window.pkmExplore.atlas;
-  const box = gd.getBoundingClientRect();
-  return {x: box.left + L._size.l + L.xaxis.l2p(a.u[i]), y: box.top + L._size.t + L.yaxis.l2p(a.v[j])};
-}"""
 SHOWN_MAP = """() => {
   const m = window.pkmExplore.map;
   return {u: m.u, v: m.v, held: m.held, axes: m.axes, mode: m.mode, index: m.index, design: m.design,
@@ -44,7 +37,7 @@ def _missing() -> str | None:
     for package in ("playwright", "plotly"):
         if importlib.util.find_spec(package) is None:
             return f"the Python package {package} is not installed (pip install -e '.[test]')"
-    if not CHROMIUM.exists():
+    if not Path(CHROMIUM).exists():
         return f"{CHROMIUM} is missing (apt-get install chromium)"
     return None
 
@@ -59,7 +52,7 @@ def browser():
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as playwright:
-        launched = playwright.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        launched = playwright.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         yield launched
         launched.close()
 
@@ -97,13 +90,6 @@ def page(browser):
     assert errors == []
 
 
-def _finite_nodes(atlas: dict, mode: str) -> list[tuple[int, int]]:
-    """The atlas's nodes with a value in ``mode``, the best first."""
-    values = np.array(atlas["values"][mode], dtype=float)
-    nodes = [(int(i), int(j)) for i, j in np.argwhere(np.isfinite(values)) if atlas["designs"][i][j]]
-    return sorted(nodes, key=lambda n: -values[n])
-
-
 def _design(atlas: dict, node: tuple[int, int]) -> dict[str, float]:
     return {**atlas["held"], **atlas["designs"][node[0]][node[1]]}
 
@@ -129,8 +115,8 @@ def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, t
     atlas = page.evaluate("window.pkmExplore.atlas")
     mode = page.evaluate("window.pkmExplore.mode")
     shown = tuple(page.evaluate("window.pkmExplore.shown.node"))
-    nodes = [n for n in _finite_nodes(atlas, mode) if n != shown]
-    hovered, clicked = nodes[0], nodes[len(nodes) // 2]
+    nodes = [n for n in clickable(atlas, mode, page.evaluate("window.pkmExplore.optimum")) if n != shown]
+    clicked, hovered = nodes[0], nodes[1]
 
     point = page.evaluate(CELL, list(hovered))
     page.mouse.move(point["x"], point["y"])

@@ -52,6 +52,7 @@ def asset(name: str) -> bytes:
 class _Handler(BaseHTTPRequestHandler):
     server: _HTTPServer
     protocol_version = "HTTP/1.1"
+    disable_nagle_algorithm = True  # the body follows the headers at once, not after the client's delayed ACK
 
     def log_message(self, format: str, *args: Any) -> None:
         if self.server.verbose:

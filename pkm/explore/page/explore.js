@@ -252,7 +252,7 @@
   function bindAtlas() {
     const gd = $("atlas");
     gd.on("plotly_hover", (event) => {
-      const target = targetOf(event.points[0]);
+      const target = targetOf(event);
       if (!target) return;
       clearTimeout(hoverTimer);
       clearTimeout(returnTimer);
@@ -266,17 +266,29 @@
     });
     gd.on("plotly_click", (event) => {
       const t0 = event.event && event.event.timeStamp ? event.event.timeStamp : performance.now();
-      const target = targetOf(event.points[0]);
+      const target = targetOf(event);
       clearTimeout(hoverTimer);
       clearTimeout(returnTimer);
       if (target) select(target, true, t0);
     });
   }
 
-  function targetOf(point) {
+  // the design a hover or click on the atlas means: the optimum's on its marker, else the node of the cell under
+  // the cursor (the best design's star and the other markers cover parts of their neighbours' cells)
+  function targetOf(event) {
     const a = state.atlas;
+    const point = event.points[0];
     if (point.data.meta === "optimum" && !offline) return { design: state.optimum.design, label: "optimum" };
-    const node = [nearest(a.u, point.x), nearest(a.v, point.y)];
+    let [x, y] = [point.x, point.y];
+    const mouse = event.event;
+    if (mouse && mouse.clientX !== undefined) {
+      const gd = $("atlas");
+      const layout = gd._fullLayout;
+      const box = gd.getBoundingClientRect();
+      x = layout.xaxis.p2l(mouse.clientX - box.left - layout._size.l);
+      y = layout.yaxis.p2l(mouse.clientY - box.top - layout._size.t);
+    }
+    const node = [nearest(a.u, x), nearest(a.v, y)];
     if (!a.designs[node[0]][node[1]]) return null;
     if (offline) return { node: entryNear(node).node };
     return { node };
