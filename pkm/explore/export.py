@@ -4,12 +4,14 @@ Python.
 
 The atlas is the one the explorer's defaults ask for; the cards are those of a grid of designs over its chart
 (``grid`` x ``grid`` nodes spread over the chart, each moved to the nearest node with a value): for each and
-each mode of the atlas, the card, the workspace map and the linkage at the card's pose, as the server would
-answer them. The page shows, on a click on the atlas, the card of the nearest precomputed design.
+each mode of the atlas, the card, the workspace map (without the arrays the page draws as curves) and the linkage
+at the card's pose, as the server would answer them. The page shows, on a click on the atlas, the card of the
+nearest precomputed design.
 """
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 from typing import Any
@@ -26,6 +28,7 @@ MAP_RESOLUTION = 64  # poses per axis of the precomputed maps
 STYLE = '<link rel="stylesheet" href="explore.css">'
 PLOTLY = '<script src="plotly.min.js"></script>'
 SCRIPT = '<script src="explore.js"></script>'
+UNDRAWN = ("singular", "region_inside")  # a map's arrays the page draws as curves, left out of the file
 
 
 def grid_nodes(atlas: dict[str, Any], grid: int) -> list[tuple[int, int]]:
@@ -63,7 +66,8 @@ def precompute(explorer: Explorer, *, grid: int = GRID, map_resolution: int = MA
         for mode in atlas["modes"]:
             fields = {"design": text, "mode": mode, "region": atlas["region"], "index": index}
             card = explorer.handle("card", fields)
-            shown = explorer.handle("map", {**fields, "resolution": str(map_resolution), "arrays": "base64"})
+            answer = explorer.handle("map", {**fields, "resolution": str(map_resolution), "arrays": "base64"})
+            shown = {k: v for k, v in answer.items() if k not in UNDRAWN}
             pose = ",".join(repr(card["pose"][p["name"]]) for p in meta["pose"])
             linkage = explorer.handle("linkage", {"design": text, "mode": mode, "pose": pose,
                                                   "plane": ",".join(shown["axes"])})
@@ -78,7 +82,8 @@ def page(data: dict[str, Any]) -> str:
     html = asset("index.html").decode()
     plotly, script = (text.replace("</script", "<\\/script") for text in (plotly_js().decode(),
                                                                          asset("explore.js").decode()))
-    embedded = io.to_json(data).replace("</", "<\\/")
+    compact = json.dumps(json.loads(io.to_json(data)), separators=(",", ":"))  # NaN as null, as the API sends it
+    embedded = compact.replace("</", "<\\/")
     parts = {
         STYLE: f"<style>\n{asset('explore.css').decode()}</style>",
         PLOTLY: f"<script>{plotly}</script>",
