@@ -171,13 +171,21 @@ def markdown(data: dict[str, Any]) -> str:
     for key, name in names.items():
         t = data["server"][key]
         slow = data["interpreter"].get(key)
-        base = f"{slow['median_ms']:.1f} ms | {slow['p95_ms']:.1f} ms" if slow else "| "
+        base = f"{slow['median_ms']:.1f} ms | {slow['p95_ms']:.1f} ms" if slow else "- | -"
         lines.append(f"| {name} | {t['median_ms']:.1f} ms | {t['p95_ms']:.1f} ms | {t['requests']} | "
                      f"{t['bytes'] / 1024:.0f} KiB | {base} |")
     b = data["browser"]
     lines += ["", f"Click on an atlas cell to its {b['map_resolution']} x {b['map_resolution']} map drawn, in headless "
                   f"chromium {b['chromium']} ({b['clicks']} clicks): median {b['median_ms']:.1f} ms, 95th percentile "
-                  f"{b['p95_ms']:.1f} ms, at most {b['max_ms']:.1f} ms (goal: under {data['goal_ms']:g} ms)."]
+                  f"{b['p95_ms']:.1f} ms, at most {b['max_ms']:.1f} ms (goal: under {data['goal_ms']:g} ms).", "",
+              "The server computes one request at a time (CasADi's functions are not called from two threads at "
+              "once). A map's answer holds its values, the two singularity determinants and the region's mask as "
+              "base64 arrays, and their curves: the same work on both paths but the local index and the "
+              "determinants, which make the interpreter's map " + " and ".join(
+                  f"{data['interpreter'][k]['median_ms'] / data['server'][k]['median_ms']:.1f}x" for k in names
+                  if k in data["interpreter"]) + " slower (medians, 128 and 256 poses per axis). A click's time is "
+              "the page's own measure (`window.pkmExplore.timings`: from the click event to the frame after plotly.js "
+              "has drawn the map); the card and the atlas's marker follow the map."]
     return "\n".join(lines) + "\n"
 
 
