@@ -26,7 +26,7 @@ from pkm.explore.server import Server, require_plotly
 from pkm.mechanism import Mechanism
 from pkm.spec import resolve_name
 
-__all__ = ["Explorer", "RequestError", "Server", "export_html", "require_plotly", "serve"]
+__all__ = ["Explorer", "RequestError", "Server", "explorer", "export_html", "require_plotly", "serve"]
 
 
 def explorer(mechanism: Mechanism | str, **defaults: Any) -> Explorer:

@@ -155,6 +155,11 @@
     return { design: designText(state.design), mode: state.mode, region: state.atlas.region, index: localIndex() };
   }
 
+  function mapFields() {
+    const fields = { ...designFields(), resolution: state.meta.defaults.map_resolution, arrays: "base64" };
+    return $("plane").value ? { ...fields, plane: $("plane").value } : fields;
+  }
+
   // static export: the precomputed entry nearest a chart node answers for every design near it
   function entryNear(node) {
     let best = null;
@@ -380,8 +385,7 @@
     const seq = ++state.seq.map;
     let answer;
     try {
-      answer = offline ? offlineAnswer("map") : await api("map", {
-        ...designFields(), resolution: state.meta.defaults.map_resolution, arrays: "base64" }, "map");
+      answer = offline ? offlineAnswer("map") : await api("map", mapFields(), "map");
     } catch (error) {
       failed(error);
       return;
@@ -572,9 +576,12 @@
     $("title").textContent = `pkm explore: ${meta.name}`;
     options($("index"), meta.global_indices.map((i) => i.name), atlas ? atlas.index : meta.defaults.index);
     options($("region"), meta.regions.map((r) => r.name), atlas ? atlas.region : meta.defaults.region);
+    const names = meta.pose.map((p) => p.name);
+    options($("plane"), names.flatMap((a, k) => names.slice(k + 1).map((b) => `${a},${b}`)), names.slice(0, 2).join(","));
     if (offline) {
       $("index").disabled = true;
       $("region").disabled = true;
+      $("plane").disabled = true;
       $("stop").hidden = true;
     }
     $("index").addEventListener("change", () => loadAtlas());
@@ -584,6 +591,7 @@
       await drawAtlas();
       if (state.clicked) await select(state.clicked, true);
     });
+    $("plane").addEventListener("change", () => { if (state.shown) select(state.shown, false); });
     $("stop").addEventListener("click", stop);
     await Plotly.newPlot("atlas", [], {}, PLOT);
     await Plotly.newPlot("map", [], {}, PLOT);
