@@ -8,6 +8,7 @@ pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test file
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -108,16 +109,40 @@ def inputs_by_port(mech: pkm.Mechanism, rng: np.random.Generator, n: int) -> dic
     return port_inputs(mech, design, x, mode.name, assembly)
 
 
+DRAWN: dict[str, dict[str, list[str]]] = {}  # by paper, the text problems of each figure its quick run saved
+
+
 def reproduce_quick(factory, key: str):
-    """``pkm reproduce KEY --quick`` into a fresh folder: the report folder and its report.json."""
+    """``pkm reproduce KEY --quick`` into a fresh folder: the report folder and its report.json. The text
+    problems of every figure it saves through :func:`pkm.figures.save` (:func:`pkm.figures.text_problems`)
+    are kept in DRAWN[key], by file name."""
     import json
 
+    from pkm import figures
     from pkm.cli import main
 
     out = factory.mktemp("out")
-    assert main(["reproduce", key, "--out", str(out), "--quick"]) == 0
+    drawn, save = DRAWN.setdefault(key, {}), figures.save
+
+    def checked(fig, path, *, dpi):
+        drawn[Path(path).name] = figures.text_problems(fig)
+        return save(fig, path, dpi=dpi)
+
+    figures.save = checked
+    try:
+        assert main(["reproduce", key, "--out", str(out), "--quick"]) == 0
+    finally:
+        figures.save = save
     folder = out / key
     return folder, json.loads((folder / "report.json").read_text())
+
+
+def check_figures_readable(key: str, data: dict) -> None:
+    """Every figure of a quick reproduction was saved through pkm.figures.save and can be read: no text
+    leaves the canvas or covers another text."""
+    drawn = DRAWN[key]
+    assert sorted(set(data["figures"]) - set(drawn)) == [], f"{key} saves figures without pkm.figures.save"
+    assert {name: problems for name, problems in drawn.items() if problems} == {}
 
 
 def check_docs_snapshot_paths(key: str, data: dict) -> None:

@@ -308,7 +308,7 @@ def _outputs(m: pkm.Mechanism, x: np.ndarray, design: pkm.Design, mode: str) -> 
     return out
 
 
-SINGLES = 8  # poses per mode evaluated one at a time
+SINGLES = 4  # poses per mode evaluated one at a time
 
 
 def test_batch_equals_stacked_single_poses(case):

@@ -4,10 +4,10 @@ a result or with its own error, never with a traceback or Python's, numpy's or C
 Properties: in-process ``pkm.cli.main`` and the real ``pkm`` executable exit with 0, 1 or 2 and print no
 traceback, and a ``--json`` run that exits 0 or 1 prints valid JSON (when it prints); the API returns or
 raises a :class:`pkm.PkmError` or :class:`pkm.ComputationError`, and an empty batch gives an empty result.
-Hypothesis runs derandomized (a fixed seed). Inputs: 1,000 command lines of the eight commands with junk and
+Hypothesis runs derandomized (a fixed seed). Inputs: 600 command lines of the eight commands with junk and
 edge values for every option (the scheduler's included), and for ``eval`` and ``index`` with each registered
-mechanism's own pose width, parameters, bounds, modes, indices and regions; 250 token soups, 500 API calls
-drawn from each mechanism's widths and names, and 24 runs of the executable: 1,774 in all.
+mechanism's own pose width, parameters, bounds, modes, indices and regions; 250 token soups, 400 API calls
+drawn from each mechanism's widths and names, and 24 runs of the executable: 1,274 in all.
 Atlases, sweeps, syntheses and reproductions always carry one value they must refuse before any work
 (their runs on valid input are tested in test_cli.py, test_atlas.py and test_reproduce.py).
 """
@@ -228,7 +228,7 @@ def folder(tmp_path_factory):
 
 
 def test_the_commands_answer_junk_with_an_exit_status_and_one_line(folder):
-    @fuzz(1000)
+    @fuzz(600)
     @given(command_line(folder))
     def check(argv):
         check_cli(argv, *run_cli(argv))
@@ -351,7 +351,7 @@ def api_call(draw, mech):
     return None, lambda: pkm.design.parse_design(text_design)
 
 
-@fuzz(500)
+@fuzz(400)
 @given(st.data())
 def test_the_api_answers_junk_with_a_result_or_its_own_error(data):
     mech = MECHANISMS[data.draw(st.sampled_from(sorted(MECHANISMS)))]

@@ -4,7 +4,7 @@ honest statuses (zhao2008 and nam2006: tests/test_reproduce_zhao.py and tests/te
 from __future__ import annotations
 
 import pytest
-from helpers import check_docs_snapshot_paths, reproduce_quick
+from helpers import check_docs_snapshot_paths, check_figures_readable, reproduce_quick
 
 
 @pytest.fixture(scope="module")
@@ -147,3 +147,8 @@ def test_wu_synthesis_beats_the_papers_design(wu):
 @pytest.mark.parametrize(("key", "fixture"), [("gao1998", "report"), ("lara_molina2016", "lara"), ("wu2008", "wu")])
 def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(key, fixture, request):
     check_docs_snapshot_paths(key, request.getfixturevalue(fixture)[1])
+
+
+@pytest.mark.parametrize(("key", "fixture"), [("gao1998", "report"), ("lara_molina2016", "lara"), ("wu2008", "wu")])
+def test_every_figure_of_a_quick_report_can_be_read(key, fixture, request):
+    check_figures_readable(key, request.getfixturevalue(fixture)[1])

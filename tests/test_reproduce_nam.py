@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from helpers import check_docs_snapshot_paths, reproduce_quick
+from helpers import check_docs_snapshot_paths, check_figures_readable, reproduce_quick
 
 
 @pytest.fixture(scope="module")
@@ -45,3 +45,7 @@ def test_nam_synthesis_is_verified_and_at_least_the_grid(nam):
 
 def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(nam):
     check_docs_snapshot_paths("nam2006", nam[1])
+
+
+def test_every_figure_of_the_quick_report_can_be_read(nam):
+    check_figures_readable("nam2006", nam[1])

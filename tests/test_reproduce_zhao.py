@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import pytest
-from helpers import check_docs_snapshot_paths, reproduce_quick
+from helpers import check_docs_snapshot_paths, check_figures_readable, reproduce_quick
 
 
 @pytest.fixture(scope="module")
@@ -50,3 +50,7 @@ def test_zhao_synthesis_beats_monte_carlo_and_table1(zhao):
 
 def test_every_path_of_the_docs_snapshot_is_in_a_quick_report(zhao):
     check_docs_snapshot_paths("zhao2008", zhao[1])
+
+
+def test_every_figure_of_the_quick_report_can_be_read(zhao):
+    check_figures_readable("zhao2008", zhao[1])
