@@ -145,10 +145,13 @@ class Mechanism:
 
     def linkage(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> list[np.ndarray]:
         """The joints' points of each leg at one pose (base joint, the leg's joints, platform joint), for
-        drawing, from the generated ``skeleton`` where the mechanism has one (an empty list otherwise); NaN
-        where the pose is out of reach."""
+        drawing, from the generated ``skeleton`` where the mechanism has one (NaN where the pose is out of
+        reach), else from its structure (:func:`pkm.export.linkage`, points in 3-D; empty out of reach), else
+        an empty list."""
         if "skeleton" not in self.functions or not self.skeleton_legs:
-            return []
+            if self.structure is None:
+                return []
+            return importlib.import_module("pkm.export").linkage(self, pose, design, mode=mode)
         x = np.asarray(pose, dtype=float).ravel()
         d = self.design_vector(design)
         q = self.inverse_kinematics(x, d, mode=mode, passive=True)

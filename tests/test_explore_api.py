@@ -169,8 +169,12 @@ def test_the_linkage_answers_the_actuators_and_says_when_there_is_no_drawing(ser
     q = five_bar.inverse_kinematics([0.1, 1.2], DESIGN, mode=MODE)
     assert list(data["actuators"].values()) == pytest.approx(q.tolist())
     assert data["reachable"]
-    assert data["legs"] == []
-    assert data["projected"] is None
+    assert np.array(data["legs"]) == pytest.approx(np.array(five_bar.linkage([0.1, 1.2], DESIGN, mode=MODE)))
+    assert [leg[-1] for leg in data["projected"]] == [pytest.approx([0.1, 1.2])] * 2
+    away = get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,9")
+    assert not away["reachable"]
+    assert away["legs"] == []
+    assert away["projected"] is None
 
 
 def test_the_optimum_of_the_mechanisms_problem_is_placed_on_the_chart(server):

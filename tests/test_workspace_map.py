@@ -45,3 +45,25 @@ def test_a_slice_of_a_spatial_machine_holds_the_other_coordinates_and_shows_its_
 def test_a_bad_plane_names_its_condition(options, condition):
     with pytest.raises(PkmError, match=condition):
         workspace_slice(pkm.load("five_bar"), **options)
+
+
+@pytest.mark.parametrize("mode", ["out_out", "in_out"])
+def test_a_hand_derived_mechanism_draws_its_linkage_from_its_structure(mode, tmp_path):
+    """The five-bar has no generated skeleton: its linkage comes from its export structure, a chain O_i, A_i, P
+    per proximal link (the base joints at (-+r3, 0), the elbows r1 from them and r2 from P, both ending at the
+    pose), in the elbow branches of the mode; the map's figure draws it."""
+    m = pkm.load("five_bar")
+    design = m.design({"r1": 1.1, "r2": 0.9, "r3": 0.5})
+    pose = np.array([0.1, 1.3])
+    chains = m.linkage(pose, design, mode=mode)
+    assert len(chains) == 2
+    joints = m.inverse_kinematics(pose, design, mode=mode)
+    for k, (chain, side) in enumerate(zip(chains, (-1.0, 1.0), strict=True)):
+        base, elbow, end = chain[:, :2]
+        np.testing.assert_allclose(base, [side * 0.5, 0.0], atol=1e-15)
+        np.testing.assert_allclose(elbow - base, 1.1 * np.array([np.cos(joints[k]), np.sin(joints[k])]), atol=1e-12)
+        np.testing.assert_allclose(np.linalg.norm(end - elbow), 0.9, atol=1e-12)
+        np.testing.assert_allclose(end, pose, atol=1e-12)
+    assert m.linkage([0.0, 5.0], design, mode=mode) == []
+    drawn = workspace_slice(m, design, mode=mode, resolution=21).plot(tmp_path / "map.png", linkage=chains)
+    assert drawn.stat().st_size > 1000

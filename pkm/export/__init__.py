@@ -13,11 +13,13 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from pkm.errors import PkmError
+import numpy as np
+
+from pkm.errors import PkmError, PoseError
 from pkm.export.structure import Reference, Structure, Tree, cut
 from pkm.export.urdf import write
 
-__all__ = ["Reference", "Structure", "Tree", "export_urdf", "structure", "tree"]
+__all__ = ["Reference", "Structure", "Tree", "export_urdf", "linkage", "structure", "tree"]
 
 
 def _builder(mech: Any) -> Callable[[Any, Reference], Structure]:
@@ -53,3 +55,38 @@ def export_urdf(mech: Any, design: Any, folder: str | Path, *, pose: Any = None,
     cut_tree = tree(mech, design, pose=pose, mode=mode)
     parameters = [(p.name, cut_tree.structure.reference.design[p.name], p.unit, p.doc) for p in mech.parameters]
     return write(cut_tree, mech, parameters, Path(folder))
+
+
+def linkage(mech: Any, pose: Any, design: Any = None, *, mode: str | None = None) -> list[np.ndarray]:
+    """The joints' points of each chain of a mechanism that pkm knows the structure of, at one pose, for
+    drawing (:meth:`pkm.Mechanism.linkage` where the mechanism has no generated skeleton): from each joint on the
+    base, the joints along its chain (a mimic joint's branch left out) up to the end effector's link, where the
+    end effector's origin closes the chain; points (k, 3) in the base frame. Empty where the pose is out of
+    reach."""
+    try:
+        built = structure(mech, design, pose=pose, mode=mode)
+    except PoseError:
+        return []
+    incident: dict[str, list[Any]] = {}
+    for joint in built.joints:
+        if joint.mimic is None:
+            incident.setdefault(joint.parent, []).append(joint)
+            incident.setdefault(joint.child, []).append(joint)
+    end = built.effector.frame(np.asarray(built.reference.pose, dtype=float))[:3, 3]
+    chains = []
+    for first in [j for j in incident.get(built.base, []) if j.parent == built.base]:
+        points, used, link = [first.origin], {first.name}, first.child
+        while link != built.base:
+            if link == built.effector.link:
+                if not np.allclose(points[-1], end):
+                    points.append(end)
+                break
+            following = [j for j in incident.get(link, []) if j.name not in used]
+            if not following:
+                break
+            joint = following[0]
+            points.append(joint.origin)
+            used.add(joint.name)
+            link = joint.child if joint.parent == link else joint.parent
+        chains.append(np.array(points, dtype=float))
+    return chains
