@@ -354,12 +354,20 @@ def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
 
 def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:
     """The measure of each design's parametrised region (D,) as a fraction of its workspace box: its
-    ``region_measure`` over the volume of ``mech.workspace_box``. (For the sampled region it is the share
-    of the grid's cells kept, points / pose_resolution^n.)"""
+    ``region_measure`` over the volume of ``mech.workspace_box``; NaN for every design where the region's
+    extent (its quadrature's weights summed, reached or not) is the same at all of them (two or more): a task
+    the designer fixed, not a region the design sizes, which the size check leaves alone. (For the sampled
+    region it is the share of the grid's cells kept, points / pose_resolution^n.)"""
+    extent = np.array([np.sum(where.quadrature(mech.functions, d, resolution)[1]) for d in designs])
+    if len(designs) > 1 and np.ptp(extent) <= FIXED * np.abs(extent).max():
+        return np.full(len(designs), np.nan)
     measure = regions.parametrised_global(mech, registry.global_index("region_measure"), where, designs,
                                           branch=branch, resolution=resolution)
     box = np.array([np.prod(np.diff(mech.workspace_box(d), axis=1)) for d in designs])
     return measure / box
+
+
+FIXED = 1e-12  # relative spread of a region's extent over an atlas's designs below which the region is fixed
 
 
 def _relative_change(values: list[float]) -> float:
@@ -380,7 +388,8 @@ def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndar
     sampled = isinstance(mech.region(atlas.region), regions.SampledWorkspace)
 
     def sized(value: float, count: int, share: float) -> bool:
-        return bool(np.isfinite(value)) and count >= checks.min_points and share >= checks.min_fraction
+        return (bool(np.isfinite(value)) and count >= checks.min_points
+                and (bool(np.isnan(share)) or share >= checks.min_fraction))
 
     ok = np.array([sized(*row) for row in zip(values, points, fraction, strict=True)], dtype=bool)
     ok &= atlas.admissible[atlas.inside]
@@ -422,10 +431,10 @@ def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndar
     count, share = state[k]
     used = tuple(resolutions[: len(history[k])])
     change = _relative_change(history[k])
+    size = "a fixed region" if np.isnan(share) else f"{share:.0%} of the workspace box"
     return Best(
         name, mode, True,
-        f"converged: {change:.2%} change from pose resolution {used[-2]} to {used[-1]}; {count} points, "
-        f"{share:.0%} of the workspace box",
+        f"converged: {change:.2%} change from pose resolution {used[-2]} to {used[-1]}; {count} points, {size}",
         u=u, v=v,
         coordinates={c: float(x) for c, x in zip(atlas.space.coordinates, atlas.space.from_chart(u, v), strict=True)},
         design=mech.design_dict(designs[k]), value=history[k][-1], values=tuple(history[k]), resolutions=used,

@@ -334,3 +334,20 @@ def test_an_atlas_reports_progress_as_done_and_total(mech, gao):
     total = int(atlas.inside.sum())
     assert seen[-1] == (total, total)
     assert [d for d, _ in seen] == sorted(d for d, _ in seen)
+
+
+def test_a_fixed_task_region_is_not_held_to_a_share_of_the_workspace():
+    """The Delta's task cylinder is the same at every design and small against the workspace box: the size check
+    (Checks.min_fraction) is for regions the design places and sizes, so the atlas still reports its best design,
+    which is the largest node among those that converge."""
+    from pkm.design_space import parameter_plane, parse_axes
+
+    m = pkm.load("delta")
+    space = parameter_plane(m.parameters, parse_axes("L_a=0.25:0.45,L_b=0.6:0.9", "--axes"))
+    atlas = compute_atlas(m, registry.global_index("gci"), space=space, region="task", modes="elbow_out",
+                          resolution=7, executor="serial", progress=False)
+    best = atlas.checked["elbow_out"]
+    assert best.found, best.reason
+    assert "a fixed region" in best.reason
+    assert np.isnan(best.fraction)
+    assert best.value >= np.nanmax(atlas.values["elbow_out"]) - 0.01 * abs(best.value)
