@@ -346,9 +346,23 @@ class Mechanism:
             )
         return spec
 
+    @cached_property
+    def trajectory_quantities(self) -> dict[str, GlobalIndex]:
+        """The quantities along a trajectory this mechanism offers, by name (:mod:`pkm.dynamics.quantities`: the
+        peak and RMS actuator effort, the energy with and without regeneration and the peak power where it has
+        dynamics; the peak actuator speed, the positioning error from the default encoder resolutions and the
+        velocity amplification): global indices over a trajectory region (:class:`pkm.regions.TrajectoryRegion`)."""
+        return importlib.import_module("pkm.dynamics.quantities").trajectory_indices(self)
+
     def global_spec(self, name: str) -> GlobalIndex:
-        """The global index by name, if this mechanism can evaluate its local index."""
-        spec = registry.global_index(name)
+        """The global index by name, if this mechanism can evaluate its local index: a registered one, or one of
+        its :attr:`trajectory_quantities`."""
+        try:
+            spec = registry.global_index(name)
+        except UnknownNameError:
+            if isinstance(name, str) and name in self.trajectory_quantities:
+                return self.trajectory_quantities[name]
+            raise
         self.local_spec(spec.local.name)
         if spec.per is not None:
             self.functions.require(spec.per, f"the global index {name}")
@@ -362,7 +376,8 @@ class Mechanism:
         if hasattr(name, "unit"):
             spec = name
         else:
-            is_global = isinstance(name, str) and name in {i.name for i in registry.global_indices()}
+            is_global = isinstance(name, str) and (name in {i.name for i in registry.global_indices()}
+                                                   or name in self.trajectory_quantities)
             spec = self.global_spec(name) if is_global else self.local_spec(name)
         return spec.unit.format(pose=_coordinate_unit(self.pose_units), actuator=_coordinate_unit(self.actuator_units),
                                 n=self.n_out, volume=_product_unit(self.pose_units))
@@ -419,6 +434,9 @@ class Mechanism:
         d = self.design_vector(design)
         where = region if hasattr(region, "quadrature") else self.region(region)
         region = getattr(where, "name", region)
+        if spec.local.source == regions.MOTION and not isinstance(where, regions.TrajectoryRegion):
+            raise PkmError(f"{name} is taken along a trajectory: region {region} is not one (a "
+                           "pkm.regions.TrajectoryRegion, such as a mechanism's named move)")
         branch = self.working_mode(mode)
         allowed = getattr(where, "modes", None)
         if allowed and branch.name not in allowed:

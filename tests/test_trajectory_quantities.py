@@ -9,7 +9,7 @@ import pytest
 import pkm
 from pkm.dynamics import Trajectory
 from pkm.dynamics.quantities import trajectory_indices, trajectory_values
-from pkm.errors import PoseError, UnknownNameError
+from pkm.errors import PkmError, PoseError, UnknownNameError
 from pkm.regions import trajectory_region
 from pkm.reproduce.wu2008 import TABLE3
 
@@ -185,3 +185,28 @@ def test_a_task_file_trajectory_may_be_smooth_moves_of_given_durations(gantry):
     with pytest.raises(ProblemError, match=r"trajectory\.durations"):
         design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="energy", mode="below",
                        trajectory={"waypoints": waypoints, "durations": [0.6]})
+
+
+def test_a_trajectory_quantity_is_a_global_index_of_the_mechanism_over_its_named_move(gantry):
+    """The gantry's Table 3 move is a region of it: Mechanism.global_index takes a trajectory quantity by name
+    over it (the value trajectory_values gives), refuses one over a region that is not a trajectory, and an
+    atlas charts it (a node equals global_index there, its best design found over the fixed move)."""
+    from pkm.atlas import compute_atlas
+    from pkm.design_space import parameter_plane, parse_axes
+
+    design = gantry.design()
+    value = gantry.global_index("effort_peak", design, region="table3_move", mode="below", resolution=RESOLUTION)
+    expected = trajectory_values(gantry, gantry.region("table3_move"), design, mode="below", names=["effort_peak"],
+                                 resolution=RESOLUTION)["effort_peak"]
+    assert float(value) == pytest.approx(float(expected), rel=1e-12)
+    assert gantry.index_unit("effort_peak") == "N"
+    with pytest.raises(PkmError, match="effort_peak is taken along a trajectory: region task is not one"):
+        gantry.global_index("effort_peak", design, region="task", mode="below")
+    space = parameter_plane(gantry.parameters, parse_axes("l=0.7:0.8,d1=0.2:0.3", "--axes"))
+    atlas = compute_atlas(gantry, gantry.global_spec("effort_peak"), space=space, region="table3_move",
+                          modes="below", resolution=3, pose_resolution=RESOLUTION, executor="serial", progress=False)
+    i, j = np.argwhere(np.isfinite(atlas.values["below"]))[-1]
+    node = space.designs(gantry.parameters, space.from_chart(atlas.u[i], atlas.v[j]))
+    assert atlas.values["below"][i, j] == pytest.approx(float(gantry.global_index(
+        "effort_peak", node, region="table3_move", mode="below", resolution=RESOLUTION)), rel=1e-12)
+    assert atlas.checked["below"].found

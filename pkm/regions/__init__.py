@@ -16,7 +16,7 @@ or implement the same three methods as :class:`MappedSquare`.
 from importlib import import_module
 from typing import Any
 
-from pkm.regions.pipeline import Evaluation, evaluate_at, first_order_outputs, pipeline
+from pkm.regions.pipeline import MOTION, Evaluation, evaluate_at, first_order_outputs, pipeline
 from pkm.regions.shapes import (
     Box,
     Cylinder,
@@ -56,6 +56,7 @@ def __getattr__(name: str) -> Any:
 __all__ = [
     "ASSEMBLED_WORKSPACE",
     "INDEX_ACCURACY",
+    "MOTION",
     "QUADRATURE_RESOLUTION",
     "SAMPLED_RESOLUTION",
     "SINGULARITY_MARGIN",

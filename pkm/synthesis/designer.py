@@ -359,7 +359,7 @@ def design_problem(
         return stack_design([given[n] for n in mech.parameter_names()])
 
     along = _trajectory(mech, trajectory)
-    indices = trajectory_indices(mech, encoder=encoder)
+    indices = mech.trajectory_quantities if encoder is None else trajectory_indices(mech, encoder=encoder)
 
     def quantity(name: str, field: str) -> Quantity:
         return _quantity(mech, name, field, region=region, along=along, indices=indices)

@@ -12,19 +12,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
 from pkm.design import Condition, Parameter
+from pkm.dynamics.trajectories import Trajectory
 from pkm.errors import DesignError, check_real
 from pkm.kinematics import Branch, DesignLike
 from pkm.mechanism import Mechanism
 from pkm.models.slider_gantry.structure import structure
-from pkm.regions import Rectangle
+from pkm.regions import Rectangle, trajectory_region
 
 DEG = math.pi / 180
 INF = math.inf
+# Wu's Table 3 move across the middle of his 500 x 400 mm task rectangle, centred at y = 0.5 m [m, m/s, m/s^2]
+TABLE3_MOVE = {"start": (-0.25, 0.5), "end": (0.25, 0.5), "v_max": 1.0, "a_max": 6.67}
 
 
 def _length(name, default, doc, *, lower=0.0, closed=False, required=True):
@@ -156,13 +159,18 @@ class SliderGantry(Mechanism):
     pose_units = ("m", "m")
     actuator_names = ("q1", "q2")
     actuator_units = ("m", "m")
-    regions: ClassVar[dict[str, Rectangle]] = {
+    regions: ClassVar[dict[str, Any]] = {
         "task": Rectangle(
             "task",
             "task rectangle Q1Q2Q3Q4 of Wu Fig. 2: the largest rectangle centred on x = 0 with "
             "theta_s <= |theta_i| <= theta_l and both sliders within [qs, ql] (mode below)",
             function="task_rectangle",
-        )
+        ),
+        "table3_move": trajectory_region(
+            Trajectory.trapezoidal(TABLE3_MOVE["start"], TABLE3_MOVE["end"], TABLE3_MOVE["v_max"],
+                                   TABLE3_MOVE["a_max"]),
+            "table3_move", "Wu's Table 3 move: from (-0.25, 0.5) to (0.25, 0.5) m, trapezoidal velocity of 1 m/s "
+            "and 6.67 m/s^2 (the trajectory quantities along it: pkm.Mechanism.trajectory_quantities)"),
     }
     structure = staticmethod(structure)
 

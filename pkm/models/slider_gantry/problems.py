@@ -21,8 +21,7 @@ import numpy as np
 
 from pkm import registry
 from pkm.design import stack_design
-from pkm.dynamics import Trajectory
-from pkm.dynamics.quantities import trajectory_indices
+from pkm.models.slider_gantry.mechanism import TABLE3_MOVE
 from pkm.models.slider_gantry.wu2008 import (
     DEG,
     asin,
@@ -32,18 +31,16 @@ from pkm.models.slider_gantry.wu2008 import (
     two_step_angles,
     two_step_points,
 )
-from pkm.regions import trajectory_region
 from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
-WIDTH, HEIGHT, CENTRE_Y = 0.5, 0.4, 0.5  # Wu's task rectangle [m]
+WIDTH, HEIGHT = 0.5, 0.4  # Wu's task rectangle [m], centred at the height of Table 3's move
+CENTRE_Y = TABLE3_MOVE["start"][1]
 D2, L2 = 0.1, 0.2  # Wu's Table 1 platform [m]
 THETA_S, THETA_L = 10 * DEG, 80 * DEG  # Wu's angle margins
 MAX_STROKE = 0.9  # [m] Wu's stroke
 MAX_FRAME_WIDTH = 1.0  # [m] 2 (d1 + d2)
 MIN_K_AV = 1.0
 TWO_STEP_SAMPLES = 351
-# Wu's Table 3 move across the rectangle's middle [m, m/s, m/s^2]
-MOVE = {"start": (-0.25, CENTRE_Y), "end": (0.25, CENTRE_Y), "v_max": 1.0, "a_max": 6.67}
 
 
 def task_design(mech: Any, length: Any, d1: Any) -> Any:
@@ -85,8 +82,6 @@ def _min_kappa_d_task() -> Problem:
     )
     family = _family()
     every = max(len(family) // 9, 1)
-    move = trajectory_region(Trajectory.trapezoidal(MOVE["start"], MOVE["end"], MOVE["v_max"], MOVE["a_max"]),
-                             "table3_move")
     problem = Problem(
         name="slider_gantry.min_kappa_d_task",
         doc=(
@@ -108,11 +103,11 @@ def _min_kappa_d_task() -> Problem:
         mode="below",
         starting_points=lambda: family[::every],
         max_iter=200,
-        secondaries={"effort_peak": Quantity(trajectory_indices(mech)["effort_peak"], move)},
+        secondaries={"effort_peak": Quantity(mech.trajectory_quantities["effort_peak"], mech.region("table3_move"))},
         notes={
             "width": WIDTH, "height": HEIGHT, "centre_y": CENTRE_Y, "d2": D2, "l2": L2,
             "theta_s": THETA_S, "theta_l": THETA_L, "max_stroke": MAX_STROKE,
-            "max_frame_width": MAX_FRAME_WIDTH, "min_k_av": MIN_K_AV, "move": MOVE,
+            "max_frame_width": MAX_FRAME_WIDTH, "min_k_av": MIN_K_AV, "move": TABLE3_MOVE,
         },
     )
     baselines = (
