@@ -72,8 +72,11 @@ def _evaluate(f: ca.Function, args: tuple[np.ndarray, ...], *, check: bool) -> t
 
 def all_finite(arr: np.ndarray) -> bool:
     """Whether every entry is finite: the sum of finite values is finite unless it overflows, so one
-    vectorised pass answers the usual case."""
-    return bool(np.isfinite(np.add.reduce(arr, axis=None)) or np.all(np.isfinite(arr)))
+    vectorised pass answers the usual case (an overflow, which only sends it to the entry-wise check, is not
+    warned about)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = np.add.reduce(arr, axis=None)
+    return bool(np.isfinite(total) or np.all(np.isfinite(arr)))
 
 
 def interpreted(f: ca.Function, *args: np.ndarray) -> tuple[np.ndarray, ...]:
