@@ -355,11 +355,13 @@ def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
 def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:
     """The measure of each design's parametrised region (D,) as a fraction of its workspace box: its
     ``region_measure`` over the volume of ``mech.workspace_box``; NaN for every design where the region's
-    extent (its quadrature's weights summed, reached or not) is the same at all of them (two or more): a task
-    the designer fixed, not a region the design sizes, which the size check leaves alone. (For the sampled
+    extent (its quadrature's weights summed, reached or not) is the same at EXTENT_DESIGNS designs spread
+    over them (two or more): a task the designer fixed, not a region the design sizes, which the size check
+    leaves alone. (For the sampled
     region it is the share of the grid's cells kept, points / pose_resolution^n.)"""
-    extent = np.array([np.sum(where.quadrature(mech.functions, d, resolution)[1]) for d in designs])
-    if len(designs) > 1 and np.ptp(extent) <= FIXED * np.abs(extent).max():
+    spread = designs[np.unique(np.linspace(0, len(designs) - 1, EXTENT_DESIGNS).astype(int))]
+    extent = np.array([np.sum(where.quadrature(mech.functions, d, 1)[1]) for d in spread])
+    if len(spread) > 1 and np.ptp(extent) <= FIXED * np.abs(extent).max():
         return np.full(len(designs), np.nan)
     measure = regions.parametrised_global(mech, registry.global_index("region_measure"), where, designs,
                                           branch=branch, resolution=resolution)
@@ -368,6 +370,7 @@ def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: An
 
 
 FIXED = 1e-12  # relative spread of a region's extent over an atlas's designs below which the region is fixed
+EXTENT_DESIGNS = 5  # designs, spread over an atlas's, at which a region's extent is compared
 
 
 def _relative_change(values: list[float]) -> float:
