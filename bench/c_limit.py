@@ -218,7 +218,7 @@ def run(n: int = 1_000_000, repeats: int = 15, log: Callable[[str], None] = log)
     X = sample_poses(m, n)
     design, signs = m.design(DESIGN).vector(), np.asarray(m.working_mode(MODE).signs, dtype=float)
     spec = m.local_spec(INDEX)
-    pkm.compiled.build([(index_pipeline(m, (spec,)), False)])
+    pkm.compiled.build([(index_pipeline(m, (spec,), reach=False), False)])
     with tempfile.TemporaryDirectory(prefix="pkm-c-limit-") as folder:
         limit = Limit(toolchain, Path(folder))
         try:

@@ -5,8 +5,9 @@ Any function pkm evaluates over a batch is compiled at first use (:mod:`pkm.comp
 the ones a mechanism's users meet, built the way the runtime builds them, so that they can be compiled
 ahead of time, in parallel: every
 generated function of every mechanism with dense ports, the fused pipeline of each of its local indices
-alone and with 1/kappa_f without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as local
-indices, the sampled regions and atlases evaluate them; also the least margin of each region's guard, as
+alone (its values only, as ``Mechanism.local_index`` evaluates them), of 1/kappa_f with its reach and of
+each index with 1/kappa_f, without the joints (:func:`pkm.regions.pipeline.index_pipeline`, as the sampled
+regions and atlases evaluate them; also the least margin of each region's guard, as
 a sampled check evaluates it), the one of its first order and the outputs the Jacobians return
 (:func:`pkm.regions.pipeline.first_order_outputs`), the inverse kinematics and the closed-form forward
 kinematics with their reach check (:func:`pkm.kinematics.with_reach`), its fused
@@ -35,6 +36,7 @@ from pkm.regions.integrand import SUMMED, rows_function, sum_function
 from pkm.regions.pipeline import first_order_outputs, index_pipeline, pipeline
 from pkm.regions.quadrature import guard_index
 from pkm.regions.sampled import CONDITION as SAMPLED_CONDITION
+from pkm.regions.trajectory import TrajectoryRegion
 
 
 @dataclass(frozen=True)
@@ -53,10 +55,11 @@ def kernels(mech: Any) -> list[Kernel]:
     """Every kernel of a mechanism (module docstring), in a fixed order, each once."""
     out = [Kernel(name, mech.functions[name]) for name in sorted(mech.functions)
            if emittable(mech.functions[name])]
-    fused = {index: index_pipeline(mech, (mech.local_spec(index),)) for index in mech.local_indices()}
+    fused = {index: index_pipeline(mech, (mech.local_spec(index),), reach=False) for index in mech.local_indices()}
     condition = mech.local_spec(SAMPLED_CONDITION.name)
     fused.update({f"{index}_{condition.name}": index_pipeline(mech, (mech.local_spec(index), condition))
                   for index in mech.local_indices() if index != condition.name})
+    fused[f"{condition.name} with its reach"] = index_pipeline(mech, (condition,))
     for region in dict.fromkeys(region for _, region, _ in _pairs(mech)):
         guard = guard_index(region)
         if guard is not None:
@@ -90,9 +93,10 @@ def kernels(mech: Any) -> list[Kernel]:
 
 def _pairs(mech: Any) -> list[tuple[Any, Any, bool]]:
     """(global index, region, whether IPOPT takes its exact Hessian) of every global index over every
-    region of the mechanism and of every quantity of its synthesis problems, in a fixed order."""
+    region of the mechanism but its trajectories (a move is where its trajectory quantities are taken, compiled
+    at their first use) and of every quantity of its synthesis problems, in a fixed order."""
     pairs = [(mech.global_spec(index), region, False) for region in mech.regions.values()
-             for index in mech.global_indices()]
+             if not isinstance(region, TrajectoryRegion) for index in mech.global_indices()]
     for problem in (registry.problem(p) for p in sorted(registry.problems())):
         if problem.mechanism.name == mech.name:
             pairs += _problem_pairs(problem)

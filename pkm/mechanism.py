@@ -397,12 +397,12 @@ class Mechanism:
         """A local index at each pose (N,); NaN where out of reach, its limit at singular poses."""
         spec = self.local_spec(name)
         x, single = as_batch(pose, self.n_out, "pose", finite=False)
-        result = regions.evaluate_at(
+        (values,), finite = regions.index_values(
             self, (spec,), x, np.array(self.working_mode(mode).signs), self.design_vector(design)
         )
-        if not result.finite:
+        if not finite:
             require_finite(x, "pose")
-        return unbatch(result.values[0], single)
+        return unbatch(values, single)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """Bounding box ((lo, hi) per output coordinate) of the reachable workspace, shape (n_out, 2)."""

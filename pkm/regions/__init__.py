@@ -16,7 +16,7 @@ or implement the same three methods as :class:`MappedSquare`.
 from importlib import import_module
 from typing import Any
 
-from pkm.regions.pipeline import MOTION, Evaluation, evaluate_at, first_order_outputs, pipeline
+from pkm.regions.pipeline import MOTION, Evaluation, evaluate_at, first_order_outputs, index_values, pipeline
 from pkm.regions.shapes import (
     Box,
     Cylinder,
@@ -84,6 +84,7 @@ __all__ = [
     "first_order_outputs",
     "global_value",
     "grid",
+    "index_values",
     "node_quadrature",
     "parametrised_global",
     "pipeline",

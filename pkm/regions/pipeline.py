@@ -227,10 +227,12 @@ def first_order_outputs(mech: PipelineModel, names: tuple[str, ...]) -> ca.Funct
 
 
 @lru_cache(maxsize=256)
-def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], assembled: bool = False) -> ca.Function:
+def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], assembled: bool = False,
+                   reach: bool = True) -> ca.Function:
     """``(x, mode, design) -> (valid, *values)``: the local indices of :func:`pipeline` as
     :func:`evaluate_at` returns them, without the joints: each value NaN where the pose is not reached
-    and the index's limit (``at_singularity``) where it is not finite at a reached pose."""
+    and the index's limit (``at_singularity``) where it is not finite at a reached pose; without ``reach``,
+    ``(x, mode, design) -> values`` (:func:`index_values`: one output less for the kernel to write)."""
     fused = pipeline(mech, locals_, assembled=assembled)
     x, mode, design = (ca.SX.sym(fused.name_in(i), fused.sparsity_in(i)) for i in range(3))
     _, _, valid, *values = fused(x, mode, design)
@@ -238,8 +240,11 @@ def index_pipeline(mech: PipelineModel, locals_: tuple[LocalIndex, ...], assembl
         ca.if_else(valid, ca.if_else(ca.fabs(v) < np.inf, v, spec.at_singularity), np.nan)
         for spec, v in zip(locals_, values, strict=True)
     ]
+    names = [spec.name for spec in locals_]
+    if not reach:
+        return ca.Function(f"{fused.name()}_only", [x, mode, design], finished, fused.name_in(), names)
     return ca.Function(f"{fused.name()}_values", [x, mode, design], [valid, *finished], fused.name_in(),
-                       ["valid", *(spec.name for spec in locals_)])
+                       ["valid", *names])
 
 
 @dataclass(frozen=True)
@@ -264,3 +269,12 @@ def evaluate_at(
     ``assembled``, reached where the mechanism assembles whatever its stated limits (:func:`pipeline`)."""
     (valid, *values), finite = evaluate_finite(index_pipeline(mech, tuple(locals_), assembled), x, signs, design)
     return Evaluation(valid, tuple(v[:, 0, 0] for v in values), finite)
+
+
+def index_values(
+    mech: PipelineModel, locals_: Sequence[LocalIndex], x: np.ndarray, signs: np.ndarray, design: np.ndarray
+) -> tuple[tuple[np.ndarray, ...], bool]:
+    """The local indices at poses x (N, n_out) as :func:`evaluate_at` gives them, without the reach mask
+    (NaN marks what is out of reach), and whether every entry the kernel read is finite."""
+    values, finite = evaluate_finite(index_pipeline(mech, tuple(locals_), reach=False), x, signs, design)
+    return tuple(v[:, 0, 0] for v in values), finite
