@@ -10,14 +10,13 @@ on time.
 
 from __future__ import annotations
 
-import argparse
-import json
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
 import pkm
+from bench import json_main
 from pkm.card import design_card
 from pkm.synthesis.designer import read_problem
 
@@ -85,14 +84,7 @@ def markdown(data: dict[str, Any]) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m bench.designer", description=__doc__)
-    parser.add_argument("--json", help="write the run here (default: print only)")
-    args = parser.parse_args(argv)
-    data = run()
-    if args.json:
-        Path(args.json).write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
-    print(markdown(data))
-    return 0
+    return json_main("python -m bench.designer", __doc__, run, markdown, argv)
 
 
 if __name__ == "__main__":
