@@ -102,6 +102,7 @@ def cmd_list(args: argparse.Namespace) -> None:
             "regions": list(m.region_names()),
             "design_spaces": sorted(m.design_spaces),
             "indices": list(m.global_indices()),
+            "trajectory_quantities": list(m.trajectory_quantities),
         }
     out = {
         "mechanisms": data,
@@ -122,6 +123,7 @@ def cmd_list(args: argparse.Namespace) -> None:
         lines.append("  modes: " + ", ".join(f"{k} ({'/'.join(v['aliases'])})" for k, v in info["modes"].items()))
         lines.append("  regions: " + ", ".join(info["regions"]))
         lines.append("  design spaces: " + (", ".join(info["design_spaces"]) or "none (atlases take --axes)"))
+        lines.append("  along a trajectory region: " + ", ".join(info["trajectory_quantities"]))
         lines.append("  pose: " + ", ".join(f"{k} [{u}]" for k, u in info["pose"].items())
                      + "; actuators: " + ", ".join(f"{k} [{u}]" for k, u in info["actuators"].items()))
     lines.append("indices: " + ", ".join(out["indices"]))

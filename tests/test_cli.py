@@ -30,6 +30,8 @@ def test_list_json_names_the_five_bar_and_its_indices(capsys):
     assert five_bar["actuators"] == {"theta1": "rad", "theta2": "rad"}
     assert {"gci", "gamma_max", "gamma_min", "dynamic_dexterity", "lambda_e"} <= set(five_bar["indices"])
     assert "kappa_d_mean" not in five_bar["indices"]
+    assert {"effort_peak", "energy", "positioning_error"} <= set(five_bar["trajectory_quantities"])
+    assert "effort_peak" not in data["mechanisms"]["passive_leg"]["trajectory_quantities"]
     assert data["indices"]["gci"] == {"doc": data["indices"]["gci"]["doc"], "reduce": "mean", "sense": "max"}
     assert (data["indices"]["lambda_e"]["reduce"], data["indices"]["kappa_d_mean"]["sense"]) == ("min", "min")
     assert data["problems"]["five_bar.max_gci_miw"]["variables"] == ["u", "v"]
