@@ -162,3 +162,11 @@ def check_docs_snapshot_paths(key: str, data: dict) -> None:
             continue
         value = docs.resolve(data, path)
         assert value is None or isinstance(value, int | float), path
+
+
+def benchmarks_section(heading: str) -> str:
+    """The text of docs/benchmarks.md below ``heading`` up to the next section of its level, stripped."""
+    text = (Path(__file__).resolve().parent.parent / "docs" / "benchmarks.md").read_text()
+    start = text.index(heading + "\n") + len(heading)
+    end = text.find("\n## ", start)
+    return text[start : None if end < 0 else end].strip()

@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from helpers import benchmarks_section
+
 from bench import described
 from pkm import registry
 from pkm.models.described import DESCRIPTIONS
@@ -16,17 +18,9 @@ RUN = ROOT / "docs" / "benchmarks" / "described.json"
 HEADING = "## Issue 24: described machines"
 
 
-def _section(text: str, heading: str) -> str:
-    """The text below ``heading`` up to the next section of its level."""
-    start = text.index(heading + "\n") + len(heading)
-    end = text.find("\n## ", start)
-    return text[start : None if end < 0 else end].strip()
-
-
 def test_docs_section_is_the_markdown_of_the_committed_run():
     report = json.loads(RUN.read_text())
-    text = (ROOT / "docs" / "benchmarks.md").read_text()
-    assert _section(text, HEADING) == described.markdown(report)
+    assert benchmarks_section(HEADING) == described.markdown(report).strip()
 
 
 def test_the_run_has_every_described_machine_and_its_syntheses():

@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from helpers import benchmarks_section
+
 import pkm
 from bench import designer
 
@@ -15,15 +17,9 @@ RUN = ROOT / "docs" / "benchmarks" / "designer.json"
 HEADING = "## Issue 25: the designer's commands"
 
 
-def _section(text: str) -> str:
-    start = text.index(HEADING + "\n") + len(HEADING)
-    end = text.find("\n## ", start)
-    return text[start : None if end < 0 else end].strip()
-
-
 def test_docs_section_is_the_markdown_of_the_committed_run():
     report = json.loads(RUN.read_text())
-    assert _section((ROOT / "docs" / "benchmarks.md").read_text()) == designer.markdown(report).strip()
+    assert benchmarks_section(HEADING) == designer.markdown(report).strip()
 
 
 def test_the_run_has_every_mechanism_and_every_task_file():

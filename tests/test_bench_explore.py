@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from helpers import benchmarks_section
+
 from bench import explore
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -14,15 +16,9 @@ RUN = ROOT / "docs" / "benchmarks" / "explore.json"
 HEADING = "## Issue 26: pkm explore"
 
 
-def _section(text: str) -> str:
-    start = text.index(HEADING + "\n") + len(HEADING)
-    end = text.find("\n## ", start)
-    return text[start : None if end < 0 else end].strip()
-
-
 def test_docs_section_is_the_markdown_of_the_committed_run():
     report = json.loads(RUN.read_text())
-    assert _section((ROOT / "docs" / "benchmarks.md").read_text()) == explore.markdown(report).strip()
+    assert benchmarks_section(HEADING) == explore.markdown(report).strip()
 
 
 def test_the_run_has_every_request_kind_both_paths_and_the_clicks():
