@@ -89,6 +89,17 @@ def test_bad_input():
         pareto(registry.problem("five_bar.max_gci_miw"), "gci")
 
 
+def test_the_nsga2_baseline_without_pymoo_is_refused_before_any_work(monkeypatch):
+    """Nothing computed is lost to a missing optional dependency: the front is not solved at all."""
+    find = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pymoo" else find(name, *a))
+    started = []
+    monkeypatch.setattr("pkm.synthesis.pareto._anchor", lambda *a, **k: started.append(a))
+    with pytest.raises(PkmError, match="pip install pymoo"):
+        pareto(_analytic(), "f2", baselines=("nsga2",))
+    assert started == []
+
+
 def _non_dominated_and_verified(front, tolerance):
     good = front.optimal
     assert len(good) >= 2

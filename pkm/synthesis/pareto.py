@@ -23,6 +23,7 @@ of its spans).
 
 from __future__ import annotations
 
+import importlib.util
 import itertools
 import json
 import math
@@ -56,6 +57,7 @@ GRID = 21  # grid nodes per variable of the grid baseline
 NSGA_POPULATION = 40
 NSGA_GENERATIONS = 25
 NSGA_SEED = 0
+NSGA_MISSING = "the nsga2 baseline needs pymoo: pip install pymoo"  # refused before the front is computed
 EPSILON = "epsilon"  # the name of the epsilon constraint
 COMPASS_STEP = 1e-9  # the anchors' compass search stops at this step, of each variable's span
 COMPASS_ITERATIONS = 2000  # moves and halvings at most
@@ -209,6 +211,8 @@ def pareto(
     unknown = sorted(set(baselines) - set(BASELINES))
     if unknown:
         raise UnknownNameError("baseline of a Pareto front", unknown[0], list(BASELINES))
+    if "nsga2" in baselines and importlib.util.find_spec("pymoo") is None:
+        raise PkmError(NSGA_MISSING)
     res = check_integer("resolution", problem.resolution if resolution is None else resolution, 1, 1024)
     options = ipopt_options(problem, verbose=False, max_iter=None, tol=None, print_level=None)
     measure = ProblemModel(_with_epsilon(problem, second, None))
@@ -518,7 +522,7 @@ def nsga2_front(model: ProblemModel, resolution: int, *, nsga: tuple[int, int], 
         from pymoo.algorithms.moo.nsga2 import NSGA2
         from pymoo.core.problem import Problem as PymooProblem
     except ImportError:
-        raise PkmError("the nsga2 baseline needs pymoo: pip install pymoo") from None
+        raise PkmError(NSGA_MISSING) from None
     population, generations = nsga
     prob = model.problem
     lower = np.array([v.lower for v in prob.variables])
