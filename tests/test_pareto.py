@@ -94,7 +94,7 @@ def test_the_nsga2_baseline_without_pymoo_is_refused_before_any_work(monkeypatch
     find = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "pymoo" else find(name, *a))
     started = []
-    monkeypatch.setattr("pkm.synthesis.pareto._anchor", lambda *a, **k: started.append(a))
+    monkeypatch.setattr("pkm.synthesis.pareto._anchor", lambda *a, **_: started.append(a))
     with pytest.raises(PkmError, match="pip install pymoo"):
         pareto(_analytic(), "f2", baselines=("nsga2",))
     assert started == []
