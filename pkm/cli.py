@@ -667,6 +667,23 @@ def _example_design() -> str:
     return ",".join(f"{p.name}={p.default:g}" for p in m.parameters[:3])
 
 
+def _examples() -> dict[str, str]:
+    """The names the help texts' examples take, from the registry: the first mechanism's design, a mode, a
+    parametrised region, axes and a local index; a problem's setting; a declared secondary objective."""
+    m = registry.mechanism(registry.mechanisms()[0])
+    first, second = m.parameters[:2]
+    placed = [r for r in m.region_names() if r not in ("reachable", "assembled")] or ["reachable"]
+    problems = registry.problems().values()
+    setting = next((f"{x.name}={x.default:g}" for p in problems for x in p.settings), "none")
+    secondary = next((name for p in problems for name in p.secondaries), "none")
+    return {
+        "design": _example_design(), "parameter": f"{first.name}={first.default:g}", "mode": m.modes[0],
+        "region": placed[0],
+        "axes": ",".join(f"{q.name}={0.5 * q.default:g}:{1.5 * q.default:g}" for q in (first, second)),
+        "index": m.global_indices()[0], "local": m.local_indices()[-1], "setting": setting, "secondary": secondary,
+    }
+
+
 def _example_space() -> str:
     return next(space for name in registry.mechanisms() for space in registry.mechanism(name).design_spaces)
 
@@ -742,6 +759,16 @@ def build_parser() -> argparse.ArgumentParser:
     def listed(p: argparse.ArgumentParser, *names: str, key: str, **kwargs: Any) -> None:
         _lazy(p.add_argument(*names, help=f"see {key} in pkm {p.prog.split()[-1]} --help", **kwargs), key)
 
+    def example(p: argparse.ArgumentParser, *names: str, help: str, **kwargs: Any) -> None:
+        """An option whose help names an example ({design}, {mode}, ...: :func:`_examples`), filled when shown."""
+        p.add_argument(*names, help=help, **kwargs).lazy_help = lambda: help.format(**_examples())
+
+    def card_options(p: argparse.ArgumentParser, region_of: str) -> None:
+        """The working modes and the region of a design card's maps and indices."""
+        example(p, "--mode", help="working modes, comma-separated (default: all); e.g. {mode}")
+        example(p, "--region", help=f"the region of {region_of} (default: the mechanism's first parametrised one, "
+                                    "else reachable); e.g. {region}")
+
     resolution = (f"pose grid per axis over the sampled region (default {SAMPLED_RESOLUTION}) or quadrature "
                   f"resolution of a parametrised region (default {QUADRATURE_RESOLUTION}); e.g. 32")
 
@@ -783,10 +810,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     def grid_options(p: argparse.ArgumentParser) -> None:
         listed(p, "--space", key="space")
-        p.add_argument("--axes", help="two design parameters with bounds instead of a design space (default: none): "
-                                      "name=lower:upper,name=lower:upper; e.g. --axes r1=0.5:1.5,r2=0.5:1.5")
-        p.add_argument("--design", help="with --axes, the design whose other parameters the atlas holds (default: "
-                                        "the defaults): name=value in SI; e.g. r3=0.2")
+        example(p, "--axes", help="two design parameters with bounds instead of a design space (default: none): "
+                                  "name=lower:upper,name=lower:upper; e.g. --axes {axes}")
+        example(p, "--design", help="with --axes, the design whose other parameters the atlas holds (default: "
+                                    "the defaults): name=value in SI; e.g. {parameter}")
         listed(p, "--region", key="region", default="reachable")
         listed(p, "--modes", key="modes")
         p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis (default 41, "
@@ -839,16 +866,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--print-level", type=int, help="IPOPT's print_level, 0 to 12 (default 0, or 5 with --verbose); "
                                                    "e.g. 3")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
-    p.add_argument("--set", help="the problem's settings as name=value in SI, comma-separated (default: the "
-                                 "problem's; `pkm list` names them); e.g. task_tilt=1.0472,payload=20")
+    example(p, "--set", help="the problem's settings as name=value in SI, comma-separated (default: the "
+                             "problem's; `pkm list` names them); e.g. {setting}")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
     scheduled(p)
     p = command("pareto", cmd_pareto, "a verified Pareto front of a problem's objective against a secondary one by "
                                       "the epsilon-constraint method (front.json, front.csv, figures, report.md)")
     listed(p, "problem", key="problem")
-    p.add_argument("--secondary", required=True, help="the secondary objective, one of the problem's quantities or "
-                                                      "secondaries (required, no default); e.g. miw_radius")
+    example(p, "--secondary", required=True, help="the secondary objective, one of the problem's quantities or "
+                                                  "secondaries (required, no default); e.g. {secondary}")
     p.add_argument("--points", type=int, default=9, help="points of the front, at least 2 (default 9); e.g. 5")
     p.add_argument("--resolution", type=int, help="quadrature resolution (default: the problem's); e.g. 4")
     p.add_argument("--baselines", default="grid", help="comma-separated among grid and nsga2 (pymoo) (default "
@@ -857,13 +884,11 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("show", cmd_show, "a design card: workspace maps per working mode with singularity curves, the "
                                   "region and the linkage, and a table of parameters and global indices")
     listed(p, "mechanism", key="mechanism")
-    p.add_argument("--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
-                                    "r1=1.2,r2=1.0")
-    p.add_argument("--mode", help="working modes, comma-separated (default: all); e.g. out_out")
-    p.add_argument("--region", help="the region of the global indices and the map's nodes (default: the "
-                                    "mechanism's first parametrised one, else reachable); e.g. task")
-    p.add_argument("--index", default="inverse_condition_f", help="local index of the maps (default "
-                                                                  "inverse_condition_f); e.g. velocity_max")
+    example(p, "--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
+                                "{design}")
+    card_options(p, "the global indices and the map's nodes")
+    example(p, "--index", default="inverse_condition_f", help="local index of the maps (default "
+                                                              "inverse_condition_f); e.g. {local}")
     p.add_argument("--plane", help="two pose coordinates of the maps (default: the first two); e.g. x,z")
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
@@ -874,12 +899,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("compare", cmd_compare, "designs side by side: their cards and one table of every global index "
                                         "per design and mode (JSON, CSV, markdown)")
     listed(p, "mechanism", key="mechanism")
-    p.add_argument("--design", action="append", required=True, help="a design as name=value in SI (repeat for "
-                                                                    "each design, at least two; no default); e.g. "
-                                                                    "r1=1.2")
-    p.add_argument("--mode", help="working modes, comma-separated (default: all); e.g. out_out")
-    p.add_argument("--region", help="the region of the global indices (default: the mechanism's first "
-                                    "parametrised one, else reachable); e.g. task")
+    example(p, "--design", action="append", required=True, help="a design as name=value in SI (repeat for each "
+                                                                "design, at least two; no default); e.g. {parameter}")
+    card_options(p, "the global indices")
     p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
     p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design "
                                                 "(no default); e.g. compared")
@@ -888,16 +910,16 @@ def build_parser() -> argparse.ArgumentParser:
                                         "map, singularities, region, linkage and card (a local server on "
                                         "127.0.0.1; needs pip install 'pkm[explore]')")
     listed(p, "mechanism", key="mechanism")
-    p.add_argument("--index", help="global index of the atlas (default: the mechanism's first, see pkm list); e.g. "
-                                   "gci")
-    p.add_argument("--region", help="region of the atlas and the cards (default: the mechanism's first "
-                                    "parametrised one, else reachable); e.g. miw")
+    example(p, "--index", help="global index of the atlas (default: the mechanism's first, see pkm list); e.g. "
+                               "{index}")
+    example(p, "--region", help="region of the atlas and the cards (default: the mechanism's first parametrised "
+                                "one, else reachable); e.g. {region}")
     listed(p, "--space", key="space")
-    p.add_argument("--axes", help="two design parameters with bounds instead of a design space (default: the "
-                                  "first design space, else the first two parameters at half to 1.5 times their "
-                                  "defaults): name=lower:upper,name=lower:upper; e.g. r1=0.5:1.5,r2=0.5:1.5")
-    p.add_argument("--design", help="the parameters off the atlas's chart, name=value in SI (default: the "
-                                    "defaults); e.g. r3=0.2")
+    example(p, "--axes", help="two design parameters with bounds instead of a design space (default: the first "
+                              "design space, else the first two parameters at half to 1.5 times their defaults): "
+                              "name=lower:upper,name=lower:upper; e.g. {axes}")
+    example(p, "--design", help="the parameters off the atlas's chart, name=value in SI (default: the defaults); "
+                                "e.g. {parameter}")
     p.add_argument("--problem", help="a synthesis problem whose optimum the atlas marks: a registered name or a "
                                      "task file (default: a registered problem of the mechanism that optimises "
                                      "the index over the region); e.g. my_task.toml")
@@ -924,14 +946,14 @@ def build_parser() -> argparse.ArgumentParser:
                                       "(robot.urdf), its loop closures and motors (robot.yaml, read by Pinocchio's "
                                       "closed-loop loaders) and a README of what was cut (docs/export.md)")
     listed(p, "mechanism", key="mechanism")
-    p.add_argument("--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
-                                    "r1=0.46,r2=0.46,r3=0.15")
-    p.add_argument("--mode", help="working mode of the reference configuration, where every joint of the URDF is "
-                                  "zero (default: the first); e.g. out_out")
+    example(p, "--design", help="design as name=value in SI, comma-separated (default: the defaults); e.g. "
+                                "{design}")
+    example(p, "--mode", help="working mode of the reference configuration, where every joint of the URDF is "
+                              "zero (default: the first); e.g. {mode}")
     p.add_argument("--pose", help="the reference pose, comma-separated (default: the mechanism's reference pose); "
                                   "e.g. 0,1.4")
     p.add_argument("--out", required=True, help="folder for robot.urdf, robot.yaml and README.md (no default); "
-                                                "e.g. five_bar_urdf")
+                                                "e.g. urdf")
     units_option(p)
     p = command("reproduce", cmd_reproduce, "reproduce a paper's checkable claims into OUT/<key>/")
     listed(p, "paper", key="paper")

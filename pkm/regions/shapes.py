@@ -599,8 +599,8 @@ class Union:
 class Poses:
     """Given poses (a path's samples, a cloud of task points), fixed in SI and each of the same weight
     1 / count: a mean over them is their average, an extreme their least or largest value; nothing lies
-    between them, so extremes are not refined (``refinable``) and every resolution gives the same nodes.
-    Its reference coordinates are the pose's own."""
+    between them, so extremes are not refined (``refinable``: the piece needs no ``project``) and every
+    resolution gives the same nodes. Its reference coordinates are the pose's own."""
 
     name: str
     doc: str
@@ -628,12 +628,6 @@ class Poses:
 
     def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
         return ca.SX(1.0) if isinstance(design, ca.SX) else ca.DM(1.0)
-
-    def project(self, u: np.ndarray) -> np.ndarray:
-        """Each point (n, d) onto its nearest given pose."""
-        points = np.array(self.poses, dtype=float)
-        nearest = np.argmin(((u[:, None, :] - points[None]) ** 2).sum(axis=2), axis=1)
-        return points[nearest]
 
     def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):  # noqa: ARG002
         points, weights = self.reference(resolution, reduce)

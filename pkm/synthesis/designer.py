@@ -21,7 +21,7 @@ import numpy as np
 from pkm import expressions, io, registry, spec
 from pkm.design import stack_design
 from pkm.dynamics import Trajectory
-from pkm.dynamics.quantities import effort_unit, joint_extremes, joint_index, trajectory_indices
+from pkm.dynamics.quantities import effort_unit, joint_extremes, trajectory_indices
 from pkm.errors import PkmError, UnknownNameError, check_name
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle, TrajectoryRegion, trajectory_region
@@ -194,11 +194,11 @@ def _quantity(mech: Any, name: str, field: str, *, region: Any, along: Trajector
 PHYSICAL = ("joint", "joint_range", "effort")
 
 
-def _joint(mech: Any, name: str, field: str) -> LocalIndex:
-    """An actuated joint's value as a local index (SI, as the inverse kinematics gives it)."""
+def _joint_extremes(mech: Any, name: str, field: str) -> tuple[GlobalIndex, GlobalIndex]:
+    """The least and the largest value of an actuated joint over the task (:func:`joint_extremes`)."""
     if name not in mech.actuator_names:
         raise _fail(field, f"an actuated joint of {mech.name} ({', '.join(mech.actuator_names)}); got {name!r}")
-    return joint_index(mech, name)
+    return joint_extremes(mech, name)
 
 
 def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
@@ -232,9 +232,8 @@ def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], f
                                     region)
         return [Constraint(f"{name} holding {list(value)} <= {upper:g} {local.unit}", lambda t: t[name], -math.inf,
                            upper)]
-    local = _joint(mech, value, f"{field}.{kind}")
-    low, high = joint_extremes(mech, value)
-    least, largest = low.name, high.name
+    low, high = _joint_extremes(mech, value, f"{field}.{kind}")
+    least, largest, local = low.name, high.name, low.local
     quantities[least], quantities[largest] = Quantity(low, region), Quantity(high, region)
     if kind == "joint_range":
         return [Constraint(f"range of {value} <= {upper:g} {local.unit}", lambda t: t[largest] - t[least],
