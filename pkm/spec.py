@@ -121,6 +121,29 @@ KINDS = {
                             "and the platform joint", "rad", 0, False, ("arm", "rod"), 3),
     "UPS": Kind("spatial", (), (), "", "m", 0, False, ("cylinder", "piston"), 2),
 }
+CHAIN = "chain"  # the kind of a leg given as a serial chain of joints, solved by continuation
+CHAIN_JOINTS = {"R": 1, "P": 1, "U": 2}  # the joint variables of each type of a chain's joints
+
+
+def kind_of(leg: Mapping[str, Any]) -> Kind:
+    """The kind of a normalised leg: a known subproblem's (:data:`KINDS`), or a chain's from its joints (its
+    branches named by its seeds, sided by the sign of its closure's Jacobian in its joints)."""
+    if leg["kind"] != CHAIN:
+        return KINDS[leg["kind"]]
+    actuated = next(j for j in leg["joints"] if j["actuated"])
+    branches = tuple(leg["branches"]) if len(leg["branches"]) == 2 else ()
+    return Kind("planar" if len(leg["joints"][0]["link"]) == 2 else "spatial", (), branches,
+                "the leg's joints continued from the branch's seed at the home pose", "rad" if actuated["type"] == "R"
+                else "m", sum(CHAIN_JOINTS[j["type"]] for j in leg["joints"]) - 1, True, (), len(leg["joints"]) + 1)
+
+
+def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
+    """Whether each of a normalised leg's passive joints is an angle."""
+    if leg["kind"] != CHAIN:
+        return (True,) * KINDS[leg["kind"]].passive
+    return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
+
+
 FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
 SUFFIX = ".toml"  # a mechanism name with it is a description file
 ROOT = Path(__file__).resolve().parent.parent
@@ -298,22 +321,19 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         if not isinstance(table, Mapping):
             raise _fail(where, "a table")
         kind = table.get("kind")
+        if kind == CHAIN:
+            legs += _chain_legs(table, where, frame, names)
+            continue
         if kind not in KINDS:
-            raise _fail(f"{where}.kind", f"one of {', '.join(KINDS)}; got {kind!r}")
+            raise _fail(f"{where}.kind", f"one of {', '.join(KINDS)}, {CHAIN}; got {kind!r}")
         space, lengths = KINDS[kind].space, KINDS[kind].lengths
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
         known = {"kind", "count", "base", "platform", "axis", "zero", "range", "bodies", *lengths,
                  *(("cone",) if kind == "UPS" else ())}
-        extra = set(table) - known
-        if extra:
-            raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of a {kind} leg ({', '.join(sorted(known))})")
-        count = table.get("count", 1)
-        if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 12:
-            raise _fail(f"{where}.count", "an integer from 1 to 12")
-        base, angles = _points(table.get("base"), count, dim, f"{where}.base", names)
-        platform, _ = _points(table.get("platform"), count, dim, f"{where}.platform", names)
+        count, base, angles, platform = _attachments(table, where, known, f"a {kind} leg", dim=dim,
+                                                      names=names)
         for length in lengths:
             if length not in table:
                 raise _fail(f"{where}.{length}", f"given (the {kind} leg's length)")
@@ -344,6 +364,118 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 leg["zero"] = [f"cos({a})", f"sin({a})", "0"] if table.get("zero", "radial") == "radial" else \
                     [_expression(f"{where}.zero", c, names) for c in table["zero"]]
             legs.append(leg)
+    return legs
+
+
+def _attachments(table: Mapping[str, Any], where: str, known: set[str], what: str, *, dim: int, names: set[str]
+                 ) -> tuple[int, list[list[str]], list[str] | None, list[list[str]]]:
+    """A leg table's fields checked against ``known``, its count of legs, their base attachments (with the
+    circle's angles where a pattern gives them) and their platform attachments."""
+    extra = set(table) - known
+    if extra:
+        raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of {what} ({', '.join(sorted(known))})")
+    count = table.get("count", 1)
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 12:
+        raise _fail(f"{where}.count", "an integer from 1 to 12")
+    base, angles = _points(table.get("base"), count, dim, f"{where}.base", names)
+    platform, _ = _points(table.get("platform"), count, dim, f"{where}.platform", names)
+    return count, base, angles, platform
+
+
+def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[str]:
+    if not isinstance(raw, list) or len(raw) != dim:
+        raise _fail(field, f"a vector of {dim} expressions")
+    return [_expression(f"{field}[{j}]", c, names) for j, c in enumerate(raw)]
+
+
+def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, Any]:
+    types = ("R", "P") if dim == 2 else ("R", "P", "U")
+    if not isinstance(raw, Mapping):
+        raise _fail(field, "a table {type, axis or axes, link, actuated}")
+    kind = raw.get("type")
+    if kind not in types:
+        end = "revolute" if dim == 2 else "spherical"
+        raise _fail(f"{field}.type", f"one of {', '.join(types)} (the platform's {end} joint ends the chain); got "
+                                     f"{kind!r}")
+    known = {"type", "link", "actuated", "axes" if kind == "U" else "axis"}
+    extra = set(raw) - known
+    if extra:
+        raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of a chain's {kind} joint ({', '.join(sorted(known))})")
+    actuated = raw.get("actuated", False)
+    if not isinstance(actuated, bool):
+        raise _fail(f"{field}.actuated", "true or false")
+    if actuated and kind not in ("R", "P"):
+        raise _fail(f"{field}.actuated", f"an actuated R or P joint; a {kind} joint is passive")
+    out = {"type": kind, "actuated": actuated,
+           "link": _vector(raw.get("link", [0] * dim), dim, f"{field}.link", names)}
+    if kind == "P":
+        if "axis" not in raw:
+            raise _fail(f"{field}.axis", "given (the direction of the prismatic joint)")
+        out["axis"] = _vector(raw["axis"], dim, f"{field}.axis", names)
+    elif kind == "R":
+        out["axes"] = [["0", "0", "1"] if dim == 2 else _vector(raw.get("axis", [0, 0, 1]), 3, f"{field}.axis", names)]
+        if dim == 2 and "axis" in raw:
+            raise _fail(f"{field}.axis", "absent: a planar revolute turns about z")
+    else:
+        axes = raw.get("axes")
+        if not isinstance(axes, list) or len(axes) != 2:
+            raise _fail(f"{field}.axes", "the universal joint's two axes, the second in the frame the first turns")
+        out["axes"] = [_vector(axis, 3, f"{field}.axes[{j}]", names) for j, axis in enumerate(axes)]
+    return out
+
+
+def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str]) -> list[dict[str, Any]]:
+    """The legs of a ``chain`` table: its joints from the base attachment, each with its type (R, P, U), axis
+    (axes of a U), link (the vector to the next joint, fixed in the frame the joint turns or slides) and
+    whether it is the actuated one; the platform's point joint (a revolute in the plane, a spherical joint in
+    space) ends it. ``branches`` names one or two seeds, the joints' values at the home pose and the default
+    design, each where a branch of the leg is continued from; ``turn`` (each leg's frame turned about z from
+    the base's) is the circle's angle where the base is a circle pattern, else 0."""
+    dim = 2 if frame.startswith("planar") else 3
+    known = {"kind", "count", "base", "platform", "joints", "branches", "turn", "range"}
+    count, base, angles, platform = _attachments(table, where, known, "a chain leg", dim=dim, names=names)
+    raw = table.get("joints")
+    if not isinstance(raw, list) or not raw:
+        raise _fail(f"{where}.joints", "a list of the chain's joints from the base")
+    if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == "S":
+        if raw[-1].get("actuated", False) is not False or set(raw[-1]) - {"type", "actuated"}:
+            raise _fail(f"{where}.joints[{len(raw) - 1}]", "the platform's spherical joint: passive, without fields")
+        raw = raw[:-1]
+    joints = [_chain_joint(j, f"{where}.joints[{i}]", dim, names) for i, j in enumerate(raw)]
+    actuated = sum(j["actuated"] for j in joints)
+    if actuated != 1:
+        raise _fail(f"{where}.joints", f"exactly one actuated joint; got {actuated}")
+    variables = sum(CHAIN_JOINTS[j["type"]] for j in joints)
+    if variables != dim:
+        raise _fail(f"{where}.joints", f"{dim} joint variables (R and P one each, U two), as many as the closure at "
+                                       f"the platform's point joint has equations; got {variables}")
+    branches = table.get("branches")
+    if not isinstance(branches, Mapping) or not 1 <= len(branches) <= 2:
+        raise _fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
+    seeds = {}
+    for name, values in branches.items():
+        if not name.isidentifier():
+            raise _fail(f"{where}.branches.{name}", "an identifier")
+        if not isinstance(values, list) or len(values) != variables:
+            raise _fail(f"{where}.branches.{name}", f"a list of {variables} joint values (the U's two in order)")
+        seeds[name] = [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]
+    turns = table.get("turn")
+    if turns is None:
+        turns = angles if angles is not None else ["0"] * count
+    elif not isinstance(turns, list) or len(turns) != count:
+        raise _fail(f"{where}.turn", f"a list of {count} angles, one per leg")
+    else:
+        turns = [_expression(f"{where}.turn[{i}]", t, names) for i, t in enumerate(turns)]
+    legs = []
+    for i in range(count):
+        leg = {"kind": CHAIN, "base": base[i], "platform": platform[i], "joints": joints, "branches": seeds,
+               "turn": turns[i]}
+        if "range" in table:
+            bounds = table["range"]
+            if not isinstance(bounds, list) or len(bounds) != 2:
+                raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
+            leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
+        legs.append(leg)
     return legs
 
 
@@ -423,7 +555,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     home = raw.get("home")
     if not isinstance(home, list) or len(home) != len(pose_names):
         raise _fail("home", f"a pose of {len(pose_names)} values ({', '.join(pose_names)})")
-    branched = sum(KINDS[leg["kind"]].branched for leg in legs)
+    branched = sum(kind_of(leg).branched for leg in legs)
     modes = raw.get("modes", {})
     if not isinstance(modes, Mapping):
         raise _fail("modes", "a table of names -> sign lists")
@@ -491,10 +623,42 @@ def module_path(description: Description) -> Path:
     return target
 
 
-def composed_first_order(constraint: ca.Function, n_act: int) -> ca.Function:
+def _legs_layout(description: Description) -> list[tuple[list[int], list[int], int | None]]:
+    """Each leg's closure rows, its passive joints' columns among the passive joints, and the mode sign that
+    chooses its branch (None where it has one)."""
+    row = column = sign = 0
+    out = []
+    for leg in description.data["legs"]:
+        kind = kind_of(leg)
+        rows = kind.passive + 1
+        out.append((list(range(row, row + rows)), list(range(column, column + kind.passive)),
+                    sign if kind.branched else None))
+        row, column, sign = row + rows, column + kind.passive, sign + kind.branched
+    return out
+
+
+def _normal(A: ca.SX) -> ca.SX:
+    """The vector w with w.v = det([A v]) for every v, of an r x (r - 1) matrix A (its cofactors)."""
+    r = A.size1()
+    if r == 1:
+        return ca.SX.ones(1)
+    return ca.vertcat(*[(-1) ** (j + r - 1) * ca.det(A[[i for i in range(r) if i != j], :]) for j in range(r)])
+
+
+def _reduced_det(H_p: ca.SX, B: ca.SX, legs: list[tuple[list[int], list[int], int | None]]) -> ca.SX:
+    """det [H_p B] up to a constant sign, where each leg's rows hold its passive columns of H_p and nothing
+    else there (one more row than columns): by the Laplace expansion along the passive columns, the
+    determinant of the square matrix whose row k is w_k^T B_k, w_k the normal of leg k's block of H_p
+    (:func:`_normal`), so that no determinant larger than a leg's or the pose's is expanded."""
+    return ca.det(ca.vertcat(*[_normal(H_p[rows, columns]).T @ B[rows, :] for rows, columns, _ in legs]))
+
+
+def composed_first_order(constraint: ca.Function, n_act: int,
+                         legs: list[tuple[list[int], list[int], int | None]]) -> ca.Function:
     """``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` composed in CasADi from the loop
     closure's Jacobians (:mod:`symbolic.loops`): J = -[H_a H_p]^-1 H_x (its actuated rows), J_f and Psi
-    from [H_p H_x] and H_a, the determinants of the two square matrices."""
+    from [H_p H_x] and H_a, the determinants of the two square matrices, reduced leg by leg
+    (:func:`_reduced_det`, its sign that of the full determinant, found once at random entries)."""
     q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
     _, H_q, H_x = constraint(q, x, d)
     n_p = H_q.size2() - n_act
@@ -504,8 +668,123 @@ def composed_first_order(constraint: ca.Function, n_act: int) -> ca.Function:
     J = inverse[:n_act, :]
     J_f = forward[n_p:, :]
     psi = ca.vertcat(ca.SX.eye(n_act), forward[:n_p, :])
-    return ca.Function("first_order", [q, x, d], [J, J_f, psi, ca.det(H_q), ca.det(ca.horzcat(H_p, H_x))],
+    dets = []
+    for B, full in ((H_a, H_q), (H_x, ca.horzcat(H_p, H_x))):
+        reduced = _reduced_det(H_p, B, legs)
+        probe = ca.Function("probe", [q, x, d], [reduced, full])
+        values = np.random.default_rng(0).uniform(0.5, 1.5, size=(3, max(q.numel(), x.numel(), d.numel())))
+        small, matrix = probe(values[0, : q.numel()], values[1, : x.numel()], values[2, : d.numel()])
+        dets.append(float(np.sign(np.linalg.det(np.asarray(matrix, dtype=float)) * float(small))) * reduced)
+    return ca.Function("first_order", [q, x, d], [J, J_f, psi, *dets],
                        ["q", "x", "design"], ["J", "J_f", "psi", "det_type1", "det_type2"])
+
+
+CONTINUATION_STEPS = 12  # Newton steps along the path from the home pose at the default design
+NEWTON_STEPS = 8  # Newton steps at the pose asked for, after the path
+START_STEPS = 30  # Newton steps that close a chain's seed at the home pose, at most
+CHAIN_TOLERANCE = 1e-12  # [m] a chain leg closes to this where its pose is reached
+
+
+def _path(a0: Any, c0: Any, a1: Any, c1: Any, t: float, *, straight: bool) -> Any:
+    """The platform attachment at t on the path from c0 to c1 (c1 itself at t = 1): straight, or about the base
+    attachment (from a0 to a1), with the distance from it interpolated and its direction turned at a constant
+    rate in the plane of the two (slerp), so that a leg whose reach is a shell about its base stays in it."""
+    if straight or t == 1.0:
+        return (1 - t) * c0 + t * c1
+    a = (1 - t) * a0 + t * a1
+    d0, d1 = c0 - a0, c1 - a1
+    r0, r1 = ca.norm_2(d0), ca.norm_2(d1)
+    u0, u1 = d0 / r0, d1 / r1
+    if u0.numel() == 2:
+        angle = t * ca.atan2(u0[0] * u1[1] - u0[1] * u1[0], ca.dot(u0, u1))
+        u = ca.vertcat(ca.cos(angle) * u0[0] - ca.sin(angle) * u0[1], ca.sin(angle) * u0[0] + ca.cos(angle) * u0[1])
+    else:
+        across = u1 - ca.dot(u0, u1) * u0
+        sine = ca.norm_2(across)
+        angle = t * ca.atan2(sine, ca.dot(u0, u1))
+        u = ca.cos(angle) * u0 + ca.sin(angle) * across / ca.if_else(sine > 0, sine, 1)
+    return a + ((1 - t) * r0 + t * r1) * u
+
+
+def _closed_seed(leg: ca.Function, seed: np.ndarray, x: np.ndarray, design: np.ndarray, where: str) -> np.ndarray:
+    """A chain leg's seed closed by Newton at the home pose and the default design, each step halved until
+    the residual falls."""
+    q = seed.copy()
+    h, H = (np.asarray(v, dtype=float) for v in leg(q, x, design))
+    for _ in range(START_STEPS):
+        if np.abs(h).max() < CHAIN_TOLERANCE * 1e-3:
+            return q
+        try:
+            step = np.linalg.lstsq(H, h, rcond=None)[0].ravel()
+        except np.linalg.LinAlgError:
+            break
+        for _ in range(START_STEPS):
+            trial = q - step
+            h_trial, H_trial = (np.asarray(v, dtype=float) for v in leg(trial, x, design))
+            if np.abs(h_trial).max() < np.abs(h).max():
+                q, h, H = trial, h_trial, H_trial
+                break
+            step = step / 2
+        else:
+            break
+    raise DescriptionError(f"description field {where} violates: a seed the leg closes from at the home pose "
+                           f"(Newton from it stops at the residual {np.abs(h).max():.1e})")
+
+
+def composed_inverse_kinematics(description: Description, functions: Mapping[str, ca.Function]) -> ca.Function:
+    """``inverse_kinematics(x, mode, design) -> (q, reach)`` of a description with chain legs: the closed-form
+    legs' joints from ``continuation_start``; each chain leg's by Newton from its branch's seed (closed at the
+    home pose and the default design) along a path of its platform attachment (:func:`_path`: about the base
+    attachment, straight where the chain starts with a prismatic joint) to the pose and design asked for, one
+    step at each of CONTINUATION_STEPS points, then NEWTON_STEPS there; NaN where it does not close to
+    CHAIN_TOLERANCE (so that no value depends on the rounding of iterations that diverge). Its reach: the
+    closed-form legs', then per chain leg its closure's Jacobian's determinant in its joints with the sign of
+    the seed's (the branch not left; 0 at the leg's singularity, the edge of its reach), then every leg's
+    range margins. The joints are differentiable in the pose and the design: at a converged Newton step the
+    derivative is the implicit function's."""
+    start = functions["continuation_start"]
+    d0 = np.array([p["default"] for p in description.data["parameters"]])
+    (x0,) = evaluate(functions["home"], d0)
+    x0 = x0[0, :, 0]
+    n_mode = start.numel_in(1)
+    x, mode, d = (ca.SX.sym(start.name_in(i), start.size_in(i)) for i in range(3))
+    q_start, reach = start(x, mode, d)
+    q = ca.vertsplit(q_start)
+    margins = [reach]
+    n_act = len(description.data["legs"])
+    for k, (_, passive, sign) in enumerate(_legs_layout(description)):
+        if description.data["legs"][k]["kind"] != CHAIN:
+            continue
+        columns = [k, *(n_act + p for p in passive)]
+        leg, ends = functions[f"chain{k + 1}"], functions[f"chain{k + 1}_ends"]
+        a0, c0 = (np.asarray(v, dtype=float).ravel() for v in ends(x0, d0))
+        seeds, sides = [], []
+        names = list(description.data["legs"][k]["branches"])
+        angles = np.array([kind_of(description.data["legs"][k]).unit == "rad",
+                           *passive_angles(description.data["legs"][k])])
+        for s in (1.0, -1.0):
+            q_s = np.asarray(start(x0, np.full(n_mode, s), d0)[0], dtype=float).ravel()[columns]
+            where = f"legs (leg {k + 1}) branches.{names[0 if s > 0 or sign is None else 1]}"
+            closed = _closed_seed(leg, q_s, c0, d0, where)
+            closed[angles] = np.angle(np.exp(1j * closed[angles]))
+            seeds.append(closed)
+            sides.append(float(np.sign(np.linalg.det(np.asarray(leg(closed, c0, d0)[1], dtype=float)))))
+        weight = 1.0 if sign is None else (1 + mode[sign]) / 2
+        q_leg = weight * ca.DM(seeds[0]) + (1 - weight) * ca.DM(seeds[1])
+        side = weight * sides[0] + (1 - weight) * sides[1]
+        a1, c1 = ends(x, d)
+        straight = description.data["legs"][k]["joints"][0]["type"] == "P"
+        for t in [*np.linspace(1.0 / CONTINUATION_STEPS, 1.0, CONTINUATION_STEPS), *[1.0] * NEWTON_STEPS]:
+            h, H = leg(q_leg, _path(a0, c0, a1, c1, t, straight=straight), d0 + t * (d - d0))
+            q_leg = q_leg - ca.solve(H, h)
+        h, _ = leg(q_leg, c1, d)
+        q_leg = ca.if_else(ca.norm_inf(h) <= CHAIN_TOLERANCE, q_leg, np.nan)
+        margins.append(side * ca.det(leg(q_leg, c1, d)[1]))
+        for j, c in enumerate(columns):
+            q[c] = q_leg[j]
+    margins_all = functions["workspace_margins"](ca.vertcat(*q), x, d)
+    return ca.Function("inverse_kinematics", [x, mode, d], [ca.vertcat(*q), ca.vertcat(*margins, margins_all)],
+                       start.name_in(), start.name_out())
 
 
 SEED_SAMPLES = 16384  # random poses per round of the search for seeds (and per box size of the workspace box)
@@ -530,12 +809,12 @@ class Seeds:
 
     @property
     def periodic(self) -> tuple[bool, ...]:
-        return tuple(KINDS[leg["kind"]].unit == "rad" for leg in self.data["legs"])
+        return tuple(kind_of(leg).unit == "rad" for leg in self.data["legs"])
 
     @property
     def angles(self) -> tuple[bool, ...]:
-        passive = sum(KINDS[leg["kind"]].passive for leg in self.data["legs"])
-        return (True,) * passive + tuple(unit == "rad" for unit in self.data["pose"]["units"])
+        passive = tuple(a for leg in self.data["legs"] for a in passive_angles(leg))
+        return passive + tuple(unit == "rad" for unit in self.data["pose"]["units"])
 
     def signature(self, functions: FunctionTable, q: np.ndarray, x: np.ndarray, design: np.ndarray) -> np.ndarray:
         *_, det = evaluate(functions["first_order"], q, x, design)
@@ -563,7 +842,7 @@ class Seeds:
 
     def _assembled(self, functions: FunctionTable, x: np.ndarray, design: np.ndarray) -> tuple[np.ndarray, ...]:
         """The configurations (q, x) of every branch of the legs at the poses x where they assemble."""
-        branched = sum(KINDS[leg["kind"]].branched for leg in self.data["legs"])
+        branched = sum(kind_of(leg).branched for leg in self.data["legs"])
         qs, xs = [], []
         for signs in itertools.product((1.0, -1.0), repeat=branched) if branched else [(1.0,)]:
             with np.errstate(invalid="ignore"):
@@ -699,7 +978,9 @@ class DescribedFunctions(FunctionTable):
         spec.loader.exec_module(module)
         functions = module.build()
         n_act = len(module.ACTUATORS)
-        functions["first_order"] = composed_first_order(functions["constraint"], n_act)
+        functions["first_order"] = composed_first_order(functions["constraint"], n_act, _legs_layout(self.description))
+        if "continuation_start" in functions:
+            functions["inverse_kinematics"] = composed_inverse_kinematics(self.description, functions)
         if "mass_matrix" in functions:
             functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
             functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"],
@@ -724,7 +1005,7 @@ def _mode_name(signs: Sequence[int]) -> str:
 def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The working modes: the named sign combinations of the branched legs where the description names
     some, else every combination, named by the words of each leg's branch in order (``left_left_right``)."""
-    kinds = [KINDS[leg["kind"]] for leg in data["legs"] if KINDS[leg["kind"]].branched]
+    kinds = [kind_of(leg) for leg in data["legs"] if kind_of(leg).branched]
     named = {tuple(float(s) for s in v): k for k, v in data["modes"].items()}
     combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=len(kinds))) if kinds else [(1.0,)])
     meanings = "; ".join(dict.fromkeys(f"{'/'.join(k.branches)}: {k.meaning}" for k in kinds))
@@ -747,7 +1028,7 @@ def _assemblies(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The assembly modes: the elbow side of each RR leg, the sign of the type-II determinant (the
     signature of :class:`Seeds`) and the rank among the signature's solutions by the last pose coordinate
     (:class:`pkm.kinematics.NearestSeeds`; ``_2`` names the second) where a frame has several (RANKS)."""
-    elbows = sum(KINDS[leg["kind"]].sided for leg in data["legs"])
+    elbows = sum(kind_of(leg).sided for leg in data["legs"])
     last = FRAMES[data["pose"]["frame"]][0][-1]
     out = []
     for combo in itertools.product((1.0, -1.0), repeat=elbows):
@@ -778,8 +1059,8 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "pose_names": pose_names,
         "pose_units": tuple(data["pose"]["units"]),
         "actuator_names": tuple(f"q{k + 1}" for k in range(len(data["legs"]))),
-        "actuator_units": tuple(KINDS[leg["kind"]].unit for leg in data["legs"]),
-        "skeleton_legs": tuple(KINDS[leg["kind"]].points for leg in data["legs"]),
+        "actuator_units": tuple(kind_of(leg).unit for leg in data["legs"]),
+        "skeleton_legs": tuple(kind_of(leg).points for leg in data["legs"]),
         "forward": NearestSeeds(seeds),
         "description": description,
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),

@@ -102,6 +102,7 @@ class _Leg:
     margins: tuple[sp.Expr, ...] = ()
     side: sp.Expr | None = None  # of a leg with passive joints and two branches: its sign tells them apart
     joints: tuple[sp.Matrix, ...] = ()  # the points of its joints between the base's and the platform's
+    end: sp.Matrix | None = None  # of a chain leg: the end of its chain, where the platform's joint closes it
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -157,6 +158,51 @@ def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr 
         normal = rotation[:, 2]
         reach += [d[2] - sp.cos(cone) * sp.sqrt(d.dot(d)), d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))]
     return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, reach, None)
+
+
+def _axis_rotation(axis: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
+    """The rotation by ``angle`` about ``axis`` (Rodrigues)."""
+    u = axis / sp.sqrt(axis.dot(axis))
+    cross = sp.Matrix([[0, -u[2], u[1]], [u[2], 0, -u[0]], [-u[1], u[0], 0]])
+    return sp.eye(3) * sp.cos(angle) + sp.sin(angle) * cross + (1 - sp.cos(angle)) * u * u.T
+
+
+def _plane_rotation(angle: sp.Expr) -> sp.Matrix:
+    return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+
+
+def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: Any, scalar: Any) -> _Leg:
+    """A serial chain of R, P and U joints from A, its links fixed in the frame of the joint before them, ending
+    at C in the platform's point joint. The leg's frame is the base's turned about z by ``turn``; each joint's
+    axes and link are in the frame of the body before it. Its inverse kinematics here is the start of the
+    runtime's continuation: each branch's seed (the joints at the home pose and the default design), chosen
+    by the leg's sign where it has two."""
+    planar = a.rows == 2
+    turn = scalar(leg["turn"])
+    rotation = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
+    point, variables, points, actuated = a, [], [], None
+    for j, joint in enumerate(leg["joints"]):
+        names = [f"q{k + 1}_{j + 1}"] if joint["type"] != "U" else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
+        mine = [sp.Symbol(n, real=True) for n in names]
+        variables += mine
+        if joint["type"] == "P":
+            axis = vector(joint["axis"])
+            point = point + rotation * axis / sp.sqrt(axis.dot(axis)) * mine[0]
+        else:
+            for axis, angle in zip(joint["axes"], mine, strict=True):
+                rotation = rotation * (_plane_rotation(angle) if planar else _axis_rotation(vector(axis), angle))
+        if joint.get("actuated"):
+            actuated = mine[0]
+        point = point + rotation * vector(joint["link"])
+        points.append(point)
+    h = list(point - c)
+    sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None
+    seeds = [[sp.Float(v) for v in values] for values in leg["branches"].values()]
+    start = seeds[0] if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * m for p, m in zip(*seeds,
+                                                                                                         strict=True)]
+    side = sp.Matrix(h).jacobian(variables).det()
+    return _Leg(h, actuated, [v for v in variables if v is not actuated], dict(zip(variables, start, strict=True)),
+                [], sigma, side=side, joints=tuple(points[:-1]), end=point)
 
 
 # weight, its Jacobian in z, the inner matrix, and a point mass's position (None for a turning term)
@@ -258,6 +304,24 @@ def _platform(body: dict[str, Any] | None, frame: str, pose: tuple[sp.Symbol, ..
     return out
 
 
+def _add_chain(spec: ModuleSpec, k: int, leg: _Leg, ends: tuple[sp.Matrix, sp.Matrix], *, pose: Port, design: Port
+               ) -> None:
+    """``chain<k>(q_leg, c, design) -> (h, H)``: a chain leg's closure at a platform attachment c and its Jacobian
+    in the leg's joints (actuated first), and ``chain<k>_ends(x, design) -> (a, c)``: its base and platform
+    attachments at a pose, between which the runtime continues it."""
+    a, c = ends
+    target = sp.Matrix([sp.Symbol(f"c{j + 1}", real=True) for j in range(a.rows)])
+    joints = (leg.actuated, *leg.passive)
+    h = leg.end - target
+    spec.add(f"chain{k + 1}", (Port("q_leg", joints, "the leg's joints, actuated first"),
+                               Port("c", tuple(target), "the platform attachment [m]"), design),
+             (Output("h", h, "the chain's end less c [m]"), Output("H", h.jacobian(joints), "dh/dq_leg")),
+             f"The closure of chain leg {k + 1} at a platform attachment, and its Jacobian in the leg's joints.")
+    spec.add(f"chain{k + 1}_ends", (pose, design),
+             (Output("a", a, "the base attachment [m]"), Output("c", c, "the platform attachment [m]")),
+             f"The attachments of chain leg {k + 1} at a pose.")
+
+
 def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
     """``region_<name>(design) -> (centre, size)`` and, where the region spans other coordinates than the
     pose's own in order, ``region_<name>_pose(y, design) -> x`` (the others at the home pose's values)."""
@@ -297,6 +361,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     legs = []
     kinetic: list[Kinetic] = []
     skeleton: list[sp.Matrix] = []
+    ends: list[tuple[sp.Matrix, sp.Matrix]] = []
     for k, leg in enumerate(description["legs"]):
         a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
         if leg["kind"] == "RR":
@@ -308,18 +373,21 @@ def module(description: dict[str, Any]) -> ModuleSpec:
         elif leg["kind"] == "R_parallelogram":
             legs.append(_r_parallelogram(k, a, c, {"axis": vector(leg["axis"]), "zero": vector(leg["zero"]),
                                                    "arm": scalar(leg["arm"]), "rod": scalar(leg["rod"])}))
-        else:
+        elif leg["kind"] == "UPS":
             legs.append(_ups(k, a, c, rotation, None if "cone" not in leg else scalar(leg["cone"])))
+        else:
+            legs.append(_chain(k, a, c, leg, vector=vector, scalar=scalar))
         last = legs[-1]
         margins = tuple(last.reach)
         if "range" in leg:
             lo, hi = (scalar(t) for t in leg["range"])
-            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik,
-                            [*last.reach, last.ik[last.actuated] - lo, hi - last.ik[last.actuated]], last.sign,
-                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints)
+            closed = [] if leg["kind"] == "chain" else [last.ik[last.actuated] - lo, hi - last.ik[last.actuated]]
+            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, [*last.reach, *closed], last.sign,
+                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints, last.end)
         else:
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side,
-                            last.joints)
+                            last.joints, last.end)
+        ends.append((a, c))
         skeleton += [a, *legs[-1].joints, c]
         if "bodies" in leg:
             kinetic += _leg_bodies(leg, legs[-1], a, c, scalar)
@@ -336,14 +404,20 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     joints = Port("q", (*q_a, *q_p), "actuated joints, then the passive joints leg by leg")
     actuated = Port("q_a", q_a, "actuated joints")
     mode = Port("mode", signs, "branch sign of each leg with two (+1 or -1)")
+    chains = any(leg["kind"] == "chain" for leg in description["legs"])
     inverse = InverseKinematics(
         q, sp.Matrix([m for leg in legs for m in leg.reach]),
-        "Closed-form inverse kinematics, leg by leg, on the branch of the mode's signs.",
-        "actuated, then passive joints", "margins of each leg's reach, >= 0 where it assembles",
+        "Closed-form inverse kinematics, leg by leg, on the branch of the mode's signs"
+        + ("; a chain leg's joints are its branch's seed, where the runtime's continuation starts." if chains
+           else "."),
+        "actuated, then passive joints", "margins of each closed-form leg's reach, >= 0 where it assembles",
     )
     add_kinematics(spec, loop, pose=pose_port, joints=joints, actuated=actuated, design=design_port, mode=mode,
                    inverse=inverse, units=dict.fromkeys(("h", "H_q", "H_x", "J", "J_f", "psi", "det"), "-"),
-                   composed=True)
+                   composed=True, inverse_name="continuation_start" if chains else "inverse_kinematics")
+    for k, (leg, attachments) in enumerate(zip(legs, ends, strict=True)):
+        if leg.end is not None:
+            _add_chain(spec, k, leg, attachments, pose=pose_port, design=design_port)
     spec.add("home", (design_port,), (Output("x", vector(description["home"]), "the home pose"),),
              "The home pose: the seed of the forward kinematics.")
     if description.get("platform") is not None or kinetic:

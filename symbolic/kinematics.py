@@ -113,6 +113,7 @@ def add_kinematics(
     assembly: Port | None = None,
     units: dict[str, str],
     composed: bool = False,
+    inverse_name: str = "inverse_kinematics",
 ) -> None:
     """Emit the kinematic functions of the port convention (module docstring) and record the names.
 
@@ -137,7 +138,11 @@ def add_kinematics(
         ``H_x``, ``J``, ``J_f``, ``psi`` and ``det`` (both determinants).
     composed : bool
         Emit no ``first_order``: the runtime composes it from ``constraint`` in CasADi
-        (:func:`pkm.kinematics.composed_first_order`), for machines whose solves sympy should not expand.
+        (:func:`pkm.spec.composed_first_order`), for machines whose solves sympy should not expand.
+    inverse_name : str
+        The name ``inverse`` is emitted under: another than ``inverse_kinematics`` where it is not the whole
+        inverse kinematics (the runtime composes that from it, as :mod:`pkm.spec` does for legs solved by
+        continuation).
 
     Raises
     ------
@@ -163,7 +168,7 @@ def add_kinematics(
     spec.pose = tuple(s.name for s in pose.symbols)
     spec.actuators = tuple(s.name for s in actuated.symbols)
     spec.add(
-        "inverse_kinematics",
+        inverse_name,
         (pose, mode, design),
         (Output("q", inverse.q, inverse.q_doc), Output("reach", inverse.reach, inverse.reach_doc)),
         inverse.doc,
