@@ -131,7 +131,7 @@ def kind_of(leg: Mapping[str, Any]) -> Kind:
     if leg["kind"] != CHAIN:
         return KINDS[leg["kind"]]
     actuated = next(j for j in leg["joints"] if j["actuated"])
-    branches = tuple(leg["branches"]) if len(leg["branches"]) == 2 else ()
+    branches = tuple(name for name, _ in leg["branches"]) if len(leg["branches"]) == 2 else ()
     return Kind("planar" if len(leg["joints"][0]["link"]) == 2 else "spatial", (), branches,
                 "the leg's joints continued from the branch's seed at the home pose", "rad" if actuated["type"] == "R"
                 else "m", sum(CHAIN_JOINTS[j["type"]] for j in leg["joints"]) - 1, True, (), len(leg["joints"]) + 1)
@@ -452,13 +452,13 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     branches = table.get("branches")
     if not isinstance(branches, Mapping) or not 1 <= len(branches) <= 2:
         raise _fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
-    seeds = {}
+    seeds = []
     for name, values in branches.items():
         if not name.isidentifier():
             raise _fail(f"{where}.branches.{name}", "an identifier")
         if not isinstance(values, list) or len(values) != variables:
             raise _fail(f"{where}.branches.{name}", f"a list of {variables} joint values (the U's two in order)")
-        seeds[name] = [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]
+        seeds.append([name, [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]])
     turns = table.get("turn")
     if turns is None:
         turns = angles if angles is not None else ["0"] * count
@@ -759,7 +759,7 @@ def composed_inverse_kinematics(description: Description, functions: Mapping[str
         leg, ends = functions[f"chain{k + 1}"], functions[f"chain{k + 1}_ends"]
         a0, c0 = (np.asarray(v, dtype=float).ravel() for v in ends(x0, d0))
         seeds, sides = [], []
-        names = list(description.data["legs"][k]["branches"])
+        names = [name for name, _ in description.data["legs"][k]["branches"]]
         angles = np.array([kind_of(description.data["legs"][k]).unit == "rad",
                            *passive_angles(description.data["legs"][k])])
         for s in (1.0, -1.0):

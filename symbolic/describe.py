@@ -197,7 +197,7 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
         points.append(point)
     h = list(point - c)
     sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None
-    seeds = [[sp.Float(v) for v in values] for values in leg["branches"].values()]
+    seeds = [[sp.Float(v) for v in values] for _, values in leg["branches"]]
     start = seeds[0] if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * m for p, m in zip(*seeds,
                                                                                                          strict=True)]
     side = sp.Matrix(h).jacobian(variables).det()

@@ -1,0 +1,183 @@
+"""Machines as data, legs as serial chains of joints (``kind = "chain"``) solved by Newton continuation: the
+five-bar and the Delta described joint by joint give the hand-derived five-bar's and the Delta description's
+closed forms (inverse kinematics on every branch, J, the GCI and its design gradient), compiled as on the
+interpreter; forward kinematics returns the pose; bad chains name their field."""
+
+from __future__ import annotations
+
+import copy
+import os
+import re
+import shutil
+import tomllib
+
+import numpy as np
+import pytest
+
+import pkm
+from pkm import compiled
+from pkm.batch import evaluate, interpreted
+from pkm.models.described import DESCRIPTIONS
+from pkm.spec import DescriptionError, describe
+
+RR = [{"type": "R", "actuated": True, "link": ["r1", 0]}, {"type": "R", "link": ["r2", 0]}]
+FIVE_BAR = {
+    "name": "five_bar_chains",
+    "doc": "the symmetric planar 5R, its two legs given joint by joint",
+    "frame": "planar_point",
+    "home": [0, "r1 + r2 / 2"],
+    "parameters": [
+        {"name": "r1", "default": 1.2, "lower": 0.01, "upper": 10, "unit": "m", "doc": "proximal links"},
+        {"name": "r2", "default": 1.0, "lower": 0.01, "upper": 10, "unit": "m", "doc": "distal links"},
+        {"name": "r3", "default": 0.8, "lower": 0.0, "upper": 10, "unit": "m", "doc": "half base"},
+    ],
+    "legs": [
+        {"kind": "chain", "base": [["-r3", 0]], "platform": [[0, 0]], "joints": RR,
+         "branches": {"out": [1.6, -1.1], "in": [0.6, 1.1]}},
+        {"kind": "chain", "base": [["r3", 0]], "platform": [[0, 0]], "joints": RR,
+         "branches": {"out": [1.5, 1.1], "in": [2.5, -1.1]}},
+    ],
+}
+
+
+def _delta_of_chains() -> dict:
+    """The Delta description with each arm and parallelogram as a chain: the actuated revolute about the
+    tangent (y of the leg's frame, turned to its base joint), the arm, a universal joint at its tip, the
+    forearm and the platform's spherical joint; without bodies."""
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    legs = raw["legs"]
+    for field in ("gravity", "platform", "modes"):
+        raw.pop(field)
+    raw["name"] = "delta_chains"
+    raw["parameters"] = [p for p in raw["parameters"] if p["unit"] == "m"]
+    raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
+                   "range": legs["range"],
+                   "joints": [{"type": "R", "axis": [0, 1, 0], "actuated": True, "link": ["L_a", 0, 0]},
+                              {"type": "U", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]}, {"type": "S"}],
+                   "branches": {"down": [0.0, 2.3, 0.0]}}
+    return raw
+
+
+@pytest.fixture(scope="module")
+def machines():
+    return {"five_bar": pkm.load(FIVE_BAR), "delta": pkm.load(_delta_of_chains())}
+
+
+def _wrapped(a: np.ndarray) -> np.ndarray:
+    return np.angle(np.exp(1j * a))
+
+
+def test_the_five_bar_of_chains_reaches_every_pose_of_every_mode_as_the_closed_form_does(machines):
+    """Every pose the hand-derived five-bar reaches in a mode, and no other, the chains reach in the mode of
+    the same name, with the same actuated joints to 1e-12 and the same J and J_f to 1e-10."""
+    m, hand = machines["five_bar"], pkm.load("five_bar")
+    design = hand.design()
+    small = np.array([design[n] for n in ("r1", "r2", "r3")])
+    x = np.random.default_rng(7).uniform(-2.2, 2.2, size=(3000, 2))
+    assert m.modes == hand.modes
+    for mode in hand.modes:
+        theirs = hand.inverse_kinematics(x, design, mode=mode)
+        mine = m.inverse_kinematics(x, small, mode=mode)
+        reached = np.isfinite(theirs).all(axis=1)
+        assert reached.sum() > 1000
+        np.testing.assert_array_equal(np.isfinite(mine).all(axis=1), reached)
+        np.testing.assert_allclose(_wrapped(mine[reached] - theirs[reached]), 0, atol=1e-12)
+        np.testing.assert_allclose(m.jacobian(x[reached], small, mode=mode),
+                                   hand.jacobian(x[reached], design, mode=mode), rtol=1e-10, atol=1e-10)
+        q = m.inverse_kinematics(x[reached], small, mode=mode, passive=True)
+        _, J_f, *_ = evaluate(m.functions["first_order"], q, x[reached], small)
+        _, their_J_f, *_ = evaluate(hand.functions["first_order"],
+                                    hand.inverse_kinematics(x[reached], design, mode=mode, passive=True),
+                                    x[reached], design.vector())
+        np.testing.assert_allclose(J_f, their_J_f, rtol=1e-10, atol=1e-10)
+
+
+def test_the_delta_of_chains_is_the_delta_description_elbow_out(machines):
+    m, delta = machines["delta"], pkm.load(str(DESCRIPTIONS["delta"]))
+    x = np.random.default_rng(8).uniform([-0.3, -0.3, -0.8], [0.3, 0.3, -0.2], size=(3000, 3))
+    design = {p.name: delta.design()[p.name] for p in m.parameters}
+    theirs = delta.inverse_kinematics(x, mode="elbow_out")
+    mine = m.inverse_kinematics(x, design)
+    reached = np.isfinite(theirs).all(axis=1)
+    assert reached.sum() > 1000
+    np.testing.assert_array_equal(np.isfinite(mine).all(axis=1), reached)
+    np.testing.assert_allclose(mine[reached], theirs[reached], atol=1e-12)
+    np.testing.assert_allclose(m.jacobian(x[reached], design), delta.jacobian(x[reached], mode="elbow_out"),
+                               rtol=1e-10, atol=1e-10)
+
+
+def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines):
+    """Through the Newton steps the design gradient is the implicit function's: over a fixed disc the GCI
+    and its gradient in (r1, r2, r3) agree with the hand-derived five-bar's to 1e-10 and 1e-9."""
+    m, hand = machines["five_bar"], pkm.load("five_bar")
+    design = hand.design()
+    small = {n: design[n] for n in ("r1", "r2", "r3")}
+    disc = hand.region("miw")
+    centre, radius = (np.array(v).ravel() for v in disc.placement(hand.functions, design.vector()))
+    fixed = disc.at(centre, 0.8 * radius)
+    for mode in ("out_out", "in_out"):
+        mine, mine_gradient = m.global_index("gci", small, region=fixed, mode=mode, gradient=True)
+        theirs, their_gradient = hand.global_index("gci", design, region=fixed, mode=mode, gradient=True)
+        assert abs(mine - theirs) <= 1e-10
+        for name in small:
+            assert abs(mine_gradient[name] - their_gradient[name]) <= 1e-9
+
+
+def test_the_continued_inverse_kinematics_compiles_to_the_interpreters_values(machines, monkeypatch, tmp_path):
+    """Where the Newton steps diverge the joints are NaN, so that the kernel passes its check against the
+    interpreter (at random, mostly unreachable inputs) and gives the interpreter's values to 1e-12."""
+    if not (shutil.which("cc") or shutil.which("gcc")) or os.environ.get("PKM_COMPILED") == "0":
+        pytest.skip("no C compiler, or the interpreter is asked for")
+    monkeypatch.setenv("PKM_CACHE_DIR", str(tmp_path))
+    compiled.reset()
+    try:
+        fn = machines["five_bar"].functions["inverse_kinematics"]
+        assert compiled.kernel(fn, work=compiled.WAIT_WORK) is not None
+        x = np.random.default_rng(9).uniform(-2.2, 2.2, size=(500, 2))
+        design, mode = machines["five_bar"].design().vector(), np.array([1.0, -1.0])
+        for a, b in zip(evaluate(fn, x, mode, design), interpreted(fn, x, mode, design), strict=True):
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+    finally:
+        compiled.reset()
+
+
+def test_forward_kinematics_of_chains_returns_the_pose(machines):
+    m = machines["delta"]
+    x = np.random.default_rng(10).uniform([-0.1, -0.1, -0.6], [0.1, 0.1, -0.35], size=(60, 3))
+    x = x[m.reachable(x)][:30]
+    q = m.inverse_kinematics(x, passive=True)
+    signature = m.forward.seeds.signature(m.functions, q, x, m.design().vector())
+    for signs in {tuple(s) for s in signature}:
+        mine = np.all(signature == signs, axis=1)
+        ranks = [a for a in m.assembly_modes if a.signs[:-1] == signs]
+        found = np.stack([m.forward_kinematics(q[mine, : m.n_act], assembly=a.name) for a in ranks])
+        errors = np.linalg.norm(found - x[mine], axis=2)
+        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
+
+
+def _broken(change) -> dict:
+    raw = copy.deepcopy(_delta_of_chains())
+    change(raw)
+    return raw
+
+
+@pytest.mark.parametrize(("change", "field"), [
+    (lambda r: r["legs"]["joints"][1].update(actuated=True), "legs.joints[1].actuated"),
+    (lambda r: r["legs"]["joints"][0].update(type="H"), "legs.joints[0].type"),
+    (lambda r: r["legs"]["joints"][0].update(actuated=False), "legs.joints"),
+    (lambda r: r["legs"]["joints"].insert(1, {"type": "R", "axis": [1, 0, 0]}), "legs.joints"),
+    (lambda r: r["legs"].update(branches={"down": [0.0, 2.3]}), "legs.branches.down"),
+    (lambda r: r["legs"]["joints"][2].update(actuated=True), "legs.joints[2]"),
+    (lambda r: r["legs"]["joints"][1].pop("axes"), "legs.joints[1].axes"),
+    (lambda r: r["legs"]["joints"][0].update(stroke=1), "legs.joints[0].stroke"),
+])
+def test_a_bad_chain_names_its_field(change, field):
+    with pytest.raises(DescriptionError, match=re.escape(f"description field {field} violates")):
+        describe(_broken(change))
+
+
+def test_a_seed_that_does_not_close_its_leg_is_refused_naming_its_branch():
+    raw = _broken(lambda r: r["legs"].update(branches={"down": [0.0, 2.3, 0.0], "up": [9.0, 9.0, 9.0]}))
+    raw["parameters"][3]["default"] = 0.1
+    with pytest.raises(DescriptionError, match=r"leg 1\) branches\.(down|up) violates: a seed the leg closes from"):
+        pkm.load(raw)
