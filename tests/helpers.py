@@ -1,5 +1,5 @@
 """Helpers shared by the test files: random valid designs near the defaults, reachable poses of a
-working mode, and the inputs of the generated functions by port name.
+working mode, the inputs of the generated functions by port name, and machines described with chain legs.
 
 pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test files import these with
 ``from helpers import ...``.
@@ -7,6 +7,7 @@ pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test file
 
 from __future__ import annotations
 
+import tomllib
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
@@ -14,6 +15,7 @@ from typing import Any
 import numpy as np
 
 import pkm
+from pkm.models.described import DESCRIPTIONS
 
 ATTEMPTS = 1000  # random designs drawn before giving up
 
@@ -170,3 +172,54 @@ def benchmarks_section(heading: str) -> str:
     start = text.index(heading + "\n") + len(heading)
     end = text.find("\n## ", start)
     return text[start : None if end < 0 else end].strip()
+
+
+RR = [{"type": "R", "actuated": True, "link": ["r1", 0]}, {"type": "R", "link": ["r2", 0]}]
+FIVE_BAR_OF_CHAINS = {
+    "name": "five_bar_chains",
+    "doc": "the symmetric planar 5R, its two legs given joint by joint",
+    "frame": "planar_point",
+    "home": [0, "r1 + r2 / 2"],
+    "parameters": [
+        {"name": "r1", "default": 1.2, "lower": 0.01, "upper": 10, "unit": "m", "doc": "proximal links"},
+        {"name": "r2", "default": 1.0, "lower": 0.01, "upper": 10, "unit": "m", "doc": "distal links"},
+        {"name": "r3", "default": 0.8, "lower": 0.0, "upper": 10, "unit": "m", "doc": "half base"},
+    ],
+    "legs": [
+        {"kind": "chain", "base": [["-r3", 0]], "platform": [[0, 0]], "joints": RR,
+         "branches": {"out": [1.6, -1.1], "in": [0.6, 1.1]}},
+        {"kind": "chain", "base": [["r3", 0]], "platform": [[0, 0]], "joints": RR,
+         "branches": {"out": [1.5, 1.1], "in": [2.5, -1.1]}},
+    ],
+}
+
+
+def delta_of_chains() -> dict:
+    """The Delta description with each arm and parallelogram as a chain: the actuated revolute about the
+    tangent (y of the leg's frame, turned to its base joint), the arm, a universal joint at its tip, the
+    forearm and the platform's spherical joint; without bodies."""
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    legs = raw["legs"]
+    for field in ("gravity", "platform", "modes"):
+        raw.pop(field)
+    raw["name"] = "delta_chains"
+    raw["parameters"] = [p for p in raw["parameters"] if p["unit"] == "m"]
+    raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
+                   "range": legs["range"],
+                   "joints": [{"type": "R", "axis": [0, 1, 0], "actuated": True, "link": ["L_a", 0, 0]},
+                              {"type": "U", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]}, {"type": "S"}],
+                   "branches": {"down": [0.0, 2.3, 0.0]}}
+    return raw
+
+
+def rrr3_of_chains() -> dict:
+    """The 3-RRR description with each leg as a chain in its frame turned to its base joint (x outwards):
+    the actuated revolute, the proximal link, the elbow and the distal link; its branches named as the RR
+    leg's (left: the elbow on the sign +1 of the two circles)."""
+    raw = tomllib.loads(DESCRIPTIONS["rrr3"].read_text())
+    legs = raw["legs"]
+    raw["name"] = "rrr3_chains"
+    raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
+                   "joints": [{"type": "R", "actuated": True, "link": ["l1", 0]}, {"type": "R", "link": ["l2", 0]}],
+                   "branches": {"left": [-2.1, -2.1], "right": [2.1, 2.1]}}
+    return raw

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from helpers import rrr3_of_chains
 
 import pkm
 from pkm.cli import main
@@ -403,6 +404,15 @@ def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, 
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)
         assert errors["M_t"] < TOLERANCE, (mode, errors)
+
+
+def test_chain_legs_agree_with_pkm_in_pinocchio(pinocchio, tmp_path):
+    m = pkm.load(rrr3_of_chains())
+    rng = np.random.default_rng(28)
+    for mode in ("left_left_left", "right_left_right"):
+        errors = check_export(m, None, mode, tmp_path / mode, rng)
+        assert errors["q_a"] < TOLERANCE, (mode, errors)
+        assert errors["J"] < TOLERANCE, (mode, errors)
 
 
 def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch):

@@ -9,10 +9,10 @@ import copy
 import os
 import re
 import shutil
-import tomllib
 
 import numpy as np
 import pytest
+from helpers import FIVE_BAR_OF_CHAINS, delta_of_chains, rrr3_of_chains
 
 import pkm
 from pkm import compiled
@@ -20,47 +20,11 @@ from pkm.batch import evaluate, interpreted
 from pkm.models.described import DESCRIPTIONS
 from pkm.spec import DescriptionError, describe
 
-RR = [{"type": "R", "actuated": True, "link": ["r1", 0]}, {"type": "R", "link": ["r2", 0]}]
-FIVE_BAR = {
-    "name": "five_bar_chains",
-    "doc": "the symmetric planar 5R, its two legs given joint by joint",
-    "frame": "planar_point",
-    "home": [0, "r1 + r2 / 2"],
-    "parameters": [
-        {"name": "r1", "default": 1.2, "lower": 0.01, "upper": 10, "unit": "m", "doc": "proximal links"},
-        {"name": "r2", "default": 1.0, "lower": 0.01, "upper": 10, "unit": "m", "doc": "distal links"},
-        {"name": "r3", "default": 0.8, "lower": 0.0, "upper": 10, "unit": "m", "doc": "half base"},
-    ],
-    "legs": [
-        {"kind": "chain", "base": [["-r3", 0]], "platform": [[0, 0]], "joints": RR,
-         "branches": {"out": [1.6, -1.1], "in": [0.6, 1.1]}},
-        {"kind": "chain", "base": [["r3", 0]], "platform": [[0, 0]], "joints": RR,
-         "branches": {"out": [1.5, 1.1], "in": [2.5, -1.1]}},
-    ],
-}
-
-
-def _delta_of_chains() -> dict:
-    """The Delta description with each arm and parallelogram as a chain: the actuated revolute about the
-    tangent (y of the leg's frame, turned to its base joint), the arm, a universal joint at its tip, the
-    forearm and the platform's spherical joint; without bodies."""
-    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
-    legs = raw["legs"]
-    for field in ("gravity", "platform", "modes"):
-        raw.pop(field)
-    raw["name"] = "delta_chains"
-    raw["parameters"] = [p for p in raw["parameters"] if p["unit"] == "m"]
-    raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
-                   "range": legs["range"],
-                   "joints": [{"type": "R", "axis": [0, 1, 0], "actuated": True, "link": ["L_a", 0, 0]},
-                              {"type": "U", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]}, {"type": "S"}],
-                   "branches": {"down": [0.0, 2.3, 0.0]}}
-    return raw
-
 
 @pytest.fixture(scope="module")
 def machines():
-    return {"five_bar": pkm.load(FIVE_BAR), "delta": pkm.load(_delta_of_chains())}
+    return {"five_bar": pkm.load(FIVE_BAR_OF_CHAINS), "delta": pkm.load(delta_of_chains()),
+            "rrr3": pkm.load(rrr3_of_chains())}
 
 
 def _wrapped(a: np.ndarray) -> np.ndarray:
@@ -104,6 +68,23 @@ def test_the_delta_of_chains_is_the_delta_description_elbow_out(machines):
     np.testing.assert_allclose(mine[reached], theirs[reached], atol=1e-12)
     np.testing.assert_allclose(m.jacobian(x[reached], design), delta.jacobian(x[reached], mode="elbow_out"),
                                rtol=1e-10, atol=1e-10)
+
+
+def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines):
+    """The chains' joints are relative to each leg's frame (turned to its base joint): theta = turn + q1."""
+    m, rrr3 = machines["rrr3"], pkm.load(str(DESCRIPTIONS["rrr3"]))
+    turns = np.pi / 2 + 2 * np.pi * np.arange(3) / 3
+    x = np.random.default_rng(11).uniform([-0.3, -0.3, -0.6], [0.3, 0.3, 0.6], size=(1500, 3))
+    assert m.modes == rrr3.modes
+    for mode in rrr3.modes:
+        theirs = rrr3.inverse_kinematics(x, mode=mode)
+        mine = m.inverse_kinematics(x, mode=mode)
+        reached = np.isfinite(theirs).all(axis=1)
+        assert reached.sum() > 300
+        np.testing.assert_array_equal(np.isfinite(mine).all(axis=1), reached)
+        np.testing.assert_allclose(_wrapped(mine[reached] + turns - theirs[reached]), 0, atol=1e-12)
+        np.testing.assert_allclose(m.jacobian(x[reached], mode=mode), rrr3.jacobian(x[reached], mode=mode),
+                                   rtol=1e-10, atol=1e-10)
 
 
 def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines):
@@ -156,7 +137,7 @@ def test_forward_kinematics_of_chains_returns_the_pose(machines):
 
 
 def _broken(change) -> dict:
-    raw = copy.deepcopy(_delta_of_chains())
+    raw = copy.deepcopy(delta_of_chains())
     change(raw)
     return raw
 

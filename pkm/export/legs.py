@@ -15,7 +15,9 @@ attachment C (:mod:`symbolic.describe` states their coordinates):
   plane that mimics the swing with multiplier -1 (the platform's bar stays parallel to the arm's) and a
   revolute about the axis at C (the bar turning about its own line);
 * ``UPS``: a universal joint at A (its first axis horizontal and across the leg, its second across both), the
-  actuated prismatic joint along the leg (its length) and a spherical joint at C.
+  actuated prismatic joint along the leg (its length) and a spherical joint at C;
+* ``chain``: its joints as the description gives them (a universal joint's zero at the reference
+  configuration), a body after each, and the platform's revolute (planar) or spherical joint at C.
 
 The platform hangs from the first leg whose platform joint is not spherical (its joints, then the other legs'
 in their order); where every leg ends in a spherical joint the platform floats (a free joint). Every other
@@ -49,10 +51,11 @@ from pkm.export.structure import (
     translation_effector,
     unit,
 )
+from pkm.spec import CHAIN_JOINTS, kind_of
 
 FUNCTIONS = {"pi": math.pi, "cos": math.cos, "sin": math.sin, "tan": math.tan, "sqrt": math.sqrt}
 Z = np.array([0.0, 0.0, 1.0])
-SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical
+SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical (and chains in space)
 
 
 class _Values:
@@ -103,7 +106,7 @@ class _Leg:
     """One leg's links and joints; ``k`` its number, ``q`` its actuated and passive joints' values."""
 
     def __init__(self, k: int, leg: Mapping[str, Any], values: _Values, *, ends: tuple[np.ndarray, np.ndarray],
-                 q: tuple[float, float | None], platform_angle: float) -> None:
+                 q: tuple[float, ...], platform_angle: float) -> None:
         self.k, self.leg, self.values, (self.a, self.c) = k, leg, values, ends
         self.q, self.turn = q, platform_angle
         self.bodies = leg.get("bodies")
@@ -218,6 +221,45 @@ class _Leg:
         self.passive("spherical", "S", (piston, "platform"), self.c, (), doc="the platform's spherical joint")
         self.rotor_note()
 
+    def _chain(self) -> None:
+        planar = len(self.leg["joints"][0]["link"]) == 2
+        rotation = rotation_z(self.values.scalar(self.leg["turn"]))
+        point, parent = self.a, "base"
+        passive = iter(self.q[1:])
+        for j, joint in enumerate(self.leg["joints"]):
+            kind = joint["type"]
+            mine = [self.q[0]] if joint["actuated"] else [next(passive) for _ in range(CHAIN_JOINTS[kind])]
+            child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}")
+            at = point
+            if kind == "P":
+                axes = (rotation @ unit(self.values.point(joint["axis"])),)
+                point = point + axes[0] * mine[0]
+            else:
+                axes = ()
+                for text, angle in zip(joint["axes"], mine, strict=True):
+                    local = unit(self.values.point(text))
+                    axes += (rotation @ local,)
+                    rotation = rotation @ _about(local, angle)
+            end = point + rotation @ self.values.point(joint["link"])
+            along = end - at if np.linalg.norm(end - at) > 1e-12 else None
+            if joint["actuated"]:
+                self.actuated(kind, (parent, child), at, axes[0], f"joint {j + 1} of the chain", along=along)
+            else:
+                self.passive(f"joint{j + 1}_", kind, (parent, child), at, axes, doc=f"joint {j + 1} of the chain",
+                             value=mine[0] if len(mine) == 1 else 0.0, along=along)
+            point, parent = end, child
+        if planar:
+            self.passive("platform_joint", "R", (parent, "platform"), self.c, (Z,), doc="the platform's revolute",
+                         value=self.turn - math.atan2(rotation[1, 0], rotation[0, 0]))
+        else:
+            self.passive("platform_joint", "S", (parent, "platform"), self.c, (), doc="the platform's spherical joint")
+
+
+def _about(axis: np.ndarray, angle: float) -> np.ndarray:
+    """The rotation by ``angle`` about the unit ``axis`` (Rodrigues)."""
+    cross = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * cross + (1 - math.cos(angle)) * cross @ cross
+
 
 def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
     """The structure of a described machine at a design, with the reference configuration at ``pose`` (its
@@ -238,8 +280,7 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
     passive = iter(ref.joints[n_act:])
     legs = []
     for k, leg in enumerate(data["legs"]):
-        has_passive = leg["kind"] in ("RR", "RPR", "PRR")
-        q = (float(ref.joints[k]), float(next(passive)) if has_passive else None)
+        q = (float(ref.joints[k]), *(float(next(passive)) for _ in range(kind_of(leg).passive)))
         a = values.point(leg["base"])
         c = origin + rotation @ values.point(leg["platform"])
         legs.append(_Leg(k + 1, leg, values, ends=(a, c), q=q, platform_angle=turn))
@@ -255,7 +296,8 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
             platform_parts.append(Inertial.principal(mass, centre, moments, rotation))
         else:
             platform_parts.append(Inertial.point(mass, centre))
-    carrier = next((leg for leg in legs if leg.leg["kind"] not in SPHERICAL), None)
+    carrier = next((leg for leg in legs if leg.leg["kind"] not in SPHERICAL
+                    and not (leg.leg["kind"] == "chain" and frame.startswith("spatial"))), None)
     links = [Link("base", "the base: the frame of the pose"),
              Link("platform", "the platform: its frame the pose's at the reference configuration",
                   combined(platform_parts))]
@@ -297,6 +339,8 @@ _KIND_NOTES = {
                        "kinematics).",
     "UPS": "the universal joint at A (first axis horizontal and across the leg at the reference configuration), the "
            "actuated prismatic joint along the leg and the spherical joint at C.",
+    "chain": "its joints as described, a universal joint's zero at the reference configuration (pkm's coordinates "
+             "of it are offset by their values there), a massless body after each, and the platform's point joint.",
 }
 
 
