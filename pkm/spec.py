@@ -122,7 +122,7 @@ KINDS = {
     "UPS": Kind("spatial", (), (), "", "m", 0, False, ("cylinder", "piston"), 2),
 }
 CHAIN = "chain"  # the kind of a leg given as a serial chain of joints, solved by continuation
-CHAIN_JOINTS = {"R": 1, "P": 1, "U": 2}  # the joint variables of each type of a chain's joints
+CHAIN_JOINTS = {"R": 1, "P": 1, "U": 2, "parallelogram": 2}  # the joint variables of each type of a chain's joints
 
 
 def kind_of(leg: Mapping[str, Any]) -> Kind:
@@ -389,7 +389,7 @@ def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[str]:
 
 
 def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, Any]:
-    types = ("R", "P") if dim == 2 else ("R", "P", "U")
+    types = ("R", "P") if dim == 2 else ("R", "P", "U", "parallelogram")
     if not isinstance(raw, Mapping):
         raise _fail(field, "a table {type, axis or axes, link, actuated}")
     kind = raw.get("type")
@@ -397,7 +397,7 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
         end = "revolute" if dim == 2 else "spherical"
         raise _fail(f"{field}.type", f"one of {', '.join(types)} (the platform's {end} joint ends the chain); got "
                                      f"{kind!r}")
-    known = {"type", "link", "actuated", "axes" if kind == "U" else "axis"}
+    known = {"type", "link", "actuated", "axes" if kind in ("U", "parallelogram") else "axis"}
     extra = set(raw) - known
     if extra:
         raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of a chain's {kind} joint ({', '.join(sorted(known))})")
@@ -419,7 +419,7 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
     else:
         axes = raw.get("axes")
         if not isinstance(axes, list) or len(axes) != 2:
-            raise _fail(f"{field}.axes", "the universal joint's two axes, the second in the frame the first turns")
+            raise _fail(f"{field}.axes", f"the {kind} joint's two axes, the second in the frame the first turns")
         out["axes"] = [_vector(axis, 3, f"{field}.axes[{j}]", names) for j, axis in enumerate(axes)]
     return out
 

@@ -172,28 +172,32 @@ def _plane_rotation(angle: sp.Expr) -> sp.Matrix:
 
 
 def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: Any, scalar: Any) -> _Leg:
-    """A serial chain of R, P and U joints from A, its links fixed in the frame of the joint before them, ending
-    at C in the platform's point joint. The leg's frame is the base's turned about z by ``turn``; each joint's
-    axes and link are in the frame of the body before it. Its inverse kinematics here is the start of the
-    runtime's continuation: each branch's seed (the joints at the home pose and the default design), chosen
-    by the leg's sign where it has two."""
+    """A serial chain of R, P, U and parallelogram joints from A, its links fixed in the frame of the joint
+    before them, ending at C in the platform's point joint. The leg's frame is the base's turned about z by
+    ``turn``; each joint's axes and link are in the frame of the body before it. A parallelogram turns its
+    rods (its link) like a universal joint and keeps the frame of the body before it for what follows. Its
+    inverse kinematics here is the start of the runtime's continuation: each branch's seed (the joints at
+    the home pose and the default design), chosen by the leg's sign where it has two."""
     planar = a.rows == 2
     turn = scalar(leg["turn"])
     rotation = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
     point, variables, points, actuated = a, [], [], None
     for j, joint in enumerate(leg["joints"]):
-        names = [f"q{k + 1}_{j + 1}"] if joint["type"] != "U" else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
+        names = [f"q{k + 1}_{j + 1}"] if joint["type"] in ("R", "P") else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
         mine = [sp.Symbol(n, real=True) for n in names]
         variables += mine
+        turned = rotation
         if joint["type"] == "P":
             axis = vector(joint["axis"])
             point = point + rotation * axis / sp.sqrt(axis.dot(axis)) * mine[0]
         else:
             for axis, angle in zip(joint["axes"], mine, strict=True):
-                rotation = rotation * (_plane_rotation(angle) if planar else _axis_rotation(vector(axis), angle))
+                turned = turned * (_plane_rotation(angle) if planar else _axis_rotation(vector(axis), angle))
         if joint.get("actuated"):
             actuated = mine[0]
-        point = point + rotation * vector(joint["link"])
+        point = point + turned * vector(joint["link"])
+        if joint["type"] != "parallelogram":
+            rotation = turned
         points.append(point)
     h = list(point - c)
     sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None

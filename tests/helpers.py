@@ -174,6 +174,21 @@ def benchmarks_section(heading: str) -> str:
     return text[start : None if end < 0 else end].strip()
 
 
+FIVE_BAR_OF_RR_LEGS = {
+    "name": "five_bar_described",
+    "doc": "the symmetric planar 5R, described: two RR legs from the base ends to the end effector",
+    "frame": "planar_point",
+    "home": [0, "r1 + r2 / 2"],
+    "modes": {"out_out": [1, -1], "out_in": [1, 1], "in_out": [-1, -1], "in_in": [-1, 1]},
+    "parameters": [
+        {"name": "r1", "default": 1.2, "lower": 0.01, "upper": 10, "unit": "m", "doc": "proximal links"},
+        {"name": "r2", "default": 1.0, "lower": 0.01, "upper": 10, "unit": "m", "doc": "distal links"},
+        {"name": "r3", "default": 0.8, "lower": 0.0, "upper": 10, "unit": "m", "doc": "half base"},
+    ],
+    "legs": {"kind": "RR", "count": 2, "base": [["-r3", 0], ["r3", 0]], "platform": [[0, 0], [0, 0]],
+             "proximal": "r1", "distal": "r2"},
+}
+
 RR = [{"type": "R", "actuated": True, "link": ["r1", 0]}, {"type": "R", "link": ["r2", 0]}]
 FIVE_BAR_OF_CHAINS = {
     "name": "five_bar_chains",
@@ -196,8 +211,9 @@ FIVE_BAR_OF_CHAINS = {
 
 def delta_of_chains() -> dict:
     """The Delta description with each arm and parallelogram as a chain: the actuated revolute about the
-    tangent (y of the leg's frame, turned to its base joint), the arm, a universal joint at its tip, the
-    forearm and the platform's spherical joint; without bodies."""
+    tangent (y of the leg's frame, turned to its base joint), the arm, the parallelogram forearm (its rods'
+    plane turning about the tangent, the rods swinging across it) and the platform's point joint; without
+    bodies."""
     raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
     legs = raw["legs"]
     for field in ("gravity", "platform", "modes"):
@@ -207,7 +223,8 @@ def delta_of_chains() -> dict:
     raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
                    "range": legs["range"],
                    "joints": [{"type": "R", "axis": [0, 1, 0], "actuated": True, "link": ["L_a", 0, 0]},
-                              {"type": "U", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]}, {"type": "S"}],
+                              {"type": "parallelogram", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]},
+                              {"type": "S"}],
                    "branches": {"down": [0.0, 2.3, 0.0]}}
     return raw
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from helpers import rrr3_of_chains
+from helpers import FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS, delta_of_chains, rrr3_of_chains
 
 import pkm
 from pkm.cli import main
@@ -406,10 +406,18 @@ def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, 
         assert errors["M_t"] < TOLERANCE, (mode, errors)
 
 
-def test_chain_legs_agree_with_pkm_in_pinocchio(pinocchio, tmp_path):
-    m = pkm.load(rrr3_of_chains())
+@pytest.mark.parametrize(("description", "modes"), [
+    (rrr3_of_chains(), ("left_left_left", "right_left_right")),
+    (delta_of_chains(), ("single",)),
+    (FIVE_BAR_OF_CHAINS, ("out_out", "in_out")),
+    (FIVE_BAR_OF_RR_LEGS, ("out_out", "in_out")),
+], ids=["rrr3_chains", "delta_chains", "five_bar_chains", "five_bar_rr"])
+def test_chain_legs_and_point_poses_agree_with_pkm_in_pinocchio(pinocchio, tmp_path, description, modes):
+    """Chain legs (a parallelogram's turns undone by mimic joints), and the platform of a point pose on
+    prismatic joints as pkm's model has it (a planar point's would otherwise spin freely)."""
+    m = pkm.load(description)
     rng = np.random.default_rng(28)
-    for mode in ("left_left_left", "right_left_right"):
+    for mode in modes:
         errors = check_export(m, None, mode, tmp_path / mode, rng)
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)

@@ -11,6 +11,7 @@ import tomllib
 import numpy as np
 import oracles
 import pytest
+from helpers import FIVE_BAR_OF_RR_LEGS as FIVE_BAR
 
 import pkm
 from pkm.models.described import DESCRIPTIONS
@@ -111,22 +112,6 @@ def test_a_home_pose_that_does_not_assemble_is_refused():
     raw = _broken("rrr3", lambda r: r.update(home=[5, 5, 0]))
     with pytest.raises(DescriptionError, match=r"home pose .* does not assemble"):
         pkm.load(raw)
-
-
-FIVE_BAR = {
-    "name": "five_bar_described",
-    "doc": "the symmetric planar 5R, described: two RR legs from the base ends to the end effector",
-    "frame": "planar_point",
-    "home": [0, "r1 + r2 / 2"],
-    "modes": {"out_out": [1, -1], "out_in": [1, 1], "in_out": [-1, -1], "in_in": [-1, 1]},
-    "parameters": [
-        {"name": "r1", "default": 1.2, "lower": 0.01, "upper": 10, "unit": "m", "doc": "proximal links"},
-        {"name": "r2", "default": 1.0, "lower": 0.01, "upper": 10, "unit": "m", "doc": "distal links"},
-        {"name": "r3", "default": 0.8, "lower": 0.0, "upper": 10, "unit": "m", "doc": "half base"},
-    ],
-    "legs": {"kind": "RR", "count": 2, "base": [["-r3", 0], ["r3", 0]], "platform": [[0, 0], [0, 0]],
-             "proximal": "r1", "distal": "r2"},
-}
 
 
 def test_the_five_bar_described_in_twenty_lines_is_the_hand_derived_one():

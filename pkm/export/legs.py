@@ -17,7 +17,8 @@ attachment C (:mod:`symbolic.describe` states their coordinates):
 * ``UPS``: a universal joint at A (its first axis horizontal and across the leg, its second across both), the
   actuated prismatic joint along the leg (its length) and a spherical joint at C;
 * ``chain``: its joints as the description gives them (a universal joint's zero at the reference
-  configuration), a body after each, and the platform's revolute (planar) or spherical joint at C.
+  configuration; a parallelogram as the R_parallelogram's, its two turns undone at the rods' end by mimic
+  joints), a body after each, and the platform's revolute (planar) or spherical joint at C.
 
 The platform hangs from the first leg whose platform joint is not spherical (its joints, then the other legs'
 in their order); where every leg ends in a spherical joint the platform floats (a free joint). Every other
@@ -229,6 +230,9 @@ class _Leg:
         for j, joint in enumerate(self.leg["joints"]):
             kind = joint["type"]
             mine = [self.q[0]] if joint["actuated"] else [next(passive) for _ in range(CHAIN_JOINTS[kind])]
+            if kind == "parallelogram":
+                point, parent = self._parallelogram(j, joint, (point, rotation), mine, parent)
+                continue
             child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}")
             at = point
             if kind == "P":
@@ -253,6 +257,41 @@ class _Leg:
                          value=self.turn - math.atan2(rotation[1, 0], rotation[0, 0]))
         else:
             self.passive("platform_joint", "S", (parent, "platform"), self.c, (), doc="the platform's spherical joint")
+
+    def _parallelogram(self, j: int, joint: Mapping[str, Any], frame: tuple[np.ndarray, np.ndarray],
+                       angles: list[float], parent: str) -> tuple[np.ndarray, str]:
+        """A chain's parallelogram as its rods move it: the rods' plane turning about its first axis, the rods
+        swinging about its second, then at their end the same two turns undone by mimic joints (multiplier
+        -1), so that the bar there keeps the frame of the body before it; its end and its last body."""
+        at, rotation = frame
+        first, second = (unit(self.values.point(t)) for t in joint["axes"])
+        turned = rotation @ _about(first, angles[0])
+        end = at + turned @ _about(second, angles[1]) @ self.values.point(joint["link"])
+        axes = (rotation @ first, turned @ second)
+        names = [f"{part}{j + 1}_" for part in ("plane", "rods", "bar_swing", "bar")]
+        docs = ["the plane of its rods turning", "its rods swinging in their plane",
+                "its bar's swing undone", "its bar, parallel to the body before it"]
+        links = [self.link(n, f"joint {j + 1}'s parallelogram: {d}") for n, d in zip(names, docs, strict=True)]
+        self.passive(names[0], "R", (parent, links[0]), at, axes[:1], doc=f"joint {j + 1}: {docs[0]}", value=angles[0],
+                     along=end - at)
+        self.passive(names[1], "R", links[:2], at, axes[1:], doc=f"joint {j + 1}: {docs[1]}", value=angles[1],
+                     along=end - at)
+        self.passive(names[2], "R", links[1:3], end, axes[1:], doc=f"joint {j + 1}: {docs[2]}",
+                     mimic=(f"{names[1]}{self.k}", -1.0))
+        self.passive(names[3], "R", links[2:], end, axes[:1], doc=f"joint {j + 1}: {docs[3]}",
+                     mimic=(f"{names[0]}{self.k}", -1.0))
+        return end, links[3]
+
+
+def _slides(origin: np.ndarray, pose: np.ndarray) -> list[Joint]:
+    """The platform of a point pose on prismatic joints along the base's axes, one per pose coordinate, their
+    values the pose's."""
+    names = ["platform_slide_x", "platform_slide_y", "platform_slide_z"][: len(pose)]
+    children = [*(f"{name}_carriage" for name in names[:-1]), "platform"]
+    parents = ["base", *children[:-1]]
+    return [Joint(name, "P", parent, child, origin, (np.eye(3)[k],), f"the platform's slide along {name[-1]} "
+                  "(unactuated)", value=float(pose[k]))
+            for k, (name, parent, child) in enumerate(zip(names, parents, children, strict=True))]
 
 
 def _about(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -296,21 +335,31 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
             platform_parts.append(Inertial.principal(mass, centre, moments, rotation))
         else:
             platform_parts.append(Inertial.point(mass, centre))
-    carrier = next((leg for leg in legs if leg.leg["kind"] not in SPHERICAL
-                    and not (leg.leg["kind"] == "chain" and frame.startswith("spatial"))), None)
+    translating = frame == "planar_point" or (frame.endswith("point") and any(leg.leg["kind"] == "chain"
+                                                                              for leg in legs))
+    carrier = None if translating else next((leg for leg in legs if leg.leg["kind"] not in SPHERICAL
+                                             and not (leg.leg["kind"] == "chain" and frame.startswith("spatial"))),
+                                            None)
     links = [Link("base", "the base: the frame of the pose"),
              Link("platform", "the platform: its frame the pose's at the reference configuration",
                   combined(platform_parts))]
-    joints = [] if carrier is not None else [
-        Joint("platform", "free", "base", "platform", origin, (), "the platform, floating: every leg meets it in a "
-              "spherical joint")]
+    if translating:
+        slides = _slides(origin, x)
+        links += [Link(j.child, f"the carriage of the platform's slide along {j.name[-1]}") for j in slides[:-1]]
+        joints = slides
+    else:
+        joints = [] if carrier is not None else [
+            Joint("platform", "free", "base", "platform", origin, (), "the platform, floating: every leg meets it in "
+                  "a spherical joint")]
     order = ([carrier] if carrier is not None else []) + [leg for leg in legs if leg is not carrier]
     for leg in order:
         links += leg.links
         joints += leg.joints
     kinds = sorted({leg.leg["kind"] for leg in legs})
     hung = (f"The platform hangs from leg {carrier.k}; every other leg is cut at its platform joint" if carrier
-            is not None else "The platform floats (a free joint): every leg is cut at its spherical platform joint")
+            is not None else "The platform translates on unactuated prismatic joints along the pose's axes, as "
+            "pkm's model of a point pose has it: every leg is cut at its platform joint" if translating else
+            "The platform floats (a free joint): every leg is cut at its spherical platform joint")
     notes = [
         f"{hung}: a spherical joint becomes a point contact (3d), any other stays on the leg, welded to the platform "
         "(6d).",
