@@ -34,6 +34,13 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch; with ``cone``, the leg's angle from the base's
   normal and from the platform's at most cone: (C - A).n - cos(cone) |C - A| >= 0 for both normals.
 
+* ``chain``, planar or spatial: R, P, U and parallelogram joints from A, each with its axes and its link in
+  the frame of the body before it (the leg's frame the base's turned about z by ``turn``), ending at C in
+  the platform's point joint: h = A + (the chain's end) - C, as many joint variables as h has rows. Its
+  inverse kinematics here is only the start of the runtime's Newton continuation (``continuation_start``,
+  the branch's seed): :func:`pkm.spec.composed_inverse_kinematics` solves it from ``chain<k>(q_leg, c,
+  design) -> (h, H)`` and ``chain<k>_ends(x, design) -> (a, c)``. Its side is the sign of det H.
+
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
 With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
 ``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``skeleton(q, x, design)`` gives the joints'

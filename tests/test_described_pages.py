@@ -1,5 +1,5 @@
-"""docs/mechanisms.md runs as written (its TOML block saved under the name its first line gives, its Python
-blocks in order), and the pages of the shipped descriptions (docs/mechanisms/<name>.md) are those their
+"""docs/mechanisms.md runs as written (its TOML blocks saved under the names their first lines give, its
+Python blocks in order), and the pages of the shipped descriptions (docs/mechanisms/<name>.md) are those their
 descriptions and syntheses give (pkm.models.described.pages)."""
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ def _blocks(kind: str) -> list[str]:
 
 
 def test_the_walkthrough_runs_from_its_description_to_a_verified_synthesis(tmp_path, monkeypatch, capsys):
-    (toml,) = _blocks("toml")
-    name = re.match(r"# (\S+\.toml)\n", toml).group(1)
-    (tmp_path / name).write_text(toml)
+    for toml in _blocks("toml"):
+        name = re.match(r"# (\S+\.toml)\n", toml).group(1)
+        (tmp_path / name).write_text(toml)
     monkeypatch.chdir(tmp_path)
     scope: dict = {}
     for block in _blocks("python"):
