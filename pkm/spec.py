@@ -9,7 +9,8 @@ A description is a mapping (or a TOML file) with
 * ``parameters``: a list of {name, default, lower, upper, unit, doc};
 * ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``RPR``, ``PRR``, ``R_parallelogram``,
   ``UPS``, see :mod:`symbolic.describe`, or ``chain``: a serial chain of joints, :func:`_chain_legs`),
-  ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and ``platform`` attachments, each a list of points (one per leg, each a list of coordinates) or a pattern
+  ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and ``platform`` attachments,
+  each a list of points (one per leg, each a list of coordinates) or a pattern
   ``{circle = "R", start = "pi/2"}`` (``count`` points at ``start + 2 pi i / count``) or ``{circle = "R",
   start = "0", pairs = "theta"}`` (``count / 2`` pairs centred at ``start + 2 pi j / (count / 2)``,
   ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
