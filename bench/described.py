@@ -20,6 +20,13 @@ For each described machine (pkm/models/described: rrr3, delta, stewart):
   verified objective, and its baseline's (the problem's own: a grid or Monte Carlo, run by the driver on
   the same model): wall time, evaluations and best objective.
 
+The machines of examples/ whose legs are chains of joints (solved by Newton continuation: delta_chains, the
+Delta of pkm/models/described/delta.toml given joint by joint, and hexa, a 6-RUS platform) get the same
+derivation and load figures and the compiled 1/kappa_f on 1 and 2 threads; delta_chains against the numpy
+Delta (the closed form of the same machine, its mode elbow_out) and against pkm's closed-form Delta in the
+same run, hexa without a numpy baseline (its poses' 1/kappa_f, at least bench.methods.CONDITION_MARGIN, is
+pkm's).
+
 Nothing asserts on time: :func:`markdown` renders the figures beside the issue's goals.
 """
 
@@ -50,7 +57,10 @@ ROOT = Path(__file__).resolve().parent.parent
 SEED = 20261126
 POSES = 1_000_000
 THREADS = (1, 2)
-DERIVATION_GOAL_S = {"rrr3": 30.0, "delta": 30.0, "stewart": 120.0}  # issue 24: 3-DOF machines, Stewart platform
+DERIVATION_GOAL_S = {"rrr3": 30.0, "delta": 30.0, "stewart": 120.0, "delta_chains": 30.0, "hexa": 120.0}
+# issue 24: 3-DOF machines, Stewart platform (and the 6-DOF hexa)
+CHAINS = {"delta_chains": ("delta", "elbow_out"), "hexa": (None, None)}  # examples/<name>.toml: its closed-form
+# twin among the described machines (the numpy model's and pkm's) and the twin's mode
 RATIO_GOAL = 10.0  # issue 24: compiled local_index against numpy on 2 threads
 
 CHILD = """
@@ -99,13 +109,18 @@ def _child(name: str, cache: Path) -> dict[str, Any]:
     return {**json.loads(done.stdout.strip().splitlines()[-1]), "process_s": wall}
 
 
+def _source(name: str) -> str:
+    """What ``pkm.load`` takes for a machine: its registered name, or its file in examples/."""
+    return str(ROOT / "examples" / f"{name}.toml") if name in CHAINS else name
+
+
 def derivation(name: str) -> dict[str, Any]:
     """Derivation from an empty cache, then load from the warm cache, each in a new process."""
     with tempfile.TemporaryDirectory(prefix=f"pkm-described-{name}-") as folder:
         cache = Path(folder)
-        cold = _child(name, cache)
+        cold = _child(_source(name), cache)
         derived = sorted(p.name for p in (cache / "descriptions").glob(f"{name}_*.py"))
-        warm = _child(name, cache)
+        warm = _child(_source(name), cache)
     log(f"{name}: derived from an empty cache in {_derivation_s(cold):.2f} s (first IK "
         f"{cold['first_inverse_kinematics_s']:.3f} s); from the warm cache {_warm_s(warm):.3f} s")
     return {"empty_cache": cold, "warm_cache": warm, "derived_modules": derived}
@@ -122,33 +137,54 @@ def _warm_s(child: Mapping[str, Any]) -> float:
 
 
 def local_index(name: str, n: int, repeats: int, rng: np.random.Generator) -> dict[str, Any]:
-    """Compiled 1/kappa_f at n reachable poses against numpy, on 1 and 2 threads (module docstring)."""
-    m, model = pkm.load(name), MODELS[name]
+    """Compiled 1/kappa_f at n reachable poses against numpy, on 1 and 2 threads (module docstring); a chain
+    machine against its closed-form twin's numpy model and pkm's closed-form twin where it has one."""
+    m = pkm.load(_source(name))
+    twin, twin_mode = CHAINS.get(name, (name, None))
     design = m.design()
     mode = m.modes[0]
-    d, signs = dict(design), m.working_mode(mode).signs
-    X = methods.sample_poses(m, mode, n, rng)
+    d = dict(design)
+    signs = None if twin is None else pkm.load(twin).working_mode(twin_mode or mode).signs
+
+    def condition(X: np.ndarray) -> np.ndarray:
+        if twin is None:
+            return m.local_index("inverse_condition_f", X, design, mode=mode)
+        return MODELS[twin].inverse_condition_f(X, d, signs)
+
+    X = methods.sample_poses(m, mode, n, rng, condition)
 
     def ours() -> np.ndarray:
         return m.local_index("inverse_condition_f", X, design, mode=mode)
 
-    def theirs() -> np.ndarray:
-        return model.inverse_condition_f(X, d, signs)
+    timed = {"pkm": ours}
+    reference = numpy_s = None
+    if twin is not None:
 
-    reference = theirs()
-    numpy_s = methods.best_of(theirs, repeats)
-    out: dict[str, Any] = {"mode": mode, "poses": len(X), "numpy_s": numpy_s, "threads": {}}
+        def theirs() -> np.ndarray:
+            return condition(X)
+
+        reference = theirs()
+        numpy_s = methods.best_of(theirs, repeats)
+        if twin != name:
+            closed = pkm.load(twin)
+            full = {**dict(closed.design()), **d}
+            timed["closed_form"] = lambda: closed.local_index("inverse_condition_f", X, full, mode=twin_mode)
+    out: dict[str, Any] = {"mode": mode, "poses": len(X), "numpy_s": numpy_s, "threads": {}, "closed_form": {}}
     default = pkm.batch.THREADS
     try:
         for threads in THREADS:
             set_threads(threads)
-            err = methods.discrepancy(ours(), reference, f"{name} inverse_condition_f on {threads} thread(s)")
-            ours()
-            seconds = methods.best_of(ours, repeats)
-            out["threads"][str(threads)] = {"seconds": seconds, "ratio_vs_numpy": numpy_s / seconds,
-                                            "max_discrepancy": err}
-            log(f"{name} 1/kappa_f on {threads} thread(s): {len(X) / seconds / 1e6:.3g} M/s, "
-                f"{numpy_s / seconds:.3g}x numpy ({len(X) / numpy_s / 1e6:.3g} M/s)")
+            for key, fn in timed.items():
+                err = None if reference is None else methods.discrepancy(
+                    fn(), reference, f"{name} inverse_condition_f ({key}) on {threads} thread(s)")
+                fn()
+                seconds = methods.best_of(fn, repeats)
+                row = {"seconds": seconds, "ratio_vs_numpy": None if numpy_s is None else numpy_s / seconds,
+                       "max_discrepancy": err}
+                (out["threads"] if key == "pkm" else out["closed_form"])[str(threads)] = row
+                log(f"{name} 1/kappa_f ({key}) on {threads} thread(s): {len(X) / seconds / 1e6:.3g} M/s"
+                    + ("" if numpy_s is None else f", {numpy_s / seconds:.3g}x numpy ({len(X) / numpy_s / 1e6:.3g} "
+                       "M/s)"))
     finally:
         set_threads(default)
     return out
@@ -205,7 +241,7 @@ def run(n: int, repeats: int) -> dict[str, Any]:
                               "cores_available_before": cores_available(), "poses": n, "repeats": repeats,
                               "seed": SEED, "machines": {}, "syntheses": {}}
     problems = registry.problems()
-    for name in DESCRIPTIONS:
+    for name in [*DESCRIPTIONS, *CHAINS]:
         report["machines"][name] = {"derivation": derivation(name), "local_index": local_index(name, n, repeats, rng)}
         for key in sorted(k for k in problems if k.startswith(f"{name}.")):
             report["syntheses"][key] = synthesis(problems[key])
@@ -216,6 +252,11 @@ def run(n: int, repeats: int) -> dict[str, Any]:
 
 def _met(value: float, goal: float, below: bool) -> str:
     return "yes" if (value < goal if below else value >= goal) else "no"
+
+
+def _rate(poses: int, timing: Mapping[str, Any]) -> str:
+    ratio = timing["ratio_vs_numpy"]
+    return f"{poses / timing['seconds'] / 1e6:.3g} M" + ("" if ratio is None else f" ({ratio:.3g}x)")
 
 
 def _objective(r: Mapping[str, Any]) -> str:
@@ -261,11 +302,27 @@ def markdown(report: Mapping[str, Any]) -> str:
     ]
     for name, row in report["machines"].items():
         index = row["local_index"]
-        cells = [f"{index['poses'] / t['seconds'] / 1e6:.3g} M ({t['ratio_vs_numpy']:.3g}x)"
-                 for t in (index["threads"][str(k)] for k in THREADS)]
+        cells = [_rate(index["poses"], t) for t in (index["threads"][str(k)] for k in THREADS)]
         ratio = index["threads"][str(max(THREADS))]["ratio_vs_numpy"]
-        lines.append(f"| {name} | {index['mode']} | {index['poses'] / index['numpy_s'] / 1e6:.3g} M | "
-                     f"{' | '.join(cells)} | {_met(ratio, RATIO_GOAL, False)} |")
+        numpy_rate = "none" if index["numpy_s"] is None else f"{index['poses'] / index['numpy_s'] / 1e6:.3g} M"
+        met = "-" if ratio is None else _met(ratio, RATIO_GOAL, False)
+        lines.append(f"| {name} | {index['mode']} | {numpy_rate} | {' | '.join(cells)} | {met} |")
+    lines += [
+        "",
+        "The chain machines' legs are solved by Newton continuation (examples/; "
+        "docs/mechanisms.md, section 5); numpy for delta_chains is the Delta's closed form (the same machine, "
+        "elbow_out), and hexa has no numpy baseline. pkm's closed-form Delta on the same poses, in the same run:",
+        "",
+        "| machine | closed-form twin, 1 thread | 2 threads | chain on 2 threads against it |",
+        "|---|---:|---:|---:|",
+    ]
+    for name, row in report["machines"].items():
+        closed = row["local_index"]["closed_form"]
+        if closed:
+            last = str(max(THREADS))
+            cells = [_rate(row["local_index"]["poses"], closed[str(k)]) for k in THREADS]
+            lines.append(f"| {name} | {' | '.join(cells)} | "
+                         f"{closed[last]['seconds'] / row['local_index']['threads'][last]['seconds']:.2f}x |")
     lines += [
         "",
         "Each registered synthesis at its defaults, second call in the process: its wall time (screening, IPOPT, "

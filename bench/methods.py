@@ -98,17 +98,21 @@ def discrepancy(ours: Any, reference: Any, what: str) -> float:
     return err
 
 
-def sample_poses(m: pkm.Mechanism, mode: str, n: int, rng: np.random.Generator) -> np.ndarray:
+def sample_poses(m: pkm.Mechanism, mode: str, n: int, rng: np.random.Generator,
+                 condition: Callable[[np.ndarray], np.ndarray] | None = None) -> np.ndarray:
     """n poses (n, n_out) uniform in the default design's workspace box, reached by the working mode, with
-    numpy's 1/kappa_f at least CONDITION_MARGIN."""
+    1/kappa_f at least CONDITION_MARGIN: numpy's, or ``condition``'s where given."""
     design = m.design()
     box, d, signs = m.workspace_box(design.vector()), dict(design), m.working_mode(mode).signs
+    if condition is None:
+        def condition(X: np.ndarray) -> np.ndarray:
+            return MODELS[m.name].inverse_condition_f(X, d, signs)
     kept, total = [], 0
     while total < n:
         X = rng.uniform(box[:, 0], box[:, 1], size=(2 * max(n - total, 1024), m.n_out))
         X = X[m.reachable(X, design, mode=mode)]
         with np.errstate(divide="ignore", invalid="ignore"):
-            X = X[MODELS[m.name].inverse_condition_f(X, d, signs) >= CONDITION_MARGIN]
+            X = X[condition(X) >= CONDITION_MARGIN]
         kept.append(X)
         total += len(X)
     return np.ascontiguousarray(np.concatenate(kept)[:n])

@@ -430,10 +430,12 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     (axes of a U), link (the vector to the next joint, fixed in the frame the joint turns or slides) and
     whether it is the actuated one; the platform's point joint (a revolute in the plane, a spherical joint in
     space) ends it. ``branches`` names one or two seeds, the joints' values at the home pose and the default
-    design, each where a branch of the leg is continued from; ``turn`` (each leg's frame turned about z from
-    the base's) is the circle's angle where the base is a circle pattern, else 0."""
+    design, each where a branch of the leg is continued from (or, where the chain is a known subproblem, the
+    closed form's candidate nearest it); ``turn`` (each leg's frame turned about z from the base's) is the
+    circle's angle where the base is a circle pattern, else 0; ``newton = true`` solves the leg by Newton
+    continuation even where a closed form matches it."""
     dim = 2 if frame.startswith("planar") else 3
-    known = {"kind", "count", "base", "platform", "joints", "branches", "turn", "range"}
+    known = {"kind", "count", "base", "platform", "joints", "branches", "turn", "range", "newton"}
     count, base, angles, platform = _attachments(table, where, known, "a chain leg", dim=dim, names=names)
     raw = table.get("joints")
     if not isinstance(raw, list) or not raw:
@@ -467,10 +469,13 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
         raise _fail(f"{where}.turn", f"a list of {count} angles, one per leg")
     else:
         turns = [_expression(f"{where}.turn[{i}]", t, names) for i, t in enumerate(turns)]
+    newton = table.get("newton", False)
+    if not isinstance(newton, bool):
+        raise _fail(f"{where}.newton", "true or false")
     legs = []
     for i in range(count):
         leg = {"kind": CHAIN, "base": base[i], "platform": platform[i], "joints": joints, "branches": seeds,
-               "turn": turns[i]}
+               "turn": turns[i], **({"newton": True} if newton else {})}
         if "range" in table:
             bounds = table["range"]
             if not isinstance(bounds, list) or len(bounds) != 2:
@@ -754,7 +759,7 @@ def composed_inverse_kinematics(description: Description, functions: Mapping[str
     margins = [reach]
     n_act = len(description.data["legs"])
     for k, (_, passive, sign) in enumerate(_legs_layout(description)):
-        if description.data["legs"][k]["kind"] != CHAIN:
+        if f"chain{k + 1}" not in functions:
             continue
         columns = [k, *(n_act + p for p in passive)]
         leg, ends = functions[f"chain{k + 1}"], functions[f"chain{k + 1}_ends"]

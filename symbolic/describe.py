@@ -37,9 +37,10 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
 * ``chain``, planar or spatial: R, P, U and parallelogram joints from A, each with its axes and its link in
   the frame of the body before it (the leg's frame the base's turned about z by ``turn``), ending at C in
   the platform's point joint: h = A + (the chain's end) - C, as many joint variables as h has rows. Its
-  inverse kinematics here is only the start of the runtime's Newton continuation (``continuation_start``,
-  the branch's seed): :func:`pkm.spec.composed_inverse_kinematics` solves it from ``chain<k>(q_leg, c,
-  design) -> (h, H)`` and ``chain<k>_ends(x, design) -> (a, c)``. Its side is the sign of det H.
+  inverse kinematics is a closed form where its two joints are a known subproblem (:func:`_closed_chain`),
+  else only the start of the runtime's Newton continuation (``continuation_start``, the branch's seed):
+  :func:`pkm.spec.composed_inverse_kinematics` solves it from ``chain<k>(q_leg, c, design) -> (h, H)`` and
+  ``chain<k>_ends(x, design) -> (a, c)``. Its side is the sign of det H.
 
 A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
 With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
@@ -54,7 +55,9 @@ others.
 
 from __future__ import annotations
 
+import itertools
 import json
+import math
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -178,17 +181,21 @@ def _plane_rotation(angle: sp.Expr) -> sp.Matrix:
     return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
 
 
-def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: Any, scalar: Any) -> _Leg:
+def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: Any, scalar: Any,
+           start: dict[sp.Symbol, float]) -> _Leg:
     """A serial chain of R, P, U and parallelogram joints from A, its links fixed in the frame of the joint
     before them, ending at C in the platform's point joint. The leg's frame is the base's turned about z by
     ``turn``; each joint's axes and link are in the frame of the body before it. A parallelogram turns its
-    rods (its link) like a universal joint and keeps the frame of the body before it for what follows. Its
-    inverse kinematics here is the start of the runtime's continuation: each branch's seed (the joints at
-    the home pose and the default design), chosen by the leg's sign where it has two."""
+    rods (its link) like a universal joint and keeps the frame of the body before it for what follows.
+
+    Its inverse kinematics is a closed form where the chain is two joints of a known subproblem
+    (:func:`_closed_chain`; each named seed chooses the candidate nearest it at ``start``, the home pose at
+    the default design), else (or with ``newton``) only the start of the runtime's continuation: each
+    branch's seed, chosen by the leg's sign where it has two, and ``end`` is set."""
     planar = a.rows == 2
     turn = scalar(leg["turn"])
-    rotation = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
-    point, variables, points, actuated = a, [], [], None
+    frame = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
+    rotation, point, variables, points, actuated = frame, a, [], [], None
     for j, joint in enumerate(leg["joints"]):
         names = [f"q{k + 1}_{j + 1}"] if joint["type"] in ("R", "P") else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
         mine = [sp.Symbol(n, real=True) for n in names]
@@ -208,12 +215,134 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
         points.append(point)
     h = list(point - c)
     sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None
-    seeds = [[sp.Float(v) for v in values] for _, values in leg["branches"]]
-    start = seeds[0] if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * m for p, m in zip(*seeds,
-                                                                                                         strict=True)]
+    seeds = [[float(v) for v in values] for _, values in leg["branches"]]
     side = sp.Matrix(h).jacobian(variables).det()
-    return _Leg(h, actuated, [v for v in variables if v is not actuated], dict(zip(variables, start, strict=True)),
-                [], sigma, side=side, joints=tuple(points[:-1]), end=point)
+    passive = [v for v in variables if v is not actuated]
+    closed = None if leg.get("newton") else _closed_chain(leg["joints"], frame.T * (c - a), vector)
+    if closed is None:
+        first = [sp.Float(v) for v in seeds[0]]
+        blend = first if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * sp.Float(m)
+                                             for p, m in zip(first, seeds[-1], strict=True)]
+        return _Leg(h, actuated, passive, dict(zip(variables, blend, strict=True)), [], sigma, side=side,
+                    joints=tuple(points[:-1]), end=point)
+    solution, reach, signs = closed
+    angles = [joint["type"] != "P" for joint in leg["joints"] for _ in range(2 if joint["type"] not in ("R", "P")
+                                                                              else 1)]
+    chosen = [_nearest_candidate(solution, signs, seed, angles, start) for seed in seeds]
+    values = {s: chosen[0][i] if sigma is None else (1 + sigma) / 2 * chosen[0][i] + (1 - sigma) / 2 * chosen[-1][i]
+              for i, s in enumerate(signs)}
+    ik = {v: e.subs(values) for v, e in zip(variables, solution, strict=True)}
+    return _Leg(h, actuated, passive, ik, [m.subs(values) for m in reach], sigma, side=side,
+                joints=tuple(points[:-1]))
+
+
+def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: list[float], angles: list[bool],
+                       start: dict[sp.Symbol, float]) -> list[int]:
+    """The branch signs of the closed form whose joints at ``start`` are nearest the seed (angles wrapped)."""
+    symbols = list(start)
+    joints = sp.lambdify([*signs, *symbols], solution, modules="math", cse=True)
+    best, chosen = math.inf, [1] * len(signs)
+    for combo in itertools.product((1, -1), repeat=len(signs)):
+        try:
+            values = joints(*combo, *(start[s] for s in symbols))
+        except (ValueError, ZeroDivisionError):  # the candidate does not exist there
+            continue
+        if not all(math.isfinite(v) for v in values):
+            continue
+        gaps = [math.remainder(v - t, 2 * math.pi) if angle else v - t
+                for v, t, angle in zip(values, seed, angles, strict=True)]
+        distance = math.fsum(g * g for g in gaps)
+        if distance < best:
+            best, chosen = distance, list(combo)
+    return chosen
+
+
+def _circle_angle(p: sp.Expr, q: sp.Expr, k: sp.Expr, sign: sp.Symbol) -> tuple[sp.Expr, sp.Expr]:
+    """t with p cos t + q sin t = k on the branch ``sign``, and the margin p^2 + q^2 - k^2 (>= 0 where it exists)."""
+    return sp.atan2(q, p) + sign * sp.acos(k / sp.sqrt(p**2 + q**2)), p**2 + q**2 - k**2
+
+
+def _pointing(axes: list[sp.Matrix], p: sp.Matrix, q: sp.Matrix, sign: sp.Symbol | None
+              ) -> tuple[list[sp.Expr], list[sp.Expr]]:
+    """The angles turning p onto q (|p| = |q|) about one axis (the plane's z) or two (the first's rotation
+    applied after the second's, both in the same frame: Paden and Kahan's second subproblem, ``sign`` the
+    side of the plane of the axes), and their margin where there are two."""
+    if len(axes) == 0:
+        return [sp.atan2(q[1], q[0]) - sp.atan2(p[1], p[0])], []
+    w1, w2 = (axis / sp.sqrt(axis.dot(axis)) for axis in axes)
+    c12 = w1.dot(w2)
+    across = w1.cross(w2)
+    alpha = (c12 * w2.dot(p) - w1.dot(q)) / (c12**2 - 1)
+    beta = (c12 * w1.dot(q) - w2.dot(p)) / (c12**2 - 1)
+    gamma2 = (p.dot(p) - alpha**2 - beta**2 - 2 * alpha * beta * c12) / across.dot(across)
+    z = alpha * w1 + beta * w2 + sign * sp.sqrt(gamma2) * across
+
+    def about(w: sp.Matrix, u: sp.Matrix, v: sp.Matrix) -> sp.Expr:
+        u, v = u - w * w.dot(u), v - w * w.dot(v)
+        return sp.atan2(w.dot(u.cross(v)), u.dot(v))
+
+    return [about(w1, z, q), about(w2, p, z)], [gamma2]
+
+
+def _closed_chain(joints: list[dict[str, Any]], d: sp.Matrix, vector: Any
+                  ) -> tuple[list[sp.Expr], list[sp.Expr], list[sp.Symbol]] | None:
+    """A two-joint chain's closed form from d = C - A in the leg's frame: the joints in order, the reach
+    margins and the branch sign symbols; None where the chain is none of:
+
+    * an actuated R or P, then a pointing joint (a planar R; a U or a parallelogram in space) with its link
+      l2: the first joint puts the second's centre at the distance |l2| from C (a circle or a line met by a
+      circle or a sphere), the second points l2 at C;
+    * a pointing joint without a link, then an actuated P without one: the P's length is |d|, the pointing
+      joint points its axis at C."""
+    if len(joints) != 2:
+        return None
+    first, second = joints
+    planar = d.rows == 2
+    pointing = ("R",) if planar else ("U", "parallelogram")
+    sign1, sign2 = sp.symbols("branch_distance branch_pointing", real=True)
+    zero = sp.zeros(d.rows, 1)
+
+    def axes(joint: dict[str, Any]) -> list[sp.Matrix]:
+        return [] if planar else [vector(a) for a in joint["axes"]]
+
+    def turn(joint: dict[str, Any], angles: list[sp.Expr]) -> sp.Matrix:
+        if planar:
+            return _plane_rotation(angles[0])
+        out = sp.eye(3)
+        for axis, angle in zip(joint["axes"], angles, strict=True):
+            out = out * _axis_rotation(vector(axis), angle)
+        return out
+
+    if first["actuated"] and first["type"] in ("R", "P") and second["type"] in pointing:
+        l1, l2 = vector(first["link"]), vector(second["link"])
+        if first["type"] == "R":
+            axis = sp.Matrix([0, 0, 1]) if planar else vector(first["axes"][0])
+            u = axis / sp.sqrt(axis.dot(axis))
+            along = u * u.dot(l1) if not planar else zero
+            across = l1 - along
+            normal = (u.cross(across) if not planar else sp.Matrix([-across[1], across[0]]))
+            k = (d.dot(d) + l1.dot(l1) - l2.dot(l2)) / 2 - d.dot(along)
+            t, margin = _circle_angle(d.dot(across), d.dot(normal), k, sign1)
+            frame = _plane_rotation(t) if planar else _axis_rotation(axis, t)
+            tip = frame * l1
+        else:
+            e = vector(first["axis"])
+            e = e / sp.sqrt(e.dot(e))
+            w = d - l1
+            off = w - e * e.dot(w)
+            margin = l2.dot(l2) - off.dot(off)
+            t = e.dot(w) + sign1 * sp.sqrt(margin)
+            frame, tip = sp.eye(d.rows), t * e + l1
+        angles, more = _pointing(axes(second), l2, frame.T * (d - tip), sign2)
+        return [t, *angles], [margin, *more], [sign1, sign2] if not planar else [sign1]
+    if second["actuated"] and second["type"] == "P" and first["type"] in pointing and \
+            vector(first["link"]) == zero and vector(second["link"]) == zero:
+        e = vector(second["axis"])
+        e = e / sp.sqrt(e.dot(e))
+        length = sp.sqrt(d.dot(d))
+        angles, more = _pointing(axes(first), e, d / length, sign2)
+        return [*angles, length], [d.dot(d), *more], [] if planar else [sign2]
+    return None
 
 
 # weight, its Jacobian in z, the inner matrix, and a point mass's position (None for a turning term)
@@ -368,6 +497,8 @@ def module(description: dict[str, Any]) -> ModuleSpec:
 
     rotation = _rotation(frame, pose)
     dim = rotation.rows
+    defaults = {s: p["default"] for s, p in zip(design, description["parameters"], strict=True)}
+    start = {**defaults, **{s: float(v.subs(defaults)) for s, v in zip(pose, vector(description["home"]), strict=True)}}
     origin = sp.Matrix(pose[:dim])
     legs = []
     kinetic: list[Kinetic] = []
@@ -387,12 +518,12 @@ def module(description: dict[str, Any]) -> ModuleSpec:
         elif leg["kind"] == "UPS":
             legs.append(_ups(k, a, c, rotation, None if "cone" not in leg else scalar(leg["cone"])))
         else:
-            legs.append(_chain(k, a, c, leg, vector=vector, scalar=scalar))
+            legs.append(_chain(k, a, c, leg, vector=vector, scalar=scalar, start=start))
         last = legs[-1]
         margins = tuple(last.reach)
         if "range" in leg:
             lo, hi = (scalar(t) for t in leg["range"])
-            closed = [] if leg["kind"] == "chain" else [last.ik[last.actuated] - lo, hi - last.ik[last.actuated]]
+            closed = [] if last.end is not None else [last.ik[last.actuated] - lo, hi - last.ik[last.actuated]]
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, [*last.reach, *closed], last.sign,
                             (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints, last.end)
         else:
@@ -415,7 +546,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     joints = Port("q", (*q_a, *q_p), "actuated joints, then the passive joints leg by leg")
     actuated = Port("q_a", q_a, "actuated joints")
     mode = Port("mode", signs, "branch sign of each leg with two (+1 or -1)")
-    chains = any(leg["kind"] == "chain" for leg in description["legs"])
+    chains = any(leg.end is not None for leg in legs)
     inverse = InverseKinematics(
         q, sp.Matrix([m for leg in legs for m in leg.reach]),
         "Closed-form inverse kinematics, leg by leg, on the branch of the mode's signs"

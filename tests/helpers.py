@@ -17,6 +17,8 @@ import numpy as np
 import pkm
 from pkm.models.described import DESCRIPTIONS
 
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+
 ATTEMPTS = 1000  # random designs drawn before giving up
 
 
@@ -210,23 +212,10 @@ FIVE_BAR_OF_CHAINS = {
 
 
 def delta_of_chains() -> dict:
-    """The Delta description with each arm and parallelogram as a chain: the actuated revolute about the
-    tangent (y of the leg's frame, turned to its base joint), the arm, the parallelogram forearm (its rods'
-    plane turning about the tangent, the rods swinging across it) and the platform's point joint; without
-    bodies."""
-    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
-    legs = raw["legs"]
-    for field in ("gravity", "platform", "modes"):
-        raw.pop(field)
-    raw["name"] = "delta_chains"
-    raw["parameters"] = [p for p in raw["parameters"] if p["unit"] == "m"]
-    raw["legs"] = {"kind": "chain", "count": 3, "base": legs["base"], "platform": legs["platform"],
-                   "range": legs["range"],
-                   "joints": [{"type": "R", "axis": [0, 1, 0], "actuated": True, "link": ["L_a", 0, 0]},
-                              {"type": "parallelogram", "axes": [[0, 1, 0], [0, 0, 1]], "link": ["L_b", 0, 0]},
-                              {"type": "S"}],
-                   "branches": {"down": [0.0, 2.3, 0.0]}}
-    return raw
+    """examples/delta_chains.toml: the Delta description's machine with each arm and parallelogram as a chain
+    (the actuated revolute about the tangent, the arm, the parallelogram forearm, the platform's point joint),
+    without bodies."""
+    return tomllib.loads((EXAMPLES / "delta_chains.toml").read_text())
 
 
 def rrr3_of_chains() -> dict:

@@ -30,6 +30,11 @@ def test_the_walkthrough_runs_from_its_description_to_a_verified_synthesis(tmp_p
     assert scope["result"].optimum.feasible
 
 
+def test_the_chain_example_of_the_page_is_the_one_in_examples():
+    (hexa,) = (block for block in _blocks("toml") if block.startswith("# hexa.toml"))
+    assert hexa == (DOC.parent.parent / "examples" / "hexa.toml").read_text()
+
+
 @pytest.mark.parametrize("name", list(DESCRIPTIONS))
 def test_a_shipped_description_has_its_page_and_figures(name):
     assert pages.check([name]) == []

@@ -1,7 +1,9 @@
-"""Machines as data, legs as serial chains of joints (``kind = "chain"``) solved by Newton continuation: the
-five-bar and the Delta described joint by joint give the hand-derived five-bar's and the Delta description's
-closed forms (inverse kinematics on every branch, J, the GCI and its design gradient), compiled as on the
-interpreter; forward kinematics returns the pose; bad chains name their field."""
+"""Machines as data, legs as serial chains of joints (``kind = "chain"``), each solved twice: by the closed
+form of the subproblem its joints match and by Newton continuation (``newton = true``). The five-bar, the
+3-RRR and the Delta described joint by joint give, both ways, the hand-derived five-bar's and the kinds'
+closed forms (inverse kinematics on every branch, J, the GCI and its design gradient); the continued
+inverse kinematics compiles to the interpreter's values; forward kinematics returns the pose; bad chains
+name their field."""
 
 from __future__ import annotations
 
@@ -9,10 +11,11 @@ import copy
 import os
 import re
 import shutil
+import tomllib
 
 import numpy as np
 import pytest
-from helpers import FIVE_BAR_OF_CHAINS, delta_of_chains, rrr3_of_chains
+from helpers import EXAMPLES, FIVE_BAR_OF_CHAINS, delta_of_chains, rrr3_of_chains
 
 import pkm
 from pkm import compiled
@@ -20,21 +23,39 @@ from pkm.batch import evaluate, interpreted
 from pkm.models.described import DESCRIPTIONS
 from pkm.spec import DescriptionError, describe
 
+SOLVERS = ("closed", "newton")
+
+
+def _newton(raw: dict) -> dict:
+    """The description with every chain leg solved by Newton continuation."""
+    out = copy.deepcopy(raw)
+    out["name"] += "_newton"
+    for table in out["legs"] if isinstance(out["legs"], list) else [out["legs"]]:
+        table["newton"] = True
+    return out
+
 
 @pytest.fixture(scope="module")
 def machines():
-    return {"five_bar": pkm.load(FIVE_BAR_OF_CHAINS), "delta": pkm.load(delta_of_chains()),
-            "rrr3": pkm.load(rrr3_of_chains())}
+    raws = {"five_bar": FIVE_BAR_OF_CHAINS, "delta": delta_of_chains(), "rrr3": rrr3_of_chains()}
+    return {(name, solver): pkm.load(raw if solver == "closed" else _newton(raw))
+            for name, raw in raws.items() for solver in SOLVERS}
+
+
+def test_a_chain_of_a_known_subproblem_has_its_closed_form_and_newton_is_asked_for(machines):
+    for (name, solver), m in machines.items():
+        assert ("continuation_start" in m.functions) == (solver == "newton"), name
 
 
 def _wrapped(a: np.ndarray) -> np.ndarray:
     return np.angle(np.exp(1j * a))
 
 
-def test_the_five_bar_of_chains_reaches_every_pose_of_every_mode_as_the_closed_form_does(machines):
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_the_five_bar_of_chains_reaches_every_pose_of_every_mode_as_the_closed_form_does(machines, solver):
     """Every pose the hand-derived five-bar reaches in a mode, and no other, the chains reach in the mode of
     the same name, with the same actuated joints to 1e-12 and the same J and J_f to 1e-10."""
-    m, hand = machines["five_bar"], pkm.load("five_bar")
+    m, hand = machines["five_bar", solver], pkm.load("five_bar")
     design = hand.design()
     small = np.array([design[n] for n in ("r1", "r2", "r3")])
     x = np.random.default_rng(7).uniform(-2.2, 2.2, size=(3000, 2))
@@ -56,8 +77,9 @@ def test_the_five_bar_of_chains_reaches_every_pose_of_every_mode_as_the_closed_f
         np.testing.assert_allclose(J_f, their_J_f, rtol=1e-10, atol=1e-10)
 
 
-def test_the_delta_of_chains_is_the_delta_description_elbow_out(machines):
-    m, delta = machines["delta"], pkm.load(str(DESCRIPTIONS["delta"]))
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_the_delta_of_chains_is_the_delta_description_elbow_out(machines, solver):
+    m, delta = machines["delta", solver], pkm.load(str(DESCRIPTIONS["delta"]))
     x = np.random.default_rng(8).uniform([-0.3, -0.3, -0.8], [0.3, 0.3, -0.2], size=(3000, 3))
     design = {p.name: delta.design()[p.name] for p in m.parameters}
     theirs = delta.inverse_kinematics(x, mode="elbow_out")
@@ -70,9 +92,10 @@ def test_the_delta_of_chains_is_the_delta_description_elbow_out(machines):
                                rtol=1e-10, atol=1e-10)
 
 
-def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines):
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines, solver):
     """The chains' joints are relative to each leg's frame (turned to its base joint): theta = turn + q1."""
-    m, rrr3 = machines["rrr3"], pkm.load(str(DESCRIPTIONS["rrr3"]))
+    m, rrr3 = machines["rrr3", solver], pkm.load(str(DESCRIPTIONS["rrr3"]))
     turns = np.pi / 2 + 2 * np.pi * np.arange(3) / 3
     x = np.random.default_rng(11).uniform([-0.3, -0.3, -0.6], [0.3, 0.3, 0.6], size=(1500, 3))
     assert m.modes == rrr3.modes
@@ -87,10 +110,11 @@ def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines):
                                    rtol=1e-10, atol=1e-10)
 
 
-def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines):
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines, solver):
     """Through the Newton steps the design gradient is the implicit function's: over a fixed disc the GCI
     and its gradient in (r1, r2, r3) agree with the hand-derived five-bar's to 1e-10 and 1e-9."""
-    m, hand = machines["five_bar"], pkm.load("five_bar")
+    m, hand = machines["five_bar", solver], pkm.load("five_bar")
     design = hand.design()
     small = {n: design[n] for n in ("r1", "r2", "r3")}
     disc = hand.region("miw")
@@ -112,18 +136,19 @@ def test_the_continued_inverse_kinematics_compiles_to_the_interpreters_values(ma
     monkeypatch.setenv("PKM_CACHE_DIR", str(tmp_path))
     compiled.reset()
     try:
-        fn = machines["five_bar"].functions["inverse_kinematics"]
+        fn = machines["five_bar", "newton"].functions["inverse_kinematics"]
         assert compiled.kernel(fn, work=compiled.WAIT_WORK) is not None
         x = np.random.default_rng(9).uniform(-2.2, 2.2, size=(500, 2))
-        design, mode = machines["five_bar"].design().vector(), np.array([1.0, -1.0])
+        design, mode = machines["five_bar", "newton"].design().vector(), np.array([1.0, -1.0])
         for a, b in zip(evaluate(fn, x, mode, design), interpreted(fn, x, mode, design), strict=True):
             np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
     finally:
         compiled.reset()
 
 
-def test_forward_kinematics_of_chains_returns_the_pose(machines):
-    m = machines["delta"]
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_forward_kinematics_of_chains_returns_the_pose(machines, solver):
+    m = machines["delta", solver]
     x = np.random.default_rng(10).uniform([-0.1, -0.1, -0.6], [0.1, 0.1, -0.35], size=(60, 3))
     x = x[m.reachable(x)][:30]
     q = m.inverse_kinematics(x, passive=True)
@@ -160,5 +185,24 @@ def test_a_bad_chain_names_its_field(change, field):
 def test_a_seed_that_does_not_close_its_leg_is_refused_naming_its_branch():
     raw = _broken(lambda r: r["legs"].update(branches={"down": [0.0, 2.3, 0.0], "up": [9.0, 9.0, 9.0]}))
     raw["parameters"][3]["default"] = 0.1
+    raw["legs"]["newton"] = True
     with pytest.raises(DescriptionError, match=r"leg 1\) branches\.(down|up) violates: a seed the leg closes from"):
         pkm.load(raw)
+
+
+def test_the_hexas_closed_form_is_its_newton_continuation():
+    """examples/hexa.toml (6-RUS, a spatial pose): the closed form (an arm's angle by the distance of its rod,
+    the universal joint's two by Paden and Kahan's second subproblem) and Newton's method give the same
+    joints, all 18, to 1e-12 where both reach, and reach the same poses."""
+    raw = tomllib.loads((EXAMPLES / "hexa.toml").read_text())
+    closed, newton = pkm.load(raw), pkm.load(_newton(raw))
+    x = np.random.default_rng(12).uniform([-0.06, -0.06, 0.3, -0.15, -0.15, -0.3], [0.06, 0.06, 0.4, 0.15, 0.15, 0.3],
+                                          size=(200, 6))
+    design, mode = closed.design().vector(), np.ones(1)
+    q, reach = interpreted(closed.functions["inverse_kinematics"], x, mode, design)
+    q_newton, reach_newton = interpreted(newton.functions["inverse_kinematics"], x, mode, design)
+    mine, theirs = (np.all(r[..., 0] >= 0, axis=1) & np.isfinite(v[..., 0]).all(axis=1)
+                    for r, v in ((reach, q), (reach_newton, q_newton)))
+    assert mine.sum() > 150
+    np.testing.assert_array_equal(mine, theirs)
+    np.testing.assert_allclose(_wrapped(q[mine, :, 0] - q_newton[mine, :, 0]), 0, atol=1e-12)
