@@ -20,12 +20,12 @@ For each described machine (pkm/models/described: rrr3, delta, stewart):
   verified objective, and its baseline's (the problem's own: a grid or Monte Carlo, run by the driver on
   the same model): wall time, evaluations and best objective.
 
-The machines of examples/ whose legs are chains of joints (solved by Newton continuation: delta_chains, the
-Delta of pkm/models/described/delta.toml given joint by joint, and hexa, a 6-RUS platform) get the same
-derivation and load figures and the compiled 1/kappa_f on 1 and 2 threads; delta_chains against the numpy
-Delta (the closed form of the same machine, its mode elbow_out) and against pkm's closed-form Delta in the
-same run, hexa without a numpy baseline (its poses' 1/kappa_f, at least bench.methods.CONDITION_MARGIN, is
-pkm's).
+The machines of examples/ whose legs are chains of joints (delta_chains, the Delta of
+pkm/models/described/delta.toml given joint by joint, its chains in closed form, and delta_chains_newton,
+the same solved by Newton continuation; hexa, a 6-RUS platform, in closed form) get the same derivation and
+load figures and the compiled 1/kappa_f on 1 and 2 threads; the Delta's chains against the numpy Delta (the
+closed form of the same machine, its mode elbow_out) and against pkm's Delta description in the same run,
+hexa without a numpy baseline (its poses' 1/kappa_f, at least bench.methods.CONDITION_MARGIN, is pkm's).
 
 Nothing asserts on time: :func:`markdown` renders the figures beside the issue's goals.
 """
@@ -39,6 +39,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -57,9 +58,11 @@ ROOT = Path(__file__).resolve().parent.parent
 SEED = 20261126
 POSES = 1_000_000
 THREADS = (1, 2)
-DERIVATION_GOAL_S = {"rrr3": 30.0, "delta": 30.0, "stewart": 120.0, "delta_chains": 30.0, "hexa": 120.0}
+DERIVATION_GOAL_S = {"rrr3": 30.0, "delta": 30.0, "stewart": 120.0, "delta_chains": 30.0, "delta_chains_newton": 30.0,
+                     "hexa": 120.0}
 # issue 24: 3-DOF machines, Stewart platform (and the 6-DOF hexa)
-CHAINS = {"delta_chains": ("delta", "elbow_out"), "hexa": (None, None)}  # examples/<name>.toml: its closed-form
+CHAINS = {"delta_chains": ("delta", "elbow_out"), "delta_chains_newton": ("delta", "elbow_out"),
+          "hexa": (None, None)}  # examples/<name>.toml (<name>_newton: its legs with newton = true): the closed-form
 # twin among the described machines (the numpy model's and pkm's) and the twin's mode
 RATIO_GOAL = 10.0  # issue 24: compiled local_index against numpy on 2 threads
 
@@ -70,7 +73,7 @@ import numpy as np
 import pkm
 out = {"import_s": time.perf_counter() - start}
 start = time.perf_counter()
-m = pkm.load(sys.argv[1])
+m = pkm.load(json.loads(open(sys.argv[1]).read()) if sys.argv[1].endswith(".json") else sys.argv[1])
 out["load_s"] = time.perf_counter() - start
 start = time.perf_counter()
 m.functions["inverse_kinematics"]
@@ -109,18 +112,36 @@ def _child(name: str, cache: Path) -> dict[str, Any]:
     return {**json.loads(done.stdout.strip().splitlines()[-1]), "process_s": wall}
 
 
-def _source(name: str) -> str:
-    """What ``pkm.load`` takes for a machine: its registered name, or its file in examples/."""
-    return str(ROOT / "examples" / f"{name}.toml") if name in CHAINS else name
+def _description(name: str) -> dict[str, Any]:
+    """A chain machine's description: examples/<name>.toml, or for <name>_newton that file's with every chain
+    leg solved by Newton continuation."""
+    base = name.removesuffix("_newton")
+    raw = tomllib.loads((ROOT / "examples" / f"{base}.toml").read_text())
+    if name != base:
+        raw["name"] = name
+        for table in raw["legs"] if isinstance(raw["legs"], list) else [raw["legs"]]:
+            table["newton"] = True
+    return raw
+
+
+def _source(name: str, folder: Path) -> str:
+    """What ``pkm.load`` takes for a machine in a child process: its registered name, or its description as a
+    JSON file written in ``folder``."""
+    if name not in CHAINS:
+        return name
+    path = folder / f"{name}.json"
+    path.write_text(json.dumps(_description(name)))
+    return str(path)
 
 
 def derivation(name: str) -> dict[str, Any]:
     """Derivation from an empty cache, then load from the warm cache, each in a new process."""
     with tempfile.TemporaryDirectory(prefix=f"pkm-described-{name}-") as folder:
         cache = Path(folder)
-        cold = _child(_source(name), cache)
+        source = _source(name, cache)
+        cold = _child(source, cache)
         derived = sorted(p.name for p in (cache / "descriptions").glob(f"{name}_*.py"))
-        warm = _child(_source(name), cache)
+        warm = _child(source, cache)
     log(f"{name}: derived from an empty cache in {_derivation_s(cold):.2f} s (first IK "
         f"{cold['first_inverse_kinematics_s']:.3f} s); from the warm cache {_warm_s(warm):.3f} s")
     return {"empty_cache": cold, "warm_cache": warm, "derived_modules": derived}
@@ -139,7 +160,7 @@ def _warm_s(child: Mapping[str, Any]) -> float:
 def local_index(name: str, n: int, repeats: int, rng: np.random.Generator) -> dict[str, Any]:
     """Compiled 1/kappa_f at n reachable poses against numpy, on 1 and 2 threads (module docstring); a chain
     machine against its closed-form twin's numpy model and pkm's closed-form twin where it has one."""
-    m = pkm.load(_source(name))
+    m = pkm.load(_description(name) if name in CHAINS else name)
     twin, twin_mode = CHAINS.get(name, (name, None))
     design = m.design()
     mode = m.modes[0]
@@ -309,11 +330,12 @@ def markdown(report: Mapping[str, Any]) -> str:
         lines.append(f"| {name} | {index['mode']} | {numpy_rate} | {' | '.join(cells)} | {met} |")
     lines += [
         "",
-        "The chain machines' legs are solved by Newton continuation (examples/; "
-        "docs/mechanisms.md, section 5); numpy for delta_chains is the Delta's closed form (the same machine, "
-        "elbow_out), and hexa has no numpy baseline. pkm's closed-form Delta on the same poses, in the same run:",
+        "The chain machines (examples/; docs/mechanisms.md, section 5): delta_chains and hexa in the closed "
+        "form of their chains' subproblem, delta_chains_newton by Newton continuation; numpy for the Delta's "
+        "chains is the Delta's closed form (the same machine, elbow_out), and hexa has no numpy baseline. pkm's "
+        "Delta description on the same poses, in the same run:",
         "",
-        "| machine | closed-form twin, 1 thread | 2 threads | chain on 2 threads against it |",
+        "| machine | the Delta description, 1 thread | 2 threads | chain on 2 threads against it |",
         "|---|---:|---:|---:|",
     ]
     for name, row in report["machines"].items():

@@ -662,18 +662,21 @@ def _reduced_det(H_p: ca.SX, B: ca.SX, legs: list[tuple[list[int], list[int], in
 def composed_first_order(constraint: ca.Function, n_act: int,
                          legs: list[tuple[list[int], list[int], int | None]]) -> ca.Function:
     """``first_order(q, x, design) -> (J, J_f, psi, det_type1, det_type2)`` composed in CasADi from the loop
-    closure's Jacobians (:mod:`symbolic.loops`): J = -[H_a H_p]^-1 H_x (its actuated rows), J_f and Psi
-    from [H_p H_x] and H_a, the determinants of the two square matrices, reduced leg by leg
-    (:func:`_reduced_det`, its sign that of the full determinant, found once at random entries)."""
+    closure's Jacobians (:mod:`symbolic.loops`), leg by leg: each leg's joint rates dq_k = -B_k^-1 H_x,k
+    x_dot with B_k its block of [H_a H_p] (its rows, its actuated and passive columns; the legs share no
+    joint), J their actuated rows, J_f = J^-1, Psi from the passive rows times J_f; the determinants of
+    [H_a H_p] and [H_p H_x] reduced leg by leg (:func:`_reduced_det`, their signs those of the full
+    determinants, found once at random entries)."""
     q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
     _, H_q, H_x = constraint(q, x, d)
-    n_p = H_q.size2() - n_act
     H_a, H_p = H_q[:, :n_act], H_q[:, n_act:]
-    inverse = ca.solve(H_q, -H_x)
-    forward = ca.solve(ca.horzcat(H_p, H_x), -H_a)
+    inverse = ca.SX.zeros(H_q.size2(), H_x.size2())
+    for k, (rows, passive, _) in enumerate(legs):
+        columns = [k, *(n_act + p for p in passive)]
+        inverse[columns, :] = ca.solve(H_q[rows, columns], -H_x[rows, :])
     J = inverse[:n_act, :]
-    J_f = forward[n_p:, :]
-    psi = ca.vertcat(ca.SX.eye(n_act), forward[:n_p, :])
+    J_f = ca.solve(J, ca.SX.eye(n_act))
+    psi = ca.vertcat(ca.SX.eye(n_act), inverse[n_act:, :] @ J_f)
     dets = []
     for B, full in ((H_a, H_q), (H_x, ca.horzcat(H_p, H_x))):
         reduced = _reduced_det(H_p, B, legs)
@@ -686,9 +689,10 @@ def composed_first_order(constraint: ca.Function, n_act: int,
 
 
 CONTINUATION_STEPS = 12  # Newton steps along the path from the home pose at the default design
-NEWTON_STEPS = 8  # Newton steps at the pose asked for, after the path
+NEWTON_STEPS = 12  # Newton steps at the pose asked for, after the path (8 left one pose in 10^6 of the
+# benchmark 4e-10 rad from its root, near a universal joint's own singularity)
 START_STEPS = 30  # Newton steps that close a chain's seed at the home pose, at most
-CHAIN_TOLERANCE = 1e-12  # [m] a chain leg closes to this where its pose is reached
+CHAIN_TOLERANCE = 1e-13  # [m] a chain leg closes to this where its pose is reached
 
 
 def _path(a0: Any, c0: Any, a1: Any, c1: Any, t: float, *, straight: bool) -> Any:
@@ -714,12 +718,12 @@ def _path(a0: Any, c0: Any, a1: Any, c1: Any, t: float, *, straight: bool) -> An
 
 def _closed_seed(leg: ca.Function, seed: np.ndarray, x: np.ndarray, design: np.ndarray, where: str) -> np.ndarray:
     """A chain leg's seed closed by Newton at the home pose and the default design, each step halved until
-    the residual falls."""
+    the residual falls, until it falls no more: closed where it is then below CHAIN_TOLERANCE."""
     q = seed.copy()
     h, H = (np.asarray(v, dtype=float) for v in leg(q, x, design))
     for _ in range(START_STEPS):
-        if np.abs(h).max() < CHAIN_TOLERANCE * 1e-3:
-            return q
+        if not np.abs(h).max():
+            break
         try:
             step = np.linalg.lstsq(H, h, rcond=None)[0].ravel()
         except np.linalg.LinAlgError:
@@ -733,6 +737,8 @@ def _closed_seed(leg: ca.Function, seed: np.ndarray, x: np.ndarray, design: np.n
             step = step / 2
         else:
             break
+    if np.abs(h).max() < CHAIN_TOLERANCE:
+        return q
     raise DescriptionError(f"description field {where} violates: a seed the leg closes from at the home pose "
                            f"(Newton from it stops at the residual {np.abs(h).max():.1e})")
 
