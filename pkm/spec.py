@@ -398,7 +398,8 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
         end = "revolute" if dim == 2 else "spherical"
         raise _fail(f"{field}.type", f"one of {', '.join(types)} (the platform's {end} joint ends the chain); got "
                                      f"{kind!r}")
-    known = {"type", "link", "actuated", "axes" if kind in ("U", "parallelogram") else "axis"}
+    known = {"type", "link", "actuated", "body", "axes" if kind in ("U", "parallelogram") else "axis",
+             *(("rotor",) if raw.get("actuated") is True else ())}
     extra = set(raw) - known
     if extra:
         raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of a chain's {kind} joint ({', '.join(sorted(known))})")
@@ -422,13 +423,28 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
         if not isinstance(axes, list) or len(axes) != 2:
             raise _fail(f"{field}.axes", f"the {kind} joint's two axes, the second in the frame the first turns")
         out["axes"] = [_vector(axis, 3, f"{field}.axes[{j}]", names) for j, axis in enumerate(axes)]
+    if "body" in raw:
+        out["body"] = _body(raw["body"], f"{field}.body", names, centre=dim, inertia=1 if dim == 2 else 3)
+    if "rotor" in raw:
+        out["rotor"] = _expression(f"{field}.rotor", raw["rotor"], names)
     return out
 
 
+def _has_bodies(leg: Mapping[str, Any]) -> bool:
+    """Whether a normalised leg has bodies: a kind's table of them, or a chain's joint with a body or a rotor."""
+    if leg["kind"] == CHAIN:
+        return any("body" in joint or "rotor" in joint for joint in leg["joints"])
+    return "bodies" in leg
+
+
 def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str]) -> list[dict[str, Any]]:
-    """The legs of a ``chain`` table: its joints from the base attachment, each with its type (R, P, U), axis
-    (axes of a U), link (the vector to the next joint, fixed in the frame the joint turns or slides) and
-    whether it is the actuated one; the platform's point joint (a revolute in the plane, a spherical joint in
+    """The legs of a ``chain`` table: its joints from the base attachment, each with its type (R, P, U,
+    parallelogram), axis (axes of a U or a parallelogram), link (the vector to the next joint, fixed in the
+    frame the joint turns or slides), whether it is the actuated one, optionally the ``body`` after it ({mass,
+    centre: a point of the body's frame from the joint, inertia: planar the moment about z, spatial the
+    principal moments about the axes of the body's frame}; a parallelogram's body is its rods, turning with
+    them) and on the actuated joint its ``rotor`` (its inertia after the reduction, or a reflected mass on a
+    P); the platform's point joint (a revolute in the plane, a spherical joint in
     space) ends it. ``branches`` names one or two seeds, the joints' values at the home pose and the default
     design, each where a branch of the leg is continued from (or, where the chain is a known subproblem, the
     closed form's candidate nearest it); ``turn`` (each leg's frame turned about z from the base's) is the
@@ -590,8 +606,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
             raise _fail("gravity", f"a vector of {2 if planar_frame else 3} expressions (the acceleration of "
                                    "gravity in the base frame, m/s^2)")
         data["gravity"] = [_expression(f"gravity[{k}]", g, names) for k, g in enumerate(gravity)]
-    if data["platform"] is not None or any("bodies" in leg for leg in legs) or gravity is not None:
-        missing = [k for k, leg in enumerate(legs) if "bodies" not in leg]
+    if data["platform"] is not None or any(map(_has_bodies, legs)) or gravity is not None:
+        missing = [k for k, leg in enumerate(legs) if not _has_bodies(leg)]
         if missing:
             raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
     return Description(data)

@@ -113,6 +113,9 @@ class _Leg:
     side: sp.Expr | None = None  # of a leg with passive joints and two branches: its sign tells them apart
     joints: tuple[sp.Matrix, ...] = ()  # the points of its joints between the base's and the platform's
     end: sp.Matrix | None = None  # of a chain leg: the end of its chain, where the platform's joint closes it
+    frames: tuple[tuple[sp.Matrix, sp.Matrix, tuple[tuple[sp.Symbol, sp.Matrix], ...], sp.Expr], ...] = ()
+    # of a chain leg, per joint: the origin and rotation of the body after it, its angular velocity's axis per
+    # joint variable (spatial) and its angle (planar)
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -196,22 +199,28 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     turn = scalar(leg["turn"])
     frame = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
     rotation, point, variables, points, actuated = frame, a, [], [], None
+    omega: tuple[tuple[sp.Symbol, sp.Matrix], ...] = ()
+    angle_sum, frames = turn, []
     for j, joint in enumerate(leg["joints"]):
         names = [f"q{k + 1}_{j + 1}"] if joint["type"] in ("R", "P") else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
         mine = [sp.Symbol(n, real=True) for n in names]
         variables += mine
-        turned = rotation
+        turned, turning, turned_sum = rotation, omega, angle_sum
         if joint["type"] == "P":
             axis = vector(joint["axis"])
             point = point + rotation * axis / sp.sqrt(axis.dot(axis)) * mine[0]
         else:
             for axis, angle in zip(joint["axes"], mine, strict=True):
+                if not planar:
+                    turning = (*turning, (angle, turned * vector(axis) / sp.sqrt(vector(axis).dot(vector(axis)))))
                 turned = turned * (_plane_rotation(angle) if planar else _axis_rotation(vector(axis), angle))
+                turned_sum = turned_sum + angle
         if joint.get("actuated"):
             actuated = mine[0]
+        frames.append((point, turned, turning, turned_sum))
         point = point + turned * vector(joint["link"])
         if joint["type"] != "parallelogram":
-            rotation = turned
+            rotation, omega, angle_sum = turned, turning, turned_sum
         points.append(point)
     h = list(point - c)
     sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None
@@ -224,7 +233,7 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
         blend = first if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * sp.Float(m)
                                              for p, m in zip(first, seeds[-1], strict=True)]
         return _Leg(h, actuated, passive, dict(zip(variables, blend, strict=True)), [], sigma, side=side,
-                    joints=tuple(points[:-1]), end=point)
+                    joints=tuple(points[:-1]), end=point, frames=tuple(frames))
     solution, reach, signs = closed
     angles = [joint["type"] != "P" for joint in leg["joints"] for _ in range(2 if joint["type"] not in ("R", "P")
                                                                               else 1)]
@@ -233,7 +242,7 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
               for i, s in enumerate(signs)}
     ik = {v: e.subs(values) for v, e in zip(variables, solution, strict=True)}
     return _Leg(h, actuated, passive, ik, [m.subs(values) for m in reach], sigma, side=side,
-                joints=tuple(points[:-1]))
+                joints=tuple(points[:-1]), frames=tuple(frames))
 
 
 def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: list[float], angles: list[bool],
@@ -421,6 +430,32 @@ def _leg_bodies(leg: dict[str, Any], joints: _Leg, a: sp.Matrix, c: sp.Matrix, s
     return out
 
 
+def _chain_bodies(leg: dict[str, Any], joints: _Leg, *, scalar: Any, vector: Any) -> list[Kinetic]:
+    """The kinetic terms of a chain's bodies: each joint's body after it (its centre's point mass; its turning,
+    about z in the plane, or with the body's angular velocity and its principal moments in space) and the
+    actuated joint's rotor."""
+    out: list[Kinetic] = []
+    for joint, (origin, rotation, turning, angle) in zip(leg["joints"], joints.frames, strict=True):
+        if "rotor" in joint:
+            out.append(_turning(scalar(joint["rotor"]), joints.actuated))
+        if "body" not in joint:
+            continue
+        body = joint["body"]
+        out.append(_point(scalar(body["mass"]), origin + rotation * vector(body["centre"])))
+        if origin.rows == 2:
+            out.append(_turning(scalar(body["inertia"]), angle))
+            continue
+
+        def angular(z: list[sp.Symbol], turning: tuple[tuple[sp.Symbol, sp.Matrix], ...] = turning) -> sp.Matrix:
+            W = sp.zeros(3, len(z))
+            for variable, axis in turning:
+                W[:, z.index(variable)] += axis
+            return W
+
+        out.append((sp.Integer(1), angular, rotation * sp.diag(*vector(body["inertia"])) * rotation.T, None))
+    return out
+
+
 def _platform(body: dict[str, Any] | None, frame: str, pose: tuple[sp.Symbol, ...], rotation: sp.Matrix, *,
               vector: Any, scalar: Any) -> list[Kinetic]:
     """The platform's kinetic terms: its centre of mass and, where it turns, its rotation."""
@@ -525,13 +560,16 @@ def module(description: dict[str, Any]) -> ModuleSpec:
             lo, hi = (scalar(t) for t in leg["range"])
             closed = [] if last.end is not None else [last.ik[last.actuated] - lo, hi - last.ik[last.actuated]]
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, [*last.reach, *closed], last.sign,
-                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints, last.end)
+                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints, last.end,
+                            last.frames)
         else:
             legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side,
-                            last.joints, last.end)
+                            last.joints, last.end, last.frames)
         ends.append((a, c))
         skeleton += [a, *legs[-1].joints, c]
-        if "bodies" in leg:
+        if leg["kind"] == "chain":
+            kinetic += _chain_bodies(leg, legs[-1], scalar=scalar, vector=vector)
+        elif "bodies" in leg:
             kinetic += _leg_bodies(leg, legs[-1], a, c, scalar)
     q_a = tuple(leg.actuated for leg in legs)
     q_p = tuple(s for leg in legs for s in leg.passive)

@@ -7,6 +7,7 @@ pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test file
 
 from __future__ import annotations
 
+import copy
 import tomllib
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -229,3 +230,34 @@ def rrr3_of_chains() -> dict:
                    "joints": [{"type": "R", "actuated": True, "link": ["l1", 0]}, {"type": "R", "link": ["l2", 0]}],
                    "branches": {"left": [-2.1, -2.1], "right": [2.1, 2.1]}}
     return raw
+
+
+def five_bar_of_chains_with_bodies(values: dict) -> dict:
+    """The five-bar of chains with the hand-written model's links as the bodies after its joints (Lara-Molina
+    eqs. 13-19: masses, centres and moments about z)."""
+    raw = copy.deepcopy(FIVE_BAR_OF_CHAINS)
+    raw["name"] = "five_bar_chains_with_bodies"
+    for table in raw["legs"]:
+        for joint, k, length in zip(table["joints"], (1, 2), ("r1", "r2"), strict=True):
+            mass, centre, ratio = (values[f"{n}{k}"] for n in ("m", "c", "g"))
+            joint["body"] = {"mass": mass, "centre": [f"{centre!r} * {length}", 0],
+                             "inertia": f"{ratio * mass!r} * {length}**2"}
+    return raw
+
+
+def delta_and_its_chains_with_bodies() -> tuple[dict, dict]:
+    """The Delta description with its bodies and gravity, and its chains with the same bodies: the rotor on
+    the actuated joint, the arm a bar turning about it, the parallelogram's rods (half their mass at either
+    end in the description) a rod of their mass at its middle with the moment m L^2 / 4 across it, the
+    platform's mass."""
+    delta = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    delta["name"] = "delta_with_gravity_for_chains"
+    chains = delta_of_chains()
+    chains["name"] = "delta_chains_with_bodies"
+    chains["parameters"] = delta["parameters"]
+    chains["platform"], chains["gravity"] = delta["platform"], delta["gravity"]
+    arm, rods = chains["legs"]["joints"][:2]
+    arm["rotor"] = "j_m"
+    arm["body"] = {"mass": "m_a", "centre": ["L_a/2", 0, 0], "inertia": [0, "m_a*L_a**2/12", 0]}
+    rods["body"] = {"mass": "m_b", "centre": ["L_b/2", 0, 0], "inertia": [0, "m_b*L_b**2/4", "m_b*L_b**2/4"]}
+    return delta, chains

@@ -17,7 +17,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from helpers import FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS, delta_of_chains, rrr3_of_chains
+from helpers import (
+    FIVE_BAR_OF_CHAINS,
+    FIVE_BAR_OF_RR_LEGS,
+    delta_and_its_chains_with_bodies,
+    delta_of_chains,
+    five_bar_of_chains_with_bodies,
+    rrr3_of_chains,
+)
 
 import pkm
 from pkm.cli import main
@@ -411,16 +418,20 @@ def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, 
     (delta_of_chains(), ("single",)),
     (FIVE_BAR_OF_CHAINS, ("out_out", "in_out")),
     (FIVE_BAR_OF_RR_LEGS, ("out_out", "in_out")),
-], ids=["rrr3_chains", "delta_chains", "five_bar_chains", "five_bar_rr"])
+    (delta_and_its_chains_with_bodies()[1], ("single",)),
+    (five_bar_of_chains_with_bodies(dict(pkm.load("five_bar").design())), ("out_in",)),
+], ids=["rrr3_chains", "delta_chains", "five_bar_chains", "five_bar_rr", "delta_chains_bodies",
+        "five_bar_chains_bodies"])
 def test_chain_legs_and_point_poses_agree_with_pkm_in_pinocchio(pinocchio, tmp_path, description, modes):
-    """Chain legs (a parallelogram's turns undone by mimic joints), and the platform of a point pose on
-    prismatic joints as pkm's model has it (a planar point's would otherwise spin freely)."""
+    """Chain legs (a parallelogram's turns undone by mimic joints) and their bodies, and the platform of a point
+    pose on prismatic joints as pkm's model has it (a planar point's would otherwise spin freely)."""
     m = pkm.load(description)
     rng = np.random.default_rng(28)
     for mode in modes:
         errors = check_export(m, None, mode, tmp_path / mode, rng)
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)
+        assert errors["M_t"] < TOLERANCE, (mode, errors)
 
 
 def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch):

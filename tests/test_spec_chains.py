@@ -15,7 +15,14 @@ import tomllib
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, FIVE_BAR_OF_CHAINS, delta_of_chains, rrr3_of_chains
+from helpers import (
+    EXAMPLES,
+    FIVE_BAR_OF_CHAINS,
+    delta_and_its_chains_with_bodies,
+    delta_of_chains,
+    five_bar_of_chains_with_bodies,
+    rrr3_of_chains,
+)
 
 import pkm
 from pkm import compiled
@@ -206,3 +213,53 @@ def test_the_hexas_closed_form_is_its_newton_continuation():
     assert mine.sum() > 150
     np.testing.assert_array_equal(mine, theirs)
     np.testing.assert_allclose(_wrapped(q[mine, :, 0] - q_newton[mine, :, 0]), 0, atol=1e-12)
+
+
+@pytest.mark.parametrize("solver", SOLVERS)
+def test_chain_bodies_give_the_hand_derived_five_bars_inertia_and_inverse_dynamics(solver):
+    """M_t and M_w to 1e-12 and the actuated joints' torques to 1e-10 of the largest, in every mode."""
+    hand = pkm.load("five_bar")
+    design = hand.design()
+    raw = five_bar_of_chains_with_bodies(dict(design))
+    m = pkm.load(raw if solver == "closed" else _newton(raw))
+    small = np.array([design[n] for n in ("r1", "r2", "r3")])
+    rng = np.random.default_rng(13)
+    for mode in hand.modes:
+        x = rng.uniform(-2.0, 2.0, size=(1000, 2))
+        x = x[hand.reachable(x, design, mode=mode)][:200]
+        mine = [m.inertia_matrix(x, small, mode=mode, space=space) for space in ("actuated", "task")]
+        theirs = [hand.inertia_matrix(x, design, mode=mode, space=space) for space in ("actuated", "task")]
+        for a, b in zip(mine, theirs, strict=True):
+            scale = np.maximum(1.0, np.abs(b).reshape(len(x), -1).max(axis=1))[:, None, None]
+            np.testing.assert_allclose(a / scale, b / scale, atol=1e-12, err_msg=mode)
+        x_dot, x_ddot = rng.normal(size=(2, len(x), 2))
+        tau = m.inverse_dynamics(x, x_dot, x_ddot, small, mode=mode)
+        their_tau = hand.inverse_dynamics(x, x_dot, x_ddot, design, mode=mode, joint_torques=True)
+        scale = np.abs(their_tau).max(axis=1, keepdims=True)
+        np.testing.assert_allclose(tau / scale, their_tau / scale, atol=1e-10, err_msg=mode)
+
+
+def test_chain_bodies_in_space_give_the_delta_descriptions_dynamics():
+    """The Delta of chains with the description's bodies and gravity: its task-space inertia and its torques
+    along random motions equal the Delta description's (R_parallelogram legs) to 1e-10."""
+    delta, chains = (pkm.load(raw) for raw in delta_and_its_chains_with_bodies())
+    rng = np.random.default_rng(14)
+    x = rng.uniform([-0.15, -0.15, -0.7], [0.15, 0.15, -0.4], size=(600, 3))
+    x = x[delta.reachable(x, mode="elbow_out")][:200]
+    assert len(x) > 100
+    np.testing.assert_allclose(chains.inertia_matrix(x, space="task"),
+                               delta.inertia_matrix(x, mode="elbow_out", space="task"), rtol=1e-10, atol=1e-10)
+    x_dot, x_ddot = rng.normal(size=(2, len(x), 3))
+    np.testing.assert_allclose(chains.inverse_dynamics(x, x_dot, x_ddot),
+                               delta.inverse_dynamics(x, x_dot, x_ddot, mode="elbow_out"), rtol=1e-10, atol=1e-10)
+
+
+def test_a_rotor_is_only_on_the_actuated_joint_and_a_body_names_its_fields():
+    raw = delta_of_chains()
+    raw["legs"]["joints"][1]["rotor"] = 0.1
+    with pytest.raises(DescriptionError, match=re.escape("description field legs.joints[1].rotor violates")):
+        describe(raw)
+    raw = delta_of_chains()
+    raw["legs"]["joints"][0]["body"] = {"mass": 1, "centre": [0, 0]}
+    with pytest.raises(DescriptionError, match=re.escape("description field legs.joints[0].body.centre violates")):
+        describe(raw)

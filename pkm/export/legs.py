@@ -233,7 +233,6 @@ class _Leg:
             if kind == "parallelogram":
                 point, parent = self._parallelogram(j, joint, (point, rotation), mine, parent)
                 continue
-            child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}")
             at = point
             if kind == "P":
                 axes = (rotation @ unit(self.values.point(joint["axis"])),)
@@ -244,6 +243,8 @@ class _Leg:
                     local = unit(self.values.point(text))
                     axes += (rotation @ local,)
                     rotation = rotation @ _about(local, angle)
+            child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}",
+                              self._chain_parts(joint, point, rotation, axes[0]))
             end = point + rotation @ self.values.point(joint["link"])
             along = end - at if np.linalg.norm(end - at) > 1e-12 else None
             if joint["actuated"]:
@@ -271,7 +272,9 @@ class _Leg:
         names = [f"{part}{j + 1}_" for part in ("plane", "rods", "bar_swing", "bar")]
         docs = ["the plane of its rods turning", "its rods swinging in their plane",
                 "its bar's swing undone", "its bar, parallel to the body before it"]
-        links = [self.link(n, f"joint {j + 1}'s parallelogram: {d}") for n, d in zip(names, docs, strict=True)]
+        parts = [[], self._chain_parts(joint, at, turned @ _about(second, angles[1]), axes[1]), [], []]
+        links = [self.link(n, f"joint {j + 1}'s parallelogram: {d}", p)
+                 for n, d, p in zip(names, docs, parts, strict=True)]
         self.passive(names[0], "R", (parent, links[0]), at, axes[:1], doc=f"joint {j + 1}: {docs[0]}", value=angles[0],
                      along=end - at)
         self.passive(names[1], "R", links[:2], at, axes[1:], doc=f"joint {j + 1}: {docs[1]}", value=angles[1],
@@ -281,6 +284,26 @@ class _Leg:
         self.passive(names[3], "R", links[2:], end, axes[:1], doc=f"joint {j + 1}: {docs[3]}",
                      mimic=(f"{names[0]}{self.k}", -1.0))
         return end, links[3]
+
+    def _chain_parts(self, joint: Mapping[str, Any], origin: np.ndarray, rotation: np.ndarray, axis: np.ndarray
+                     ) -> list[Inertial]:
+        """The body after a chain's joint (at ``origin``, in the frame ``rotation``) and the actuated joint's
+        rotor turning about ``axis`` (a rotor on a prismatic joint has no URDF form: a note says so)."""
+        parts = []
+        body = joint.get("body")
+        if body is not None:
+            mass, centre = self.values.scalar(body["mass"]), origin + rotation @ self.values.point(body["centre"])
+            if isinstance(body["inertia"], str):
+                parts.append(Inertial.lamina(mass, centre, self.values.scalar(body["inertia"]), Z))
+            else:
+                moments = np.array([self.values.scalar(t) for t in body["inertia"]])
+                parts.append(Inertial.principal(mass, centre, moments, rotation))
+        if "rotor" in joint and joint["type"] == "R":
+            parts += _rotor(self.values, {"rotor": joint["rotor"]}, origin, axis)
+        elif "rotor" in joint and self.values.scalar(joint["rotor"]):
+            self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
+                              "joint) has no form in a URDF and is left out")
+        return parts
 
 
 def _slides(origin: np.ndarray, pose: np.ndarray) -> list[Joint]:
