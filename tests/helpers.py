@@ -261,3 +261,15 @@ def delta_and_its_chains_with_bodies() -> tuple[dict, dict]:
     arm["body"] = {"mass": "m_a", "centre": ["L_a/2", 0, 0], "inertia": [0, "m_a*L_a**2/12", 0]}
     rods["body"] = {"mass": "m_b", "centre": ["L_b/2", 0, 0], "inertia": [0, "m_b*L_b**2/4", "m_b*L_b**2/4"]}
     return delta, chains
+
+
+def assert_five_bar_torques(described: pkm.Mechanism, small: Any, x: np.ndarray, mode: str,
+                            rng: np.random.Generator) -> None:
+    """A described five-bar's actuated torques along random rates and accelerations at the poses x equal the
+    hand-written chain model's to 1e-10 of the largest."""
+    hand = pkm.load("five_bar")
+    x_dot, x_ddot = rng.normal(size=(2, len(x), 2))
+    mine = described.inverse_dynamics(x, x_dot, x_ddot, small, mode=mode)
+    theirs = hand.inverse_dynamics(x, x_dot, x_ddot, hand.design(), mode=mode, joint_torques=True)
+    scale = np.abs(theirs).max(axis=1, keepdims=True)
+    np.testing.assert_allclose(mine / scale, theirs / scale, atol=1e-10, err_msg=mode)

@@ -12,6 +12,7 @@ import numpy as np
 import oracles
 import pytest
 from helpers import FIVE_BAR_OF_RR_LEGS as FIVE_BAR
+from helpers import assert_five_bar_torques
 
 import pkm
 from pkm.models.described import DESCRIPTIONS
@@ -236,12 +237,7 @@ def test_the_five_bar_described_with_bodies_has_the_hand_derived_inverse_dynamic
     rng = np.random.default_rng(7)
     for mode in hand.modes:
         x = rng.uniform(-2.0, 2.0, size=(2000, 2))
-        x = x[hand.reachable(x, design, mode=mode)][:200]
-        x_dot, x_ddot = rng.normal(size=(2, len(x), 2))
-        mine = described.inverse_dynamics(x, x_dot, x_ddot, small, mode=mode)
-        theirs = hand.inverse_dynamics(x, x_dot, x_ddot, design, mode=mode, joint_torques=True)
-        scale = np.abs(theirs).max(axis=1, keepdims=True)
-        np.testing.assert_allclose(mine / scale, theirs / scale, atol=1e-10, err_msg=mode)
+        assert_five_bar_torques(described, small, x[hand.reachable(x, design, mode=mode)][:200], mode, rng)
 
 
 def test_the_power_of_the_actuators_is_the_rate_of_the_energy_with_gravity():

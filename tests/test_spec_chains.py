@@ -18,6 +18,7 @@ import pytest
 from helpers import (
     EXAMPLES,
     FIVE_BAR_OF_CHAINS,
+    assert_five_bar_torques,
     delta_and_its_chains_with_bodies,
     delta_of_chains,
     five_bar_of_chains_with_bodies,
@@ -232,11 +233,7 @@ def test_chain_bodies_give_the_hand_derived_five_bars_inertia_and_inverse_dynami
         for a, b in zip(mine, theirs, strict=True):
             scale = np.maximum(1.0, np.abs(b).reshape(len(x), -1).max(axis=1))[:, None, None]
             np.testing.assert_allclose(a / scale, b / scale, atol=1e-12, err_msg=mode)
-        x_dot, x_ddot = rng.normal(size=(2, len(x), 2))
-        tau = m.inverse_dynamics(x, x_dot, x_ddot, small, mode=mode)
-        their_tau = hand.inverse_dynamics(x, x_dot, x_ddot, design, mode=mode, joint_torques=True)
-        scale = np.abs(their_tau).max(axis=1, keepdims=True)
-        np.testing.assert_allclose(tau / scale, their_tau / scale, atol=1e-10, err_msg=mode)
+        assert_five_bar_torques(m, small, x, mode, rng)
 
 
 def test_chain_bodies_in_space_give_the_delta_descriptions_dynamics():
