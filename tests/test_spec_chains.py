@@ -260,3 +260,18 @@ def test_a_rotor_is_only_on_the_actuated_joint_and_a_body_names_its_fields():
     raw["legs"]["joints"][0]["body"] = {"mass": 1, "centre": [0, 0]}
     with pytest.raises(DescriptionError, match=re.escape("description field legs.joints[0].body.centre violates")):
         describe(raw)
+
+
+def test_a_synthesis_over_the_delta_of_chains_reaches_the_delta_descriptions_optimum(machines):
+    """The same machine, its legs as chains in closed form or as the R_parallelogram kind: the GCI over the
+    task in (L_a, L_b) reaches the same verified optimum."""
+    from pkm.synthesis.designer import design_problem
+
+    chains, delta = machines["delta", "closed"], pkm.load(str(DESCRIPTIONS["delta"]))
+    variables = {"L_a": (0.2, 0.3), "L_b": (0.5, 0.7)}
+    optima = [pkm.synthesize(design_problem(m, task="task", variables=variables, mode=mode, baseline=("grid", 3),
+                                            resolution=4), progress=False, starts=2)
+              for m, mode in ((chains, "single"), (delta, "elbow_out"))]
+    assert abs(optima[0].verified_objective - optima[1].verified_objective) <= 1e-9
+    for name in variables:
+        assert abs(optima[0].variables[name] - optima[1].variables[name]) <= 1e-6
