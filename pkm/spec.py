@@ -6,7 +6,9 @@ A description is a mapping (or a TOML file) with
 * ``name``, ``doc``;
 * ``frame``: the pose, ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
   ``spatial`` (x, y, z, roll, pitch, yaw; R = Rz(yaw) Ry(pitch) Rx(roll));
-* ``parameters``: a list of {name, default, lower, upper, unit, doc};
+* ``parameters``: a list of {name, default, lower, upper, unit, doc}; optionally ``conditions``: validity
+  conditions of the design, each {margin, doc} with the margin an expression of the parameters, positive where
+  the design is valid;
 * ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``RPR``, ``PRR``, ``R_parallelogram``,
   ``UPS``, see :mod:`symbolic.describe`, or ``chain``: a serial chain of joints, :func:`_chain_legs`),
   ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and ``platform`` attachments,
@@ -74,7 +76,7 @@ import numpy as np
 from pkm import expressions, io, registry
 from pkm.batch import evaluate
 from pkm.compiled.cache import location
-from pkm.design import Parameter
+from pkm.design import Condition, Parameter
 from pkm.errors import ComputationError, PkmError
 from pkm.kinematics import Branch, FunctionTable, NearestSeeds
 from pkm.mechanism import Mechanism
@@ -430,6 +432,22 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
     return out
 
 
+def _conditions(raw: Any, names: set[str]) -> list[dict[str, str]]:
+    """Validity conditions of the design: each {margin, doc}, the margin an expression of the parameters that is
+    positive where the condition holds."""
+    if not isinstance(raw, list):
+        raise _fail("conditions", "a list of {margin, doc}")
+    out = []
+    for k, condition in enumerate(raw):
+        if not isinstance(condition, Mapping) or "margin" not in condition or set(condition) - {"margin", "doc"}:
+            raise _fail(f"conditions[{k}]", "a table {margin, doc}: the margin positive where the design is valid")
+        doc = condition.get("doc", "a valid design")
+        if not isinstance(doc, str):
+            raise _fail(f"conditions[{k}].doc", "text")
+        out.append({"margin": _expression(f"conditions[{k}].margin", condition["margin"], names), "doc": doc})
+    return out
+
+
 def _has_bodies(leg: Mapping[str, Any]) -> bool:
     """Whether a normalised leg has bodies: a kind's table of them, or a chain's joint with a body or a rotor."""
     if leg["kind"] == CHAIN:
@@ -555,8 +573,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         return raw
     if not isinstance(raw, Mapping):
         raise _fail("(the description)", "a mapping or a TOML file")
-    known = {"name", "doc", "frame", "parameters", "legs", "home", "characteristic_length", "modes", "regions",
-             "platform", "gravity"}
+    known = {"name", "doc", "frame", "parameters", "conditions", "legs", "home", "characteristic_length", "modes",
+             "regions", "platform", "gravity"}
     extra = set(raw) - known
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
@@ -600,6 +618,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
             raw["platform"], "platform", names, centre=2 if planar_frame else 3,
             inertia={"planar_point": 0, "planar": 1, "spatial_point": 0, "spatial": 3}[frame]),
     }
+    if "conditions" in raw:
+        data["conditions"] = _conditions(raw["conditions"], names)
     gravity = raw.get("gravity")
     if gravity is not None:
         if not isinstance(gravity, list) or len(gravity) != (2 if planar_frame else 3):
@@ -1077,11 +1097,14 @@ def mechanism_class(description: Description) -> type[Mechanism]:
     seeds = Seeds(data)
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
+    conditions = tuple(Condition(f"{c['doc']} ({c['margin']} > 0)", _function_of(c["margin"]))
+                       for c in data.get("conditions", []))
     length = data["characteristic_length"]
     attributes = {
         "name": data["name"],
         "doc": data["doc"],
         "parameters": parameters,
+        "conditions": conditions,
         "working_modes": modes,
         "assembly_modes": _assemblies(data),
         "pose_names": pose_names,
@@ -1096,7 +1119,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "regions": {r["name"]: _region(r, len(pose_names)) for r in data["regions"]},
     }
     if length is not None:
-        attributes["characteristic_length"] = staticmethod(_length_of(length))
+        attributes["characteristic_length"] = staticmethod(_function_of(length))
     cls = type(f"Described_{data['name']}", (Mechanism,), attributes)
     cls.functions.__set_name__(cls, "functions")
     return cls
@@ -1117,14 +1140,15 @@ def _region(region: Mapping[str, Any], n_out: int) -> Any:
     return Mapped(name, doc, shape, to_pose=f"region_{name}_pose")
 
 
-def _length_of(expression: str) -> Any:
-    code = compile(ast.parse(expression, mode="eval"), "<characteristic_length>", "eval")
+def _function_of(expression: str) -> Any:
+    """The expression as a function of the design's values (numbers or CasADi symbols)."""
+    code = compile(ast.parse(expression, mode="eval"), "<description>", "eval")
 
-    def length(design: Mapping[str, Any]) -> Any:
+    def value(design: Mapping[str, Any]) -> Any:
         names = {"pi": math.pi, "cos": ca.cos, "sin": ca.sin, "tan": ca.tan, "sqrt": ca.sqrt}
         return eval(code, {"__builtins__": {}}, {**names, **design})
 
-    return length
+    return value
 
 
 def _workspace_box(self: Mechanism, design: np.ndarray) -> np.ndarray:

@@ -348,3 +348,17 @@ def test_the_3rpr_with_bodies_has_a_positive_definite_inertia_and_the_power_of_i
     rate = (kinetic(x + h * x_dot + h**2 / 2 * x_ddot, x_dot + h * x_ddot)
             - kinetic(x - h * x_dot + h**2 / 2 * x_ddot, x_dot - h * x_ddot)) / (2 * h)
     np.testing.assert_allclose(power, rate, rtol=1e-6, atol=1e-9)
+
+
+def test_a_condition_of_the_design_refuses_a_design_that_violates_it_naming_it():
+    raw = _raw("rrr3")
+    raw.update(name="rrr3_with_a_condition", conditions=[{"margin": "l1 + l2 - (R_b - r_p)",
+                                                          "doc": "the legs reach the centre"}])
+    m = pkm.load(raw)
+    assert m.design({**m.design(), "l1": 0.3, "l2": 0.5})["l1"] == 0.3
+    violated = "the legs reach the centre (l1 + l2 - (R_b - r_p) > 0)"
+    with pytest.raises(pkm.errors.DesignError, match=re.escape(violated)):
+        m.design({**m.design(), "l1": 0.2, "l2": 0.3})
+    for bad, field in (([{"doc": "no margin"}], "conditions[0]"), ([{"margin": "l9"}], "conditions[0].margin")):
+        with pytest.raises(DescriptionError, match=re.escape(f"description field {field} violates")):
+            describe({**raw, "conditions": bad})
