@@ -368,25 +368,33 @@ def test_the_api_answers_junk_with_a_result_or_its_own_error(data):
 # ---- the executable ---------------------------------------------------------------------------------
 
 EXECUTABLE_RUNS = [
-    ["--version"], ["--help"], ["eval", "--help"], [], ["list", "--color"],
-    ["eval", "five_bar", "--pose", "-0.3,1.9", "--json"], ["eval", "five_bar", "--pose", "0.1,1.5,2"],
-    ["eval", "five_bar", "--pose", "3,3", "--json"], ["eval", "five_bar", "--pose", "3,3", "--strict"],
+    ["--version"], ["--help"], [], ["list", "--color"],
+    ["eval", "five_bar", "--pose", "-0.3,1.9", "--json"], ["eval", "five_bar", "--pose", "3,3", "--strict"],
     ["eval", "five_bar", "--pose", "nan,1", "--json"], ["eval", "six_bar", "--pose", "0,1"],
+    ["index", "five_bar", "gci", "--region", "miw", "--resolution", "2", "--gradient", "--json"],
+    ["synth", "five_bar.max_gci_miw", "--starts", "0", "--json"],
+]
+LISTED_RUNS = [
+    ["eval", "--help"], ["eval", "five_bar", "--pose", "0.1,1.5,2"], ["eval", "five_bar", "--pose", "3,3", "--json"],
     ["eval", "five_bar", "--pose", "0.1,1.5", "--design", "r1=1e308"],
     ["eval", "five_bar", "--pose", "0.1,1.5", "--design", "r1=1,r1=2", "--json"],
     ["eval", "five_bar", "--pose", "0.1,1.5", "--mode", "sideways"],
-    ["index", "five_bar", "gci", "--region", "miw", "--resolution", "2", "--gradient", "--json"],
     ["index", "five_bar", "gci", "--resolution", "99999999999999999999"],
     ["index", "five_bar", "gci", "--region", "moon", "--json"], ["index", "five_bar", "gci", "--margin", "nan"],
     ["atlas", "five_bar", "gci", "--resolution", "2", "--json"], ["atlas", "five_bar", "gci", "--space", "x"],
-    ["sweep", "five_bar", "--indices", "gci,nothing", "--resolution", "3"],
-    ["synth", "five_bar.max_gci_miw", "--starts", "0", "--json"], ["synth", "nothing"],
+    ["sweep", "five_bar", "--indices", "gci,nothing", "--resolution", "3"], ["synth", "nothing"],
     ["reproduce", "gao1998x", "--json"],
 ]
 
 
+@pytest.mark.parametrize("argv", LISTED_RUNS, ids=" ".join)
+def test_listed_command_lines_answer_with_an_exit_status_and_one_line(argv, folder):
+    check_cli(argv, *run_cli(argv))
+
+
 def test_the_executable_answers_with_an_exit_status_and_no_traceback(tmp_path):
-    """The console script itself, two runs at a time (each is mostly interpreter start-up)."""
+    """The console script itself, two runs at a time (each is mostly interpreter start-up): a success, input
+    refused, a failure, help and version; the other listed command lines run in-process."""
 
     def run(argv: list[str]) -> subprocess.CompletedProcess:
         return subprocess.run([str(PKM), *argv], cwd=tmp_path, capture_output=True, text=True, timeout=120,
