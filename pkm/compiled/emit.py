@@ -197,7 +197,17 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
     lines += [f"{indent}  {line}" for line in once_lines]
     lines += [f"{indent}  for (long p0 = g0; p0 < g1; p0 += PKM_BLOCK) {{",
               f"{inner}const long m = g1 - p0 < PKM_BLOCK ? g1 - p0 : PKM_BLOCK;"]
-    lines += [f"{inner}pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for i, e in sorted(gathered)]
+    for i in sorted({i for i, _ in gathered}):
+        entries, k = sorted(e for j, e in gathered if j == i), fn.nnz_in(i)
+        # a whole block of rows of k entries each: one pass over them, which the compiler vectorises as loads
+        # and permutations (the general gather, whose last row repeats, is a gather instruction per entry)
+        copies = " ".join(f"a{i}[{e}][q] = r{i}[q * {k} + {e}];" for e in entries)
+        lines += [f"{inner}if (m == PKM_BLOCK && stride[{i}] == {k}) {{",
+                  f"{inner}  const double *restrict r{i} = in[{i}] + p0 * {k};",
+                  f"{inner}  for (long q = 0; q < PKM_BLOCK; ++q) {{ {copies} }}",
+                  f"{inner}}} else {{",
+                  *(f"{inner}  pkm_gather(a{i}[{e}], in[{i}] + {e}, stride[{i}], p0, m);" for e in entries),
+                  f"{inner}}}"]
     # no "omp simd": with it GCC 12 vectorises no loop that converts a comparison to double; the vector
     # functions of the prelude's simd declarations are used without it
     lines.append(f"{inner}for (long q = 0; q < PKM_BLOCK; ++q) {{")
