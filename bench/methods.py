@@ -65,6 +65,8 @@ NOTES = {
     ("ups_pu", "statics"): "numpy: bench.ups_pu.numpy_ik_jacobian_statics, which also computes J",
     ("ups_pu", 'local_index("inverse_condition_f")'): "the angles as arc lengths r theta (pkm.regions.pipeline)",
 }
+LIMITED = ("pkm's reach holds the machine's stated limits (Mechanism.limits: strokes, joint ranges, interference, "
+           "det J's sign), which numpy's baseline does not compute")  # the note of a method of a mechanism with limits
 
 
 @dataclass(frozen=True)
@@ -195,7 +197,14 @@ def mechanism_cases(name: str, n: int, rng: np.random.Generator) -> tuple[list[C
             ("inverse_dynamics", lambda: m.inverse_dynamics(X, V, A, design, mode=mode),
              lambda: model.inverse_dynamics(X, V, A, d, signs)),
         ]
-    cases = [Case(name, method, len(X), ours, theirs, NOTES.get((name, method), "")) for method, ours, theirs in pairs]
+    if m.limits:
+        pairs.insert(1, ("inverse_kinematics(limits=False)", lambda: m.inverse_kinematics(X, design, mode=mode,
+                                                                                           limits=False),
+                         lambda: model.inverse_kinematics(X, d, signs)))
+    limited = {"inverse_kinematics", 'local_index("inverse_condition_f")', "statics"} if m.limits else set()
+    cases = [Case(name, method, len(X), ours, theirs,
+                  "; ".join(filter(None, [NOTES.get((name, method), ""), LIMITED if method in limited else ""])))
+             for method, ours, theirs in pairs]
     cases.insert(1, forward_case(m, mode, X))
     return cases, {"mode": mode, "poses": len(X)}
 
