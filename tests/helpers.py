@@ -273,3 +273,36 @@ def assert_five_bar_torques(described: pkm.Mechanism, small: Any, x: np.ndarray,
     theirs = hand.inverse_dynamics(x, x_dot, x_ddot, hand.design(), mode=mode, joint_torques=True)
     scale = np.abs(theirs).max(axis=1, keepdims=True)
     np.testing.assert_allclose(mine / scale, theirs / scale, atol=1e-10, err_msg=mode)
+
+
+def assert_forward_kinematics_returns_the_pose(m: pkm.Mechanism, x: np.ndarray) -> None:
+    """At the poses x of the first working mode, each configuration's signature (its legs' sides, the sign of
+    the type-II determinant) names the assembly modes whose solutions hold it: one of them returns the pose to
+    1e-9."""
+    q = m.inverse_kinematics(x, passive=True)
+    signature = m.forward.seeds.signature(m.functions, q, x, m.design().vector())
+    for signs in {tuple(s) for s in signature}:
+        mine = np.all(signature == signs, axis=1)
+        ranks = [a for a in m.assembly_modes if a.signs[:-1] == signs]
+        found = np.stack([m.forward_kinematics(q[mine, : m.n_act], assembly=a.name) for a in ranks])
+        errors = np.linalg.norm(found - x[mine], axis=2)
+        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
+
+
+def assert_five_bar_gci(described: pkm.Mechanism) -> tuple[dict, Any]:
+    """A described five-bar's GCI and its design gradient in (r1, r2, r3) over a fixed disc (the hand-derived
+    model's MIW at the default design, shrunk by 0.8) equal the hand-derived model's to 1e-10 and 1e-9, in
+    the modes out_out and in_out; the disc and its placement's centre and radius."""
+    hand = pkm.load("five_bar")
+    design = hand.design()
+    small = {n: design[n] for n in ("r1", "r2", "r3")}
+    disc = hand.region("miw")
+    centre, radius = (np.array(v).ravel() for v in disc.placement(hand.functions, design.vector()))
+    for mode in ("out_out", "in_out"):
+        fixed = disc.at(centre, 0.8 * radius)
+        mine, mine_gradient = described.global_index("gci", small, region=fixed, mode=mode, gradient=True)
+        theirs, their_gradient = hand.global_index("gci", design, region=fixed, mode=mode, gradient=True)
+        assert abs(mine - theirs) <= 1e-10
+        for name in small:
+            assert abs(mine_gradient[name] - their_gradient[name]) <= 1e-9
+    return {"shape": "disc", "centre": centre.tolist(), "size": [0.8 * float(radius[0])]}, design

@@ -267,10 +267,14 @@ CASES = [
 
 @pytest.mark.parametrize(("name", "design", "modes"), CASES, ids=[c[0] for c in CASES])
 def test_export_agrees_with_pkm_in_pinocchio(pinocchio, tmp_path, name, design, modes):
-    m = pkm.load(name)
+    assert_export_agrees(pkm.load(name), design, modes, tmp_path)
+
+
+def assert_export_agrees(m, design, modes, folder: Path) -> None:
+    """q_a, J and M_t of the export in Pinocchio against pkm's, in each working mode (:func:`check_export`)."""
     rng = np.random.default_rng(28)
     for mode in modes:
-        errors = check_export(m, design, mode, tmp_path / mode, rng)
+        errors = check_export(m, design, mode, folder / mode, rng)
         assert errors["q_a"] < TOLERANCE, (mode, errors)
         assert errors["J"] < TOLERANCE, (mode, errors)
         assert errors["M_t"] < TOLERANCE, (mode, errors)
@@ -405,12 +409,7 @@ MIXED = {
 
 def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, tmp_path):
     m = pkm.load(MIXED)
-    rng = np.random.default_rng(28)
-    for mode in m.modes[:2]:
-        errors = check_export(m, None, mode, tmp_path / mode, rng)
-        assert errors["q_a"] < TOLERANCE, (mode, errors)
-        assert errors["J"] < TOLERANCE, (mode, errors)
-        assert errors["M_t"] < TOLERANCE, (mode, errors)
+    assert_export_agrees(m, None, m.modes[:2], tmp_path)
 
 
 @pytest.mark.parametrize(("description", "modes"), [
@@ -425,13 +424,7 @@ def test_prismatic_legs_and_their_bodies_agree_with_pkm_in_pinocchio(pinocchio, 
 def test_chain_legs_and_point_poses_agree_with_pkm_in_pinocchio(pinocchio, tmp_path, description, modes):
     """Chain legs (a parallelogram's turns undone by mimic joints) and their bodies, and the platform of a point
     pose on prismatic joints as pkm's model has it (a planar point's would otherwise spin freely)."""
-    m = pkm.load(description)
-    rng = np.random.default_rng(28)
-    for mode in modes:
-        errors = check_export(m, None, mode, tmp_path / mode, rng)
-        assert errors["q_a"] < TOLERANCE, (mode, errors)
-        assert errors["J"] < TOLERANCE, (mode, errors)
-        assert errors["M_t"] < TOLERANCE, (mode, errors)
+    assert_export_agrees(pkm.load(description), None, modes, tmp_path)
 
 
 def test_the_worked_example_of_docs_export_runs(pinocchio, tmp_path, monkeypatch):

@@ -12,7 +12,7 @@ import numpy as np
 import oracles
 import pytest
 from helpers import FIVE_BAR_OF_RR_LEGS as FIVE_BAR
-from helpers import assert_five_bar_torques
+from helpers import assert_five_bar_gci, assert_five_bar_torques, assert_forward_kinematics_returns_the_pose
 
 import pkm
 from pkm.models.described import DESCRIPTIONS
@@ -73,15 +73,7 @@ def test_forward_kinematics_returns_the_pose_about_home_in_the_assembly_of_its_s
     """Each configuration's signature (the elbow sides, the sign of the type-II determinant) names the
     assembly mode whose solutions hold it."""
     m, rng = machines[name], np.random.default_rng(4)
-    x = _within(m, rng, lower, upper, m.modes[0])[:40]
-    q = m.inverse_kinematics(x, passive=True)
-    signature = m.forward.seeds.signature(m.functions, q, x, m.design().vector())
-    for signs in {tuple(s) for s in signature}:
-        mine = np.all(signature == signs, axis=1)
-        ranks = [a for a in m.assembly_modes if a.signs[:-1] == signs]
-        found = np.stack([m.forward_kinematics(q[mine, : m.n_act], assembly=a.name) for a in ranks])
-        errors = np.linalg.norm(found - x[mine], axis=2)
-        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
+    assert_forward_kinematics_returns_the_pose(m, _within(m, rng, lower, upper, m.modes[0])[:40])
 
 
 def _raw(name: str) -> dict:
@@ -145,18 +137,7 @@ def test_the_five_bar_described_has_the_hand_derived_global_indices_and_synthesi
     from pkm.synthesis.designer import design_problem
 
     hand, described = pkm.load("five_bar"), pkm.load(FIVE_BAR)
-    design = hand.design()
-    small = {n: design[n] for n in ("r1", "r2", "r3")}
-    disc = hand.region("miw")
-    centre, radius = (np.array(v).ravel() for v in disc.placement(hand.functions, design.vector()))
-    task = {"shape": "disc", "centre": centre.tolist(), "size": [0.8 * float(radius[0])]}
-    fixed = disc.at(centre, 0.8 * radius)
-    for mode in ("out_out", "in_out"):
-        mine, mine_gradient = described.global_index("gci", small, region=fixed, mode=mode, gradient=True)
-        theirs, their_gradient = hand.global_index("gci", design, region=fixed, mode=mode, gradient=True)
-        assert abs(mine - theirs) <= 1e-10
-        for name in small:
-            assert abs(mine_gradient[name] - their_gradient[name]) <= 1e-9
+    task, design = assert_five_bar_gci(described)
     variables = {"r1": (1.0, 1.4), "r2": (0.8, 1.2)}
     optima = [pkm.synthesize(design_problem(m, task=task, variables=variables, constraints=(), mode="out_out",
                                             fixed={"r3": design["r3"]}, baseline=("grid", 5), resolution=6),

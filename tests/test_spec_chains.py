@@ -18,7 +18,9 @@ import pytest
 from helpers import (
     EXAMPLES,
     FIVE_BAR_OF_CHAINS,
+    assert_five_bar_gci,
     assert_five_bar_torques,
+    assert_forward_kinematics_returns_the_pose,
     delta_and_its_chains_with_bodies,
     delta_of_chains,
     five_bar_of_chains_with_bodies,
@@ -122,18 +124,7 @@ def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines, solver):
 def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines, solver):
     """Through the Newton steps the design gradient is the implicit function's: over a fixed disc the GCI
     and its gradient in (r1, r2, r3) agree with the hand-derived five-bar's to 1e-10 and 1e-9."""
-    m, hand = machines["five_bar", solver], pkm.load("five_bar")
-    design = hand.design()
-    small = {n: design[n] for n in ("r1", "r2", "r3")}
-    disc = hand.region("miw")
-    centre, radius = (np.array(v).ravel() for v in disc.placement(hand.functions, design.vector()))
-    fixed = disc.at(centre, 0.8 * radius)
-    for mode in ("out_out", "in_out"):
-        mine, mine_gradient = m.global_index("gci", small, region=fixed, mode=mode, gradient=True)
-        theirs, their_gradient = hand.global_index("gci", design, region=fixed, mode=mode, gradient=True)
-        assert abs(mine - theirs) <= 1e-10
-        for name in small:
-            assert abs(mine_gradient[name] - their_gradient[name]) <= 1e-9
+    assert_five_bar_gci(machines["five_bar", solver])
 
 
 def test_the_continued_inverse_kinematics_compiles_to_the_interpreters_values(machines, monkeypatch, tmp_path):
@@ -158,15 +149,7 @@ def test_the_continued_inverse_kinematics_compiles_to_the_interpreters_values(ma
 def test_forward_kinematics_of_chains_returns_the_pose(machines, solver):
     m = machines["delta", solver]
     x = np.random.default_rng(10).uniform([-0.1, -0.1, -0.6], [0.1, 0.1, -0.35], size=(60, 3))
-    x = x[m.reachable(x)][:30]
-    q = m.inverse_kinematics(x, passive=True)
-    signature = m.forward.seeds.signature(m.functions, q, x, m.design().vector())
-    for signs in {tuple(s) for s in signature}:
-        mine = np.all(signature == signs, axis=1)
-        ranks = [a for a in m.assembly_modes if a.signs[:-1] == signs]
-        found = np.stack([m.forward_kinematics(q[mine, : m.n_act], assembly=a.name) for a in ranks])
-        errors = np.linalg.norm(found - x[mine], axis=2)
-        assert np.nanmin(np.where(np.isnan(errors), np.inf, errors), axis=0).max() < 1e-9
+    assert_forward_kinematics_returns_the_pose(m, x[m.reachable(x)][:30])
 
 
 def _broken(change) -> dict:
