@@ -447,9 +447,10 @@ def _nearest(q_a: np.ndarray, q0: np.ndarray, periodic: np.ndarray, count: int) 
     a, b = _embedded(q_a, periodic), _embedded_table(q0, periodic)
     order = []
     chunk = max(1, SEED_CHUNK // max(1, len(q0)))
+    norms = np.sum(b**2, axis=1)[None, :]
     for start in range(0, len(q_a), chunk):
         part = a[start : start + chunk]
-        distance = np.sum(b**2, axis=1)[None, :] - 2.0 * part @ b.T
+        distance = norms - 2.0 * part @ b.T
         nearest = np.argpartition(distance, count - 1, axis=1)[:, :count] if count < len(q0) else \
             np.broadcast_to(np.arange(len(q0)), (len(part), len(q0))).copy()
         order.append(np.take_along_axis(nearest, np.argsort(np.take_along_axis(distance, nearest, axis=1), axis=1),
@@ -470,11 +471,17 @@ def _spread(z0: np.ndarray, order: np.ndarray, gaps: np.ndarray, count: int) -> 
     rows = np.arange(len(order))
     near = max(1, count // 2)
     chosen = list(np.broadcast_to(np.arange(near), (len(order), near)).T)
-    spread = np.min([np.linalg.norm(z0[order] - z0[order[rows, c]][:, None, :], axis=2) for c in chosen], axis=0)
+    candidates = z0[order]
+
+    def squared(c: np.ndarray) -> np.ndarray:  # each candidate's squared distance from the c-th
+        gap = candidates - candidates[rows, c][:, None, :]
+        return np.einsum("nck,nck->nc", gap, gap)
+
+    spread = np.min([squared(c) for c in chosen], axis=0)
     for _ in range(near, count):
         pick = np.argmax(spread, axis=1)
         chosen.append(pick)
-        spread = np.minimum(spread, np.linalg.norm(z0[order] - z0[order[rows, pick]][:, None, :], axis=2))
+        spread = np.minimum(spread, squared(pick))
     picks = np.column_stack(chosen)
     return np.take_along_axis(order, picks, axis=1), np.take_along_axis(gaps, picks[:, :, None], axis=1)
 
