@@ -345,7 +345,7 @@ def _closed_chain(joints: list[dict[str, Any]], d: sp.Matrix, vector: Any
         angles, more = _pointing(axes(second), l2, frame.T * (d - tip), sign2)
         return [t, *angles], [margin, *more], [sign1, sign2] if not planar else [sign1]
     if second["actuated"] and second["type"] == "P" and first["type"] in pointing and \
-            vector(first["link"]) == zero and vector(second["link"]) == zero:
+            all(e.is_zero for e in (*vector(first["link"]), *vector(second["link"]))):
         e = vector(second["axis"])
         e = e / sp.sqrt(e.dot(e))
         length = sp.sqrt(d.dot(d))

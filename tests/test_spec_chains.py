@@ -258,3 +258,53 @@ def test_a_synthesis_over_the_delta_of_chains_reaches_the_delta_descriptions_opt
     assert abs(optima[0].verified_objective - optima[1].verified_objective) <= 1e-9
     for name in variables:
         assert abs(optima[0].variables[name] - optima[1].variables[name]) <= 1e-6
+
+
+def _parameters(**values: float) -> list[dict]:
+    return [{"name": k, "default": v, "lower": 0.01, "upper": 5.0, "unit": "m", "doc": k} for k, v in values.items()]
+
+
+def _circles(frame: str, home: list, joints: list, branches: dict, **values: float) -> dict:
+    """Three chain legs on the circles R (base) and r (platform)."""
+    return {"name": f"chains_{abs(hash(str(joints))) % 10**8}", "frame": frame, "home": home,
+            "parameters": _parameters(**values),
+            "legs": {"kind": "chain", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+                     "platform": {"circle": "r", "start": "pi/2"}, "joints": joints, "branches": branches}}
+
+
+SUBPROBLEMS = {
+    "RP, planar": _circles("planar", [0, 0, 0], [{"type": "R"}, {"type": "P", "axis": [1, 0], "actuated": True}],
+                           {"out": [3.1, 0.6]}, R=1.0, r=0.4),
+    "PR, planar": _circles("planar", [0, 0, 0], [{"type": "P", "axis": [0, 1], "actuated": True},
+                                                 {"type": "R", "link": ["l", 0]}],
+                           {"up": [0.57, -2.46], "down": [-0.57, 2.46]}, R=1.0, r=0.3, l=0.9),
+    "PU, spatial": _circles("spatial_point", [0, 0, -0.8],
+                            [{"type": "P", "axis": [0, 0, 1], "actuated": True},
+                             {"type": "U", "axes": [[0, 1, 0], [1, 0, 0]], "link": [0, 0, "-L"]}],
+                            {"above": [-0.23, 0.34, 0.0], "below": [-1.37, 2.8, 0.0]}, R=0.3, r=0.1, L=0.6),
+    "UP, spatial": _circles("spatial_point", [0, 0, 0.8],
+                            [{"type": "U", "axes": [[1, 0, 0], [0, 1, 0]]},
+                             {"type": "P", "axis": [0, 0, 1], "actuated": True}],
+                            {"only": [0.0, -0.25, 0.83]}, R=0.3, r=0.1),
+}
+
+
+@pytest.mark.parametrize("name", list(SUBPROBLEMS))
+def test_every_closed_form_of_a_chain_is_its_newton_continuation(name):
+    """The subproblems the closed forms match that the machines above do not (an R pointing an actuated P in
+    the plane, an actuated P then an R, an actuated P then a U in space, a U pointing an actuated P): on
+    every mode, the closed form and Newton's method reach the same poses with the same joints to 1e-12."""
+    raw = SUBPROBLEMS[name]
+    closed, newton = pkm.load(raw), pkm.load(_newton(raw))
+    assert "continuation_start" not in closed.functions
+    box = closed.workspace_box(closed.design().vector())
+    x = np.random.default_rng(15).uniform(box[:, 0], box[:, 1], size=(400, closed.n_out))
+    design = closed.design().vector()
+    for mode in closed.working_modes:
+        q, reach = interpreted(closed.functions["inverse_kinematics"], x, np.array(mode.signs), design)
+        q_newton, reach_newton = interpreted(newton.functions["inverse_kinematics"], x, np.array(mode.signs), design)
+        mine, theirs = (np.all(r[..., 0] >= 0, axis=1) & np.isfinite(v[..., 0]).all(axis=1)
+                        for r, v in ((reach, q), (reach_newton, q_newton)))
+        assert mine.sum() > 40, mode.name
+        np.testing.assert_array_equal(mine, theirs, err_msg=mode.name)
+        np.testing.assert_allclose(_wrapped(q[mine, :, 0] - q_newton[mine, :, 0]), 0, atol=1e-12, err_msg=mode.name)
