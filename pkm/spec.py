@@ -847,8 +847,9 @@ BOX_SCALES = 4  # sizes of the boxes about the home pose where the workspace box
 @dataclass(frozen=True)
 class Seeds:
     """The configurations that seed a description's forward kinematics (:class:`pkm.kinematics.NearestSeeds`)
-    and the signature that names its assembly modes: the elbow side of each RR leg (the sign of sin(phi -
-    theta)) and the sign of the type-II determinant det [H_p H_x]. The configurations are those of every
+    and the signature that names its assembly modes: the side of each leg whose passive joints have two
+    branches (``branch_sides``: an RR leg's elbow, sin(phi - theta); a chain's det of its closure's Jacobian
+    in its joints) and the sign of the type-II determinant det [H_p H_x]. The configurations are those of every
     branch of the legs where they assemble at random poses in the workspace box (:meth:`box`; a fixed
     seed), half of them, after the first round, found ones moved at random (so that a thin workspace fills
     too), until there are SEED_COUNT; one table per design."""
@@ -1073,7 +1074,7 @@ RANKS = {"planar_point": 1, "planar": 2, "spatial_point": 1, "spatial": 8}  # so
 
 
 def _assemblies(data: Mapping[str, Any]) -> tuple[Branch, ...]:
-    """The assembly modes: the elbow side of each RR leg, the sign of the type-II determinant (the
+    """The assembly modes: the side of each two-branched leg, the sign of the type-II determinant (the
     signature of :class:`Seeds`) and the rank among the signature's solutions by the last pose coordinate
     (:class:`pkm.kinematics.NearestSeeds`; ``_2`` names the second) where a frame has several (RANKS)."""
     elbows = sum(kind_of(leg).sided for leg in data["legs"])

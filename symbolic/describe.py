@@ -198,13 +198,14 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     planar = a.rows == 2
     turn = scalar(leg["turn"])
     frame = _plane_rotation(turn) if planar else _axis_rotation(sp.Matrix([0, 0, 1]), turn)
-    rotation, point, variables, points, actuated = frame, a, [], [], None
+    rotation, point, variables, angles, points, actuated = frame, a, [], [], [], None
     omega: tuple[tuple[sp.Symbol, sp.Matrix], ...] = ()
     angle_sum, frames = turn, []
     for j, joint in enumerate(leg["joints"]):
         names = [f"q{k + 1}_{j + 1}"] if joint["type"] in ("R", "P") else [f"q{k + 1}_{j + 1}a", f"q{k + 1}_{j + 1}b"]
         mine = [sp.Symbol(n, real=True) for n in names]
         variables += mine
+        angles += [joint["type"] != "P"] * len(mine)
         turned, turning, turned_sum = rotation, omega, angle_sum
         if joint["type"] == "P":
             axis = vector(joint["axis"])
@@ -235,8 +236,6 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
         return _Leg(h, actuated, passive, dict(zip(variables, blend, strict=True)), [], sigma, side=side,
                     joints=tuple(points[:-1]), end=point, frames=tuple(frames))
     solution, reach, signs = closed
-    angles = [joint["type"] != "P" for joint in leg["joints"] for _ in range(2 if joint["type"] not in ("R", "P")
-                                                                              else 1)]
     chosen = [_nearest_candidate(solution, signs, seed, angles, start) for seed in seeds]
     values = {s: chosen[0][i] if sigma is None else (1 + sigma) / 2 * chosen[0][i] + (1 - sigma) / 2 * chosen[-1][i]
               for i, s in enumerate(signs)}
@@ -313,14 +312,6 @@ def _closed_chain(joints: list[dict[str, Any]], d: sp.Matrix, vector: Any
 
     def axes(joint: dict[str, Any]) -> list[sp.Matrix]:
         return [] if planar else [vector(a) for a in joint["axes"]]
-
-    def turn(joint: dict[str, Any], angles: list[sp.Expr]) -> sp.Matrix:
-        if planar:
-            return _plane_rotation(angles[0])
-        out = sp.eye(3)
-        for axis, angle in zip(joint["axes"], angles, strict=True):
-            out = out * _axis_rotation(vector(axis), angle)
-        return out
 
     if first["actuated"] and first["type"] in ("R", "P") and second["type"] in pointing:
         l1, l2 = vector(first["link"]), vector(second["link"])
