@@ -190,7 +190,8 @@ def make_design(
     for p in parameters:
         p.check(full[p.name])
     for c in conditions:
-        if not c.margin(full) > 0:
+        margin = float(c.margin(full))
+        if not (math.isfinite(margin) and margin > 0):
             shown = ", ".join(f"{k}={v:g}" for k, v in full.items())
             raise DesignError(f"design ({shown}) cannot be assembled: violates {c.text}")
     return Design(parameters, full)

@@ -53,13 +53,13 @@ in a subprocess, for pkm never imports sympy) and returns the mechanism.
 
 from __future__ import annotations
 
-import ast
 import hashlib
 import importlib.util
 import itertools
 import json
 import math
 import os
+import reprlib
 import subprocess
 import sys
 import tempfile
@@ -147,10 +147,13 @@ def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
     return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
 
 
-FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt")
+NAME_LENGTH = 64  # the longest name of a machine, a parameter, a region, a mode or a branch
+TEXT_LENGTH = 2000  # the longest text of a doc or a unit
 SUFFIX = ".toml"  # a mechanism name with it is a description file
 ROOT = Path(__file__).resolve().parent.parent
 CLOSURE_TOLERANCE = 1e-9  # [m] the home pose closes every leg to this, relative to the largest length
+DERIVATION_SECONDS = 120.0  # the time limit of a description's derivation
+UNDEFINED = 3  # the derivation's exit status where an expression has no finite value (symbolic.describe)
 RANK_TOLERANCE = 1e-9  # relative singular value below which the closure's Jacobian loses rank
 
 
@@ -185,18 +188,46 @@ def _fail(field: str, condition: str) -> DescriptionError:
     return DescriptionError(f"description field {field} violates: {condition}")
 
 
-def _expression(field: str, text: Any, names: set[str]) -> str:
-    """An expression of the parameters (and pi, cos, sin, tan, sqrt), as text."""
+def _expression(field: str, text: Any, names: set[str]) -> expressions.Tree:
+    """An expression of the parameters (and pi and :data:`pkm.expressions.FUNCTIONS`), as its tree."""
     if isinstance(text, bool) or not isinstance(text, int | float | str):
         raise _fail(field, "a number or an expression of the parameters")
-    text = repr(float(text)) if not isinstance(text, str) else text
-    tree = expressions.parse(text)
-    if tree is None:
-        raise _fail(field, f"arithmetic of the parameters; got {text!r}")
-    unknown = expressions.unknown_names(tree, {*names, *FUNCTIONS})
+    if not isinstance(text, str):
+        if not math.isfinite(text):
+            raise _fail(field, f"a finite number; got {text!r}")
+        return float(text)
+    try:
+        tree = expressions.parse(text)
+    except expressions.ExpressionError as exc:
+        raise _fail(field, f"{exc}; got {reprlib.repr(text)}") from None
+    unknown = expressions.unknown_names(tree, names)
     if unknown:
-        raise _fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names {unknown}")
-    return text
+        raise _fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names "
+                           f"{reprlib.repr(unknown)}")
+    return tree
+
+
+def _compose(field: str, template: str, names: set[str], **parts: expressions.Tree) -> expressions.Tree:
+    """The tree of ``template`` with the trees ``parts`` put in for their names in braces."""
+    return _expression(field, template.format(**{k: f"({expressions.text(v)})" for k, v in parts.items()}), names)
+
+
+def _choice(field: str, value: Any, options: Sequence[str]) -> str:
+    """``value`` where it is one of ``options`` (text), else :class:`DescriptionError` naming ``field``."""
+    if not isinstance(value, str) or value not in options:
+        raise _fail(field, f"one of {', '.join(options)}; got {reprlib.repr(value)}")
+    return value
+
+
+def _text(field: str, value: Any) -> str:
+    """A text field (a doc, a unit): text of at most :data:`TEXT_LENGTH` characters."""
+    if not isinstance(value, str) or len(value) > TEXT_LENGTH:
+        raise _fail(field, f"text of at most {TEXT_LENGTH} characters")
+    return value
+
+
+def _identifier(name: Any) -> bool:
+    return isinstance(name, str) and name.isidentifier() and len(name) <= NAME_LENGTH
 
 
 def _number(field: str, value: Any) -> float:
@@ -217,8 +248,9 @@ def _parameters(raw: Any) -> list[dict[str, Any]]:
         if extra:
             raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, default, lower, upper, unit, doc)")
         name = p.get("name")
-        if not isinstance(name, str) or not name.isidentifier() or name in FUNCTIONS:
-            raise _fail(f"{where}.name", "an identifier other than pi, cos, sin, tan, sqrt")
+        if not _identifier(name) or name in expressions.RESERVED:
+            raise _fail(f"{where}.name", f"an identifier of at most {NAME_LENGTH} characters other than "
+                                         f"{', '.join(expressions.RESERVED)}")
         if name in seen:
             raise _fail(f"{where}.name", f"a name not given before; {name} is")
         seen.add(name)
@@ -231,24 +263,24 @@ def _parameters(raw: Any) -> list[dict[str, Any]]:
             raise _fail(f"{where}", f"lower < upper; got {lower:g}, {upper:g}")
         if not lower <= default < upper:
             raise _fail(f"{where}.default", f"{lower:g} <= default < {upper:g}; got {default:g}")
-        unit, doc = p.get("unit", "-"), p.get("doc", "")
-        if not isinstance(unit, str) or not isinstance(doc, str):
-            raise _fail(where, "unit and doc are text")
+        unit, doc = _text(f"{where}.unit", p.get("unit", "-")), _text(f"{where}.doc", p.get("doc", ""))
         out.append({"name": name, "default": default, "lower": lower, "upper": upper, "unit": unit, "doc": doc})
     return out
 
 
-def _angles(pattern: Mapping[str, Any], count: int, field: str, names: set[str]) -> list[str]:
+def _angles(pattern: Mapping[str, Any], count: int, field: str, names: set[str]) -> list[expressions.Tree]:
     start = _expression(f"{field}.start", pattern.get("start", 0), names)
     if "pairs" not in pattern:
-        return [f"({start}) + 2*pi*{i}/{count}" for i in range(count)]
+        return [_compose(f"{field}.start", f"{{start}} + 2*pi*{i}/{count}", names, start=start) for i in range(count)]
     if count % 2:
         raise _fail(f"{field}.pairs", f"an even count of legs; got {count}")
     apart = _expression(f"{field}.pairs", pattern["pairs"], names)
-    return [f"({start}) + 2*pi*{i // 2}/{count // 2} {'-' if i % 2 == 0 else '+'} ({apart})/2" for i in range(count)]
+    return [_compose(f"{field}.pairs", f"{{start}} + 2*pi*{i // 2}/{count // 2} {'-' if i % 2 == 0 else '+'} "
+                     "{apart}/2", names, start=start, apart=apart) for i in range(count)]
 
 
-def _points(raw: Any, count: int, dim: int, field: str, names: set[str]) -> tuple[list[list[str]], list[str] | None]:
+def _points(raw: Any, count: int, dim: int, field: str, names: set[str]
+            ) -> tuple[list[list[expressions.Tree]], list[expressions.Tree] | None]:
     """``count`` points of ``dim`` expressions, and the circle's angles where a pattern gave them."""
     if isinstance(raw, Mapping):
         extra = set(raw) - {"circle", "start", "pairs"}
@@ -256,8 +288,9 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]) -> tupl
             raise _fail(field, "a list of points or a pattern {circle, start, pairs}")
         radius = _expression(f"{field}.circle", raw["circle"], names)
         angles = _angles(raw, count, field, names)
-        plane = [[f"({radius})*cos({a})", f"({radius})*sin({a})"] for a in angles]
-        return [p + ["0"] * (dim - 2) for p in plane], angles
+        plane = [[_compose(f"{field}.circle", f"{{r}}*{f}({{a}})", names, r=radius, a=a) for f in ("cos", "sin")]
+                 for a in angles]
+        return [p + [0] * (dim - 2) for p in plane], angles
     if not isinstance(raw, list) or len(raw) != count:
         raise _fail(field, f"a list of {count} points (one per leg) or a pattern {{circle, start, pairs}}")
     points = []
@@ -323,12 +356,10 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         where = "legs" if isinstance(raw, Mapping) else f"legs[{t}]"
         if not isinstance(table, Mapping):
             raise _fail(where, "a table")
-        kind = table.get("kind")
+        kind = _choice(f"{where}.kind", table.get("kind"), (*KINDS, CHAIN))
         if kind == CHAIN:
             legs += _chain_legs(table, where, frame, names)
             continue
-        if kind not in KINDS:
-            raise _fail(f"{where}.kind", f"one of {', '.join(KINDS)}, {CHAIN}; got {kind!r}")
         space, lengths = KINDS[kind].space, KINDS[kind].lengths
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
@@ -362,10 +393,10 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 if angles is None and ("axis" not in table or "zero" not in table):
                     raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
                 a = angles[i] if angles is not None else None
-                leg["axis"] = [f"-sin({a})", f"cos({a})", "0"] if table.get("axis", "tangent") == "tangent" else \
-                    [_expression(f"{where}.axis", c, names) for c in table["axis"]]
-                leg["zero"] = [f"cos({a})", f"sin({a})", "0"] if table.get("zero", "radial") == "radial" else \
-                    [_expression(f"{where}.zero", c, names) for c in table["zero"]]
+                leg["axis"] = [["neg", ["sin", a]], ["cos", a], 0] if table.get("axis", "tangent") == "tangent" \
+                    else _vector(table["axis"], 3, f"{where}.axis", names)
+                leg["zero"] = [["cos", a], ["sin", a], 0] if table.get("zero", "radial") == "radial" else \
+                    _vector(table["zero"], 3, f"{where}.zero", names)
             legs.append(leg)
     return legs
 
@@ -395,11 +426,7 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
     types = ("R", "P") if dim == 2 else ("R", "P", "U", "parallelogram")
     if not isinstance(raw, Mapping):
         raise _fail(field, "a table {type, axis or axes, link, actuated}")
-    kind = raw.get("type")
-    if kind not in types:
-        end = "revolute" if dim == 2 else "spherical"
-        raise _fail(f"{field}.type", f"one of {', '.join(types)} (the platform's {end} joint ends the chain); got "
-                                     f"{kind!r}")
+    kind = _choice(f"{field}.type", raw.get("type"), types)
     known = {"type", "link", "actuated", "body", "axes" if kind in ("U", "parallelogram") else "axis",
              *(("rotor",) if raw.get("actuated") is True else ())}
     extra = set(raw) - known
@@ -417,7 +444,7 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
             raise _fail(f"{field}.axis", "given (the direction of the prismatic joint)")
         out["axis"] = _vector(raw["axis"], dim, f"{field}.axis", names)
     elif kind == "R":
-        out["axes"] = [["0", "0", "1"] if dim == 2 else _vector(raw.get("axis", [0, 0, 1]), 3, f"{field}.axis", names)]
+        out["axes"] = [[0, 0, 1] if dim == 2 else _vector(raw.get("axis", [0, 0, 1]), 3, f"{field}.axis", names)]
         if dim == 2 and "axis" in raw:
             raise _fail(f"{field}.axis", "absent: a planar revolute turns about z")
     else:
@@ -441,9 +468,7 @@ def _conditions(raw: Any, names: set[str]) -> list[dict[str, str]]:
     for k, condition in enumerate(raw):
         if not isinstance(condition, Mapping) or "margin" not in condition or set(condition) - {"margin", "doc"}:
             raise _fail(f"conditions[{k}]", "a table {margin, doc}: the margin positive where the design is valid")
-        doc = condition.get("doc", "a valid design")
-        if not isinstance(doc, str):
-            raise _fail(f"conditions[{k}].doc", "text")
+        doc = _text(f"conditions[{k}].doc", condition.get("doc", "a valid design"))
         out.append({"margin": _expression(f"conditions[{k}].margin", condition["margin"], names), "doc": doc})
     return out
 
@@ -491,14 +516,15 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
         raise _fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
     seeds = []
     for name, values in branches.items():
-        if not name.isidentifier():
-            raise _fail(f"{where}.branches.{name}", "an identifier")
+        if not _identifier(name):
+            raise _fail(f"{where}.branches.{reprlib.repr(name)}", f"an identifier of at most {NAME_LENGTH} "
+                                                                  "characters")
         if not isinstance(values, list) or len(values) != variables:
             raise _fail(f"{where}.branches.{name}", f"a list of {variables} joint values (the U's two in order)")
         seeds.append([name, [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]])
     turns = table.get("turn")
     if turns is None:
-        turns = angles if angles is not None else ["0"] * count
+        turns = angles if angles is not None else [0] * count
     elif not isinstance(turns, list) or len(turns) != count:
         raise _fail(f"{where}.turn", f"a list of {count} angles, one per leg")
     else:
@@ -539,30 +565,31 @@ def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dic
             raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, doc, shape, coordinates, centre, size, "
                                                         "axis)")
         name = region.get("name")
-        if not isinstance(name, str) or not name.isidentifier() or name in seen or name in ("reachable", "assembled"):
-            raise _fail(f"{where}.name", "an identifier not given before, other than reachable and assembled")
+        if not _identifier(name) or name in seen or name in ("reachable", "assembled"):
+            raise _fail(f"{where}.name", f"an identifier of at most {NAME_LENGTH} characters not given before, other "
+                                         "than reachable and assembled")
         seen.add(name)
-        shape = region.get("shape")
-        if shape not in SHAPES:
-            raise _fail(f"{where}.shape", f"one of {', '.join(SHAPES)}; got {shape!r}")
+        shape = _choice(f"{where}.shape", region.get("shape"), tuple(SHAPES))
         dimension, sizes = SHAPES[shape]
         coordinates = region.get("coordinates", list(pose_names[:dimension]))
-        if (not isinstance(coordinates, list) or len(coordinates) != dimension or len(set(coordinates)) != dimension
-                or not set(coordinates) <= set(pose_names)):
+        if (not isinstance(coordinates, list) or len(coordinates) != dimension
+                or not all(isinstance(c, str) and c in pose_names for c in coordinates)
+                or len(set(coordinates)) != dimension):
             raise _fail(f"{where}.coordinates", f"{dimension} distinct pose coordinates ({', '.join(pose_names)})")
         for field, count in (("centre", dimension), ("size", sizes)):
             if not isinstance(region.get(field), list) or len(region[field]) != count:
                 raise _fail(f"{where}.{field}", f"a list of {count} expressions of the parameters")
-        axis = region.get("axis", coordinates[-1])
-        if shape == "cylinder" and axis not in coordinates:
-            raise _fail(f"{where}.axis", f"one of the region's coordinates ({', '.join(coordinates)})")
-        doc = region.get("doc", name)
+        if "axis" in region and shape != "cylinder":
+            raise _fail(f"{where}.axis", f"absent: only a cylinder has an axis; this region is a {shape}")
+        axis = _choice(f"{where}.axis", region.get("axis", coordinates[-1]), coordinates) if shape == "cylinder" \
+            else None
+        doc = _text(f"{where}.doc", region.get("doc", name))
         out.append({
-            "name": name, "doc": doc if isinstance(doc, str) else name, "shape": shape,
+            "name": name, "doc": doc, "shape": shape,
             "coordinates": [pose_names.index(c) for c in coordinates],
             "centre": [_expression(f"{where}.centre[{j}]", c, names) for j, c in enumerate(region["centre"])],
             "size": [_expression(f"{where}.size[{j}]", c, names) for j, c in enumerate(region["size"])],
-            "axis": coordinates.index(axis) if shape == "cylinder" else None,
+            "axis": None if axis is None else coordinates.index(axis),
         })
     return out
 
@@ -579,11 +606,9 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
     name = raw.get("name")
-    if not isinstance(name, str) or not name.isidentifier():
-        raise _fail("name", "an identifier")
-    frame = raw.get("frame")
-    if frame not in FRAMES:
-        raise _fail("frame", f"one of {', '.join(FRAMES)}; got {frame!r}")
+    if not _identifier(name):
+        raise _fail("name", f"an identifier of at most {NAME_LENGTH} characters")
+    frame = _choice("frame", raw.get("frame"), tuple(FRAMES))
     parameters = _parameters(raw.get("parameters"))
     names = {p["name"] for p in parameters}
     legs = _legs(raw.get("legs"), frame, names)
@@ -600,13 +625,15 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     if not isinstance(modes, Mapping):
         raise _fail("modes", "a table of names -> sign lists")
     for mode, signs in modes.items():
-        if not (isinstance(signs, list) and len(signs) == max(branched, 1) and all(s in (1, -1) for s in signs)):
-            raise _fail(f"modes.{mode}", f"a list of {max(branched, 1)} signs, each 1 or -1")
+        if not (_identifier(mode) and isinstance(signs, list) and len(signs) == max(branched, 1)
+                and all(type(s) is int and s in (1, -1) for s in signs)):
+            raise _fail(f"modes.{reprlib.repr(mode)}", f"a name (an identifier of at most {NAME_LENGTH} characters) "
+                                                       f"of a list of {max(branched, 1)} signs, each 1 or -1")
     length = raw.get("characteristic_length")
     planar_frame = frame.startswith("planar")
     data = {
         "name": name,
-        "doc": raw.get("doc", name) if isinstance(raw.get("doc", name), str) else name,
+        "doc": _text("doc", raw.get("doc", name)),
         "pose": {"frame": frame, "units": list(units)},
         "parameters": parameters,
         "legs": legs,
@@ -630,15 +657,76 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         missing = [k for k, leg in enumerate(legs) if not _has_bodies(leg)]
         if missing:
             raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
+    _check_values(data)
     return Description(data)
+
+
+NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton")  # a normalised leg's fields of other data
+POSITIVE = ("proximal", "distal", "arm", "rod", "cone")  # a leg's lengths and angles that must be positive
+DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which must not vanish
+
+
+def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
+    """Every expression of a normalised leg (or a part of one) with its field, its other data left out."""
+    if isinstance(value, Mapping):
+        return [t for k, v in value.items() if k not in NOT_EXPRESSIONS for t in _trees(v, f"{field}.{k}")]
+    if isinstance(value, list) and not expressions.is_operation(value):
+        return [t for j, v in enumerate(value) for t in _trees(v, f"{field}[{j}]")]
+    return [(field, value)]
+
+
+def _check_values(data: Mapping[str, Any]) -> None:
+    """At the default design, every expression has a finite value, the legs' lengths are positive, their
+    directions do not vanish, a range's lower end lies below its upper, the regions' sizes are positive and
+    every validity condition holds."""
+    design = {p["name"]: p["default"] for p in data["parameters"]}
+
+    def value(field: str, tree: Any) -> float:
+        number = float(expressions.evaluate(tree, design))
+        if not math.isfinite(number):
+            raise _fail(field, f"a finite value at the default design; {expressions.text(tree)} is {number}")
+        return number
+
+    fields = [("home", data["home"]), ("characteristic_length", data["characteristic_length"]),
+              ("gravity", data.get("gravity")), ("platform", data["platform"]),
+              *((f"legs (leg {k + 1})", leg) for k, leg in enumerate(data["legs"]))]
+    for field, part in fields:
+        for where, tree in ([] if part is None else _trees(part, field)):
+            value(where, tree)
+    for k, leg in enumerate(data["legs"]):
+        where = f"legs (leg {k + 1})"
+        for name in POSITIVE:
+            if name in leg and not value(f"{where}.{name}", leg[name]) > 0:
+                raise _fail(f"{where}.{name}", "a positive value at the default design")
+        if "range" in leg and not value(f"{where}.range[0]", leg["range"][0]) < value(f"{where}.range[1]",
+                                                                                      leg["range"][1]):
+            raise _fail(f"{where}.range", "lower < upper at the default design")
+        parts = [(where, leg), *((f"{where}.joints[{j}]", joint) for j, joint in enumerate(leg.get("joints", ())))]
+        for at, part in parts:
+            for name in DIRECTIONS:
+                directions = part.get(name, ())
+                for d, direction in enumerate(directions if name == "axes" else [directions] if directions else []):
+                    vector = [value(f"{at}.{name}", c) for c in direction]
+                    if not any(vector):
+                        raise _fail(f"{at}.{name}" + (f"[{d}]" if name == "axes" else ""),
+                                    "a direction (not zero) at the default design")
+    for k, region in enumerate(data["regions"]):
+        for j, size in enumerate(region["size"]):
+            if not value(f"regions[{k}].size[{j}]", size) > 0:
+                raise _fail(f"regions[{k}].size[{j}]", "a positive size at the default design")
+        for j, centre in enumerate(region["centre"]):
+            value(f"regions[{k}].centre[{j}]", centre)
+    for k, condition in enumerate(data.get("conditions", ())):
+        if not value(f"conditions[{k}].margin", condition["margin"]) > 0:
+            raise _fail(f"conditions[{k}].margin", f"positive at the default design ({condition['doc']})")
 
 
 def read(path: str | os.PathLike) -> Description:
     """A description from a TOML file."""
     try:
-        raw = tomllib.loads(Path(path).read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise DescriptionError(f"description file {path}: {exc}") from None
+        raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        raise DescriptionError(f"description file {reprlib.repr(str(path))}: {exc}") from None
     return describe(raw)
 
 
@@ -655,12 +743,20 @@ def module_path(description: Description) -> Path:
         source.write_text(json.dumps({**description.data, "key": description.key}, sort_keys=True))
         out = Path(tmp) / "module.py"
         with Progress(1, f"deriving {description.name} (first use, into {folder})") as bar:
-            done = subprocess.run([sys.executable, "-m", "symbolic.describe", str(source), str(out)], cwd=ROOT,
-                                  capture_output=True, text=True, check=False)
+            try:
+                done = subprocess.run([sys.executable, "-m", "symbolic.describe", str(source), str(out)], cwd=ROOT,
+                                      capture_output=True, text=True, check=False, stdin=subprocess.DEVNULL,
+                                      timeout=DERIVATION_SECONDS)
+            except subprocess.TimeoutExpired:
+                raise ComputationError(f"deriving {description.name} took longer than its limit of "
+                                       f"{DERIVATION_SECONDS:g} s") from None
             bar.advance()
+        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        if done.returncode == UNDEFINED:
+            raise DescriptionError(f"description {description.name}: {last.removeprefix('undefined: ')} (a zero "
+                                   "length or axis, or a function outside its domain, in the description?)")
         if done.returncode != 0:
-            last = (done.stderr.strip().splitlines() or ["no output"])[-1]
-            raise ComputationError(f"deriving {description.name} failed: {last}")
+            raise ComputationError(f"deriving {description.name} failed: {reprlib.repr(last)}")
         io.atomic_write(target, lambda path: path.write_bytes(out.read_bytes()))
     return target
 
@@ -1098,7 +1194,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
     seeds = Seeds(data)
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
-    conditions = tuple(Condition(f"{c['doc']} ({c['margin']} > 0)", _function_of(c["margin"]))
+    conditions = tuple(Condition(f"{c['doc']} ({expressions.text(c['margin'])} > 0)", expressions.function(c["margin"]))
                        for c in data.get("conditions", []))
     length = data["characteristic_length"]
     attributes = {
@@ -1120,7 +1216,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "regions": {r["name"]: _region(r, len(pose_names)) for r in data["regions"]},
     }
     if length is not None:
-        attributes["characteristic_length"] = staticmethod(_function_of(length))
+        attributes["characteristic_length"] = staticmethod(expressions.function(length))
     cls = type(f"Described_{data['name']}", (Mechanism,), attributes)
     cls.functions.__set_name__(cls, "functions")
     return cls
@@ -1140,16 +1236,6 @@ def _region(region: Mapping[str, Any], n_out: int) -> Any:
         return shape
     return Mapped(name, doc, shape, to_pose=f"region_{name}_pose")
 
-
-def _function_of(expression: str) -> Any:
-    """The expression as a function of the design's values (numbers or CasADi symbols)."""
-    code = compile(ast.parse(expression, mode="eval"), "<description>", "eval")
-
-    def value(design: Mapping[str, Any]) -> Any:
-        names = {"pi": math.pi, "cos": ca.cos, "sin": ca.sin, "tan": ca.tan, "sqrt": ca.sqrt}
-        return eval(code, {"__builtins__": {}}, {**names, **design})
-
-    return value
 
 
 def _workspace_box(self: Mechanism, design: np.ndarray) -> np.ndarray:

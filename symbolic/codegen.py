@@ -88,6 +88,18 @@ class ModuleSpec:
         self.functions.append(FunctionSpec(name, tuple(inputs), tuple(outputs), doc))
 
 
+class UndefinedError(ValueError):
+    """An expression to be emitted holds a value that is not a finite number (sympy's nan, oo or zoo)."""
+
+
+def docstring(text: str) -> str:
+    """A docstring's literal: triple-quoted where the text is plain (no backslash, no quote at its end or
+    three in a row, printable lines), else the text's ``repr``: no text becomes code."""
+    plain = ("\\" not in text and '"""' not in text and not text.endswith('"')
+             and all(line.isprintable() for line in text.split("\n")))
+    return f'"""{text}"""' if plain else repr(text)
+
+
 class CasadiPrinter(PythonCodePrinter):
     """Prints sympy expressions as Python operating on ``casadi.SX`` (module imported as ``ca``)."""
 
@@ -124,6 +136,11 @@ class CasadiPrinter(PythonCodePrinter):
     def _print_Pi(self, _expr: sp.Expr) -> str:
         return "ca.pi"
 
+    def _undefined(self, expr: sp.Expr) -> str:
+        raise UndefinedError(f"the value {expr} is not a finite number")
+
+    _print_NaN = _print_Infinity = _print_NegativeInfinity = _print_ComplexInfinity = _undefined
+
     def _print_Float(self, expr: sp.Float) -> str:
         return repr(float(expr))
 
@@ -157,15 +174,14 @@ def _one_quotient(
 
 def _render_function(spec: FunctionSpec) -> list[str]:
     names: dict[sp.Symbol, str] = {}
-    lines = [f"def {spec.name}():", f'    """{spec.doc}', ""]
-    lines.append("    Inputs:")
+    doc = [spec.doc, "", "    Inputs:"]
     for port in spec.inputs:
         members = ", ".join(str(s) for s in port.symbols)
-        lines.append(f"        {port.name} ({len(port.symbols)}): [{members}] {port.doc}")
-    lines.append("    Outputs:")
+        doc.append(f"        {port.name} ({len(port.symbols)}): [{members}] {port.doc}")
+    doc.append("    Outputs:")
     for out in spec.outputs:
-        lines.append(f"        {out.name} ({out.expr.rows}x{out.expr.cols}, column-major): {out.doc}")
-    lines.append('    """')
+        doc.append(f"        {out.name} ({out.expr.rows}x{out.expr.cols}, column-major): {out.doc}")
+    lines = [f"def {spec.name}():", "    " + docstring("\n".join([*doc, "    "]))]
     for port in spec.inputs:
         lines.append(f'    {port.name} = ca.SX.sym("{port.name}", {len(port.symbols)})')
         for k, s in enumerate(port.symbols):
@@ -208,7 +224,7 @@ def render_module(spec: ModuleSpec, source_hash: str) -> str:
         f"# Generated from {spec.source} (source sha256 {source_hash}).",
         f"# Do not edit: regenerate with `{REFRESH_COMMAND}`.",
         "# ruff: noqa",
-        f'"""{spec.doc}"""',
+        docstring(spec.doc),
         "",
         "import casadi as ca",
         "",

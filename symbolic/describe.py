@@ -78,7 +78,34 @@ FRAMES = {
     "spatial_point": ("x", "y", "z"),
     "spatial": ("x", "y", "z", "roll", "pitch", "yaw"),
 }
-FUNCTIONS = {"pi": sp.pi, "cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt}
+FUNCTIONS = {"cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt, "asin": sp.asin, "acos": sp.acos,
+             "atan": sp.atan}
+OPERATORS = {"+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b, "/": lambda a, b: a / b,
+             "**": lambda a, b: a**b, "neg": lambda a: -a}
+
+
+class UndefinedError(ValueError):
+    """An expression of the description without a finite value at every design (tan(pi/2), 1/(a - a))."""
+
+
+def expression(tree: Any, names: dict[str, sp.Symbol]) -> sp.Expr:
+    """The sympy expression of one of pkm's expression trees (:mod:`pkm.expressions`: a number, a name, or
+    ``[operator, operand, ...]``), built node by node: nothing of the description is parsed or evaluated as
+    text here."""
+    if isinstance(tree, bool):
+        raise UndefinedError(f"an expression tree holds {tree!r}")
+    if isinstance(tree, int):
+        return sp.Integer(tree)
+    if isinstance(tree, float):
+        return sp.Float(tree)
+    if isinstance(tree, str):
+        return sp.pi if tree == "pi" else names[tree]
+    op, *operands = tree
+    values = [expression(t, names) for t in operands]
+    value = (OPERATORS.get(op) or FUNCTIONS[op])(*values)
+    if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        raise UndefinedError(f"{op}({', '.join(map(str, values))}) has no finite value")
+    return value
 
 
 def _rotation(frame: str, pose: tuple[sp.Symbol, ...]) -> sp.Matrix:
@@ -511,15 +538,15 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     name = description["name"]
     frame = description["pose"]["frame"]
     parameters = [p["name"] for p in description["parameters"]]
-    design = tuple(sp.Symbol(p, real=True) for p in parameters)
+    design = tuple(sp.Symbol(f"design.{p}", real=True) for p in parameters)
     pose = tuple(sp.Symbol(p, real=True) for p in FRAMES[frame])
-    env = {**FUNCTIONS, **{s.name: s for s in (*design, *pose)}}
+    env = dict(zip(parameters, design, strict=True))
 
-    def vector(texts: list[str]) -> sp.Matrix:
-        return sp.Matrix([sp.sympify(t, locals=env) for t in texts])
+    def vector(trees: list[Any] | sp.Matrix) -> sp.Matrix:
+        return trees if isinstance(trees, sp.Matrix) else sp.Matrix([expression(t, env) for t in trees])
 
-    def scalar(text: str) -> sp.Expr:
-        return sp.sympify(text, locals=env)
+    def scalar(tree: Any) -> sp.Expr:
+        return expression(tree, env)
 
     rotation = _rotation(frame, pose)
     dim = rotation.rows
@@ -630,10 +657,19 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     return spec
 
 
+UNDEFINED = 3  # the exit status of a derivation that meets an expression without a finite value
+
+
 def main(argv: list[str] | None = None) -> int:
+    """Derive the description at the first path into the module at the second; an expression without a
+    finite value ends it with one line on standard error and :data:`UNDEFINED`."""
     source, target = (Path(a) for a in (argv if argv is not None else sys.argv[1:]))
     description = json.loads(source.read_text())
-    rendered = codegen.RenderedModule.of(module(description), description["key"])
+    try:
+        rendered = codegen.RenderedModule.of(module(description), description["key"])
+    except (UndefinedError, codegen.UndefinedError) as exc:
+        print(f"undefined: {exc}", file=sys.stderr)
+        return UNDEFINED
     target.write_text(rendered.text)
     return 0
 

@@ -54,7 +54,6 @@ from pkm.export.structure import (
 )
 from pkm.spec import CHAIN_JOINTS, kind_of
 
-FUNCTIONS = {"pi": math.pi, "cos": math.cos, "sin": math.sin, "tan": math.tan, "sqrt": math.sqrt}
 Z = np.array([0.0, 0.0, 1.0])
 SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical (and chains in space)
 
@@ -63,15 +62,14 @@ class _Values:
     """The description's expressions evaluated at a design."""
 
     def __init__(self, design: Mapping[str, float]) -> None:
-        self.names = {**FUNCTIONS, **design}
+        self.design = dict(design)
 
-    def scalar(self, text: str) -> float:
-        """The value of an expression the description has checked (:mod:`pkm.expressions`)."""
-        return float(eval(compile(expressions.parse(text), "<description>", "eval"), {"__builtins__": {}},
-                          self.names))
+    def scalar(self, tree: expressions.Tree) -> float:
+        """The value of one of the description's expressions (:mod:`pkm.expressions`)."""
+        return float(expressions.evaluate(tree, self.design))
 
-    def point(self, texts: list[str]) -> np.ndarray:
-        values = [self.scalar(t) for t in texts]
+    def point(self, trees: list[expressions.Tree]) -> np.ndarray:
+        values = [self.scalar(t) for t in trees]
         return np.array([*values, *[0.0] * (3 - len(values))])
 
 
@@ -99,7 +97,7 @@ def _bar(values: _Values, body: Mapping[str, str] | None, start: np.ndarray, dir
 
 def _rotor(values: _Values, bodies: Mapping[str, Any], at: np.ndarray, axis: np.ndarray) -> list[Inertial]:
     """A rotor turning with the actuated revolute: its inertia about the joint's axis (a massless disc)."""
-    moment = values.scalar(bodies.get("rotor", "0"))
+    moment = values.scalar(bodies.get("rotor", 0))
     return [Inertial.lamina(0.0, at, moment, axis)] if moment else []
 
 
@@ -138,7 +136,7 @@ class _Leg:
         self.joints.append(Joint(f"{name}{self.k}", kind, *links, at, axes, f"{doc} of leg {self.k}", **extra))
 
     def rotor_note(self) -> None:
-        if self.bodies is not None and self.values.scalar(self.bodies.get("rotor", "0")):
+        if self.bodies is not None and self.values.scalar(self.bodies.get("rotor", 0)):
             self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
                               "joint) has no form in a URDF and is left out")
 
@@ -293,7 +291,7 @@ class _Leg:
         body = joint.get("body")
         if body is not None:
             mass, centre = self.values.scalar(body["mass"]), origin + rotation @ self.values.point(body["centre"])
-            if isinstance(body["inertia"], str):
+            if not isinstance(body["inertia"], list) or expressions.is_operation(body["inertia"]):
                 parts.append(Inertial.lamina(mass, centre, self.values.scalar(body["inertia"]), Z))
             else:
                 moments = np.array([self.values.scalar(t) for t in body["inertia"]])
@@ -390,7 +388,7 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
         *(note for leg in legs for note in leg.notes),
     ]
     turning = [leg for leg in legs if leg.leg["kind"] in ("RR", "R_parallelogram") and leg.bodies is not None]
-    if any(values.scalar(leg.bodies.get("rotor", "0")) for leg in turning):
+    if any(values.scalar(leg.bodies.get("rotor", 0)) for leg in turning):
         notes.append("A rotor's inertia after its reduction is a massless disc about the actuated revolute's axis, "
                      "on the link it turns.")
     if frame.endswith("point"):
