@@ -16,7 +16,7 @@ class UnknownNameError(PkmError):
 
     def __init__(self, kind: str, name: object, known: Sequence[str]) -> None:
         if isinstance(name, str):
-            super().__init__(f"unknown {kind} {name!r}; known: {', '.join(known)}")
+            super().__init__(f"unknown {kind} {reprlib.repr(name)}; known: {', '.join(known)}")
         else:
             super().__init__(f"{kind} = {reprlib.repr(name)} violates: a name (a string); known: {', '.join(known)}")
 

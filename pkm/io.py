@@ -6,8 +6,10 @@ from __future__ import annotations
 import errno
 import json
 import os
+import reprlib
 import shutil
 import tempfile
+import tomllib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -98,31 +100,74 @@ def csv_text(columns: list[str], rows: list[list[Any]]) -> str:
     return "\n".join([",".join(columns), *(",".join(cell(v) for v in row) for row in rows)]) + "\n"
 
 
-def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:
-    """Poses (N, len(names)) from a .npy array or a CSV file (a header of the pose's names, optionally with
-    units in brackets, or none); :class:`PkmError` naming the file and the violated condition."""
+def read_toml(path: str | os.PathLike, error: type[PkmError] = PkmError, kind: str = "TOML file") -> dict[str, Any]:
+    """The table of a TOML file; ``error`` naming the ``kind`` of file, the file and what is wrong where it
+    cannot be read, is not UTF-8 text or not TOML (nested deeper than the reader's recursion included)."""
     path = Path(path)
     try:
+        data = path.read_bytes()
+    except (OSError, ValueError) as exc:  # a ValueError: a NUL character in the name
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise error(f"{kind} {str(path)!r} cannot be read ({reason})") from None
+    try:
+        return tomllib.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise error(f"{kind} {str(path)!r} violates: UTF-8 text; byte {exc.start} is not") from None
+    except (tomllib.TOMLDecodeError, RecursionError) as exc:
+        reason = str(exc) if isinstance(exc, tomllib.TOMLDecodeError) else "nested too deep"
+        raise error(f"{kind} {str(path)!r} violates: TOML ({reason})") from None
+
+
+def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:
+    """Poses (N, len(names)) of finite numbers from a .npy array of real numbers (integers or floats: not
+    booleans, complex numbers, text, dates or records) or a CSV file (a header of exactly the pose's names,
+    optionally with units in brackets, or none); :class:`PkmError` naming the file and the violated
+    condition."""
+    path = Path(path)
+    where = f"poses file {str(path)!r} violates:"
+    try:
         if path.suffix == ".npy":
-            poses = np.load(path, allow_pickle=False)
+            data = np.load(path, allow_pickle=False)
         else:
-            lines = [line for line in path.read_text().splitlines() if line.strip()]
-            header = [c.strip().split(" [")[0] for c in lines[0].split(",")] if lines else []
-            start = 1 if header and not _numeric(header[0]) else 0
-            if start and header[: len(names)] != list(names):
-                raise PkmError(f"poses file {path} violates: a header of the pose's coordinates {', '.join(names)}; "
-                               f"got {', '.join(header)}")
-            rows = [[float(v) for v in line.split(",")] for line in lines[start:]]
-            if any(len(row) != len(names) for row in rows):
-                raise PkmError(f"poses file {path} violates: rows of {len(names)} values ({', '.join(names)})")
-            poses = np.array(rows)
-    except (OSError, ValueError) as exc:
-        raise PkmError(f"poses file {path} violates: a readable .npy or CSV file of numbers ({exc})") from None
-    poses = np.atleast_2d(np.asarray(poses, dtype=float))
+            lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, ValueError, EOFError) as exc:  # a decoding error and a .npy's bad header are ValueErrors
+        raise PkmError(f"{where} a readable .npy or CSV file of numbers ({reprlib.repr(str(exc))})") from None
+    poses = _npy_poses(data, where) if path.suffix == ".npy" else _csv_poses(lines, names, where)
+    poses = np.atleast_2d(poses)
     if poses.ndim != 2 or poses.shape[1] != len(names) or not len(poses):
-        raise PkmError(f"poses file {path} violates: rows of {len(names)} values ({', '.join(names)}); got shape "
-                       f"{poses.shape}")
+        raise PkmError(f"{where} rows of {len(names)} values ({', '.join(names)}); got shape {poses.shape}")
+    if not np.isfinite(poses).all():
+        row = int(np.flatnonzero(~np.isfinite(poses).all(axis=1))[0])
+        raise PkmError(f"{where} finite numbers; row {row} is {reprlib.repr(poses[row].tolist())}")
     return poses
+
+
+def _npy_poses(data: Any, where: str) -> np.ndarray:
+    """The array of a .npy file as floats: integers and floats only (a boolean would pass as 0 or 1, a
+    complex number lose its imaginary part, text, dates and records have no pose)."""
+    if not isinstance(data, np.ndarray):  # a .npz archive under a .npy name
+        data.close()
+        raise PkmError(f"{where} a .npy array; got an archive of arrays")
+    if data.dtype.kind not in "iuf":
+        raise PkmError(f"{where} an array of real numbers (integers or floats); got dtype {data.dtype}")
+    return data.astype(float)
+
+
+def _csv_poses(lines: list[str], names: tuple[str, ...], where: str) -> np.ndarray:
+    """The rows of a CSV file's lines (blank ones skipped) after its header, if it has one."""
+    numbered = [(k, line.split(",")) for k, line in enumerate(lines, start=1) if line.strip()]
+    header = [c.strip().split(" [")[0] for c in numbered[0][1]] if numbered else []
+    if header and not _numeric(header[0]):
+        if header != list(names):
+            raise PkmError(f"{where} a header of the pose's coordinates {', '.join(names)}, exactly; got "
+                           f"{reprlib.repr(', '.join(header))}")
+        numbered = numbered[1:]
+    for k, row in numbered:
+        if len(row) != len(names):
+            raise PkmError(f"{where} rows of {len(names)} values ({', '.join(names)}); line {k} has {len(row)}")
+        if not all(_numeric(v) for v in row):
+            raise PkmError(f"{where} a readable .npy or CSV file of numbers; line {k} is {reprlib.repr(','.join(row))}")
+    return np.array([[float(v) for v in row] for _, row in numbered], dtype=float)
 
 
 def _numeric(text: str) -> bool:

@@ -63,7 +63,6 @@ import reprlib
 import subprocess
 import sys
 import tempfile
-import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -723,11 +722,7 @@ def _check_values(data: Mapping[str, Any]) -> None:
 
 def read(path: str | os.PathLike) -> Description:
     """A description from a TOML file."""
-    try:
-        raw = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise DescriptionError(f"description file {reprlib.repr(str(path))}: {exc}") from None
-    return describe(raw)
+    return describe(io.read_toml(path, DescriptionError, "description file"))
 
 
 def module_path(description: Description) -> Path:

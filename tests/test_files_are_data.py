@@ -143,7 +143,7 @@ def test_zero_directions_are_refused():
 def test_a_text_file_that_is_not_utf8_is_refused(tmp_path):
     path = tmp_path / "latin.toml"
     path.write_bytes(RRR3.replace("symmetric", "sym\xe9tric").encode("latin-1"))
-    with pytest.raises(DescriptionError, match="utf-8"):
+    with pytest.raises(DescriptionError, match="UTF-8"):
         spec.read(path)
 
 

@@ -2,15 +2,23 @@
 the design variables with their bounds, the parameters held at given values, an objective (a global index
 over the task, in its sense) and constraints (global indices over the task between bounds), for any
 mechanism. :func:`design_problem` returns a :class:`pkm.synthesis.Problem` for the one driver, with a grid
-or Monte Carlo baseline over the same bounds on the same model."""
+or Monte Carlo baseline over the same bounds on the same model.
+
+Every field is checked before anything is computed, each kind of field by one helper (:func:`_table`,
+:func:`_list`, :func:`_number`, :func:`_name`, :func:`_string`), and a violation is a :class:`ProblemError`
+naming the field, the condition and the value given. Expressions (a constraint's ``expression``, a
+``derived`` parameter) are read into :mod:`pkm.expressions`' tree, never evaluated as Python."""
 
 from __future__ import annotations
 
 import itertools
 import math
+import numbers
 import os
-import tomllib
-from collections.abc import Callable, Mapping, Sequence
+import re
+import reprlib
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -19,43 +27,129 @@ import casadi as ca
 import numpy as np
 
 from pkm import expressions, io, registry, spec
-from pkm.design import stack_design
+from pkm.design import MAX_MAGNITUDE, stack_design
 from pkm.dynamics import Trajectory
 from pkm.dynamics.quantities import effort_unit, joint_extremes, trajectory_indices
-from pkm.errors import PkmError, UnknownNameError, check_name
+from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle, TrajectoryRegion, trajectory_region
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
+MAX_BOUND = 1e15  # the largest magnitude of a constraint's bound or an objective's weight (SI): IPOPT takes
+# a bound beyond 1e19 for none, and one near 1e308 overflows in its restoration phase, which then never ends
+MAX_BASELINE_POINTS = 1_000_000  # designs a baseline evaluates at most: a grid's nodes, Monte Carlo's samples
+NAME = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")  # CasADi's function names, which pkm's follow
+DOTTED = re.compile(rf"{NAME.pattern}(?:\.{NAME.pattern})*")  # a problem's: its dots become underscores
+FIELD_CHARACTERS = 80  # of a field's name in an error at most
+_MISSING = object()
 
 
 class ProblemError(PkmError):
     """A designer's problem that names an unknown field or violates a condition."""
 
 
-def _fail(field: str, condition: str) -> ProblemError:
-    return ProblemError(f"problem field {field} violates: {condition}")
+def _fail(field: str, condition: str, value: Any = _MISSING) -> ProblemError:
+    """The error of ``field`` violating ``condition``, quoting ``value`` where one is given; both shortened
+    (a field's name holds the file's keys)."""
+    field = field if len(field) <= FIELD_CHARACTERS else f"{field[: FIELD_CHARACTERS - 3]}..."
+    got = "" if value is _MISSING else f"; got {reprlib.repr(value)}"
+    return ProblemError(f"problem field {field} violates: {condition}{got}")
 
 
-def _variables(mech: Any, raw: Mapping[str, Sequence[float]]) -> tuple[Variable, ...]:
-    if not isinstance(raw, Mapping) or not raw:
-        raise _fail("variables", "a non-empty mapping of parameter names to (lower, upper)")
+@contextmanager
+def _field(field: str) -> Iterator[None]:
+    """A :class:`PkmError` of another module's check within the block (a mechanism's, a region's, a
+    design's, a trajectory's) as the :class:`ProblemError` of ``field``."""
+    try:
+        yield
+    except ProblemError:
+        raise
+    except PkmError as exc:
+        raise _fail(field, str(exc)) from None
+
+
+def _table(value: Any, field: str, condition: str = "a table") -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise _fail(field, condition, value)
+    return value
+
+
+def _list(value: Any, field: str, condition: str) -> Sequence[Any]:
+    if isinstance(value, str | bytes | Mapping) or not isinstance(value, Sequence):
+        raise _fail(field, condition, value)
+    return value
+
+
+def _string(value: Any, field: str, condition: str) -> str:
+    if not isinstance(value, str):
+        raise _fail(field, condition, value)
+    return value
+
+
+def _file_name(value: Any, field: str, condition: str) -> str:
+    """A string the system takes for a file name: one without a NUL character."""
+    if "\0" in _string(value, field, condition):
+        raise _fail(field, f"{condition} (without a NUL character)", value)
+    return value
+
+
+def _real(value: Any, limit: float = MAX_BOUND) -> bool:
+    """Whether ``value`` is a real number (not a boolean) of magnitude at most ``limit``, so finite."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_) and abs(value) <= limit
+
+
+def _number(value: Any, field: str, *, limit: float = MAX_BOUND) -> float:
+    if not _real(value, limit):
+        raise _fail(field, f"a finite number of magnitude at most {limit:g}", value)
+    return float(value)
+
+
+def _numbers(value: Any, count: int) -> bool:
+    """Whether ``value`` is a list of ``count`` finite numbers (:func:`_real`)."""
+    return (isinstance(value, Sequence) and not isinstance(value, str) and len(value) == count
+            and all(_real(v) for v in value))
+
+
+def _name(value: Any, field: str, *, dotted: bool = False) -> str:
+    """A name pkm gives CasADi's functions too: ASCII letters and digits, single underscores (and dots,
+    where ``dotted``) between them, a letter first."""
+    pattern = DOTTED if dotted else NAME
+    if not (isinstance(value, str) and pattern.fullmatch(value) and ca.Function.check_name(value.replace(".", "_"))):
+        joints = "underscores or dots" if dotted else "underscores"
+        raise _fail(field, f"a name of ASCII letters and digits with single {joints} between them, a letter first",
+                    value)
+    return value
+
+
+def _bound(value: Any, field: str, none: float) -> float:
+    """A constraint's bound: a finite number of magnitude at most MAX_BOUND, or ``none`` (-inf for a lower
+    bound, inf for an upper one) for no bound."""
+    if isinstance(value, float) and value == none:
+        return value
+    if not _real(value):
+        raise _fail(field, f"a finite number of magnitude at most {MAX_BOUND:g} (left out: no bound)", value)
+    return float(value)
+
+
+def _variables(mech: Any, raw: Any) -> tuple[Variable, ...]:
+    """The design variables {name = (lower, upper)}, each a parameter of the mechanism between finite bounds
+    within the parameter's own."""
+    if not _table(raw, "variables", "a non-empty table {parameter = [lower, upper]}"):
+        raise _fail("variables", "a non-empty table {parameter = [lower, upper]}", raw)
     known = {p.name: p for p in mech.parameters}
     out = []
     for name, bounds in raw.items():
-        check_name(f"{mech.name} design parameter", name, list(known))
         if name not in known:
-            raise UnknownNameError(f"{mech.name} design parameter", name, list(known))
-        if not isinstance(bounds, Sequence) or len(bounds) != 2:
-            raise _fail(f"variables.{name}", "a pair (lower, upper)")
-        lower, upper = (float(b) for b in bounds)
+            raise _fail("variables", f"a parameter of the {mech.name} ({', '.join(known)})", name)
+        if len(_list(bounds, f"variables.{name}", "a pair [lower, upper]")) != 2:
+            raise _fail(f"variables.{name}", "a pair [lower, upper]", bounds)
+        lower, upper = (_number(b, f"variables.{name}", limit=MAX_MAGNITUDE) for b in bounds)
         p = known[name]
-        if not (math.isfinite(lower) and math.isfinite(upper) and lower < upper):
-            raise _fail(f"variables.{name}", f"finite lower < upper; got {lower:g}, {upper:g}")
+        if not lower < upper:
+            raise _fail(f"variables.{name}", "lower < upper", list(bounds))
         if lower < p.lower or upper > p.upper:
-            raise _fail(f"variables.{name}", f"within the parameter's bounds [{p.lower:g}, {p.upper:g}]; got "
-                                             f"[{lower:g}, {upper:g}]")
+            raise _fail(f"variables.{name}", f"within the parameter's bounds [{p.lower:g}, {p.upper:g}]", list(bounds))
         out.append(Variable(name, lower, upper, p.unit, p.doc))
     return tuple(out)
 
@@ -71,12 +165,8 @@ def task_poses(mech: Any, raw: Mapping[str, Any]) -> Poses:
         field = f"task.{sorted(extra)[0]}" if extra else "task"
         raise _fail(field, "a table {poses} or {file}, with an optional name")
     if "file" in raw:
-        if not isinstance(raw["file"], str):
-            raise _fail("task.file", f"a file name; got {raw['file']!r}")
-        try:
-            poses = io.read_poses(raw["file"], mech.pose_names)
-        except PkmError as exc:
-            raise _fail("task.file", str(exc)) from None
+        with _field("task.file"):
+            poses = io.read_poses(_file_name(raw["file"], "task.file", "a file name"), mech.pose_names)
     else:
         rows = raw["poses"]
         if (not isinstance(rows, Sequence) or isinstance(rows, str) or not rows
@@ -84,15 +174,8 @@ def task_poses(mech: Any, raw: Mapping[str, Any]) -> Poses:
             raise _fail("task.poses", f"a non-empty list of poses, each {mech.n_out} finite numbers "
                                       f"({', '.join(mech.pose_names)})")
         poses = np.array(rows, dtype=float)
-    if not np.all(np.isfinite(poses)):
-        raise _fail("task.file", "finite poses")
-    name = raw.get("name", "task")
+    name = _name(raw.get("name", "task"), "task.name")
     return Poses(name, f"the designer's {len(poses)} poses", tuple(map(tuple, poses.tolist())))
-
-
-def _numbers(value: Any, count: int) -> bool:
-    return (isinstance(value, Sequence) and not isinstance(value, str) and len(value) == count
-            and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value))
 
 
 def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
@@ -100,35 +183,36 @@ def task_region(mech: Any, raw: Mapping[str, Any]) -> Any:
     radius; a rectangle's or box's half extents; a cylinder's radius and half length), axis (a cylinder's,
     a pose coordinate; the last by default)} over the mechanism's whole pose, or given poses
     (:func:`task_poses`)."""
-    if not isinstance(raw, Mapping):
-        raise _fail("task", "a region name of the mechanism or a table {shape, centre, size, axis} or {poses}")
+    _table(raw, "task", "a region name of the mechanism or a table {shape, centre, size, axis} or {poses}")
     if "poses" in raw or "file" in raw:
         return task_poses(mech, raw)
     extra = set(raw) - {"shape", "centre", "size", "axis", "name"}
     if extra:
         raise _fail(f"task.{sorted(extra)[0]}", "a field of a task (shape, centre, size, axis, name)")
-    if raw.get("shape") not in SHAPES:
-        raise _fail("task.shape", f"one of {', '.join(SHAPES)}; got {raw.get('shape')!r}")
-    cls, dimension, sizes = SHAPES[raw["shape"]]
+    shape = raw.get("shape")
+    if not isinstance(shape, str) or shape not in SHAPES:
+        raise _fail("task.shape", f"one of {', '.join(SHAPES)}", shape)
+    cls, dimension, sizes = SHAPES[shape]
     if dimension != mech.n_out:
         raise _fail("task.shape", f"a shape of the pose's dimension {mech.n_out} ({', '.join(mech.pose_names)}); "
-                                  f"a {raw['shape']} has {dimension}")
+                                  f"a {shape} has {dimension}")
     values = {}
     for field, count in (("centre", dimension), ("size", sizes)):
         value = raw.get(field)
         if not _numbers(value, count):
-            raise _fail(f"task.{field}", f"a list of {count} finite numbers")
+            raise _fail(f"task.{field}", f"a list of {count} finite numbers of magnitude at most {MAX_BOUND:g}",
+                        value)
         values[field] = tuple(float(v) for v in value)
     if min(values["size"]) <= 0:
-        raise _fail("task.size", f"every entry > 0; got {list(values['size'])}")
+        raise _fail("task.size", "every entry > 0", list(values["size"]))
     extra_fields = {}
-    if raw["shape"] == "cylinder":
+    if shape == "cylinder":
         axis = raw.get("axis", mech.pose_names[-1])
-        if axis not in mech.pose_names:
-            raise _fail("task.axis", f"one of {', '.join(mech.pose_names)}; got {axis!r}")
+        if not isinstance(axis, str) or axis not in mech.pose_names:
+            raise _fail("task.axis", f"one of {', '.join(mech.pose_names)}", axis)
         extra_fields["axis"] = mech.pose_names.index(axis)
-    name = raw.get("name", "task")
-    return cls(name, f"the designer's {raw['shape']} at {list(values['centre'])}, size {list(values['size'])}",
+    name = _name(raw.get("name", "task"), "task.name")
+    return cls(name, f"the designer's {shape} at {list(values['centre'])}, size {list(values['size'])}",
                fixed=(values["centre"], values["size"]), **extra_fields)
 
 
@@ -146,8 +230,8 @@ def _index(mech: Any, name: str, field: str) -> GlobalIndex:
             spec = registry.local_index(local)
             return GlobalIndex(name, spec, f"the region {reduce}imum of {local} ({spec.doc})", reduce, sense)
     offered = [*mech.global_indices(), *(f"{i}_min" for i in mech.local_indices())]
-    raise _fail(field, f"a global index {mech.name} offers or a local index's _min or _max ({', '.join(offered)}); "
-                       f"got {name!r}")
+    raise _fail(field, f"a global index {mech.name} offers or a local index's _min or _max ({', '.join(offered)})",
+                name)
 
 
 def _trajectory(mech: Any, raw: Any) -> TrajectoryRegion | None:
@@ -163,20 +247,20 @@ def _trajectory(mech: Any, raw: Any) -> TrajectoryRegion | None:
     if not isinstance(raw, Mapping) or set(raw) not in ({"waypoints", "v_max", "a_max"}, {"waypoints", "durations"}):
         raise _fail("trajectory", "a table {waypoints = [[...], ...], v_max, a_max} (trapezoidal) or {waypoints, "
                                   "durations} (smooth) in SI")
-    points = raw["waypoints"]
-    if not (isinstance(points, Sequence) and len(points) >= 2 and all(_numbers(p, mech.n_out) for p in points)):
+    points = _list(raw["waypoints"], "trajectory.waypoints", "a list of poses")
+    if not (len(points) >= 2 and all(_numbers(p, mech.n_out) for p in points)):
         raise _fail("trajectory.waypoints", f"two or more poses, each {mech.n_out} finite numbers "
-                                            f"({', '.join(mech.pose_names)})")
+                                            f"({', '.join(mech.pose_names)})", points)
     segments = list(itertools.pairwise(points))
     if "durations" in raw and not _numbers(raw["durations"], len(segments)):
         raise _fail("trajectory.durations", f"{len(segments)} finite durations in s, one per segment between the "
-                                            "waypoints")
-    try:
-        moves = ([Trajectory.trapezoidal(a, b, raw["v_max"], raw["a_max"]) for a, b in segments]
-                 if "v_max" in raw else
-                 [Trajectory.point_to_point(a, b, t) for (a, b), t in zip(segments, raw["durations"], strict=True)])
-    except PkmError as exc:
-        raise _fail("trajectory", str(exc)) from None
+                                            "waypoints", raw["durations"])
+    with _field("trajectory"):
+        if "v_max" in raw:
+            v_max, a_max = (_number(raw[k], f"trajectory.{k}") for k in ("v_max", "a_max"))
+            moves = [Trajectory.trapezoidal(a, b, v_max, a_max) for a, b in segments]
+        else:
+            moves = [Trajectory.point_to_point(a, b, t) for (a, b), t in zip(segments, raw["durations"], strict=True)]
     return trajectory_region(moves)
 
 
@@ -196,8 +280,8 @@ PHYSICAL = ("joint", "joint_range", "effort")
 
 def _joint_extremes(mech: Any, name: str, field: str) -> tuple[GlobalIndex, GlobalIndex]:
     """The least and the largest value of an actuated joint over the task (:func:`joint_extremes`)."""
-    if name not in mech.actuator_names:
-        raise _fail(field, f"an actuated joint of {mech.name} ({', '.join(mech.actuator_names)}); got {name!r}")
+    if not isinstance(name, str) or name not in mech.actuator_names:
+        raise _fail(field, f"an actuated joint of {mech.name} ({', '.join(mech.actuator_names)})", name)
     return joint_extremes(mech, name)
 
 
@@ -206,7 +290,8 @@ def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
     work: tau . q_dot = w . x_dot with x_dot = J_f q_dot); w in the pose's dual units (N for a length, N m for
     an angle)."""
     if not _numbers(wrench, mech.n_out):
-        raise _fail(field, f"a wrench of {mech.n_out} finite numbers, dual to the pose ({', '.join(mech.pose_names)})")
+        raise _fail(field, f"a wrench of {mech.n_out} finite numbers, dual to the pose ({', '.join(mech.pose_names)})",
+                    wrench)
     w = ca.DM(wrench)
     return LocalIndex(
         "effort", f"largest actuator effort |J_f^T w| holding the wrench w = {list(wrench)} at the end effector",
@@ -221,7 +306,7 @@ def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], f
     ``upper`` over it (its largest minus its least value), or {effort: a wrench} needing actuator efforts of
     at most ``upper`` at every pose of it; each a region extreme, refined between the nodes."""
     if len(what) != 1 or next(iter(what)) not in PHYSICAL:
-        raise _fail(field, f"a table with one of {', '.join(PHYSICAL)}; got {sorted(what)}")
+        raise _fail(field, f"a table with one of {', '.join(PHYSICAL)}", what)
     kind, value = next(iter(what.items()))
     lower, upper = bounds
     if kind == "effort":
@@ -242,46 +327,36 @@ def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], f
             Constraint(f"{largest} <= {upper:g} {local.unit}", lambda t: t[largest], -math.inf, upper)]
 
 
-def _parameter_expression(mech: Any, text: str, field: str) -> Callable[[Mapping[str, Any]], Any]:
+def _parameter_expression(mech: Any, text: Any, field: str) -> Callable[[Mapping[str, Any]], Any]:
     """An expression of the design parameters (a frame size, a sum of lengths) as a function of their values
-    by name (numbers, arrays or CasADi)."""
-    names = set(mech.parameter_names())
-    if not isinstance(text, str):
-        raise _fail(field, f"an expression of the design parameters; got {text!r}")
-    tree = expressions.parse(text)
-    if tree is None or expressions.unknown_names(tree, {*names, *FUNCTIONS}):
-        raise _fail(field, f"arithmetic of the design parameters ({', '.join(sorted(names))}) and "
-                           f"{', '.join(FUNCTIONS)}; got {text!r}")
-    code = compile(tree, field, "eval")
-
-    def value(values: Mapping[str, Any]) -> Any:
-        symbolic = any(isinstance(values[n], ca.SX | ca.MX) for n in names)
-        functions = {k: getattr(ca, k) if symbolic else getattr(np, NUMPY.get(k, k)) for k in FUNCTIONS if k != "pi"}
-        return eval(code, {"__builtins__": {}}, {"pi": math.pi, **functions, **{n: values[n] for n in names}})
-
-    return value
+    by name: :mod:`pkm.expressions`' tree of it, evaluated with numpy's functions on numbers and arrays and
+    CasADi's on symbols."""
+    names = mech.parameter_names()
+    condition = f"arithmetic of the design parameters ({', '.join(names)}), pi and {', '.join(expressions.FUNCTIONS)}"
+    try:
+        tree = expressions.parse(_string(text, field, f"{condition}, as text"))
+    except expressions.ExpressionError as exc:
+        raise _fail(field, f"{condition}: {exc}", text) from None
+    unknown = expressions.unknown_names(tree, names)
+    if unknown:
+        raise _fail(field, f"{condition}; {unknown[0]} is none of them", text)
+    return expressions.function(tree)
 
 
-FUNCTIONS = ("pi", "cos", "sin", "tan", "sqrt", "asin", "acos", "atan")
-NUMPY = {"asin": "arcsin", "acos": "arccos", "atan": "arctan"}
-
-
-def _objective(raw: str | Mapping[str, float], quantity: Callable[[str, str], Quantity],
-               quantities: dict[str, Quantity]) -> Objective:
+def _objective(raw: Any, quantity: Callable[[str, str], Quantity], quantities: dict[str, Quantity]) -> Objective:
     """A global index in its sense, or a weighted combination {index: weight}: maximise the sum of each
     weight times its index (negated where the index is better smaller); ``quantity(name, field)`` the quantity
     a name stands for."""
     if isinstance(raw, str):
         quantities[raw] = quantity(raw, "objective")
         return Objective.of(raw, quantities[raw])
-    if not isinstance(raw, Mapping) or not raw:
-        raise _fail("objective", "a global index or a table {index = weight}")
+    if not _table(raw, "objective", "a global index or a table {index = weight}"):
+        raise _fail("objective", "a global index or a non-empty table {index = weight}", raw)
     signs = {}
     for name, weight in raw.items():
-        if isinstance(weight, bool) or not isinstance(weight, int | float) or not math.isfinite(weight):
-            raise _fail(f"objective.{name}", "a finite weight")
+        number = _number(weight, f"objective.{name}")
         quantities[name] = quantity(name, f"objective.{name}")
-        signs[name] = float(weight) * (1.0 if quantities[name].index.sense == "max" else -1.0)
+        signs[name] = number * (1.0 if quantities[name].index.sense == "max" else -1.0)
     text = " + ".join(f"{w:g} {n}" for n, w in raw.items())
     return Objective(lambda t: sum(s * t[n] for n, s in signs.items()), "max", f"the weighted sum {text} "
                      "(each index negated where smaller is better)")
@@ -294,6 +369,30 @@ def monte_carlo_baseline(problem: Problem, samples: int, seed: int = MONTE_CARLO
     upper = np.array([v.upper for v in problem.variables])
     return Baseline("monte_carlo", doc,
                     lambda n: np.random.default_rng(seed).uniform(lower, upper, size=(n, len(lower))), samples)
+
+
+BASELINES = ("grid", "monte_carlo")
+
+
+def _baseline(problem: Problem, baseline: Any) -> Baseline:
+    """The baseline ``(kind, size)``: a grid of ``size`` nodes per variable or ``size`` Monte Carlo samples,
+    at most MAX_BASELINE_POINTS designs either way."""
+    if len(_list(baseline, "baseline", "a pair (kind, size)")) != 2:
+        raise _fail("baseline", "a pair (kind, size)", baseline)
+    kind, size = baseline
+    if not isinstance(kind, str) or kind not in BASELINES:
+        raise _fail("baseline.kind", f"one of {', '.join(BASELINES)}", kind)
+    n = len(problem.variables)
+    grid = kind == "grid"
+    if (isinstance(size, bool) or not isinstance(size, numbers.Integral) or size < 2
+            or (size**n if grid else size) > MAX_BASELINE_POINTS):
+        nodes = f"size^{n} grid nodes" if grid else "samples"
+        raise _fail("baseline.size", f"an integer >= 2 with {nodes} <= {MAX_BASELINE_POINTS}", size)
+    return problem.grid_baseline(int(size)) if grid else monte_carlo_baseline(problem, int(size))
+
+
+MAX_RESOLUTION = 64  # a problem's quadrature resolution at most
+MECHANISM = "a mechanism's name or a description file"
 
 
 def design_problem(
@@ -324,29 +423,50 @@ def design_problem(
     its least value at most upper) or ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
     every pose of the task at most upper, :func:`_effort`); by default the task inside the workspace (the least
     workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
-    stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``.
+    stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``,
+    at most MAX_BASELINE_POINTS designs. A bound is a finite number of magnitude at most MAX_BOUND, or -inf (a
+    lower one), inf (an upper one) for none; ``name`` letters, digits and single underscores or dots.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves). With ``trajectory`` (a
     :class:`pkm.regions.TrajectoryRegion`, a move, or {waypoints, v_max, a_max}: trapezoidal moves between the
     waypoints), the objective and constraints may name the trajectory quantities (``effort_peak``, ``energy``,
     ..., :mod:`pkm.dynamics.quantities`; ``encoder`` the resolutions of ``positioning_error``), taken along it.
     """
-    mech = spec.resolve_name(mechanism) if isinstance(mechanism, str) else mechanism
-    region = mech.region(task) if isinstance(task, str) else task_region(mech, task) if isinstance(task, Mapping) \
-        else task
+    if isinstance(mechanism, str):
+        with _field("mechanism"):
+            mechanism = spec.resolve_name(_file_name(mechanism, "mechanism", MECHANISM))
+    mech = mechanism
+    if isinstance(task, str):
+        with _field("task"):
+            region = mech.region(task)
+    elif isinstance(task, Mapping):
+        region = task_region(mech, task)
+    elif isinstance(getattr(task, "name", None), str):
+        region = task
+    else:
+        raise _fail("task", "a region name of the mechanism, a table {shape, centre, size, axis}, {poses} or {file}, "
+                            "or a region", task)
     task_name = task if isinstance(task, str) else region.name
     chosen = _variables(mech, variables)
-    given = dict(fixed or {})
-    checked = dict(mech.design(given, partial=True)) if given else {}
-    held = {name: checked[name] for name in given}
+    if (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
+            or not 2 <= resolution <= MAX_RESOLUTION):
+        raise _fail("resolution", f"an integer from 2 to {MAX_RESOLUTION}", resolution)
+    given = {} if fixed is None else dict(_table(fixed, "fixed", "a table {parameter = value}"))
+    for held_name, value in given.items():
+        _number(value, f"fixed.{held_name}")
+    with _field("fixed"):
+        checked = dict(mech.design(given, partial=True)) if given else {}
+    held = {n: checked[n] for n in given}
     overlap = set(held) & {v.name for v in chosen}
     if overlap:
         raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
     base = {**dict(mech.design()), **held}
     order = [v.name for v in chosen]
-    mode = mech.working_mode(mode).name
+    with _field("mode"):
+        mode = mech.working_mode(_string(mode, "mode", "a working mode's name") if mode is not None else None).name
     rules = {}
-    for target, text in (derived or {}).items():
+    for target, text in ({} if derived is None else _table(derived, "derived", "a table {parameter = expression}")
+                         ).items():
         if target not in base or target in order or target in held:
             raise _fail(f"derived.{target}", "a design parameter that is neither a variable nor fixed")
         rules[target] = _parameter_expression(mech, text, f"derived.{target}")
@@ -358,6 +478,9 @@ def design_problem(
         return stack_design([given[n] for n in mech.parameter_names()])
 
     along = _trajectory(mech, trajectory)
+    if encoder is not None and not (_numbers(encoder, mech.n_act) and min(encoder) > 0):
+        raise _fail("encoder", f"{mech.n_act} finite resolutions > 0, one per actuator "
+                               f"({', '.join(mech.actuator_names)}), in SI", encoder)
     indices = mech.trajectory_quantities if encoder is None else trajectory_indices(mech, encoder=encoder)
 
     def quantity(name: str, field: str) -> Quantity:
@@ -366,25 +489,25 @@ def design_problem(
     quantities: dict[str, Quantity] = {}
     goal = _objective(objective, quantity, quantities)
     stated = []
-    for k, item in enumerate(constraints):
+    for k, item in enumerate(_list(constraints, "constraints", "a list of (index or expression, lower, upper)")):
+        field = f"constraints[{k}]"
         if not (isinstance(item, Sequence) and len(item) == 3):
-            raise _fail(f"constraints[{k}]", "a triple (index or expression, lower, upper)")
+            raise _fail(field, "a triple (index or expression, lower, upper)", item)
         what, lower, upper = item
         if not isinstance(what, str | Mapping):
-            raise _fail(f"constraints[{k}]", "an index's name, an expression of the design parameters or a table "
-                                             "{joint}, {joint_range} or {effort}")
-        lower, upper = float(lower), float(upper)
+            raise _fail(field, "an index's name, an expression of the design parameters or a table {joint}, "
+                               "{joint_range} or {effort}", what)
+        lower, upper = _bound(lower, f"{field}.lower", -math.inf), _bound(upper, f"{field}.upper", math.inf)
         if not lower <= upper:
-            raise _fail(f"constraints[{k}]", f"lower <= upper; got {lower:g}, {upper:g}")
+            raise _fail(field, f"lower <= upper; got {lower:g}, {upper:g}")
         if isinstance(what, Mapping):
-            stated += _physical(mech, what, (lower, upper), f"constraints[{k}]", region=region,
-                                quantities=quantities)
+            stated += _physical(mech, what, (lower, upper), field, region=region, quantities=quantities)
         elif what.isidentifier() and what not in mech.parameter_names():
-            quantities.setdefault(what, quantity(what, f"constraints[{k}]"))
+            quantities.setdefault(what, quantity(what, field))
             stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
                                      lambda t, what=what: t[what], lower, upper))
         else:
-            rule = _parameter_expression(mech, what, f"constraints[{k}]")
+            rule = _parameter_expression(mech, what, field)
             stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
                                      lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
                                      lower, upper))
@@ -394,9 +517,9 @@ def design_problem(
     sense = "maximise" if goal.sense == "max" else "minimise"
     named = objective if isinstance(objective, str) else "weighted"
     problem = Problem(
-        name=name or f"{mech.name}.{named}_{task_name}",
-        doc=doc or f"{sense} {goal.doc if named == 'weighted' else named} over the region {task_name} in "
-                   f"{', '.join(order)}, working mode {mode}",
+        name=f"{mech.name}.{named}_{task_name}" if name is None else _name(name, "name", dotted=True),
+        doc=(f"{sense} {goal.doc if named == 'weighted' else named} over the region {task_name} in "
+             f"{', '.join(order)}, working mode {mode}") if doc is None else _string(doc, "doc", "a text"),
         mechanism=mech,
         variables=chosen,
         design=design,
@@ -404,72 +527,64 @@ def design_problem(
         objective=goal,
         constraints=tuple(stated),
         mode=mode,
-        resolution=resolution,
+        resolution=int(resolution),
         hessian="limited-memory" if any(q.index.reduce in ("min", "max") for q in quantities.values()) else "exact",
         notes={"task": task_name, "fixed": held},
     )
-    kind, size = baseline
-    if kind == "grid":
-        found = problem.grid_baseline(size)
-    elif kind == "monte_carlo":
-        found = monte_carlo_baseline(problem, size)
-    else:
-        raise _fail("baseline", f"('grid', points per axis) or ('monte_carlo', samples); got {kind!r}")
-    return replace(problem, baselines=(found,))
+    return replace(problem, baselines=(_baseline(problem, baseline),))
 
 
 PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "derived", "objective", "constraints",
                   "mode", "baseline", "resolution", "trajectory", "encoder"}
+CONSTRAINT_KINDS = ("index", "expression", *PHYSICAL)
 
 
 def read_problem(path: str | os.PathLike) -> Problem:
     """:func:`design_problem` from a TOML file: ``mechanism`` (a name or a description file, relative to the
     file), ``task`` (a region name or a table {shape, centre, size, axis}), ``variables`` {name = [lower,
     upper]}, optionally ``fixed`` {name = value}, ``objective`` (a global index), ``constraints`` (a list of
-    {index, lower, upper}), ``mode``, ``baseline`` {kind = "grid" or "monte_carlo", size}, ``resolution``,
-    ``trajectory`` {waypoints, v_max, a_max} and ``encoder`` (:func:`design_problem`), ``name`` and ``doc``."""
+    {index, lower, upper}, a bound left out for none), ``mode``, ``baseline`` {kind = "grid" or "monte_carlo",
+    size}, ``resolution``, ``trajectory`` {waypoints, v_max, a_max} and ``encoder`` (:func:`design_problem`),
+    ``name`` and ``doc``. Every field is checked as :func:`design_problem` checks it; the file must be UTF-8
+    TOML (:func:`pkm.io.read_toml`)."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        raise ProblemError(f"problem file {path}: {exc}") from None
+    raw = io.read_toml(path, ProblemError, "problem file")
     extra = set(raw) - PROBLEM_FIELDS
     if extra:
         raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(PROBLEM_FIELDS))})")
     for field in ("mechanism", "task", "variables"):
         if field not in raw:
             raise _fail(field, "given")
-    mechanism = raw["mechanism"]
-    if not isinstance(mechanism, str):
-        raise _fail("mechanism", "a mechanism's name or a description file")
+    mechanism = _file_name(raw["mechanism"], "mechanism", MECHANISM)
     if mechanism.endswith(".toml"):
         mechanism = str((path.parent / mechanism).resolve())
-    constraints = raw.get("constraints", [{"index": "workspace_margin_min", "lower": 0.0}])
-    if not isinstance(constraints, list):
-        raise _fail("constraints", "a list of tables {index, lower, upper}")
+    constraints = _list(raw.get("constraints", [{"index": "workspace_margin_min", "lower": 0.0}]), "constraints",
+                        "a list of tables {index, lower, upper}")
     triples = []
-    kinds = ("index", "expression", *PHYSICAL)
     for k, c in enumerate(constraints):
-        if not isinstance(c, Mapping) or len(set(kinds) & set(c)) != 1 or set(c) - {*kinds, "lower", "upper"}:
-            raise _fail(f"constraints[{k}]", f"a table {{one of {', '.join(kinds)}; lower, upper}}")
-        (kind,) = set(kinds) & set(c)
-        what = c[kind] if kind in ("index", "expression") else {kind: c[kind]}
-        triples.append((what, float(c.get("lower", -math.inf)), float(c.get("upper", math.inf))))
+        table = _table(c, f"constraints[{k}]", f"a table {{one of {', '.join(CONSTRAINT_KINDS)}; lower, upper}}")
+        kinds = [kind for kind in CONSTRAINT_KINDS if kind in table]
+        if len(kinds) != 1 or set(table) - {*CONSTRAINT_KINDS, "lower", "upper"}:
+            raise _fail(f"constraints[{k}]", f"a table {{one of {', '.join(CONSTRAINT_KINDS)}; lower, upper}}",
+                        dict(table))
+        (kind,) = kinds
+        what = table[kind] if kind in ("index", "expression") else {kind: table[kind]}
+        if kind in ("index", "expression") and not isinstance(what, str):
+            raise _fail(f"constraints[{k}].{kind}", "an index's name" if kind == "index" else "an expression, as text",
+                        what)
+        triples.append((what, table.get("lower", -math.inf), table.get("upper", math.inf)))
     task = raw["task"]
-    if isinstance(task, Mapping) and isinstance(task.get("file"), str):
-        task = {**task, "file": str(path.parent / task["file"])}
-    baseline = raw.get("baseline", {"kind": "grid", "size": 21})
-    if not isinstance(baseline, Mapping) or set(baseline) - {"kind", "size"}:
-        raise _fail("baseline", "a table {kind, size}")
-    size = baseline.get("size", 21)
-    if isinstance(size, bool) or not isinstance(size, int) or size < 2:
-        raise _fail("baseline.size", f"an integer >= 2; got {size!r}")
-    resolution = raw.get("resolution", 8)
-    if isinstance(resolution, bool) or not isinstance(resolution, int) or not 2 <= resolution <= 64:
-        raise _fail("resolution", f"an integer from 2 to 64; got {resolution!r}")
+    if isinstance(task, Mapping) and "file" in task:
+        task = {**task, "file": str(path.parent / _file_name(task["file"], "task.file", "a file name"))}
+    elif not isinstance(task, str | Mapping):
+        raise _fail("task", "a region name of the mechanism or a table {shape, centre, size, axis}, {poses} or "
+                            "{file}", task)
+    baseline = _table(raw.get("baseline", {"kind": "grid", "size": 21}), "baseline", "a table {kind, size}")
+    if set(baseline) - {"kind", "size"}:
+        raise _fail("baseline", "a table {kind, size}", dict(baseline))
     return design_problem(
         mechanism, task=task, variables=raw["variables"], fixed=raw.get("fixed"), derived=raw.get("derived"),
         objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
-        name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), size),
-        resolution=resolution, trajectory=raw.get("trajectory"), encoder=raw.get("encoder"),
+        name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), baseline.get("size", 21)),
+        resolution=raw.get("resolution", 8), trajectory=raw.get("trajectory"), encoder=raw.get("encoder"),
     )

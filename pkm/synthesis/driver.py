@@ -176,7 +176,10 @@ def ipopt_options(
     problem: Problem, *, verbose: bool, max_iter: int | None, tol: float | None, print_level: int | None
 ) -> dict[str, Any]:
     """IPOPT's options: quiet (no banner) unless ``verbose`` or a ``print_level`` is given; the variables'
-    bounds are kept exactly (no relaxation), so that an optimum on a bound is reported on it."""
+    bounds are kept exactly (no relaxation), so that an optimum on a bound is reported on it. Every solve
+    stops after ``max_iter`` iterations (the problem's by default, MAX_ITER at most) or MAX_WALL_TIME seconds
+    of wall or CPU time, whichever comes first, with IPOPT's status (``Maximum_Iterations_Exceeded``,
+    ``Maximum_WallTime_Exceeded``, ``Maximum_CpuTime_Exceeded``) as the run's."""
     max_iter = check_integer("max_iter", problem.max_iter if max_iter is None else max_iter, 0, MAX_ITER)
     tol = problem.tol if tol is None else check_real("tol", tol, "a number > 0")
     if not tol > 0:
@@ -193,6 +196,8 @@ def ipopt_options(
             "tol": tol,
             "hessian_approximation": problem.hessian,
             "max_iter": max_iter,
+            "max_wall_time": MAX_WALL_TIME,
+            "max_cpu_time": MAX_WALL_TIME,
             "bound_relax_factor": 0.0,
         },
     }
@@ -204,6 +209,9 @@ def _named(problem: Problem, values: np.ndarray) -> dict[str, float]:
 
 BASELINE_CHUNK = 256  # baseline points per task
 MAX_ITER = 1_000_000
+MAX_WALL_TIME = 300.0  # s of one IPOPT solve at most: a solve of the problems here takes seconds, and one that
+# iterates on without converging ends with its status. IPOPT checks it between iterations, so a stall inside one
+# step (a bound near 1e308 overflowing in the restoration phase) is kept out by the designer's MAX_BOUND instead
 MAX_STARTS = 1000
 MAX_BASELINE = 10_001  # grid nodes per variable of a baseline
 
