@@ -17,7 +17,7 @@ import numpy as np
 
 from pkm import io, registry
 from pkm.errors import PkmError
-from pkm.workspace_map import WorkspaceSlice, workspace_slice
+from pkm.workspace_map import WorkspaceSlice, check_plane, workspace_slice
 
 SLOW = ("lambda_e",)  # indices whose adaptive quadrature a card leaves out (an eigenvalue problem per node)
 
@@ -117,13 +117,14 @@ def design_card(
     """The card of a design in ``modes`` (all by default): maps of ``index`` over the plane ``axes`` (the
     other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
     ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
-    offers (or ``indices``) over ``region`` (its first parametrised region by default)."""
+    offers (or ``indices``) over ``region`` (its first parametrised region by default). The maps' options are
+    checked before anything is computed (:func:`pkm.workspace_map.check_plane`)."""
+    axes, _, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
     region = region or _default_region(mech)
     where = mech.region(region)
     names = list(mech.pose_names)
     placement, centre = region_centre(mech, design, region)
-    axes = tuple(axes or names[:2])
     if held is None and centre is not None:
         held = {n: float(centre[k]) for k, n in enumerate(names) if n not in axes}
     chosen = list(modes or mech.modes)

@@ -13,6 +13,7 @@ import contextlib
 import math
 import os
 import re
+import reprlib
 import shutil
 import signal
 import sys
@@ -45,8 +46,41 @@ from pkm.units import Units
 
 
 class _Parser(argparse.ArgumentParser):
+    """argparse that raises :class:`PkmError` (one line, exit 2) and shows the arguments it refuses capped
+    (reprlib), where argparse's own messages would echo them whole."""
+
     def error(self, message: str) -> NoReturn:
         raise PkmError(f"{self.prog}: {message}")
+
+    def parse_args(self, args: Any = None, namespace: Any = None) -> argparse.Namespace:
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            self.error(f"unrecognized arguments: {reprlib.repr(' '.join(extra))}")
+        return parsed
+
+    def _check_value(self, action: argparse.Action, value: Any) -> None:
+        if action.choices is not None and value not in action.choices:
+            raise argparse.ArgumentError(action, f"invalid choice: {reprlib.repr(value)} (choose from "
+                                                 f"{', '.join(map(str, action.choices))})")
+
+
+def _integer(text: str) -> int:
+    """An option's integer (argparse's ``type``)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{reprlib.repr(text)} violates: an integer") from None
+
+
+def _number(text: str) -> float:
+    """An option's finite number (argparse's ``type``)."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{reprlib.repr(text)} violates: a finite number")
+    return value
 
 
 def _design(mech: Mechanism, text: str | None, units: Units | None = None) -> Design:
@@ -72,10 +106,12 @@ def _units(args: argparse.Namespace) -> Units:
 def _poses(text: list[str] | None, n: int) -> np.ndarray:
     if not text:
         raise PkmError(f"--pose is required (comma-separated, {n} values)")
-    try:
-        poses = [[float(v) for v in str(item).split(",")] for item in text]
-    except ValueError:
-        raise PkmError(f"--pose values must be numbers; got {text}") from None
+    poses = []
+    for item in text:
+        try:
+            poses.append([float(v) for v in str(item).split(",")])
+        except ValueError:
+            raise PkmError(f"--pose {reprlib.repr(item)} violates: {n} numbers, comma-separated") from None
     if any(len(p) != n for p in poses):
         raise PkmError(f"--pose needs {n} comma-separated values")
     return np.array(poses)
@@ -391,6 +427,7 @@ def cmd_explore(args: argparse.Namespace) -> None:
     from pkm.explore import Explorer, Server, export_html, require_plotly
 
     require_plotly()
+    _check_file("--html", args.html)
     m = load_mechanism(args.mechanism)
     problem = args.problem
     if problem and problem.endswith(".toml"):
@@ -400,7 +437,7 @@ def cmd_explore(args: argparse.Namespace) -> None:
     explorer = Explorer(m, index=args.index, region=args.region, space=args.space, axes=args.axes,
                         design=args.design, problem=problem, resolution=args.resolution,
                         map_resolution=args.map_resolution)
-    if args.html:
+    if args.html is not None:
         path = export_html(explorer, args.html, grid=args.grid)
         _emit(args, {"mechanism": m.name, "html": str(path)}, f"wrote {path}")
         return
@@ -745,6 +782,7 @@ class _HelpParser(_Parser):
 def build_parser() -> argparse.ArgumentParser:
     from pkm.atlas import Checks
     from pkm.regions import QUADRATURE_RESOLUTION, SAMPLED_RESOLUTION, SINGULARITY_MARGIN
+    from pkm.workspace_map import MAX_RESOLUTION as MAX_MAP
 
     parser = _HelpParser(prog="pkm", description="Design of parallel kinematic machines.")
     parser.add_argument("--version", action="version", version=version("pkm"))
@@ -799,10 +837,10 @@ def build_parser() -> argparse.ArgumentParser:
     listed(p, "--design", key="design")
     listed(p, "--mode", key="mode")
     listed(p, "--region", key="region", default="reachable")
-    p.add_argument("--resolution", type=int, help=resolution)
-    p.add_argument("--margin", type=float, help=f"singularity margin of the sampled region: poses with 1/kappa_f "
-                                                f"below it are left out (default {SINGULARITY_MARGIN}, in [0, 1)); "
-                                                f"e.g. 0.05")
+    p.add_argument("--resolution", type=_integer, help=resolution)
+    p.add_argument("--margin", type=_number, help=f"singularity margin of the sampled region: poses with 1/kappa_f "
+                                                  f"below it are left out (default {SINGULARITY_MARGIN}, in [0, 1)); "
+                                                  f"e.g. 0.05")
     p.add_argument("--gradient", action="store_true",
                    help="also the exact gradient in every design parameter (parametrised regions; default off)")
     p.add_argument("--out", help="folder for index.json and index.csv (default: none); e.g. results")
@@ -816,16 +854,16 @@ def build_parser() -> argparse.ArgumentParser:
                                     "the defaults): name=value in SI; e.g. {parameter}")
         listed(p, "--region", key="region", default="reachable")
         listed(p, "--modes", key="modes")
-        p.add_argument("--resolution", type=int, default=41, help="design grid nodes per chart axis (default 41, "
-                                                                  "3 to 4001); e.g. 21")
-        p.add_argument("--pose-resolution", type=int, help=resolution)
-        p.add_argument("--tolerance", type=float, default=Checks.tolerance,
+        p.add_argument("--resolution", type=_integer, default=41, help="design grid nodes per chart axis (default 41, "
+                                                                       "3 to 4001); e.g. 21")
+        p.add_argument("--pose-resolution", type=_integer, help=resolution)
+        p.add_argument("--tolerance", type=_number, default=Checks.tolerance,
                        help=f"the best design's value must change by less than this (relative) when the pose "
                             f"resolution doubles (default {Checks.tolerance}, in (0, 1)); e.g. 0.005")
-        p.add_argument("--min-points", type=int, default=Checks.min_points,
+        p.add_argument("--min-points", type=_integer, default=Checks.min_points,
                        help=f"the best design's region must hold at least this many poses or nodes "
                             f"(default {Checks.min_points}); e.g. 100")
-        p.add_argument("--min-fraction", type=float, default=Checks.min_fraction,
+        p.add_argument("--min-fraction", type=_number, default=Checks.min_fraction,
                        help=f"the best design's region must measure at least this fraction of its workspace box "
                             f"(default {Checks.min_fraction}, in [0, 1)); e.g. 0.05")
         p.add_argument("--executor", choices=parallel.EXECUTORS, default="auto",
@@ -856,15 +894,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = command("synth", cmd_synth, "solve a synthesis problem with IPOPT and verify it (exit 1 with the record of "
                                     "the last iterate when it fails)")
     listed(p, "problem", key="problem")
-    p.add_argument("--resolution", type=int, help="quadrature resolution of the optimised indices (default: the "
-                                                  "problem's, 8 for most); e.g. 6")
-    p.add_argument("--starts", type=int, help="IPOPT starts from the best screening points (default: the problem's, "
-                                              "3 or 4; 1 to 1000); e.g. 2")
-    p.add_argument("--max-iter", type=int, help="IPOPT's max_iter per start (default: the problem's, 100 to 500); "
-                                                "e.g. 1000")
-    p.add_argument("--tol", type=float, help="IPOPT's tol, > 0 (default: the problem's, 1e-10); e.g. 1e-8")
-    p.add_argument("--print-level", type=int, help="IPOPT's print_level, 0 to 12 (default 0, or 5 with --verbose); "
-                                                   "e.g. 3")
+    p.add_argument("--resolution", type=_integer, help="quadrature resolution of the optimised indices (default: the "
+                                                       "problem's, 8 for most); e.g. 6")
+    p.add_argument("--starts", type=_integer, help="IPOPT starts from the best screening points (default: the "
+                                                   "problem's, 3 or 4; 1 to 1000); e.g. 2")
+    p.add_argument("--max-iter", type=_integer, help="IPOPT's max_iter per start (default: the problem's, 100 to 500); "
+                                                     "e.g. 1000")
+    p.add_argument("--tol", type=_number, help="IPOPT's tol, > 0 (default: the problem's, 1e-10); e.g. 1e-8")
+    p.add_argument("--print-level", type=_integer, help="IPOPT's print_level, 0 to 12 (default 0, or 5 with "
+                                                        "--verbose); e.g. 3")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
     example(p, "--set", help="the problem's settings as name=value in SI, comma-separated (default: the "
                              "problem's; `pkm list` names them); e.g. {setting}")
@@ -876,8 +914,8 @@ def build_parser() -> argparse.ArgumentParser:
     listed(p, "problem", key="problem")
     example(p, "--secondary", required=True, help="the secondary objective, one of the problem's quantities or "
                                                   "secondaries (required, no default); e.g. {secondary}")
-    p.add_argument("--points", type=int, default=9, help="points of the front, at least 2 (default 9); e.g. 5")
-    p.add_argument("--resolution", type=int, help="quadrature resolution (default: the problem's); e.g. 4")
+    p.add_argument("--points", type=_integer, default=9, help="points of the front, at least 2 (default 9); e.g. 5")
+    p.add_argument("--resolution", type=_integer, help="quadrature resolution (default: the problem's); e.g. 4")
     p.add_argument("--baselines", default="grid", help="comma-separated among grid and nsga2 (pymoo) (default "
                                                        "grid); e.g. grid,nsga2")
     p.add_argument("--out", help="folder for the front's files (default: none); e.g. fronts")
@@ -892,7 +930,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plane", help="two pose coordinates of the maps (default: the first two); e.g. x,z")
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
-    p.add_argument("--resolution", type=int, default=81, help="poses per axis of the maps (default 81); e.g. 121")
+    p.add_argument("--resolution", type=_integer, default=81, help=f"poses per axis of the maps (default 81, 3 to "
+                                                                    f"{MAX_MAP}); e.g. 121")
     p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps (no default); "
                                                 "e.g. card")
     units_option(p)
@@ -902,7 +941,8 @@ def build_parser() -> argparse.ArgumentParser:
     example(p, "--design", action="append", required=True, help="a design as name=value in SI (repeat for each "
                                                                 "design, at least two; no default); e.g. {parameter}")
     card_options(p, "the global indices")
-    p.add_argument("--resolution", type=int, default=61, help="poses per axis of the maps (default 61); e.g. 81")
+    p.add_argument("--resolution", type=_integer, default=61, help=f"poses per axis of the maps (default 61, 3 to "
+                                                                    f"{MAX_MAP}); e.g. 81")
     p.add_argument("--out", required=True, help="folder for comparison.json, .csv, .md and a card per design "
                                                 "(no default); e.g. compared")
     units_option(p)
@@ -923,22 +963,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--problem", help="a synthesis problem whose optimum the atlas marks: a registered name or a "
                                      "task file (default: a registered problem of the mechanism that optimises "
                                      "the index over the region); e.g. my_task.toml")
-    p.add_argument("--resolution", type=int, default=21, help="design grid nodes per chart axis (default 21, 3 to "
-                                                              "81); e.g. 41")
-    p.add_argument("--map-resolution", type=int, default=128, help="poses per axis of the workspace maps "
-                                                                   "(default 128, 3 to 256); e.g. 256")
-    p.add_argument("--port", type=int, default=0, help="port on 127.0.0.1 (default 0: a free port); e.g. 8765")
+    p.add_argument("--resolution", type=_integer, default=21, help="design grid nodes per chart axis (default 21, 3 to "
+                                                                   "81); e.g. 41")
+    p.add_argument("--map-resolution", type=_integer, default=128, help="poses per axis of the workspace maps "
+                                                                        "(default 128, 3 to 256); e.g. 256")
+    p.add_argument("--port", type=_integer, default=0, help="port on 127.0.0.1 (default 0: a free port); e.g. 8765")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser (default: open one)")
     p.add_argument("--html", help="write the page with a precomputed atlas and grid of cards as one "
                                   "self-contained file instead of serving it (default: serve); e.g. atlas.html")
-    p.add_argument("--grid", type=int, default=5, help="with --html, precomputed designs per chart axis (default "
-                                                       "5, 1 to 21); e.g. 7")
+    p.add_argument("--grid", type=_integer, default=5, help="with --html, precomputed designs per chart axis (default "
+                                                            "5, 1 to 21); e.g. 7")
     p = command("design", cmd_design, "a synthesis for the designer's task, variables, objective and constraints, "
                                       "from a TOML file (docs/mechanisms.md), solved with IPOPT and verified")
     p.add_argument("task", help="the problem's TOML file: mechanism, task, variables, fixed, objective, "
                                 "constraints, mode, baseline; e.g. my_task.toml")
-    p.add_argument("--resolution", type=int, help="quadrature resolution (default: the file's, 8); e.g. 6")
-    p.add_argument("--starts", type=int, help="IPOPT starts from the best screening points (default 4); e.g. 2")
+    p.add_argument("--resolution", type=_integer, help="quadrature resolution (default: the file's, 8); e.g. 6")
+    p.add_argument("--starts", type=_integer, help="IPOPT starts from the best screening points (default 4); e.g. 2")
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: "
                                  "none); e.g. results")
@@ -979,26 +1019,50 @@ def _negative_values(argv: list[str]) -> list[str]:
 
 
 def _check_out(folder: str | None) -> None:
-    """Refuse an output folder that cannot be one before any work, so that no computed result is lost to it:
-    an existing file, a path under a file, or a folder this process cannot create or write into (tried, and
-    whatever the trial created removed again)."""
-    if not folder:
-        return
-    path = Path(folder)
-    for part in (path, *path.parents):
-        if part.exists() and not part.is_dir():
-            raise PkmError(f"--out {folder} violates: a folder (or a path to one); {part} is a file")
-    missing = [part for part in (path, *path.parents) if not part.exists()]
+    """Refuse a given ``--out`` that cannot be an output folder (:func:`_check_path`) before any work."""
+    if folder is not None:
+        _check_path("--out", folder, Path(folder), "a folder")
+
+
+def _check_path(option: str, given: str, folder: Path, what: str) -> None:
+    """Refuse the value ``given`` of ``option`` (``what`` it names: a folder, a file in a folder) before any
+    work, so that no computed result is lost to it, unless it is a path and ``folder`` (the path itself or the
+    folder of a file) can be a folder this process writes into: not empty (which would write into the current
+    folder unasked), no existing file on the way, creatable and writable (tried, and whatever the trial created
+    removed again)."""
+    shown = f"{option} {reprlib.repr(given)} violates:"
+    if not given:
+        raise PkmError(f"{shown} a path to {what} (it is empty)")
+    missing: list[Path] = []
     try:
-        path.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=path, prefix=".pkm-probe-"):
+        for part in (folder, *folder.parents):
+            if part.exists() and not part.is_dir():
+                raise PkmError(f"{shown} {what} (or a path to one); {reprlib.repr(str(part))} is a file")
+        missing = [part for part in (folder, *folder.parents) if not part.exists()]
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".pkm-probe-"):
             pass
     except OSError as exc:
-        raise PkmError(f"--out {folder} violates: a folder this user can write ({exc.strerror or exc})") from None
+        raise PkmError(f"{shown} {what} this user can write ({exc.strerror or exc})") from None
     finally:
         for part in missing:
             with contextlib.suppress(OSError):
                 part.rmdir()
+
+
+def _check_file(option: str, given: str | None) -> None:
+    """Refuse a given file option (``--html``) that cannot be a file this process writes, before any work: an
+    existing folder, or a path whose folder cannot be one (:func:`_check_path`)."""
+    if given is None:
+        return
+    _check_path(option, given, Path(given).parent, "a file in a folder")
+    shown = f"{option} {reprlib.repr(given)} violates: a file"
+    try:
+        folder = Path(given).is_dir()
+    except OSError as exc:
+        raise PkmError(f"{shown} this user can write ({exc.strerror or exc})") from None
+    if folder:
+        raise PkmError(f"{shown}; it is a folder")
 
 
 def _terminated(_signum: int, _frame: Any) -> None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import reprlib
 import textwrap
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -18,9 +19,10 @@ from typing import Any
 import numpy as np
 
 from pkm import figures, io
-from pkm.errors import PkmError
+from pkm.errors import PkmError, check_real
 
 RESOLUTION = 121  # poses per axis of the plane
+MAX_RESOLUTION = 2001  # 4 million poses, a few hundred MB of arrays; odd, so that the plane's middle is a pose
 REGION_RESOLUTION = 8  # of the region's quadrature whose nodes are drawn
 NEAR = 0.02  # a region's node is drawn where its held coordinates lie within this share of the box's width
 POSITION = ("x", "y", "z")  # pose coordinates that are the columns of a linkage's points
@@ -119,6 +121,35 @@ def plane_columns(axes: Sequence[str], linkage: Sequence[np.ndarray]) -> list[in
     return None if max(columns) >= linkage[0].shape[1] else columns
 
 
+def check_plane(
+    mech: Any,
+    *,
+    axes: Sequence[str] | None = None,
+    held: Mapping[str, float] | None = None,
+    resolution: int = RESOLUTION,
+) -> tuple[tuple[str, str], dict[str, float], int]:
+    """A plane's ``axes`` (the first two pose coordinates by default), its ``held`` coordinates (each a pose
+    coordinate off the plane, at a finite value) and its ``resolution`` (3 to MAX_RESOLUTION poses per axis),
+    checked before anything is computed; :class:`PkmError` naming the one that violates its condition."""
+    names = list(mech.pose_names)
+    axes = tuple(axes or names[:2])
+    if len(axes) != 2 or len(set(axes)) != 2 or not set(axes) <= set(names):
+        raise PkmError(f"axes = {reprlib.repr(axes)} violates: two distinct pose coordinates of {mech.name} "
+                       f"({', '.join(names)})")
+    if (isinstance(resolution, bool) or not isinstance(resolution, int | np.integer)
+            or not 3 <= resolution <= MAX_RESOLUTION):
+        raise PkmError(f"resolution = {reprlib.repr(resolution)} violates: resolution >= 3 and <= {MAX_RESOLUTION}, "
+                       "an integer (poses per axis)")
+    checked = {}
+    for name, value in dict(held or {}).items():
+        if name not in names:
+            raise PkmError(f"held coordinate {reprlib.repr(name)} violates: one of {', '.join(names)}")
+        if name in axes:
+            raise PkmError(f"held coordinate {name!r} violates: a coordinate off the plane {', '.join(axes)}")
+        checked[name] = check_real(f"held coordinate {name}", value)
+    return axes, checked, int(resolution)
+
+
 def workspace_slice(
     mech: Any,
     design: Any = None,
@@ -132,21 +163,14 @@ def workspace_slice(
 ) -> WorkspaceSlice:
     """The local index ``index`` over the plane of the pose coordinates ``axes`` (the first two by default)
     across the workspace box, the others at ``held`` (by default the box's centre), in working mode
-    ``mode``; with ``region`` (a parametrised region of the mechanism) its nodes near the plane."""
+    ``mode``; with ``region`` (a parametrised region of the mechanism) its nodes near the plane. The plane's
+    options are checked first (:func:`check_plane`)."""
+    axes, given, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
     branch = mech.working_mode(mode)
     names = list(mech.pose_names)
-    axes = tuple(axes or names[:2])
-    if len(axes) != 2 or len(set(axes)) != 2 or not set(axes) <= set(names):
-        raise PkmError(f"axes = {axes} violates: two distinct pose coordinates of {mech.name} ({', '.join(names)})")
-    if resolution < 3:
-        raise PkmError(f"resolution = {resolution} violates: resolution >= 3")
     box = mech.workspace_box(design.vector())
     centre = box.mean(axis=1)
-    given = dict(held or {})
-    unknown = sorted(set(given) - set(names))
-    if unknown:
-        raise PkmError(f"held coordinate {unknown[0]!r} violates: one of {', '.join(names)}")
     for k, name in enumerate(names):
         if name not in axes:
             given.setdefault(name, float(centre[k]))

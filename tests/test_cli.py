@@ -534,7 +534,7 @@ def test_an_out_folder_that_cannot_be_written_exits_2_before_any_work(command, c
     assert time.perf_counter() - start < 2.0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
-    assert "--out /proc/pkm-out/run violates: a folder this user can write" in err[0]
+    assert "--out '/proc/pkm-out/run' violates: a folder this user can write" in err[0]
     # the trial leaves nothing behind: a command refused after it created no folder
     assert main(["synth", "no_such.problem", "--out", str(tmp_path / "new" / "folder")]) == 2
     assert not (tmp_path / "new").exists()

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import base64
 import math
+import reprlib
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -31,7 +32,7 @@ from pkm.design_space import DesignSpace, parameter_plane, parse_axes
 from pkm.errors import PkmError, check_integer
 from pkm.mechanism import Mechanism
 from pkm.regions.shapes import PlacedRegion
-from pkm.workspace_map import WorkspaceSlice, plane_columns, workspace_slice
+from pkm.workspace_map import WorkspaceSlice, check_plane, plane_columns, workspace_slice
 
 ATLAS_RESOLUTION = 21  # chart nodes per axis of an atlas by default
 MAX_ATLAS = 81  # the most an atlas request may ask for: a page's atlas answers within seconds
@@ -164,7 +165,7 @@ class Explorer:
         self._region(fields)
         self._space(fields)
         self._integer(fields, "resolution", 3, MAX_ATLAS)
-        self._integer({"resolution": self.defaults["map_resolution"]}, "resolution", 3, MAX_MAP)
+        self._integer(self.defaults, "map_resolution", 3, MAX_MAP)
 
     def _default_axes(self) -> str:
         chosen = [p for p in self.mechanism.parameters if p.required and p.default != 0][:2]
@@ -191,7 +192,7 @@ class Explorer:
     def handle(self, endpoint: str, fields: Mapping[str, str]) -> dict[str, Any]:
         """The answer of ``endpoint`` to a request's ``fields``."""
         if endpoint not in FIELDS:
-            raise RequestError("endpoint", f"unknown endpoint {endpoint!r}; known: {', '.join(FIELDS)}")
+            raise RequestError("endpoint", f"unknown endpoint {reprlib.repr(endpoint)}; known: {', '.join(FIELDS)}")
         handler: Callable[[dict[str, str]], dict[str, Any]] = getattr(self, f"_{endpoint}")
         return handler(self._fields(endpoint, fields))
 
@@ -200,7 +201,8 @@ class Explorer:
         known = FIELDS[endpoint]
         for name, value in fields.items():
             if name not in known:
-                raise RequestError(name, f"unknown field {name!r} of {endpoint}; known: {', '.join(known) or 'none'}")
+                raise RequestError(name, f"unknown field {reprlib.repr(name)} of {endpoint}; known: "
+                                         f"{', '.join(known) or 'none'}")
             if not isinstance(value, str):
                 raise RequestError(name, f"{name} violates: one value")
         defaults = {k: v for k, v in self.defaults.items() if k in known}
@@ -218,7 +220,8 @@ class Explorer:
         try:
             value = int(text)
         except ValueError:
-            raise RequestError(name, f"{name} = {text!r} violates: an integer >= {lower} and <= {upper}") from None
+            raise RequestError(name, f"{name} = {reprlib.repr(text)} violates: an integer >= {lower} and "
+                                     f"<= {upper}") from None
         with blame(name):
             return check_integer(name, value, lower, upper)
 
@@ -226,7 +229,7 @@ class Explorer:
         """A global index the mechanism can evaluate."""
         name = fields.get("index", "")
         if name not in self.mechanism.global_indices():
-            raise RequestError("index", f"unknown index {name!r} of the {self.mechanism.name}; known: "
+            raise RequestError("index", f"unknown index {reprlib.repr(name)} of the {self.mechanism.name}; known: "
                                         f"{', '.join(self.mechanism.global_indices())}")
         return name
 
@@ -237,7 +240,7 @@ class Explorer:
             return name
         if name in self.mechanism.global_indices():
             return registry.global_index(name).local.name
-        raise RequestError("index", f"unknown index {name!r} of the {self.mechanism.name}; known: local "
+        raise RequestError("index", f"unknown index {reprlib.repr(name)} of the {self.mechanism.name}; known: local "
                                     f"{', '.join(self.mechanism.local_indices())} or global "
                                     f"{', '.join(self.mechanism.global_indices())}")
 
@@ -258,7 +261,8 @@ class Explorer:
         known = {p.name: p for p in self.mechanism.parameters}
         for name, value in values.items():
             if name not in known:
-                raise RequestError(field, f"unknown design parameter {name!r}; expected {', '.join(known)}", name)
+                raise RequestError(field, f"unknown design parameter {reprlib.repr(name)}; expected "
+                                          f"{', '.join(known)}", name)
             try:
                 known[name].check(value)
             except PkmError as exc:
@@ -283,7 +287,7 @@ class Explorer:
                 return parameter_plane(mech.parameters, axes, base=held), axes
         name = fields.get("space", "")
         if name not in mech.design_spaces:
-            raise RequestError("space", f"unknown design space {name!r} of the {mech.name}; known: "
+            raise RequestError("space", f"unknown design space {reprlib.repr(name)} of the {mech.name}; known: "
                                         f"{', '.join(mech.design_spaces) or 'none (give axes)'}")
         space = mech.design_spaces[name]
         extra = {k: v for k, v in held.items() if k not in space.parameters}
@@ -293,8 +297,8 @@ class Explorer:
         names = self.mechanism.pose_names
         plane = tuple(t.strip() for t in fields.get("plane", ",".join(names[:2])).split(","))
         if len(plane) != 2 or len(set(plane)) != 2 or not set(plane) <= set(names):
-            raise RequestError("plane", f"plane = {fields.get('plane')!r} violates: two distinct pose coordinates of "
-                                        f"the {self.mechanism.name} ({', '.join(names)})")
+            raise RequestError("plane", f"plane = {reprlib.repr(fields.get('plane'))} violates: two distinct pose "
+                                        f"coordinates of the {self.mechanism.name} ({', '.join(names)})")
         return plane
 
     def _held(self, fields: Mapping[str, str], plane: tuple[str, str]) -> dict[str, float] | None:
@@ -302,12 +306,7 @@ class Explorer:
             return None
         with blame("held"):
             held = parse_design(fields["held"], "held coordinates", "pose coordinate", PkmError)
-        others = [n for n in self.mechanism.pose_names if n not in plane]
-        for name in held:
-            if name not in others:
-                raise RequestError("held", f"held coordinate {name!r} violates: one of {', '.join(others) or 'none'} "
-                                           f"(the pose coordinates off the plane)")
-        return held
+            return check_plane(self.mechanism, axes=plane, held=held)[1]
 
     def _pose(self, fields: Mapping[str, str]) -> np.ndarray:
         n = self.mechanism.n_out
@@ -316,14 +315,14 @@ class Explorer:
         except ValueError:
             pose = np.array([])
         if pose.shape != (n,) or not np.all(np.isfinite(pose)):
-            raise RequestError("pose", f"pose = {fields.get('pose')!r} violates: {n} finite numbers, comma-separated "
-                                       f"({', '.join(self.mechanism.pose_names)})")
+            raise RequestError("pose", f"pose = {reprlib.repr(fields.get('pose'))} violates: {n} finite numbers, "
+                                       f"comma-separated ({', '.join(self.mechanism.pose_names)})")
         return pose
 
     def _arrays(self, fields: Mapping[str, str]) -> str:
         encoding = fields.get("arrays", "list")
         if encoding not in ENCODINGS:
-            raise RequestError("arrays", f"arrays = {encoding!r} violates: one of {', '.join(ENCODINGS)}")
+            raise RequestError("arrays", f"arrays = {reprlib.repr(encoding)} violates: one of {', '.join(ENCODINGS)}")
         return encoding
 
     # endpoints
@@ -444,7 +443,7 @@ class Explorer:
         names = [t.strip() for t in fields["indices"].split(",") if t.strip()] if fields.get("indices") else None
         for name in names or ():
             if name not in mech.global_indices():
-                raise RequestError("indices", f"unknown index {name!r} of the {mech.name}; known: "
+                raise RequestError("indices", f"unknown index {reprlib.repr(name)} of the {mech.name}; known: "
                                               f"{', '.join(mech.global_indices())}")
         resolution = self._integer(fields, "resolution", 3, MAX_MAP)
         with self._lock, blame("design"):

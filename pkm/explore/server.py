@@ -6,11 +6,21 @@ Routes: ``GET /`` the page, ``GET /explore.js``, ``/explore.css`` and ``/plotly.
 request, 500 with a one-line ``{"error"}`` for anything else), ``POST /api/stop`` (with a JSON content
 type, which a page of another origin cannot send without the server's consent) stops the server. A request
 whose Host header is not this server's loopback address is refused (403): a page of another site cannot reach
-the API through a name that resolves to 127.0.0.1.
+the API through a name that resolves to 127.0.0.1. A POST states its body's length: without a Content-Length
+header it is refused with 411, with one that is not a count of bytes with 400, with a body beyond
+:data:`MAX_BODY` bytes with 413 (each a JSON ``{"error", "field"}``, the connection then closed, since where the
+body ends is unknown). A POST whose body ends before its stated length (the client left) is not acted upon.
+
+A client that leaves before its answer is written is no error of the server's: nothing is printed for it. Any
+other failure outside an endpoint is one line on standard error, never a traceback. The listen queue holds
+:data:`LISTEN_QUEUE` connections (socketserver's default of 5 left the rest of a burst of connections to the
+client's retries or a reset), and a connection that sends nothing for :data:`IDLE_TIMEOUT` seconds is closed, so
+that half-sent requests hold no thread for ever.
 """
 
 from __future__ import annotations
 
+import reprlib
 import sys
 import threading
 from functools import cache
@@ -27,6 +37,9 @@ from pkm.explore.api import FIELDS, Explorer, RequestError
 HOST = "127.0.0.1"
 ASSETS = {"/explore.js": "text/javascript", "/explore.css": "text/css", "/": "text/html"}
 MAX_QUERY = 65536
+MAX_BODY = 65536  # bytes of a POST's body (the stop request sends "{}")
+LISTEN_QUEUE = 128  # connections waiting to be accepted
+IDLE_TIMEOUT = 60.0  # seconds a connection may send nothing
 
 
 def require_plotly() -> None:
@@ -53,6 +66,7 @@ class _Handler(BaseHTTPRequestHandler):
     server: _HTTPServer
     protocol_version = "HTTP/1.1"
     disable_nagle_algorithm = True  # the body follows the headers at once, not after the client's delayed ACK
+    timeout = IDLE_TIMEOUT
 
     def log_message(self, format: str, *args: Any) -> None:
         if self.server.verbose:
@@ -63,6 +77,8 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Content-Type", content_type)
         self.send_header("Content-Length", str(len(body)))
         self.send_header("Cache-Control", "no-store")
+        if self.close_connection:
+            self.send_header("Connection", "close")
         self.end_headers()
         self.wfile.write(body)
 
@@ -91,14 +107,41 @@ class _Handler(BaseHTTPRequestHandler):
             name = "index.html" if parts.path == "/" else parts.path[1:]
             self._send(HTTPStatus.OK, asset(name), f"{ASSETS[parts.path]}; charset=utf-8")
         else:
-            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {parts.path!r}", "field": "path"})
+            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {reprlib.repr(parts.path)}", "field": "path"})
+
+    def _body_length(self) -> int | None:
+        """The length of the request's body from its Content-Length header, at most MAX_BODY; None after
+        answering a request that states none (411), states it twice differently or not as a count of bytes
+        (400), or states more than MAX_BODY (413), the connection then to be closed."""
+        given = self.headers.get_all("Content-Length") or []
+        text = given[0].strip() if given else ""
+        digits = text.lstrip("0") or "0"  # int() refuses more than 4300 digits, leading zeros included
+        if not given:
+            status, condition = HTTPStatus.LENGTH_REQUIRED, "a Content-Length header (the body's length in bytes)"
+        elif len({t.strip() for t in given}) > 1:
+            status, condition = HTTPStatus.BAD_REQUEST, "one Content-Length"
+        elif not (text.isascii() and text.isdigit()):
+            status, condition = HTTPStatus.BAD_REQUEST, "a count of bytes (digits 0-9)"
+        elif len(digits) > len(str(MAX_BODY)) or int(digits) > MAX_BODY:
+            status, condition = HTTPStatus.REQUEST_ENTITY_TOO_LARGE, f"at most {MAX_BODY} bytes"
+        else:
+            return int(digits)
+        self.close_connection = True
+        shown = "none" if not given else reprlib.repr(text if len(given) == 1 else given)
+        self._json(status, {"error": f"Content-Length = {shown} violates: {condition}", "field": "Content-Length"})
+        return None
 
     def do_POST(self) -> None:
+        length = self._body_length()
+        if length is None:
+            return
+        if len(self.rfile.read(length)) < length:  # the client left before its body: nothing to act on
+            self.close_connection = True
+            return
         if not self._local():
             return
-        self.rfile.read(int(self.headers.get("Content-Length") or 0))
         if urlsplit(self.path).path != "/api/stop":
-            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {self.path!r}", "field": "path"})
+            self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {reprlib.repr(self.path)}", "field": "path"})
         elif not (self.headers.get("Content-Type") or "").startswith("application/json"):
             self._json(HTTPStatus.BAD_REQUEST, {"error": "stop violates: a JSON request (Content-Type "
                                                          "application/json)", "field": "Content-Type"})
@@ -114,9 +157,10 @@ class _Handler(BaseHTTPRequestHandler):
             names = [name for name, _ in pairs]
             repeated = sorted({name for name in names if names.count(name) > 1})
             if repeated:
-                raise RequestError(repeated[0], f"field {repeated[0]!r} violates: given once")
+                raise RequestError(repeated[0], f"field {reprlib.repr(repeated[0])} violates: given once")
             if endpoint not in FIELDS:
-                self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {endpoint!r}", "field": "endpoint"})
+                self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {reprlib.repr(endpoint)}",
+                                                  "field": "endpoint"})
                 return
             data = self.server.explorer.handle(endpoint, dict(pairs))
         except RequestError as exc:
@@ -133,11 +177,21 @@ class _Handler(BaseHTTPRequestHandler):
 
 class _HTTPServer(ThreadingHTTPServer):
     daemon_threads = True
+    request_queue_size = LISTEN_QUEUE
 
     def __init__(self, explorer: Explorer, port: int, verbose: bool) -> None:
         self.explorer = explorer
         self.verbose = verbose
         super().__init__((HOST, port), _Handler)
+
+    def handle_error(self, _request: Any, client_address: tuple[str, int]) -> None:
+        """A client that left (a reset or closed connection) or fell silent: nothing to report. Anything else
+        raised outside an endpoint (which answers its own failures): one line, not socketserver's traceback."""
+        exc = sys.exc_info()[1]
+        if isinstance(exc, ConnectionError | TimeoutError):
+            return
+        message = " ".join(f"{type(exc).__name__}: {exc}".split())
+        print(f"pkm explore: a request from {client_address[0]} failed: {message}", file=sys.stderr)
 
 
 class Server:
