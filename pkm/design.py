@@ -110,7 +110,7 @@ def parse_design(text: str, what: str = "design", entry: str = "design parameter
     for item in filter(None, (s.strip() for s in text.split(","))):
         name, sep, value = item.partition("=")
         if not sep:
-            raise error(f"{what} item {item!r} is not of the form name=value")
+            raise error(f"{what} item {reprlib.repr(item)} is not of the form name=value")
         name = name.strip()
         shown = name if name.isidentifier() else repr(name)
         if name in out:
@@ -118,14 +118,14 @@ def parse_design(text: str, what: str = "design", entry: str = "design parameter
         try:
             out[name] = float(value)
         except ValueError:
-            raise error(f"{entry} {shown} = {value!r} is not a number") from None
+            raise error(f"{entry} {shown} = {reprlib.repr(value)} is not a number") from None
     return out
 
 
 def _number(parameter: Parameter, value: object) -> float:
     """A design value as a float; DesignError naming the parameter for what is not a real number."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise DesignError(f"design parameter {parameter.name} = {value!r} violates: a real number")
+        raise DesignError(f"design parameter {parameter.name} = {reprlib.repr(value)} violates: a real number")
     try:
         return float(value)
     except OverflowError:
@@ -174,7 +174,8 @@ def make_design(
     given = {} if values is None else dict(values)
     extra = sorted((k for k in given if k not in names), key=repr)
     if extra:
-        shown = ", ".join(k if isinstance(k, str) and k.isidentifier() else repr(k) for k in extra)
+        shown = ", ".join(k if isinstance(k, str) and k.isidentifier() and len(k) <= 64 else reprlib.repr(k)
+                          for k in extra[:8]) + (", ..." if len(extra) > 8 else "")
         raise DesignError(f"unknown design parameter(s) {shown}; expected {', '.join(names)}")
     missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:

@@ -8,6 +8,7 @@ synthesis. The maps use arithmetic only, so they accept floats, numpy arrays and
 from __future__ import annotations
 
 import math
+import reprlib
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -177,7 +178,7 @@ def parse_axes(text: str, what: str = "axes") -> list[tuple[str, float, float]]:
                 raise ValueError
             out.append((name.strip(), float(lower), float(upper)))
         except ValueError:
-            raise DesignError(f"{what} item {item!r} is not of the form name=lower:upper") from None
+            raise DesignError(f"{what} item {reprlib.repr(item)} is not of the form name=lower:upper") from None
         if [name for name, *_ in out].count(out[-1][0]) > 1:
             raise DesignError(f"{what} {text} violates: each parameter once; {out[-1][0]} is given twice")
     return out
@@ -197,7 +198,7 @@ def parameter_plane(
         raise DesignError(f"axes {axes[0][0]}, {axes[1][0]} violate: two distinct design parameters")
     for axis, lower, upper in axes:
         if axis not in known:
-            raise DesignError(f"unknown design parameter {axis!r}; expected one of {', '.join(known)}")
+            raise DesignError(f"unknown design parameter {reprlib.repr(axis)}; expected one of {', '.join(known)}")
         if not (np.isfinite(lower) and np.isfinite(upper) and lower < upper):
             raise DesignError(f"axis {axis}: bounds {lower:g}, {upper:g} violate lower < upper, both finite")
         p = known[axis]

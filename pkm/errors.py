@@ -11,6 +11,15 @@ class PkmError(ValueError):
     """Bad input to pkm: the message names the parameter and the violated condition."""
 
 
+_PATHS = reprlib.Repr()
+_PATHS.maxstring = 200
+
+
+def shown_path(path: object) -> str:
+    """A path quoted for an error line, shortened where it is longer than an ordinary path."""
+    return _PATHS.repr(str(path))
+
+
 class UnknownNameError(PkmError):
     """An unknown mechanism, index, region, mode, design space or problem, or a name that is not a string."""
 

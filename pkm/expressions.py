@@ -71,7 +71,7 @@ def _tree(node: ast.AST, depth: int, count: list[int]) -> Tree:
             raise ExpressionError(f"numbers and names only; {type(value).__name__} constants are not")
         if isinstance(value, int) and abs(value) < 2**53:
             return value
-        number = float(value)
+        number = float(value) if isinstance(value, float) or abs(value) < 2**1024 else math.inf
         if not math.isfinite(number):
             raise ExpressionError("finite numbers; a number beyond 1.8e308 is not")
         return number

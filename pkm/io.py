@@ -18,7 +18,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from pkm.errors import ComputationError, PkmError
+from pkm.errors import ComputationError, PkmError, shown_path
 from pkm.interrupts import check_interrupted
 
 T = TypeVar("T")
@@ -108,14 +108,14 @@ def read_toml(path: str | os.PathLike, error: type[PkmError] = PkmError, kind: s
         data = path.read_bytes()
     except (OSError, ValueError) as exc:  # a ValueError: a NUL character in the name
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise error(f"{kind} {str(path)!r} cannot be read ({reason})") from None
+        raise error(f"{kind} {shown_path(path)} cannot be read ({reason})") from None
     try:
         return tomllib.loads(data.decode("utf-8"))
     except UnicodeDecodeError as exc:
-        raise error(f"{kind} {str(path)!r} violates: UTF-8 text; byte {exc.start} is not") from None
+        raise error(f"{kind} {shown_path(path)} violates: UTF-8 text; byte {exc.start} is not") from None
     except (tomllib.TOMLDecodeError, RecursionError) as exc:
         reason = str(exc) if isinstance(exc, tomllib.TOMLDecodeError) else "nested too deep"
-        raise error(f"{kind} {str(path)!r} violates: TOML ({reason})") from None
+        raise error(f"{kind} {shown_path(path)} violates: TOML ({reason})") from None
 
 
 def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:
@@ -124,7 +124,7 @@ def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:
     optionally with units in brackets, or none); :class:`PkmError` naming the file and the violated
     condition."""
     path = Path(path)
-    where = f"poses file {str(path)!r} violates:"
+    where = f"poses file {shown_path(path)} violates:"
     try:
         if path.suffix == ".npy":
             data = np.load(path, allow_pickle=False)

@@ -4,6 +4,7 @@ SI everywhere else (the API, JSON, CSV, npz)."""
 from __future__ import annotations
 
 import math
+import reprlib
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -34,7 +35,7 @@ class Units:
             elif item in ANGLES:
                 angle = item
             else:
-                raise PkmError(f"--units item {item!r} violates: one of {', '.join([*LENGTHS, *ANGLES])}")
+                raise PkmError(f"--units item {reprlib.repr(item)} violates: one of {', '.join([*LENGTHS, *ANGLES])}")
         return cls(length, angle)
 
     def scale(self, unit: str) -> float:
