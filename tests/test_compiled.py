@@ -50,28 +50,39 @@ def _evaluations() -> dict:
     return compiled.status()["evaluations"]
 
 
+@pytest.fixture
+def compile_at_once(monkeypatch):
+    """Every graph compiled at its first evaluation: the evaluations of these tests are small."""
+    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
+
+
 @needs_compiler
-def test_a_graph_never_seen_runs_compiled_on_its_second_evaluation(fresh):
+def test_a_graph_runs_on_the_interpreter_until_its_work_pays_for_its_compile(fresh):
+    fn = _graph(0.125)
+    share = compiled.WAIT_WORK // 4
+    for _ in range(3):
+        assert compiled.kernel(fn, work=share) is None
+    assert compiled.kernel(fn, work=share - 1) is None
+    assert compiled.kernel(fn, work=1) is not None
+    assert compiled.kernel(_graph(0.375), work=compiled.WAIT_WORK) is not None
+    assert _evaluations() == {"compiled": 2, "interpreter": {compiled.LITTLE_WORK: 4}}
+
+
+@needs_compiler
+def test_a_graph_never_seen_runs_compiled_once_its_work_reaches_a_compiles(fresh, monkeypatch):
     fn = _graph(0.25)
     x = np.random.default_rng(1).uniform(-1, 1, (1000, 3))
     design = np.array([1.5, 0.7])
     first = batch.evaluate(fn, x, design)
-    assert _evaluations() == {"compiled": 0, "interpreter": {"first evaluation": 1}}
+    assert _evaluations() == {"compiled": 0, "interpreter": {compiled.LITTLE_WORK: 1}}
+    monkeypatch.setattr(compiled, "WAIT_WORK", compiled._entries[(fn, False)].interpreted + 1)
     second = batch.evaluate(fn, x, design)
-    assert _evaluations() == {"compiled": 1, "interpreter": {"first evaluation": 1}}
+    assert _evaluations() == {"compiled": 1, "interpreter": {compiled.LITTLE_WORK: 1}}
     want = batch.interpreted(fn, x, design)
     for a, b, c in zip(first, second, want, strict=True):
         np.testing.assert_array_equal(a, c)
         np.testing.assert_allclose(b, c, rtol=1e-12, atol=1e-12)
     assert compiled.status()["kernels"] == 1
-
-
-@needs_compiler
-def test_a_large_first_evaluation_compiles_at_once(fresh):
-    fn = _graph(0.125)
-    assert compiled.kernel(fn, work=compiled.WAIT_WORK - 1) is None
-    assert compiled.kernel(_graph(0.375), work=compiled.WAIT_WORK) is not None
-    assert _evaluations() == {"compiled": 1, "interpreter": {"first evaluation": 1}}
 
 
 def test_a_graph_too_large_to_compile_quickly_stays_on_the_interpreter(fresh):
@@ -89,7 +100,7 @@ def test_a_graph_too_large_to_compile_quickly_stays_on_the_interpreter(fresh):
 
 
 @needs_compiler
-def test_a_region_placed_by_numbers_runs_compiled_on_its_second_evaluation(fresh):
+def test_a_region_placed_by_numbers_runs_compiled(fresh, monkeypatch):
     """The five-bar's MIW disc fixed by numbers instead of its generated placement: its point integrands
     are graphs of their own, compiled at first use; value and gradient equal the interpreter's."""
     mech = pkm.load("five_bar")
@@ -102,10 +113,11 @@ def test_a_region_placed_by_numbers_runs_compiled_on_its_second_evaluation(fresh
 
     first = value()
     assert _evaluations()["compiled"] == 0
+    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
     second = value()
     counts = _evaluations()
     assert counts["compiled"] > 0
-    assert set(counts["interpreter"]) == {"first evaluation"}
+    assert set(counts["interpreter"]) == {compiled.LITTLE_WORK}
     third_counts_before = counts["compiled"]
     third = value()
     assert _evaluations()["compiled"] > third_counts_before
@@ -115,7 +127,7 @@ def test_a_region_placed_by_numbers_runs_compiled_on_its_second_evaluation(fresh
 
 
 @needs_compiler
-def test_a_lambda_defined_index_runs_compiled_on_its_second_evaluation(fresh):
+def test_a_lambda_defined_index_runs_compiled(fresh, monkeypatch):
     """A local index defined by a user's lambda, evaluated through the fused pipeline like pkm's own."""
     from pkm.indices import LocalIndex
     from pkm.regions import evaluate_at
@@ -126,8 +138,9 @@ def test_a_lambda_defined_index_runs_compiled_on_its_second_evaluation(fresh):
     x = np.array([[0.1, 1.5], [-0.3, 1.9], [5.0, 5.0]])
     signs, design = np.array(mech.working_mode(None).signs), mech.design_vector(mech.design())
     first = evaluate_at(mech, (spec,), x, signs, design).values[0]
+    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
     second = evaluate_at(mech, (spec,), x, signs, design).values[0]
-    assert _evaluations() == {"compiled": 1, "interpreter": {"first evaluation": 1}}
+    assert _evaluations() == {"compiled": 1, "interpreter": {compiled.LITTLE_WORK: 1}}
     np.testing.assert_array_equal(np.isnan(second), np.isnan(first))
     np.testing.assert_allclose(second, first, rtol=1e-12)
     jacobians = mech.jacobian(x[:2])
@@ -135,17 +148,18 @@ def test_a_lambda_defined_index_runs_compiled_on_its_second_evaluation(fresh):
 
 
 @needs_compiler
-def test_a_test_only_mechanism_runs_compiled(fresh):
+def test_a_test_only_mechanism_runs_compiled(fresh, monkeypatch):
     """A mechanism outside the registry (tests/test_spatial_core.py's tripod) is compiled like any other."""
     from test_spatial_core import Tripod
 
     mech = Tripod()
     x = mech.workspace_box(mech.design().vector()).mean(axis=1)
     poses = x + np.random.default_rng(3).normal(scale=0.01, size=(50, mech.n_out))
-    first = mech.jacobian(poses)
+    interpreted_jacobian = mech.jacobian(poses)
+    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
     second = mech.jacobian(poses)
     assert _evaluations()["compiled"] >= 1
-    np.testing.assert_allclose(second, first, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(second, interpreted_jacobian, rtol=1e-12, atol=1e-12)
 
 
 @needs_compiler
@@ -157,6 +171,7 @@ from test_compiled import _graph
 fn = _graph(0.5)
 x = np.random.default_rng(1).uniform(-1, 1, (8, 3))
 batch.evaluate(fn, x, np.array([1.5, 0.7]))
+compiled.WAIT_WORK = 1
 batch.evaluate(fn, x, np.array([1.5, 0.7]))
 print(compiled.status()["evaluations"]["compiled"], compiled.key(fn))
 """
@@ -243,7 +258,8 @@ def test_without_a_c_compiler_everything_runs_on_the_interpreter_and_status_says
 
 
 @needs_compiler
-def test_a_compile_error_falls_back_with_one_warning_naming_the_function(fresh, monkeypatch, tmp_path):
+def test_a_compile_error_falls_back_with_one_warning_naming_the_function(fresh, monkeypatch, tmp_path,
+                                                                         compile_at_once):
     """A compiler that rejects every kernel (but builds the runner): each kernel says so once, by name."""
     wrapper = tmp_path / "bin" / "cc"
     wrapper.parent.mkdir()
@@ -262,7 +278,7 @@ def test_a_compile_error_falls_back_with_one_warning_naming_the_function(fresh, 
     assert len(notices) == 1
     assert fn.name() in notices[0]
     assert "injected" in notices[0]
-    assert _evaluations() == {"compiled": 0, "interpreter": {"compile error": 2, "first evaluation": 1}}
+    assert _evaluations() == {"compiled": 0, "interpreter": {"compile error": 3}}
     np.testing.assert_array_equal(got[0], batch.interpreted(fn, np.ones((2, 3)), np.array([1.0, 2.0]))[0])
 
 
@@ -397,7 +413,7 @@ def test_the_kernels_reject_arrays_they_cannot_read():
     assert flag[0, 0] == 1
 
 
-def test_non_finite_poses_are_refused_after_the_kernel_has_read_them():
+def test_non_finite_poses_are_refused_after_the_kernel_has_read_them(monkeypatch):
     """The public batch methods leave the finiteness check of the poses to the kernel that reads them
     (its flag) and name the input only then; the interpreter's path checks with numpy."""
     from pkm import PoseError
@@ -408,7 +424,8 @@ def test_non_finite_poses_are_refused_after_the_kernel_has_read_them():
     for call in (lambda: m.local_index("inverse_condition_f", x), lambda: m.jacobian(x),
                  lambda: m.inverse_kinematics(x), lambda: m.inertia_matrix(x),
                  lambda: m.inverse_dynamics(x, np.zeros(2), np.zeros(2))):
-        for _ in range(2):  # a first evaluation on the interpreter, the second compiled
+        for wait in (1 << 62, 1):  # on the interpreter, then compiled
+            monkeypatch.setattr(compiled, "WAIT_WORK", wait)
             with pytest.raises(PoseError, match="pose contains non-finite values"):
                 call()
     with pytest.raises(PoseError, match="velocity contains non-finite values"):

@@ -178,7 +178,7 @@ def test_the_architecture_states_the_compiled_paths_constants():
     assert f"more than {EXCHANGE_LIMIT} rows" in text
     assert f"it holds the {EXCHANGE_ROWS} rows of least margin of each output" in text
     assert f"adds the {EXCHANGE_ROWS} rows of each output" in text
-    assert f"from 2^{WAIT_WORK.bit_length() - 1} instructions times rows" in text
+    assert f"reaches 2^{WAIT_WORK.bit_length() - 1} instructions times rows" in text
     assert f"at most {LIMIT_MB} MiB" in text
     assert f"more than {MAX_INSTRUCTIONS:,} instructions" in text
     assert f"or -O2 from {LARGE:,} instructions" in text

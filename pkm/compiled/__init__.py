@@ -5,14 +5,17 @@ interpreter, and run by the runner extension (``_runner.c``, itself compiled int
 the interpreter: same inputs, same (N, k) buffers, values equal to round-off.
 
 :func:`kernel` is the one door: ``pkm.batch`` asks it for a function's kernel at every evaluation. A
-function whose kernel is in the cache runs compiled from its first evaluation. Otherwise its first
-evaluation is answered by the interpreter, unless it is large (:data:`WAIT_WORK` instructions times rows),
-and its second compiles it and waits (a graph met twice is worth its compile; one met once, such as a
-test's, costs no compile), with a progress bar on a terminal where that takes more than half a second.
+function whose kernel is in the cache runs compiled from its first evaluation. Otherwise its evaluations are
+answered by the interpreter until the work they have asked for (instructions times rows, summed) reaches
+:data:`WAIT_WORK`, about what its compile costs, and then the evaluation that reaches it compiles it and waits:
+a graph evaluated at scale is compiled at once, one evaluated a few times on a few rows (a test's, a single
+pose's) never, and no graph costs more than twice what the better of the two paths would have (the rule of
+renting until the rent reaches the price), with a progress bar on a terminal where the compile takes more
+than half a second.
 :func:`build` compiles many kernels ahead of time, in parallel (``pkm build``).
 
 Nothing is silent: :func:`status` counts, per process, the evaluations that ran compiled and those that ran
-on the interpreter with the reason (disabled by ``PKM_COMPILED=0``, no C compiler, a first evaluation, a
+on the interpreter with the reason (disabled by ``PKM_COMPILED=0``, no C compiler, little work so far, a
 compile error, a cache that cannot be written, not an SX graph, a graph of more than
 :data:`MAX_INSTRUCTIONS` instructions). A compile that fails, a cache that cannot be
 written and a missing compiler each give one :class:`CompiledPathWarning`.
@@ -43,7 +46,9 @@ from pkm.compiled.cache import Cache, location
 from pkm.compiled.toolchain import CompileError, Toolchain, find
 from pkm.progress import Progress
 
-WAIT_WORK = 1 << 25  # instructions times rows from which a first evaluation compiles and waits
+WAIT_WORK = 1 << 25  # instructions times rows, summed over a graph's evaluations, from which it is compiled:
+# at the interpreter's 5-15 ns per instruction and row, 0.2-0.5 s of interpreting, as long as a compile takes
+LITTLE_WORK = "little work so far"  # the reason of an evaluation on the interpreter below WAIT_WORK
 MAX_INSTRUCTIONS = 50_000  # a larger graph stays on the interpreter: its compile takes minutes
 CHECK_ROWS = 5  # rows of the check against the interpreter after loading
 CHECK_TOLERANCE = 1e-9  # of the largest entry of an output, at the check's random inputs
@@ -199,6 +204,7 @@ class _Kernel:
         self.reason, self.key = "", ""
         self.lock = threading.Lock()
         self.state = "new"
+        self.interpreted = 0  # the work of the evaluations the interpreter answered while the kernel was met
 
     def get(self, work: int) -> Run | None:
         if self.state == "ready":
@@ -206,8 +212,9 @@ class _Kernel:
         with self.lock:
             if self.state == "new":
                 self._look()
-                if self.state == "met" and work < WAIT_WORK:
-                    return None
+            if self.state == "met" and self.interpreted + work < WAIT_WORK:
+                self.interpreted += work
+                return None
             if self.state == "met":
                 self._compile()
             if self.state == "compiling":
@@ -235,7 +242,7 @@ class _Kernel:
         if path.unwritable:
             self._off("cache not writable", path.unwritable, topic="cache")
             return
-        self.state, self.reason = "met", "first evaluation"
+        self.state, self.reason = "met", LITTLE_WORK
 
     def _compile(self) -> None:
         """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""
@@ -343,8 +350,8 @@ def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0) -> Run | Non
     finite, C order; the chunks on up to ``threads`` threads (the caller's and threads the runner keeps),
     without the GIL. With ``summed`` the kernel adds the sums of each output over consecutive groups of
     ``group`` rows to the rows of (n / group, k_j) outputs instead. None where this evaluation runs on the
-    interpreter (module docstring; ``work``, its instructions times rows, decides whether a first
-    evaluation compiles). Each call counts as one evaluation in :func:`status`."""
+    interpreter (module docstring; ``work``, its instructions times rows, counts towards the compile). Each
+    call counts as one evaluation in :func:`status`."""
     entry = _entry(fn, summed)
     run = entry.get(work)
     _evaluations["compiled" if run is not None else entry.reason] += 1
