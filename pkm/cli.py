@@ -1069,8 +1069,14 @@ def _terminated(_signum: int, _frame: Any) -> None:
     raise KeyboardInterrupt
 
 
+def _line(message: object) -> str:
+    """A message as one line: its line breaks and other unprintable characters escaped (a file's key may hold
+    them)."""
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode() for c in str(message))
+
+
 def _one_line_warning(message: Warning | str, *_args: Any, **_kwargs: Any) -> None:
-    print(f"pkm: warning: {message}", file=sys.stderr)
+    print(f"pkm: warning: {_line(message)}", file=sys.stderr)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -1102,10 +1108,10 @@ def _main(argv: list[str] | None) -> int:
         with parallel.scheduled(address), interruptible(), io.keeping(out, args.command) as keeper:
             args.func(args)
     except PkmError as exc:
-        print(f"pkm: error: {exc}", file=sys.stderr)
+        print(f"pkm: error: {_line(exc)}", file=sys.stderr)
         return 2
     except ComputationError as exc:
-        print(f"pkm: computation failed: {exc}", file=sys.stderr)
+        print(f"pkm: computation failed: {_line(exc)}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("pkm: interrupted", file=sys.stderr)
@@ -1117,7 +1123,7 @@ def _main(argv: list[str] | None) -> int:
     finally:
         # a result that --out failed to take after the computation is kept, and said so, whatever came after
         if keeper is not None and keeper.kept is not None:
-            print(f"pkm: {keeper.message}", file=sys.stderr)
+            print(f"pkm: {_line(keeper.message)}", file=sys.stderr)
     return 0 if keeper is None or keeper.kept is None else 1
 
 

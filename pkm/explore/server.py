@@ -150,29 +150,39 @@ class _Handler(BaseHTTPRequestHandler):
             threading.Thread(target=self.server.shutdown, daemon=True).start()
 
     def _api(self, endpoint: str, query: str) -> None:
+        """Answer an endpoint: its answer or the error it raised is computed first and written after, so that a
+        client that leaves while it is written is the server's handle_error's (silent), not an endpoint's
+        failure."""
         try:
-            if len(query) > MAX_QUERY:
-                raise RequestError("query", f"a query of {len(query)} characters violates: at most {MAX_QUERY}")
-            pairs = parse_qsl(query, keep_blank_values=True)
-            names = [name for name, _ in pairs]
-            repeated = sorted({name for name in names if names.count(name) > 1})
-            if repeated:
-                raise RequestError(repeated[0], f"field {reprlib.repr(repeated[0])} violates: given once")
-            if endpoint not in FIELDS:
-                self._json(HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {reprlib.repr(endpoint)}",
-                                                  "field": "endpoint"})
-                return
-            data = self.server.explorer.handle(endpoint, dict(pairs))
+            status, payload = HTTPStatus.OK, self._answer(endpoint, query)
         except RequestError as exc:
-            self._json(HTTPStatus.BAD_REQUEST, exc.to_dict())
+            status, payload = HTTPStatus.BAD_REQUEST, exc.to_dict()
+        except _UnknownEndpointError:
+            status, payload = HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {reprlib.repr(endpoint)}",
+                                                     "field": "endpoint"}
         except PkmError as exc:
-            self._json(HTTPStatus.BAD_REQUEST, {"error": str(exc), "field": None})
+            status, payload = HTTPStatus.BAD_REQUEST, {"error": str(exc), "field": None}
         except Exception as exc:
             message = " ".join(f"{type(exc).__name__}: {exc}".split())
             print(f"pkm explore: {endpoint} failed: {message}", file=sys.stderr)
-            self._json(HTTPStatus.INTERNAL_SERVER_ERROR, {"error": message})
-        else:
-            self._json(HTTPStatus.OK, data)
+            status, payload = HTTPStatus.INTERNAL_SERVER_ERROR, {"error": message}
+        self._json(status, payload)
+
+    def _answer(self, endpoint: str, query: str) -> Any:
+        if len(query) > MAX_QUERY:
+            raise RequestError("query", f"a query of {len(query)} characters violates: at most {MAX_QUERY}")
+        pairs = parse_qsl(query, keep_blank_values=True)
+        names = [name for name, _ in pairs]
+        repeated = sorted({name for name in names if names.count(name) > 1})
+        if repeated:
+            raise RequestError(repeated[0], f"field {reprlib.repr(repeated[0])} violates: given once")
+        if endpoint not in FIELDS:
+            raise _UnknownEndpointError
+        return self.server.explorer.handle(endpoint, dict(pairs))
+
+
+class _UnknownEndpointError(Exception):
+    """An endpoint the server does not have."""
 
 
 class _HTTPServer(ThreadingHTTPServer):
