@@ -85,3 +85,11 @@ def test_optima_table_is_quoted_from_the_committed_runs():
     before = json.loads((RUNS / "optima_before.json").read_text())
     after = json.loads((RUNS / "optima_after.json").read_text())
     assert markdown(before, after) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+
+def test_suite_tables_are_quoted_from_the_committed_runs():
+    from bench.suite import markdown
+
+    text = (ROOT / "docs" / "benchmarks.md").read_text()
+    for name in ("suite_before.json", "suite.json"):
+        assert markdown(json.loads((RUNS / name).read_text())) in text

@@ -32,7 +32,7 @@ import time
 import warnings
 from collections import Counter, OrderedDict
 from collections.abc import Callable, Iterable
-from concurrent.futures import Future, ThreadPoolExecutor, wait
+from concurrent.futures import CancelledError, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -161,7 +161,19 @@ os.register_at_fork(after_in_child=_forget_in_child)
 
 
 def _wait(futures: Iterable[Future]) -> None:
-    """Wait for compiles, with a progress bar on a terminal where it takes more than half a second."""
+    """Wait for compiles, with a progress bar on a terminal where it takes more than half a second; an
+    interrupt (Ctrl-C, or SIGTERM on the command line) drops the compiles not yet started, so that the process
+    ends after the compilers already running rather than after every queued one."""
+    try:
+        _wait_for(futures)
+    except KeyboardInterrupt:
+        with _lock:
+            if _compilers:
+                _compilers.pop().shutdown(wait=False, cancel_futures=True)
+        raise
+
+
+def _wait_for(futures: Iterable[Future]) -> None:
     pending = {f for f in futures if not f.done()}
     if pending:
         pending = wait(pending, timeout=0.5).not_done
@@ -263,6 +275,9 @@ class _Kernel:
     def _finish(self) -> None:
         try:
             library = self.future.result()
+        except CancelledError:  # dropped by an interrupt: met again, compiled when next asked
+            self.state, self.future = "met", None
+            return
         except CompileError as exc:
             self._off("compile error", f"{self.fn.name()}'s kernel did not compile: {exc}", topic=self.key)
             return
