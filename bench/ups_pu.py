@@ -25,7 +25,9 @@ from typing import Any
 import numpy as np
 
 import pkm
-from pkm.models.ups_pu.workspace import volume
+from pkm.batch import REACH_TOLERANCE
+from pkm.models.ups_pu.mechanism import SINGULAR_CONDITION
+from pkm.models.ups_pu.workspace import PARALLEL, volume
 
 SEED = 20261123
 ANGLE = 40 * math.pi / 180
@@ -35,6 +37,12 @@ EXAMPLE_53 = {"r": 0.100, "R": 0.120, "beta": 25 * math.pi / 180, "l_min": 0.320
 
 def numpy_ik_jacobian_statics(x: np.ndarray, wrench: np.ndarray, d: Mapping[str, float]):
     """Leg lengths (n, 3), J (n, 3, 3) and actuator forces (n, 3) of eqs. 2-4, 7 and 8 (physical), numpy."""
+    q, J, W = numpy_kinematics(x, d)
+    return q, J, np.linalg.solve(W, wrench[:, :, None])[:, :3, 0]
+
+
+def numpy_kinematics(x: np.ndarray, d: Mapping[str, float]):
+    """Leg lengths (n, 3), J (n, 3, 3) and the wrench matrix W (n, 6, 6) of eqs. 2-4, 7 and 8 (physical)."""
     l0, t1, t2 = x.T
     c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
     n = len(x)
@@ -74,8 +82,88 @@ def numpy_ik_jacobian_statics(x: np.ndarray, wrench: np.ndarray, d: Mapping[str,
     W[:, 1, 4] = 1.0
     W[:, 4, 5] = -s1
     W[:, 5, 5] = c1
-    forces = np.linalg.solve(W, wrench[:, :, None])[:, :3, 0]
-    return q, J, forces
+    return q, J, W
+
+
+def _segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> np.ndarray:
+    """Least distance between the segments p1q1 and p2q2 row by row (closest points clamped to the segments,
+    Ericson 2005 section 5.1.9, as pkm.models.ups_pu.workspace.segment_distance)."""
+    d1, d2, w = q1 - p1, q2 - p2, p1 - p2
+    a, e = np.einsum("ni,ni->n", d1, d1), np.einsum("ni,ni->n", d2, d2)
+    b, c, f = np.einsum("ni,ni->n", d1, d2), np.einsum("ni,ni->n", d1, w), np.einsum("ni,ni->n", d2, w)
+    denominator = a * e - b**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(denominator > PARALLEL, np.clip((b * f - c * e) / denominator, 0, 1), 0.0)
+        t = (b * s + f) / e
+        s = np.where(t < 0, np.clip(-c / a, 0, 1), np.where(t > 1, np.clip((b - c) / a, 0, 1), s))
+    t = np.clip(t, 0, 1)
+    return np.linalg.norm(p1 + s[:, None] * d1 - (p2 + t[:, None] * d2), axis=1)
+
+
+def _home_jacobian(l0: np.ndarray, d: Mapping[str, float]) -> np.ndarray:
+    """J (n, 3, 3) at the home orientation theta1 = theta2 = 0 of each l0: the platform's frame is the base's, so
+    each leg's vector is its attachments' fixed offset in the plane and l0 along z."""
+    J = np.zeros((len(l0), 3, 3))
+    J[:, 2, 0] = 1.0
+    for k, a in enumerate((d["alpha"], d["beta"])):
+        local = d["r"] * np.array([math.cos(a), math.sin(a), 0.0])
+        offset = local - d["R"] * np.array([math.cos(a), math.sin(a), 0.0])
+        length = np.sqrt(offset[0] ** 2 + offset[1] ** 2 + l0**2)
+        # at R = I, d(R local)/d theta1 = (0, 0, local_y) and d(R local)/d theta2 = (0, 0, -local_x)
+        J[:, k, 0] = l0 / length
+        J[:, k, 1] = l0 * local[1] / length
+        J[:, k, 2] = -l0 * local[0] / length
+    return J
+
+
+def numpy_limits(x: np.ndarray, q: np.ndarray, J: np.ndarray, d: Mapping[str, float]) -> np.ndarray:
+    """The 17 margins of pkm.models.ups_pu.workspace.MARGINS (n, 17), numpy: det J's home sign, strokes, the
+    joints' ranges, the legs' interference and the angles' range."""
+    l0, t1, t2 = x.T
+    n = len(x)
+    scale = np.array([1.0, 1 / d["r"], 1 / d["r"]])
+    det = np.linalg.det(J * scale)
+    det_home = np.linalg.det(_home_jacobian(l0, d) * scale)
+    c1, s1, c2, s2 = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    rot = np.empty((n, 3, 3))
+    rot[:, 0] = np.stack([c2, 0 * c2, s2], axis=1)
+    rot[:, 1] = np.stack([s1 * s2, c1, -s1 * c2], axis=1)
+    rot[:, 2] = np.stack([-c1 * s2, s1, c1 * c2], axis=1)
+    u0 = np.column_stack([0 * l0, 0 * l0, l0])
+    z_p = rot[:, :, 2]
+    legs = []
+    for a in (d["alpha"], d["beta"]):
+        s = u0 + rot @ (d["r"] * np.array([math.cos(a), math.sin(a), 0.0]))
+        u = np.broadcast_to(d["R"] * np.array([math.cos(a), math.sin(a), 0.0]), s.shape)
+        legs.append((u, s, (s - u) / np.linalg.norm(s - u, axis=1)[:, None]))
+    (u1, s1_, a1), (u2, s2_, a2) = legs
+    origin = np.zeros_like(u0)
+    cos_u, cos_s = math.cos(d["theta_u_max"]), math.cos(d["theta_s_max"])
+    return np.column_stack([
+        det * np.sign(det_home),
+        q[:, 0] - d["l_min"], d["l_max"] - q[:, 0], q[:, 1] - d["l_min"], d["l_max"] - q[:, 1],
+        l0 - d["l0_min"], d["l0_max"] - l0,
+        a1[:, 2] - cos_u, a2[:, 2] - cos_u,
+        np.einsum("ni,ni->n", a1, z_p) - cos_s, np.einsum("ni,ni->n", a2, z_p) - cos_s,
+        z_p[:, 2] - cos_u,
+        _segment_distance(u1, s1_, u2, s2_) - d["D"],
+        _segment_distance(u1, s1_, origin, u0) - d["D"],
+        _segment_distance(u2, s2_, origin, u0) - d["D"],
+        math.pi / 2 - np.abs(t1), math.pi / 2 - np.abs(t2),
+    ])
+
+
+def numpy_within_limits(x: np.ndarray, wrench: np.ndarray, d: Mapping[str, float]):
+    """:func:`numpy_ik_jacobian_statics` as pkm's inverse_kinematics, jacobian and statics answer: the joints
+    and the forces NaN where a margin of :func:`numpy_limits` is below -REACH_TOLERANCE, the forces also where
+    the wrench matrix is singular (its Frobenius condition number at least SINGULAR_CONDITION); J, the
+    kinematics, beyond the limits too."""
+    q, J, W = numpy_kinematics(x, d)
+    inside = np.all(numpy_limits(x, q, J, d) >= -REACH_TOLERANCE, axis=1)
+    inverse = np.linalg.inv(W)
+    regular = np.linalg.norm(W, axis=(1, 2)) * np.linalg.norm(inverse, axis=(1, 2)) < SINGULAR_CONDITION
+    forces = np.einsum("nij,nj->ni", inverse[:, :3], wrench)
+    return (np.where(inside[:, None], q, np.nan), J, np.where((inside & regular)[:, None], forces, np.nan))
 
 
 def _best(fn: Callable[[], Any], repeats: int) -> float:
@@ -98,22 +186,31 @@ def throughput(n: int, repeats: int, log: Callable[[str], None]) -> dict[str, An
     def with_pkm():
         return m.inverse_kinematics(x, design), m.jacobian(x, design), m.statics(x, wrench, design).actuators
 
-    reference = numpy_ik_jacobian_statics(x, wrench, d)
+    reference = numpy_within_limits(x, wrench, d)
     ours = with_pkm()
-    error = max(float(np.max(np.abs(a - b) / np.maximum(1.0, np.abs(b)))) for a, b in zip(ours, reference,
-                                                                                            strict=True))
-    if error > 1e-9:
+    for a, b in zip(ours, reference, strict=True):
+        if not np.array_equal(np.isnan(a), np.isnan(b)):
+            differ = int(np.sum(np.isnan(a) != np.isnan(b)))
+            raise AssertionError(f"pkm and numpy hold the limits at different poses ({differ} entries)")
+    error = max(float(np.nanmax(np.abs(a - b) / np.maximum(1.0, np.abs(b)))) for a, b in zip(ours, reference,
+                                                                                               strict=True))
+    if not error <= 1e-9:
         raise AssertionError(f"pkm and numpy differ by {error:.3g}")
-    log(f"ups_pu throughput: pkm agrees with numpy to {error:.2g}")
+    inside = float(np.mean(~np.isnan(reference[0][:, 0])))
+    log(f"ups_pu throughput: pkm agrees with numpy to {error:.2g}; {inside:.0%} of the poses within the limits")
     rows = []
-    for name, fn in (("numpy, hand-written (IK + J + statics)", lambda: numpy_ik_jacobian_statics(x, wrench, d)),
-                     ("pkm inverse_kinematics + jacobian + statics", with_pkm)):
+    for name, fn in (("numpy, hand-written (IK + J + statics, limits held)",
+                      lambda: numpy_within_limits(x, wrench, d)),
+                     ("numpy, hand-written (IK + J + statics, no limits)",
+                      lambda: numpy_ik_jacobian_statics(x, wrench, d)),
+                     ("pkm inverse_kinematics + jacobian + statics (limits held)", with_pkm)):
         seconds = _best(fn, repeats)
         rows.append({"name": name, "seconds": seconds, "poses_per_s": n / seconds})
         log(f"  {name}: {n / seconds:.3g} poses/s")
     for row in rows:
         row["ratio_vs_numpy"] = row["poses_per_s"] / rows[0]["poses_per_s"]
-    return {"poses": n, "repeats": repeats, "seed": SEED, "max_discrepancy": error, "rows": rows}
+    return {"poses": n, "repeats": repeats, "seed": SEED, "max_discrepancy": error, "within_limits": inside,
+            "rows": rows}
 
 
 def volume_bench(resolution: int, rays: int, planes: int, log: Callable[[str], None]) -> dict[str, Any]:
