@@ -30,7 +30,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from pkm import io, parallel, registry
+from pkm import interrupts, io, parallel, registry
 from pkm import load as load_mechanism
 from pkm.compiled import CompiledPathWarning
 from pkm.compiled import status as compiled_status
@@ -1065,7 +1065,8 @@ def _check_file(option: str, given: str | None) -> None:
         raise PkmError(f"{shown}; it is a folder")
 
 
-def _terminated(_signum: int, _frame: Any) -> None:
+def _terminated(signum: int, _frame: Any) -> None:
+    interrupts.remember(signum)
     raise KeyboardInterrupt
 
 

@@ -39,6 +39,12 @@ def interruptible() -> Iterator[None]:
         raise KeyboardInterrupt
 
 
+def remember(signum: int) -> None:
+    """Note an interrupt raised by another handler (SIGTERM on the command line), so that it is raised again
+    at the next safe point where CasADi caught it."""
+    _INTERRUPTS.append(signum)
+
+
 def check_interrupted() -> None:
     """KeyboardInterrupt where Ctrl-C came during an :func:`interruptible` block and was caught below."""
     if _INTERRUPTS:
