@@ -306,3 +306,13 @@ def assert_five_bar_gci(described: pkm.Mechanism) -> tuple[dict, Any]:
         for name in small:
             assert abs(mine_gradient[name] - their_gradient[name]) <= 1e-9
     return {"shape": "disc", "centre": centre.tolist(), "size": [0.8 * float(radius[0])]}, design
+
+
+def fuzz(examples: int):
+    """Hypothesis's settings of the fuzz tests: ``examples`` drawn derandomized (a fixed seed), no example
+    database, no deadline, no health check on slow or large draws."""
+    from hypothesis import HealthCheck, settings
+
+    return settings(max_examples=examples, derandomize=True, database=None, deadline=None,
+                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                                           HealthCheck.filter_too_much])

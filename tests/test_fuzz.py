@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from helpers import fuzz
+from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
@@ -36,16 +37,6 @@ from pkm.errors import ComputationError, PkmError
 
 MECHANISMS = {name: pkm.load(name) for name in pkm.mechanisms()}
 PKM = Path(sys.executable).with_name("pkm")
-
-
-def fuzz(examples: int):
-    return settings(
-        max_examples=examples,
-        derandomize=True,
-        database=None,
-        deadline=None,
-        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much],
-    )
 
 
 # ---- values -----------------------------------------------------------------------------------------

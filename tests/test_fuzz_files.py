@@ -60,7 +60,8 @@ from urllib.parse import quote
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, note, settings
+from helpers import fuzz
+from hypothesis import given, note
 from hypothesis import strategies as st
 
 from pkm import expressions, spec
@@ -76,16 +77,6 @@ DESCRIPTIONS = {path.stem: tomllib.loads(path.read_text()) for path in DESCRIPTI
 TASK_FILES = sorted((ROOT / "docs" / "tasks").glob("*.toml"))
 TASKS = {path.stem: tomllib.loads(path.read_text()) for path in TASK_FILES}
 LOADED_AT_MOST = 15  # accepted mutated descriptions that are derived and loaded (about a second each)
-
-
-def fuzz(examples: int):
-    return settings(
-        max_examples=examples,
-        derandomize=True,
-        database=None,
-        deadline=None,
-        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much],
-    )
 
 
 # ---- junk of every TOML type ------------------------------------------------------------------------------
