@@ -22,7 +22,8 @@ A description is a mapping (or a TOML file) with
   joint (a stroke, an arm's sweep: outside it a pose is out of reach), and for a UPS leg ``cone``, the
   largest angle of the leg from the base's normal at its universal joint and from the platform's normal at
   its spherical joint (the joints' range); every coordinate and length an
-  expression of the parameters with ``pi``, ``cos``, ``sin``, ``tan`` and ``sqrt``;
+  expression of the parameters with ``pi`` and :data:`pkm.expressions.FUNCTIONS`, read into
+  :mod:`pkm.expressions`' tree (never evaluated as Python; the normalised description holds the trees);
 * ``home``: the home pose (expressions), the seed of the forward kinematics;
 * optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
   combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every

@@ -181,3 +181,13 @@ def test_a_docstring_is_always_a_literal_of_its_text(doc):
     literal = codegen.docstring(doc)
     assert ast.literal_eval(literal) == doc
     assert isinstance(ast.parse(literal).body[0], ast.Expr)
+
+
+def test_the_description_page_states_the_expressions_limits():
+    text = " ".join((Path(spec.__file__).resolve().parent.parent / "docs" / "mechanisms.md").read_text().split())
+    limits = expressions.LIMITS
+    assert (f"at most {limits['characters']} characters, {limits['nodes']} terms nested at most {limits['depth']} "
+            f"deep, a constant exponent of at most {limits['exponent']:g} in magnitude") in text
+    assert (f"identifiers of at most {spec.NAME_LENGTH} characters; texts (docs, units) at most "
+            f"{spec.TEXT_LENGTH}") in text
+    assert ", ".join(f"`{f}`" for f in expressions.FUNCTIONS[:-1]) in text
