@@ -332,9 +332,12 @@ class Mechanism:
         return {k: v[..., 0, 0] for k, v in zip(names, values, strict=True)}
 
     def _has(self, spec: LocalIndex) -> bool:
+        """Whether this mechanism offers the local index: its source function has every output the index
+        reads, none of them empty (a machine without stated limits has no workspace margin)."""
         fn = self.functions.get(spec.source)
         fits = spec.dimension is None or self.n_out <= spec.dimension
-        return fits and fn is not None and set(spec.arguments) <= set(fn.name_out())
+        return (fits and fn is not None and set(spec.arguments) <= set(fn.name_out())
+                and all(fn.numel_out(fn.index_out(a)) > 0 for a in spec.arguments))
 
     def local_spec(self, name: str) -> LocalIndex:
         """The local index by name, if this mechanism has the generated function it needs."""

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import EXAMPLES, FIVE_BAR_OF_CHAINS
+from helpers import EXAMPLES, FIVE_BAR_OF_CHAINS, rrr3_of_chains
 
 from pkm import expressions, spec
 from pkm.models.described import DESCRIPTIONS
@@ -191,3 +191,24 @@ def test_the_description_page_states_the_expressions_limits():
     assert (f"identifiers of at most {spec.NAME_LENGTH} characters; texts (docs, units) at most "
             f"{spec.TEXT_LENGTH}") in text
     assert ", ".join(f"`{f}`" for f in expressions.FUNCTIONS[:-1]) in text
+
+
+def test_a_chain_actuated_at_its_last_joint_is_evaluated(tmp_path, capsys):
+    """The 3-RRR's legs as chains actuated at the elbow: no leg has a reach margin or a range, so the machine
+    offers no workspace margin index (an index of an empty margin vector raised IndexError in pkm eval)."""
+    from pkm.cli import main
+
+    raw = rrr3_of_chains()
+    raw["name"] = "rrr3_actuated_last"
+    raw["legs"]["joints"] = [{"type": "R", "link": ["l1", 0]}, {"type": "R", "actuated": True, "link": ["l2", 0]}]
+    mech = spec.load(raw)
+    assert "workspace_margin" not in mech.local_indices()
+    assert "inverse_condition_f" in mech.local_indices()
+    path = tmp_path / "last.toml"
+    path.write_text(RRR3.replace('name = "rrr3"', 'name = "rrr3_actuated_last"').replace(
+        'kind = "RR"', 'kind = "chain"').replace(
+        'proximal = "l1"\ndistal = "l2"',
+        'joints = [{type = "R", link = ["l1", 0]}, {type = "R", actuated = true, link = ["l2", 0]}]\n'
+        'branches = {left = [-2.1, -2.1], right = [2.1, 2.1]}'))
+    assert main(["eval", str(path), "--pose=0.01,0.02,0.05"]) == 0
+    assert "inverse_condition_f = 0.24" in capsys.readouterr().out
