@@ -123,20 +123,17 @@ def _apply(op: str, values: list[Any], functions: Mapping[str, Callable[..., Any
     return OPERATORS[op](*values) if op in OPERATORS else functions[op](*values)
 
 
-def evaluate(tree: Tree, values: Mapping[str, Any], functions: Mapping[str, Callable[..., Any]] = NUMPY, *,
-             constants: Mapping[str, Any] = CONSTANTS, number: Callable[[int | float], Any] | None = None) -> Any:
-    """The value of a tree: its names from ``values`` (or ``constants``), its functions from ``functions``
-    (numpy's by default; CasADi's for symbols), its numbers through ``number`` where given (else numpy's
-    floats with numpy's functions, Python's with others). Numbers give numpy's results, overflow and division
-    by zero included (inf or nan, no warning)."""
-    if isinstance(tree, bool):
-        raise ExpressionError("numbers and names only")
+def evaluate(tree: Tree, values: Mapping[str, Any], functions: Mapping[str, Callable[..., Any]] = NUMPY) -> Any:
+    """The value of a tree: its names from ``values`` (or :data:`CONSTANTS`), its functions from ``functions``
+    (numpy's by default; CasADi's for symbols), its numbers numpy's floats with numpy's functions and Python's
+    with others. Numbers give numpy's results, overflow and division by zero included (inf or nan, no
+    warning)."""
     if isinstance(tree, int | float):
-        return number(tree) if number is not None else np.float64(tree) if functions is NUMPY else float(tree)
+        return np.float64(tree) if functions is NUMPY else float(tree)
     if isinstance(tree, str):
-        return values[tree] if tree in values else constants[tree]
+        return values[tree] if tree in values else CONSTANTS[tree]
     op, *operands = tree
-    args = [evaluate(t, values, functions, constants=constants, number=number) for t in operands]
+    args = [evaluate(t, values, functions) for t in operands]
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)
         return _apply(op, args, functions)

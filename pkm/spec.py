@@ -402,7 +402,8 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
 
 
 def _attachments(table: Mapping[str, Any], where: str, known: set[str], what: str, *, dim: int, names: set[str]
-                 ) -> tuple[int, list[list[str]], list[str] | None, list[list[str]]]:
+                 ) -> tuple[int, list[list[expressions.Tree]], list[expressions.Tree] | None,
+                            list[list[expressions.Tree]]]:
     """A leg table's fields checked against ``known``, its count of legs, their base attachments (with the
     circle's angles where a pattern gives them) and their platform attachments."""
     extra = set(table) - known
@@ -416,7 +417,7 @@ def _attachments(table: Mapping[str, Any], where: str, known: set[str], what: st
     return count, base, angles, platform
 
 
-def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[str]:
+def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[expressions.Tree]:
     if not isinstance(raw, list) or len(raw) != dim:
         raise _fail(field, f"a vector of {dim} expressions")
     return [_expression(f"{field}[{j}]", c, names) for j, c in enumerate(raw)]
@@ -459,7 +460,7 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
     return out
 
 
-def _conditions(raw: Any, names: set[str]) -> list[dict[str, str]]:
+def _conditions(raw: Any, names: set[str]) -> list[dict[str, Any]]:
     """Validity conditions of the design: each {margin, doc}, the margin an expression of the parameters that is
     positive where the condition holds."""
     if not isinstance(raw, list):

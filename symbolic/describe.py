@@ -92,8 +92,6 @@ def expression(tree: Any, names: dict[str, sp.Symbol]) -> sp.Expr:
     """The sympy expression of one of pkm's expression trees (:mod:`pkm.expressions`: a number, a name, or
     ``[operator, operand, ...]``), built node by node: nothing of the description is parsed or evaluated as
     text here."""
-    if isinstance(tree, bool):
-        raise UndefinedError(f"an expression tree holds {tree!r}")
     if isinstance(tree, int):
         return sp.Integer(tree)
     if isinstance(tree, float):
@@ -238,10 +236,10 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
             axis = vector(joint["axis"])
             point = point + rotation * axis / sp.sqrt(axis.dot(axis)) * mine[0]
         else:
-            for axis, angle in zip(joint["axes"], mine, strict=True):
+            for axis, angle in zip(map(vector, joint["axes"]), mine, strict=True):
                 if not planar:
-                    turning = (*turning, (angle, turned * vector(axis) / sp.sqrt(vector(axis).dot(vector(axis)))))
-                turned = turned * (_plane_rotation(angle) if planar else _axis_rotation(vector(axis), angle))
+                    turning = (*turning, (angle, turned * axis / sp.sqrt(axis.dot(axis))))
+                turned = turned * (_plane_rotation(angle) if planar else _axis_rotation(axis, angle))
                 turned_sum = turned_sum + angle
         if joint.get("actuated"):
             actuated = mine[0]
@@ -542,8 +540,8 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     pose = tuple(sp.Symbol(p, real=True) for p in FRAMES[frame])
     env = dict(zip(parameters, design, strict=True))
 
-    def vector(trees: list[Any] | sp.Matrix) -> sp.Matrix:
-        return trees if isinstance(trees, sp.Matrix) else sp.Matrix([expression(t, env) for t in trees])
+    def vector(trees: list[Any]) -> sp.Matrix:
+        return sp.Matrix([expression(t, env) for t in trees])
 
     def scalar(tree: Any) -> sp.Expr:
         return expression(tree, env)

@@ -85,7 +85,7 @@ def _e(angle: float) -> np.ndarray:
     return np.array([math.cos(angle), math.sin(angle), 0.0])
 
 
-def _bar(values: _Values, body: Mapping[str, str] | None, start: np.ndarray, direction: np.ndarray
+def _bar(values: _Values, body: Mapping[str, Any] | None, start: np.ndarray, direction: np.ndarray
          ) -> list[Inertial]:
     """A body along ``direction`` with its centre ``centre`` from ``start``, its inertia across it."""
     if body is None:
@@ -115,7 +115,7 @@ class _Leg:
         self.notes: list[str] = []
         getattr(self, "_" + leg["kind"].lower())()
 
-    def body(self, name: str) -> Mapping[str, str] | None:
+    def body(self, name: str) -> Mapping[str, Any] | None:
         return None if self.bodies is None else self.bodies.get(name)
 
     def link(self, name: str, doc: str, parts: list[Inertial] | None = None) -> str:
