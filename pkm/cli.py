@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import math
 import os
 import re
@@ -779,7 +780,10 @@ class _HelpParser(_Parser):
         return super().format_help()
 
 
+@functools.cache
 def build_parser() -> argparse.ArgumentParser:
+    """The command line's parser, built once per process (its 14 commands take milliseconds to build; a parse
+    leaves it as it was)."""
     from pkm.atlas import Checks
     from pkm.regions import QUADRATURE_RESOLUTION, SAMPLED_RESOLUTION, SINGULARITY_MARGIN
     from pkm.workspace_map import MAX_RESOLUTION as MAX_MAP

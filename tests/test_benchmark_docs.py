@@ -93,3 +93,15 @@ def test_suite_tables_are_quoted_from_the_committed_runs():
     text = (ROOT / "docs" / "benchmarks.md").read_text()
     for name in ("suite_before.json", "suite.json"):
         assert markdown(json.loads((RUNS / name).read_text())) in text
+
+
+def test_the_compile_price_table_is_quoted_from_the_committed_run_and_names_the_constants():
+    from bench.compile_price import markdown
+    from pkm import compiled
+
+    report = json.loads((RUNS / "compile_price.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+    assert report["constants"] == {"COMPILE_WORK": compiled.COMPILE_WORK, "COMPILE_ROWS": compiled.COMPILE_ROWS}
+    # the constants are the fit's terms to within a factor of two
+    assert 0.5 <= report["fit"]["compile_work"] / compiled.COMPILE_WORK <= 2
+    assert 0.5 <= report["fit"]["compile_rows"] / compiled.COMPILE_ROWS <= 2

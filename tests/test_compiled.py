@@ -53,19 +53,52 @@ def _evaluations() -> dict:
 @pytest.fixture
 def compile_at_once(monkeypatch):
     """Every graph compiled at its first evaluation: the evaluations of these tests are small."""
-    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
+    monkeypatch.setattr(compiled, "price", lambda _: 1)
 
 
 @needs_compiler
 def test_a_graph_runs_on_the_interpreter_until_its_work_pays_for_its_compile(fresh):
     fn = _graph(0.125)
-    share = compiled.WAIT_WORK // 4
+    share = compiled.price(fn.n_instructions()) // 4
     for _ in range(3):
         assert compiled.kernel(fn, work=share) is None
     assert compiled.kernel(fn, work=share - 1) is None
     assert compiled.kernel(fn, work=1) is not None
-    assert compiled.kernel(_graph(0.375), work=compiled.WAIT_WORK) is not None
+    other = _graph(0.375)
+    assert compiled.kernel(other, work=compiled.price(other.n_instructions())) is not None
     assert _evaluations() == {"compiled": 2, "interpreter": {compiled.LITTLE_WORK: 4}}
+
+
+@needs_compiler
+def test_the_work_of_earlier_processes_counts_towards_a_compile(fresh):
+    """A process that ends before a graph's work pays for its compile records the work in the cache (at
+    exit); the next process compiles the graph once their work together reaches the price."""
+    fn = _graph(0.625)
+    price = compiled.price(fn.n_instructions())
+    assert compiled.kernel(fn, work=price // 2) is None
+    compiled._pay_rent()  # what the process does at exit
+    assert compiled.Cache(fresh).rent(compiled.key(fn)) == price // 2
+    compiled.reset()  # the next process
+    assert compiled.kernel(fn, work=price // 4) is None
+    assert compiled.kernel(fn, work=price // 4 + 1) is not None
+    assert not (fresh / "rent" / compiled.key(fn)).exists()  # built: its record is gone
+    compiled.reset()
+    compiled._pay_rent()
+    assert compiled.Cache(fresh).rent(compiled.key(fn)) == 0
+
+
+def test_rent_records_are_added_under_a_lock_and_kept_to_their_limit(fresh, monkeypatch):
+    from pkm.compiled import cache as cache_module
+
+    store = compiled.Cache(fresh)
+    store.pay_rent({"a": 5, "b": 1})
+    store.pay_rent({"a": 7})
+    assert (store.rent("a"), store.rent("b"), store.rent("c")) == (12, 1, 0)
+    monkeypatch.setattr(cache_module, "RENTS", 1)
+    store.pay_rent({"c": 3})
+    assert sorted(p.name for p in (fresh / "rent").iterdir()) == ["c"]  # the newest kept
+    (fresh / "rent" / "c").write_text("junk")
+    assert store.rent("c") == 0
 
 
 @needs_compiler
@@ -75,7 +108,8 @@ def test_a_graph_never_seen_runs_compiled_once_its_work_reaches_a_compiles(fresh
     design = np.array([1.5, 0.7])
     first = batch.evaluate(fn, x, design)
     assert _evaluations() == {"compiled": 0, "interpreter": {compiled.LITTLE_WORK: 1}}
-    monkeypatch.setattr(compiled, "WAIT_WORK", compiled._entries[(fn, False)].interpreted + 1)
+    done = compiled._entries[(fn, False)].interpreted
+    monkeypatch.setattr(compiled, "price", lambda _: done + 1)
     second = batch.evaluate(fn, x, design)
     assert _evaluations() == {"compiled": 1, "interpreter": {compiled.LITTLE_WORK: 1}}
     want = batch.interpreted(fn, x, design)
@@ -92,7 +126,7 @@ def test_a_graph_too_large_to_compile_quickly_stays_on_the_interpreter(fresh):
         y = ca.sin(y) + k
     fn = ca.Function("long_chain", [x], [y], ["x"], ["y"])
     assert fn.n_instructions() > compiled.MAX_INSTRUCTIONS
-    assert compiled.kernel(fn, work=compiled.WAIT_WORK) is None
+    assert compiled.kernel(fn, work=compiled.price(fn.n_instructions())) is None
     got = batch.evaluate(fn, np.array([[0.1], [0.2]]))[0]
     np.testing.assert_array_equal(got, batch.interpreted(fn, np.array([[0.1], [0.2]]))[0])
     if compiled.status()["path"] == "compiled":
@@ -113,7 +147,7 @@ def test_a_region_placed_by_numbers_runs_compiled(fresh, monkeypatch):
 
     first = value()
     assert _evaluations()["compiled"] == 0
-    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
+    monkeypatch.setattr(compiled, "price", lambda _: 1)
     second = value()
     counts = _evaluations()
     assert counts["compiled"] > 0
@@ -138,7 +172,7 @@ def test_a_lambda_defined_index_runs_compiled(fresh, monkeypatch):
     x = np.array([[0.1, 1.5], [-0.3, 1.9], [5.0, 5.0]])
     signs, design = np.array(mech.working_mode(None).signs), mech.design_vector(mech.design())
     first = evaluate_at(mech, (spec,), x, signs, design).values[0]
-    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
+    monkeypatch.setattr(compiled, "price", lambda _: 1)
     second = evaluate_at(mech, (spec,), x, signs, design).values[0]
     assert _evaluations() == {"compiled": 1, "interpreter": {compiled.LITTLE_WORK: 1}}
     np.testing.assert_array_equal(np.isnan(second), np.isnan(first))
@@ -156,7 +190,7 @@ def test_a_test_only_mechanism_runs_compiled(fresh, monkeypatch):
     x = mech.workspace_box(mech.design().vector()).mean(axis=1)
     poses = x + np.random.default_rng(3).normal(scale=0.01, size=(50, mech.n_out))
     interpreted_jacobian = mech.jacobian(poses)
-    monkeypatch.setattr(compiled, "WAIT_WORK", 1)
+    monkeypatch.setattr(compiled, "price", lambda _: 1)
     second = mech.jacobian(poses)
     assert _evaluations()["compiled"] >= 1
     np.testing.assert_allclose(second, interpreted_jacobian, rtol=1e-12, atol=1e-12)
@@ -171,7 +205,7 @@ from test_compiled import _graph
 fn = _graph(0.5)
 x = np.random.default_rng(1).uniform(-1, 1, (8, 3))
 batch.evaluate(fn, x, np.array([1.5, 0.7]))
-compiled.WAIT_WORK = 1
+compiled.price = lambda _: 1
 batch.evaluate(fn, x, np.array([1.5, 0.7]))
 print(compiled.status()["evaluations"]["compiled"], compiled.key(fn))
 """
@@ -361,7 +395,7 @@ def test_calls_from_several_threads_at_once_give_each_its_own_sums(monkeypatch):
     spec, region, branch = mech.global_spec("gci"), mech.region("miw"), mech.working_mode(None)
     piece = region.pieces()[0]
     fn, _ = sum_function(mech, spec.local, piece, spec.reduce, 1)
-    if compiled.kernel(fn, True, work=compiled.WAIT_WORK) is None:
+    if compiled.kernel(fn, True, work=compiled.price(fn.n_instructions())) is None:
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
     nodes, weights = piece.reference(60, spec.reduce)
     base = mech.design_vector(mech.design())
@@ -388,7 +422,7 @@ def test_the_compiled_path_is_on_wherever_there_is_a_c_compiler():
 def test_the_kernels_reject_arrays_they_cannot_read():
     m = pkm.load("five_bar")
     fn = m.functions["inverse_kinematics"]
-    run = compiled.kernel(fn, work=compiled.WAIT_WORK)
+    run = compiled.kernel(fn, work=compiled.price(fn.n_instructions()))
     if run is None:
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
     strides = [fn.numel_in(0), 0, 0]
@@ -425,7 +459,7 @@ def test_non_finite_poses_are_refused_after_the_kernel_has_read_them(monkeypatch
                  lambda: m.inverse_kinematics(x), lambda: m.inertia_matrix(x),
                  lambda: m.inverse_dynamics(x, np.zeros(2), np.zeros(2))):
         for wait in (1 << 62, 1):  # on the interpreter, then compiled
-            monkeypatch.setattr(compiled, "WAIT_WORK", wait)
+            monkeypatch.setattr(compiled, "price", lambda _, wait=wait: wait)
             with pytest.raises(PoseError, match="pose contains non-finite values"):
                 call()
     with pytest.raises(PoseError, match="velocity contains non-finite values"):

@@ -21,6 +21,7 @@ import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import redirect_stderr, redirect_stdout
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -243,9 +244,10 @@ scalars = st.one_of(
 dtypes = st.sampled_from([np.float64, np.int64, np.bool_, np.complex128, np.float32, np.uint8])
 
 
+@cache
 def arrays(width: int) -> st.SearchStrategy:
     """Arrays and array-likes for a parameter of ``width`` columns: good batches (N may be 0) and every
-    kind of bad one."""
+    kind of bad one (built once per width: a strategy is a description, drawing from it is what varies)."""
     good = st.integers(0, 3).flatmap(lambda n: hnp.arrays(
         np.float64, (n, width), elements=st.floats(-3, 3)
     )) | hnp.arrays(np.float64, width, elements=st.floats(-3, 3))
@@ -260,6 +262,7 @@ def arrays(width: int) -> st.SearchStrategy:
     )
 
 
+@cache
 def designs(mech) -> st.SearchStrategy:
     parameter = st.sampled_from([p.name for p in mech.parameters])
     value = scalars | st.floats(0.01, 5)
@@ -274,7 +277,12 @@ def designs(mech) -> st.SearchStrategy:
 
 
 def name_like(values: list[str]) -> st.SearchStrategy:
-    junk_names = st.one_of(st.none(), st.text(max_size=6), st.lists(st.sampled_from(values) | st.text(max_size=3),
+    return _name_like(tuple(values))
+
+
+@cache
+def _name_like(values: tuple[str, ...]) -> st.SearchStrategy:
+    junk_names = st.one_of(st.none(), st.text(max_size=6), st.lists(st.sampled_from(list(values)) | st.text(max_size=3),
                            max_size=2), st.dictionaries(st.text(max_size=3), st.integers(), max_size=2),
                            st.integers(), st.binary(max_size=3), st.just(np.array(values[:1])))
     return st.sampled_from(values) | junk_names

@@ -52,8 +52,10 @@ import struct
 import threading
 import time
 import tomllib
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import redirect_stderr, redirect_stdout, suppress
+from functools import cache
 from pathlib import Path
 from typing import Any
 from urllib.parse import quote
@@ -132,9 +134,10 @@ junk_values = st.recursive(
 )
 
 
-def parametric(names: list[str]) -> st.SearchStrategy[str]:
+@cache
+def parametric(names: tuple[str, ...]) -> st.SearchStrategy[str]:
     """Expressions of a description's own parameters that are undefined, zero, huge or complex at its
-    defaults, or fine."""
+    defaults, or fine (built once per parameter list: drawing is what varies)."""
     templates = ["{p}/0", "1/({p}-{p})", "sqrt(-{p})", "{p}**65", "{p}**64", "{p}**(1/2)", "{p}*1e308*1e308",
                  "acos({p}+2)", "tan(pi/2*{p}/{p})", "-{p}", "0*{p}", "{p}**{p}**{p}", "{p} - {p}", "{p}",
                  "2*{p}", "{p} + {q}", "{p}/{q}", "sqrt({p} - {q})", "asin({p}*100)", "{p}(1)", "{p}.real",
@@ -142,6 +145,16 @@ def parametric(names: list[str]) -> st.SearchStrategy[str]:
                  "{p}*1e-400", "{p}**2**6", "cos({p})**-64"]
     return st.tuples(st.sampled_from(templates), st.sampled_from(names), st.sampled_from(names)).map(
         lambda t: t[0].format(p=t[1], q=t[2]))
+
+
+@cache
+def junk_or_parametric(names: tuple[str, ...]) -> st.SearchStrategy[Any]:
+    return junk_values | parametric(names)
+
+
+@cache
+def expression_like(names: tuple[str, ...]) -> st.SearchStrategy[str]:
+    return parametric(names) | st.sampled_from(EXPRESSIONS)
 
 
 PARAMETER_NAMES = ["x", "y", "z", "phi", "pi", "cos", "sin", "tan", "sqrt", "asin", "acos", "atan", "neg", "e",
@@ -194,10 +207,10 @@ def pick(draw, spots: list[Location]) -> Location:
     return choose(draw, groups[choose(draw, list(groups))])
 
 
-def rename_parameter(draw, document: dict[str, Any], names: list[str]) -> tuple:
+def rename_parameter(draw, document: dict[str, Any], names: tuple[str, ...]) -> tuple:
     """A parameter renamed in every text of the document, its uses included (to a pose coordinate's name,
     a function's, a constant's, or another parameter's)."""
-    old, new = draw(st.sampled_from(names)), draw(st.sampled_from(PARAMETER_NAMES + names))
+    old, new = draw(st.sampled_from(names)), draw(st.sampled_from(PARAMETER_NAMES + list(names)))
     word = re.compile(rf"\b{re.escape(old)}\b")
 
     def renamed(value: Any) -> Any:
@@ -215,10 +228,11 @@ OPERATIONS = ["replace", "replace", "expression", "delete", "add", "rename", "du
               "structure", "structure"]
 
 
-def mutate(draw, document: dict[str, Any], names: list[str], *, loud: bool = False) -> list[tuple]:
+def mutate(draw, document: dict[str, Any], names: Sequence[str], *, loud: bool = False) -> list[tuple]:
     """One to three mutations of ``document`` in place, the mutations returned (the reproducer); ``loud``:
     a third of the time a field named with control characters too (which an error on the command line, one
     line, must not echo as they are)."""
+    names = tuple(names)
     done = []
     for _ in range(draw(st.integers(1, 3))):
         values = locations(document)
@@ -235,15 +249,15 @@ def mutate(draw, document: dict[str, Any], names: list[str], *, loud: bool = Fal
                 del parent[spot[-1]]
                 done.append(("delete", spot))
             else:
-                parent[spot[-1]] = value = copy.deepcopy(draw(junk_values | parametric(names)))
+                parent[spot[-1]] = value = copy.deepcopy(draw(junk_or_parametric(names)))
                 done.append(("replace", spot, value))
         elif operation == "expression" and expressions_at:
             spot = pick(draw, expressions_at)
-            at(document, spot[:-1])[spot[-1]] = value = draw(parametric(names) | st.sampled_from(EXPRESSIONS))
+            at(document, spot[:-1])[spot[-1]] = value = draw(expression_like(names))
             done.append(("replace", spot, value))
         elif operation == "add":
             spot = pick(draw, tables)
-            key, value = choose(draw, KEYS), copy.deepcopy(draw(junk_values | parametric(names)))
+            key, value = choose(draw, KEYS), copy.deepcopy(draw(junk_or_parametric(names)))
             at(document, spot)[key] = value
             done.append(("add", (*spot, key), value))
         elif operation == "rename" and len(tables) > 1:
@@ -261,7 +275,7 @@ def mutate(draw, document: dict[str, Any], names: list[str], *, loud: bool = Fal
             done.append(("duplicate", spot))
         elif operation == "name" and named:
             spot = choose(draw, named)
-            at(document, spot[:-1])["name"] = value = draw(st.sampled_from(PARAMETER_NAMES + names))
+            at(document, spot[:-1])["name"] = value = draw(st.sampled_from(PARAMETER_NAMES + list(names)))
             done.append(("replace", spot, value))
         elif operation == "everywhere" and names:
             done.append(rename_parameter(draw, document, names))

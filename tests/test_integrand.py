@@ -169,7 +169,7 @@ def test_one_designs_sums_split_over_threads_are_the_sums_on_one_thread(monkeypa
 def test_the_architecture_states_the_compiled_paths_constants():
     from pathlib import Path
 
-    from pkm.compiled import MAX_INSTRUCTIONS, WAIT_WORK
+    from pkm.compiled import COMPILE_ROWS, COMPILE_WORK, MAX_INSTRUCTIONS
     from pkm.compiled.cache import LIMIT_MB
     from pkm.compiled.toolchain import LARGE
     from pkm.synthesis.model import EXCHANGE_LIMIT, EXCHANGE_ROWS
@@ -178,7 +178,8 @@ def test_the_architecture_states_the_compiled_paths_constants():
     assert f"more than {EXCHANGE_LIMIT} rows" in text
     assert f"it holds the {EXCHANGE_ROWS} rows of least margin of each output" in text
     assert f"adds the {EXCHANGE_ROWS} rows of each output" in text
-    assert f"reaches 2^{WAIT_WORK.bit_length() - 1} instructions times rows" in text
+    assert (f"reaches what its compile costs, 2^{COMPILE_WORK.bit_length() - 1} instructions times rows and "
+            f"2^{COMPILE_ROWS.bit_length() - 1} rows per instruction of the graph") in text
     assert f"at most {LIMIT_MB} MiB" in text
     assert f"more than {MAX_INSTRUCTIONS:,} instructions" in text
     assert f"or -O2 from {LARGE:,} instructions" in text

@@ -205,6 +205,13 @@ def test_a_scheduler_address_that_cannot_be_one_exits_2_at_once(address, capsys)
         parallel.use_scheduler(address)
 
 
+def _command(psutil, process) -> list[str]:
+    try:
+        return process.cmdline()
+    except psutil.Error:  # gone, or a zombie
+        return []
+
+
 def test_sigterm_to_a_parallel_atlas_ends_its_worker_processes(tmp_path):
     import os
     import signal
@@ -217,9 +224,9 @@ def test_sigterm_to_a_parallel_atlas_ends_its_worker_processes(tmp_path):
     deadline = time.monotonic() + 60
     workers = []
     while time.monotonic() < deadline and len(workers) < 2 and parent.poll() is None:
-        # the pool's forked workers (not multiprocessing's resource tracker, which ends on its own)
-        workers = [p for p in psutil.Process(parent.pid).children(recursive=True)
-                   if "resource_tracker" not in " ".join(p.cmdline())]
+        # the pool's forked workers carry the parent's command line (multiprocessing's resource tracker, which
+        # ends on its own, and a finished compiler, a zombie until it is reaped, do not)
+        workers = [p for p in psutil.Process(parent.pid).children(recursive=True) if _command(psutil, p) == command]
         time.sleep(0.1)
     assert len(workers) >= 2, "the atlas ended before its workers could be seen"
     parent.send_signal(signal.SIGTERM)

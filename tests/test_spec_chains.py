@@ -136,7 +136,7 @@ def test_the_continued_inverse_kinematics_compiles_to_the_interpreters_values(ma
     compiled.reset()
     try:
         fn = machines["five_bar", "newton"].functions["inverse_kinematics"]
-        assert compiled.kernel(fn, work=compiled.WAIT_WORK) is not None
+        assert compiled.kernel(fn, work=compiled.price(fn.n_instructions())) is not None
         x = np.random.default_rng(9).uniform(-2.2, 2.2, size=(500, 2))
         design, mode = machines["five_bar", "newton"].design().vector(), np.array([1.0, -1.0])
         for a, b in zip(evaluate(fn, x, mode, design), interpreted(fn, x, mode, design), strict=True):

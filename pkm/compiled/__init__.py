@@ -7,7 +7,9 @@ the interpreter: same inputs, same (N, k) buffers, values equal to round-off.
 :func:`kernel` is the one door: ``pkm.batch`` asks it for a function's kernel at every evaluation. A
 function whose kernel is in the cache runs compiled from its first evaluation. Otherwise its evaluations are
 answered by the interpreter until the work they have asked for (instructions times rows, summed) reaches
-:data:`WAIT_WORK`, about what its compile costs, and then the evaluation that reaches it compiles it and waits:
+what its compile costs (:func:`price`, measured by ``bench/compile_price.py``: a fixed part and a part
+that grows with the graph's instructions; the work of earlier processes counts, recorded in the cache at
+exit), and then the evaluation that reaches it compiles it and waits:
 a graph evaluated at scale is compiled at once, one evaluated a few times on a few rows (a test's, a single
 pose's) never, and no graph costs more than twice what the better of the two paths would have (the rule of
 renting until the rent reaches the price), with a progress bar on a terminal where the compile takes more
@@ -23,6 +25,8 @@ written and a missing compiler each give one :class:`CompiledPathWarning`.
 
 from __future__ import annotations
 
+import atexit
+import contextlib
 import hashlib
 import json
 import os
@@ -46,9 +50,17 @@ from pkm.compiled.cache import Cache, location
 from pkm.compiled.toolchain import CompileError, Toolchain, find
 from pkm.progress import Progress
 
-WAIT_WORK = 1 << 25  # instructions times rows, summed over a graph's evaluations, from which it is compiled:
-# at the interpreter's 5-15 ns per instruction and row, 0.2-0.5 s of interpreting, as long as a compile takes
-LITTLE_WORK = "little work so far"  # the reason of an evaluation on the interpreter below WAIT_WORK
+COMPILE_WORK = 1 << 26  # a compile's cost whatever the graph (the compiler's start, the link, the load), in
+# the interpreter's work: about 0.14 s at its 1-4 ns per instruction and row
+COMPILE_ROWS = 1 << 17  # and its cost per instruction of the graph, in rows of that instruction: the compiler's
+# 0.2 ms per instruction (docs/benchmarks.md, "What a compile costs")
+LITTLE_WORK = "little work so far"  # the reason of an evaluation on the interpreter below its compile's price
+
+
+def price(instructions: int) -> int:
+    """The work (instructions times rows, summed over evaluations) from which a graph of ``instructions``
+    instructions is compiled: what its compile costs, in the interpreter's time."""
+    return COMPILE_WORK + COMPILE_ROWS * instructions
 MAX_INSTRUCTIONS = 50_000  # a larger graph stays on the interpreter: its compile takes minutes
 CHECK_ROWS = 5  # rows of the check against the interpreter after loading
 CHECK_TOLERANCE = 1e-9  # of the largest entry of an output, at the check's random inputs
@@ -150,6 +162,19 @@ def _submit(job: Callable[[], Path]) -> Future:
     return future
 
 
+def _pay_rent() -> None:
+    """Record in the cache the interpreter's work this process did for the kernels it met and did not
+    compile (at exit: a later process counts it towards their compiles' price)."""
+    paid = {e.key: e.interpreted - e.recorded for e in list(_entries.values())
+            if e.state == "met" and e.interpreted > e.recorded}
+    if paid:
+        with contextlib.suppress(OSError):
+            _path().cache.pay_rent(paid)
+
+
+atexit.register(_pay_rent)
+
+
 def _forget_in_child() -> None:
     """A forked child has none of its parent's compile threads: it starts their bookkeeping afresh."""
     _compilers.clear()
@@ -216,7 +241,8 @@ class _Kernel:
         self.reason, self.key = "", ""
         self.lock = threading.Lock()
         self.state = "new"
-        self.interpreted = 0  # the work of the evaluations the interpreter answered while the kernel was met
+        self.interpreted = 0  # the work the interpreter has done for the kernel while it was met, earlier
+        self.recorded = 0  # processes' included: those recorded in the cache when this one met it
 
     def get(self, work: int) -> Run | None:
         if self.state == "ready":
@@ -224,7 +250,7 @@ class _Kernel:
         with self.lock:
             if self.state == "new":
                 self._look()
-            if self.state == "met" and self.interpreted + work < WAIT_WORK:
+            if self.state == "met" and self.interpreted + work < price(self.fn.n_instructions()):
                 self.interpreted += work
                 return None
             if self.state == "met":
@@ -255,6 +281,7 @@ class _Kernel:
             self._off("cache not writable", path.unwritable, topic="cache")
             return
         self.state, self.reason = "met", LITTLE_WORK
+        self.interpreted = self.recorded = path.cache.rent(self.key)
 
     def _compile(self) -> None:
         """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""

@@ -9,6 +9,10 @@ key take its lock (``locks/<key>``) in turn, so that processes or Dask workers t
 once compile it once and all get it. An entry whose library does not match its sha256 (truncated,
 corrupted) is removed and built again. The cache holds at most ``$PKM_CACHE_MB`` MiB (default
 :data:`LIMIT_MB`): after each build the entries used longest ago are removed until it fits.
+
+Beside the entries, ``rent/<key>`` holds the interpreter's work that processes have done for a kernel not
+yet built (:meth:`Cache.rent`, :meth:`Cache.pay_rent`), so that a graph a little of which each run evaluates
+is compiled once the runs together have paid for it; at most :data:`RENTS` are kept, the oldest removed.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ except ImportError:  # pragma: no cover - not POSIX: builders of one key may com
     fcntl = None
 
 LIMIT_MB = 1024
+RENTS = 10_000  # rent records kept at most
 LIBRARY = "kernel.so"
 META = "entry.json"
 
@@ -47,6 +52,13 @@ def limit_bytes() -> int:
         return max(1, int(float(os.environ.get("PKM_CACHE_MB", LIMIT_MB)) * 2**20))
     except ValueError:
         return LIMIT_MB * 2**20
+
+
+def _modified(path: Path) -> float:
+    try:
+        return path.stat().st_mtime
+    except OSError:
+        return 0.0
 
 
 def _digest(path: Path) -> str:
@@ -109,10 +121,33 @@ class Cache:
                 except OSError:
                     if self.find(key) is None:
                         raise
+                (self.root / "rent" / key).unlink(missing_ok=True)
             finally:
                 shutil.rmtree(staging, ignore_errors=True)
         self.evict()
         return self.entry(key) / LIBRARY
+
+    def rent(self, key: str) -> int:
+        """The interpreter's work for ``key`` that processes have recorded (0 where none)."""
+        try:
+            return max(0, int((self.root / "rent" / key).read_text()))
+        except (OSError, ValueError):
+            return 0
+
+    def pay_rent(self, paid: dict[str, int]) -> None:
+        """Add each key's work to its record, under the key's lock (no addition is lost), and keep at most
+        :data:`RENTS` records. Raises OSError where the cache cannot be written."""
+        folder = self.root / "rent"
+        self._folders()
+        folder.mkdir(exist_ok=True)
+        for key, work in paid.items():
+            with self._locked(key):
+                staging = folder / f".{key}.{os.getpid()}"
+                staging.write_text(str(self.rent(key) + work))
+                os.replace(staging, folder / key)
+        records = sorted(folder.iterdir(), key=_modified)
+        for record in records[: max(0, len(records) - RENTS)]:
+            record.unlink(missing_ok=True)
 
     def _folders(self) -> None:
         for sub in ("tmp", "locks"):
