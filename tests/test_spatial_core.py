@@ -245,6 +245,37 @@ def test_3x3_singular_values_keep_their_relative_accuracy_when_ill_conditioned()
         assert smallest == pytest.approx(1 / condition, rel=1e-15 * condition)
 
 
+@pytest.mark.parametrize("sigma", [(2.0, 2.0, 0.5), (2.0, 0.5, 0.5), (1.0, 1.0, 1.0 - 1e-9), (3.0, 1.0 + 1e-7, 1.0),
+                                   (1.0, 1.0, 1.0)])
+def test_3x3_singular_values_are_exact_where_two_coincide(sigma):
+    """Where two singular values meet (the 3-RRR's centred pose), the largest and smallest keep the full
+    precision (the cubic's angle from its discriminant as a sum of squares, not from acos near +-1, which lost
+    half the digits: 2e-9)."""
+    rng = np.random.default_rng(11)
+    A = ca.SX.sym("A", 3, 3)
+    f = ca.Function("f", [A], list(extreme_singular_values(A)))
+    for _ in range(20):
+        U, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        V, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        largest, smallest = (float(v) for v in f(U @ np.diag(sigma) @ V.T))
+        assert largest == pytest.approx(max(sigma), rel=3e-15, abs=0)
+        assert smallest == pytest.approx(min(sigma), rel=3e-15, abs=0)
+
+
+def test_the_3rrr_at_its_centred_pose_has_1_over_kappa_2_of_its_singular_values():
+    """The centred pose of the symmetric 3-RRR, where two singular values of J (its angle column times the
+    characteristic length's inverse) coincide."""
+    m = pkm.load("rrr3")
+    x = np.zeros((1, 3))
+    length = float(m.characteristic_length(dict(m.design())))
+    for mode in m.modes:
+        J = m.jacobian(x, mode=mode)[0] @ np.diag([1, 1, 1 / length])
+        s = np.linalg.svd(J, compute_uv=False)
+        if mode == m.modes[0]:  # the symmetric assembly: its two smallest coincide
+            assert s[1] == pytest.approx(s[2], rel=1e-14)
+        assert m.local_index("inverse_condition_2", x, mode=mode)[0] == pytest.approx(s[-1] / s[0], rel=1e-14, abs=0)
+
+
 def test_inverse_condition_f_of_a_2x2_jacobian_from_j_alone_is_gaos_formula():
     """1/kappa_f of a 2 x 2 J is taken as 2 |det J| / ||J||_F^2, without J^-1: it equals
     n / sqrt(tr(J J^T) tr(J^-1 J^-T)) of Gao's eqs. 8-11, and is 0 where J is singular or not finite."""

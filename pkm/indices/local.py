@@ -18,6 +18,7 @@ index is taken (see :mod:`pkm.regions.pipeline`).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
@@ -84,13 +85,32 @@ def _adjugate(A: ca.SX) -> ca.SX:
     return ca.vertcat(*rows)
 
 
+def _discriminant_3(B: ca.SX) -> ca.SX:
+    """prod_{i<j} (lambda_i - lambda_j)^2 of a symmetric 3 x 3 matrix as a sum of squares: the Gram determinant
+    of I, B, B^2 in the Frobenius product (Parlett 2002, "The (matrix) discriminant as a determinant") by
+    Cauchy-Binet, the sum of the squared 3 x 3 minors of their vectors (the off-diagonal entries once, times
+    sqrt 2). Each minor is taken from the entries, so that the sum is accurate to the square of the rounding
+    where two eigenvalues meet, where the cubic's coefficients would leave only the rounding's square root."""
+    B2 = B @ B
+    rows = [[1, B[i, i], B2[i, i]] for i in range(3)]
+    rows += [[0, np.sqrt(2) * B[i, j], np.sqrt(2) * B2[i, j]] for i, j in ((0, 1), (0, 2), (1, 2))]
+    return sum(ca.det(ca.vertcat(*(ca.horzcat(*rows[k]) for k in triple))) ** 2
+               for triple in itertools.combinations(range(6), 3) if min(triple) < 3)
+
+
 def _largest_symmetric_3(S: ca.SX) -> ca.SX:
-    """Largest eigenvalue of a symmetric 3 x 3 matrix by the trigonometric solution of its cubic."""
+    """Largest eigenvalue of a symmetric 3 x 3 matrix by the trigonometric solution of its cubic: with
+    B = (S - q I) / p (trace 0, tr B^2 = 6), the eigenvalues are q + 2 p cos((phi + 2 pi k) / 3) where
+    cos phi = det(B) / 2 and sin phi = sqrt(disc(B) / 108), the depressed cubic's discriminant 108 (1 - r^2)
+    taken as a sum of squares (:func:`_discriminant_3`): phi from both by atan2 is exact where two eigenvalues
+    coincide (phi = 0 or pi), where acos(r) lost half the digits."""
     q = ca.trace(S) / 3
     off = S[0, 1] ** 2 + S[0, 2] ** 2 + S[1, 2] ** 2
     p = ca.sqrt(ca.fmax(((S[0, 0] - q) ** 2 + (S[1, 1] - q) ** 2 + (S[2, 2] - q) ** 2 + 2 * off) / 6, ISOTROPIC))
-    r = ca.det((S - q * ca.SX.eye(3)) / p) / 2
-    return q + 2 * p * ca.cos(ca.acos(ca.fmin(ca.fmax(r, -1), 1)) / 3)
+    B = (S - q * ca.SX.eye(3)) / p
+    discriminant = _discriminant_3(B)
+    sine = ca.if_else(discriminant > 0, ca.sqrt(discriminant / 108), 0)
+    return q + 2 * p * ca.cos(ca.atan2(sine, ca.det(B) / 2) / 3)
 
 
 def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
