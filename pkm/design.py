@@ -35,12 +35,13 @@ class Parameter:
     required: bool = True
     default_from: tuple[str, float] | None = None
 
-    def default_in(self, values: Mapping[str, float]) -> float:
-        """The default of this parameter given the other values of a design."""
+    def default_in(self, values: Mapping[str, Any]) -> Any:
+        """The default of this parameter given the other values of a design (numbers or CasADi
+        expressions)."""
         if self.default_from is None:
             return self.default
         name, factor = self.default_from
-        return factor * float(values[name])
+        return factor * values[name]
 
     def check(self, value: float) -> None:
         if not math.isfinite(value):
@@ -158,6 +159,21 @@ def design_mapping(parameters: Sequence[Parameter], values: Any) -> Mapping[str,
     return dict(zip(names, flat.tolist(), strict=True))
 
 
+def completed(parameters: Sequence[Parameter], given: Mapping[str, Any]) -> dict[str, Any]:
+    """Every parameter's value in order: those ``given`` (numbers or CasADi expressions), the others at their
+    defaults, a default that follows another parameter (``default_from``) from that parameter's value in this
+    design. Every path that completes a design (a design given by name, a design space's points, a task's
+    synthesis) completes it here, so that one design is one machine whichever path made it."""
+    full = dict(given)
+    for p in parameters:
+        if p.name not in full and p.default_from is None:
+            full[p.name] = p.default
+    for p in parameters:
+        if p.name not in full:
+            full[p.name] = p.default_in(full)
+    return {p.name: full[p.name] for p in parameters}
+
+
 def make_design(
     parameters: Sequence[Parameter],
     conditions: Sequence[Condition],
@@ -180,14 +196,7 @@ def make_design(
     missing = [p.name for p in parameters if p.required and p.name not in given]
     if missing and values is not None and not partial:
         raise DesignError(f"missing design parameter(s) {', '.join(missing)}")
-    full = {p.name: _number(p, given[p.name]) for p in parameters if p.name in given}
-    for p in parameters:
-        if p.name not in full and p.default_from is None:
-            full[p.name] = p.default
-    for p in parameters:
-        if p.name not in full:
-            full[p.name] = p.default_in(full)
-    full = {n: full[n] for n in names}
+    full = completed(parameters, {p.name: _number(p, given[p.name]) for p in parameters if p.name in given})
     for p in parameters:
         p.check(full[p.name])
     for c in conditions:

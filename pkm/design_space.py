@@ -17,7 +17,7 @@ import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.design import Condition, Parameter, stack_design
+from pkm.design import Condition, Parameter, completed, stack_design
 from pkm.errors import DesignError
 
 CLOSED = 1e-12
@@ -134,15 +134,11 @@ class DesignSpace:
         """Complete design vectors from normalised coordinates c: an (..., n_p) array, or a CasADi
         column when c holds CasADi expressions (for synthesis)."""
         values = dict(zip(self.parameters, self.to_design(c, scale), strict=True))
-        fixed = {p.name: self.base.get(p.name, p.default) for p in parameters}
-        for p in parameters:
-            if p.name not in values and p.name not in self.base and p.default_from is not None:
-                source = p.default_from[0]
-                fixed[p.name] = p.default_from[1] * values.get(source, fixed[source])
         symbolic = any(isinstance(v, ca.MX | ca.SX) for v in values.values())
         if check and not symbolic:
             self.check(c)
-        return stack_design([values.get(p.name, fixed[p.name]) for p in parameters])
+        given = {**{n: v for n, v in self.base.items() if n in {p.name for p in parameters}}, **values}
+        return stack_design(list(completed(parameters, given).values()))
 
     def normalised(self, design: Sequence[float]) -> dict[str, float]:
         """The normalised coordinates of an SI design vector, by name."""

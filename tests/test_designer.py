@@ -8,6 +8,7 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import pkm
@@ -135,3 +136,31 @@ def test_wu2008s_synthesis_restated_as_a_task_file_reaches_the_registered_proble
     assert abs(result.verified_objective - reference["objective"]) <= 1e-6 * abs(reference["objective"])
     for name, value in reference["variables"].items():
         assert abs(result.variables[name] - value) <= 1e-4
+
+
+def test_a_parameter_that_follows_another_follows_it_in_a_tasks_design():
+    """The five-bar's link masses default to 0.821 kg/m times their lengths: a task over r1 and r2 gives each
+    design the masses of its own lengths, as the design given by name does (show, explore, the export), where
+    it kept the masses of the default lengths (m1 = 0.9852 kg for r1 = 1 m)."""
+    problem = read_problem(TASKS / "five_bar.toml")
+    mech = problem.mechanism
+    got = dict(zip(mech.parameter_names(), np.ravel(problem.design([1.0, 0.9])), strict=True))
+    assert got == pytest.approx(dict(mech.design({"r1": 1.0, "r2": 0.9, "r3": 0.8})), rel=1e-15)
+    assert got["m1"] == pytest.approx(0.821)
+    assert got["m2"] == pytest.approx(0.821 * 0.9)
+
+
+@pytest.mark.parametrize("name", pkm.mechanisms())
+def test_every_design_space_completes_its_points_as_a_design_given_by_name(name):
+    """A design space's points and the designs given by name take one function for the parameters left out:
+    a parameter that follows another (``default_from``) follows the point's value of it."""
+    mech = pkm.load(name)
+    followers = [p for p in mech.parameters if p.default_from is not None]
+    for space in mech.design_spaces.values():
+        c = np.asarray(space.from_design(mech.design().vector())[0]) * 0.97
+        vector = np.ravel(space.designs(mech.parameters, c, check=False))
+        values = dict(zip(mech.parameter_names(), vector, strict=True))
+        given = {n: values[n] for n in space.parameters} | dict(space.base)
+        want = mech.design(given, partial=True)
+        for p in followers:
+            assert values[p.name] == pytest.approx(want[p.name], rel=1e-15), (space.name, p.name)

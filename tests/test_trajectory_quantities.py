@@ -152,7 +152,9 @@ def test_a_designer_problem_takes_trajectory_quantities(gantry):
     from pkm.synthesis.designer import ProblemError, design_problem
 
     trajectory = {"waypoints": [[-0.2, 0.5], [0.2, 0.5], [0.0, 0.45]], "v_max": 1.0, "a_max": 5.0}
-    problem = design_problem(gantry, task="task", variables={"l": [0.7, 0.8]}, objective="effort_peak",
+    # l up to 0.75 m: the links' centres of mass follow l (l / 2), and beyond 0.75 m the default inertia I12
+    # is less than m12 s12^2
+    problem = design_problem(gantry, task="task", variables={"l": [0.65, 0.75]}, objective="effort_peak",
                              trajectory=trajectory, mode="below", constraints=[], resolution=RESOLUTION,
                              baseline=("grid", 3))
     result = pkm.synthesize(problem, resolution=RESOLUTION, progress=False)

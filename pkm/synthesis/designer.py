@@ -27,7 +27,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import expressions, io, registry, spec
-from pkm.design import MAX_MAGNITUDE, stack_design
+from pkm.design import MAX_MAGNITUDE, completed, stack_design
 from pkm.dynamics import Trajectory
 from pkm.dynamics.quantities import effort_unit, joint_extremes, trajectory_indices
 from pkm.errors import PkmError
@@ -460,22 +460,21 @@ def design_problem(
     overlap = set(held) & {v.name for v in chosen}
     if overlap:
         raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
-    base = {**dict(mech.design()), **held}
     order = [v.name for v in chosen]
     with _field("mode"):
         mode = mech.working_mode(_string(mode, "mode", "a working mode's name") if mode is not None else None).name
     rules = {}
     for target, text in ({} if derived is None else _table(derived, "derived", "a table {parameter = expression}")
                          ).items():
-        if target not in base or target in order or target in held:
+        if target not in mech.parameter_names() or target in order or target in held:
             raise _fail(f"derived.{target}", "a design parameter that is neither a variable nor fixed")
         rules[target] = _parameter_expression(mech, text, f"derived.{target}")
 
     def design(values: Sequence[Any]) -> Any:
-        given = {**base, **dict(zip(order, values, strict=True))}
-        for target, rule in rules.items():
-            given[target] = rule(given)
-        return stack_design([given[n] for n in mech.parameter_names()])
+        given = {**held, **dict(zip(order, values, strict=True))}
+        full = completed(mech.parameters, given)
+        given |= {target: rule(full) for target, rule in rules.items()}
+        return stack_design(list(completed(mech.parameters, given).values()))
 
     along = _trajectory(mech, trajectory)
     if encoder is not None and not (_numbers(encoder, mech.n_act) and min(encoder) > 0):
