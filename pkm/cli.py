@@ -3,7 +3,8 @@
 Exit status 0 on success, 2 on bad input (one line on standard error, no traceback), 1 when a valid
 computation fails (for instance IPOPT does not converge) or when --out cannot take a computed result,
 which is then kept in a new folder of the system's temporary directory that the line names
-(:func:`pkm.io.keeping`).
+(:func:`pkm.io.keeping`), 3 when a synthesis finds no design that meets its constraints (the line names
+the constraints and their best attainable values).
 """
 
 from __future__ import annotations
@@ -42,7 +43,8 @@ from pkm.interrupts import interruptible
 from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
 from pkm.reproduce import reproduce
-from pkm.synthesis import SynthesisError, SynthesisResult, synthesize
+from pkm.synthesis import InfeasibleError, SynthesisError, SynthesisResult, synthesize
+from pkm.synthesis.driver import constraint_lines
 from pkm.units import Units
 
 
@@ -468,6 +470,7 @@ def _undefined(m: Any, region: str) -> str:
 
 
 CHUNKS = ".pkm-chunks"
+INFEASIBLE = 3  # the exit status of a synthesis without a design that meets its constraints
 
 
 def _space(m: Mechanism, args: argparse.Namespace) -> Any:
@@ -595,11 +598,12 @@ def _logs_to_stderr(active: bool) -> Iterator[None]:
 
 def cmd_synth(args: argparse.Namespace) -> None:
     """Solve and report; a failed synthesis still writes and prints its record (the last iterate) before
-    it fails with the reason (exit 1)."""
+    it fails with the reason (exit 1; 3 where no design meets the constraints)."""
     try:
         _synth(args)
     except SynthesisError as exc:
-        _report_synthesis(args, exc.result)
+        if exc.result is not None:
+            _report_synthesis(args, exc.result)
         raise
 
 
@@ -630,7 +634,8 @@ def cmd_design(args: argparse.Namespace) -> None:
         with _logs_to_stderr(args.json):
             result = synthesize(problem, resolution=args.resolution, starts=args.starts, verbose=args.verbose)
     except SynthesisError as exc:
-        _report_synthesis(args, exc.result)
+        if exc.result is not None:
+            _report_synthesis(args, exc.result)
         raise
     _report_synthesis(args, result)
 
@@ -664,6 +669,7 @@ def _report_synthesis(args: argparse.Namespace, result: SynthesisResult) -> None
         f"verified {o.verified_objective:.6g} (4x quadrature; accuracy {result.accuracy:.1e}), "
         f"sampled {o.sampled_objective:.6g} ({o.sampled_points} points)",
     ]
+    lines += constraint_lines(o.constraints)
     for base in result.baselines.values():
         lines.append(
             f"baseline {base.name} ({base.evaluations} evaluations, {base.wall_time_s:.2f} s): "
@@ -1115,6 +1121,9 @@ def _main(argv: list[str] | None) -> int:
     except PkmError as exc:
         print(f"pkm: error: {_line(exc)}", file=sys.stderr)
         return 2
+    except InfeasibleError as exc:
+        print(f"pkm: infeasible: {_line(exc)}", file=sys.stderr)
+        return INFEASIBLE
     except ComputationError as exc:
         print(f"pkm: computation failed: {_line(exc)}", file=sys.stderr)
         return 1

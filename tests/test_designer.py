@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -164,3 +165,62 @@ def test_every_design_space_completes_its_points_as_a_design_given_by_name(name)
         want = mech.design(given, partial=True)
         for p in followers:
             assert values[p.name] == pytest.approx(want[p.name], rel=1e-15), (space.name, p.name)
+
+
+def test_the_result_lists_every_constraint_with_its_value_slack_activity_and_multiplier(tmp_path, capsys):
+    """The text, the JSON and --out's record list each constraint at the optimum: its value, bounds, slack,
+    whether active and IPOPT's multiplier; a bound the optimum sits on is active with a multiplier, a
+    constraint with room is inactive with a multiplier of nothing."""
+    task = tmp_path / "task.toml"
+    task.write_text((TASKS / "five_bar.toml").read_text().replace(
+        'constraints = [{index = "inverse_condition_f_min", lower = 0.05}]',
+        'constraints = [{index = "inverse_condition_f_min", lower = 0.05}, {expression = "r1", lower = 1.05}]'))
+    assert main(["design", str(task), "--starts", "1", "--resolution", "4", "--out", str(tmp_path / "out")]) == 0
+    text = capsys.readouterr().out
+    saved = json.loads((tmp_path / "out" / "five_bar.my_disc.json").read_text())
+    margin, length = saved["constraints"]
+    assert saved["optimum"]["constraints"] == saved["constraints"]
+    assert length["lower"] == 1.05
+    assert length["value"] == pytest.approx(1.05, abs=1e-7)
+    assert length["slack"] == pytest.approx(length["value"] - 1.05, abs=1e-15)
+    assert length["active"]
+    assert abs(length["multiplier"]) > 1e-3
+    assert margin["value"] > 0.1
+    assert margin["slack"] == pytest.approx(margin["value"] - 0.05)
+    assert not margin["active"]
+    assert abs(margin["multiplier"]) < 1e-6
+    assert f"constraint {length['name']}: value 1.05 (1.05 <= value), slack" in text
+    assert "active, multiplier" in text
+    assert "inactive, multiplier" in text
+
+
+@pytest.mark.parametrize(("change", "said"), [
+    ('lower = 0.05}', "lower = 0.99}"),
+    ("centre = [0.0, 1.4]", "centre = [0.0, 9.0]"),
+], ids=["a margin no design meets", "a task no design reaches"])
+def test_an_infeasible_task_names_its_constraint_and_exits_3(tmp_path, capsys, change, said):
+    """A constraint no design can meet is named with its best attainable value and the design that attains it
+    (where IPOPT said Invalid_Number_Detected and "did not converge from any of 4 starts"); a task out of every
+    design's reach names the quantity undefined everywhere (where it said "undefined at all 81 screening
+    points"); both exit with status 3, and the API raises InfeasibleError."""
+    from pkm.synthesis import InfeasibleError
+
+    task = tmp_path / "task.toml"
+    task.write_text((TASKS / "five_bar.toml").read_text().replace(change, said))
+    assert main(["design", str(task), "--starts", "2", "--resolution", "4"]) == 3
+    (line,) = capsys.readouterr().err.splitlines()
+    assert line.startswith("pkm: infeasible: no design of five_bar.my_disc meets its constraints")
+    if "0.99" in said:
+        assert re.search(r"inverse_condition_f_min over task <= inf cannot be met: at best 0\.3\d+ against the bound "
+                         r"0\.99, at r1 = [0-9.]+, r2 = [0-9.]+", line)
+    else:
+        assert "inverse_condition_f_min over task <= inf is undefined at every design tried (out of reach)" in line
+    with pytest.raises(InfeasibleError, match="meets its constraints"):
+        pkm.synthesize(read_problem(task), progress=False, starts=1, resolution=4)
+
+
+def test_the_designers_page_states_when_a_constraint_is_active():
+    from pkm.synthesis.model import ACTIVE
+
+    text = " ".join((TASKS.parent / "designer.md").read_text().split())
+    assert f"within its margin plus {ACTIVE:g} of its bound" in text

@@ -3,6 +3,7 @@ the two mechanisms' fronts verified and non-dominated, the baselines on the same
 
 from __future__ import annotations
 
+import csv
 import importlib.util
 import json
 import os
@@ -137,6 +138,12 @@ def test_five_bar_gci_against_the_miw_radius(tmp_path):
     assert len(saved["points"]) == 4
     assert "grid" in saved["baselines"]
     assert {"front.csv", "front.png", "front.svg", "report.md"} <= {p.name for p in (tmp_path / "front").iterdir()}
+    with open(tmp_path / "front" / "front.csv", newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    parameters = registry.mechanism("five_bar").parameter_names()
+    assert set(parameters) <= set(rows[0])  # every design parameter a column, the variables and the rest
+    for row, point in zip(rows, front.points, strict=True):
+        assert {n: float(row[n]) for n in parameters} == pytest.approx(point.design, rel=1e-12)
     if "nsga2" not in baselines:
         pytest.skip("pymoo is not installed: the NSGA-II comparison is left out")
     nsga = front.baselines["nsga2"]

@@ -421,6 +421,8 @@ class Explorer:
                 try:
                     result = synthesize(problem, progress=False, executor="serial")
                 except SynthesisError as exc:
+                    if exc.result is None:
+                        raise
                     result = exc.result
                     failed = str(exc)
                 else:

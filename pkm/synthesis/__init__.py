@@ -3,7 +3,7 @@
 (:mod:`pkm.synthesis.driver`) for every mechanism and any number of variables. Problems are declared
 by the mechanism packages and found by name through :mod:`pkm.registry`."""
 
-from pkm.synthesis.driver import BaselineResult, Run, SynthesisError, SynthesisResult, synthesize
+from pkm.synthesis.driver import BaselineResult, InfeasibleError, Run, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import (
     Baseline,
@@ -23,6 +23,7 @@ __all__ = [
     "BaselineResult",
     "Candidate",
     "Constraint",
+    "InfeasibleError",
     "Objective",
     "Problem",
     "ProblemModel",

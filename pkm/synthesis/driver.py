@@ -21,10 +21,11 @@ verified the same way. The starts and the baselines' chunks of points are tasks 
 from __future__ import annotations
 
 import json
+import math
 import time
 from collections.abc import Callable
 from concurrent.futures import Executor
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache, partial
 from typing import Any, NamedTuple
 
@@ -39,7 +40,7 @@ from pkm.interrupts import interruptible
 from pkm.progress import Progress
 from pkm.regions import INDEX_ACCURACY
 from pkm.regions.shapes import MAX_RESOLUTION
-from pkm.synthesis.model import Candidate, Points, ProblemModel
+from pkm.synthesis.model import Candidate, ConstraintValue, Points, ProblemModel
 from pkm.synthesis.problem import Problem, grid_points
 
 ACCURACY = INDEX_ACCURACY
@@ -128,10 +129,11 @@ class SynthesisResult:
         o = self.optimum
         design = ", ".join(f"{k} = {v:.6g}" for k, v in o.design.items())
         variables = ", ".join(f"{k} = {v:.6g}" for k, v in o.variables.items())
-        return (f"{self.problem}: {self.status} after {self.iterations} iterations; {self.sense}imum objective "
-                f"{o.objective:.6g}, verified {o.verified_objective:.6g} (accuracy {self.accuracy:.1e})"
-                f"{'' if o.feasible else ' (infeasible)'} at "
-                f"{variables}; design {design}")
+        return "\n".join([
+            f"{self.problem}: {self.status} after {self.iterations} iterations; {self.sense}imum objective "
+            f"{o.objective:.6g}, verified {o.verified_objective:.6g} (accuracy {self.accuracy:.1e})"
+            f"{'' if o.feasible else ' (infeasible)'} at {variables}; design {design}",
+            *constraint_lines(o.constraints)])
 
     def to_dict(self) -> dict[str, Any]:
         first = next(iter(self.baselines.values()), None)
@@ -147,6 +149,7 @@ class SynthesisResult:
             "accuracy": self.accuracy,
             "baseline_objective": None if first is None else first.best.objective,
             "optimum": asdict(self.optimum),
+            "constraints": [asdict(c) for c in self.optimum.constraints],
             "baseline": None
             if first is None
             else {**asdict(first.best), "wall_time_s": first.wall_time_s, "evaluations": first.evaluations},
@@ -162,14 +165,35 @@ class SynthesisResult:
         }
 
 
+def constraint_lines(constraints: list[ConstraintValue]) -> list[str]:
+    """One line per constraint: its value, bounds, slack, whether active, IPOPT's multiplier."""
+    lines = []
+    for c in constraints:
+        bounds = " <= ".join([*([f"{c.lower:.6g}"] if math.isfinite(c.lower) else []), "value",
+                              *([f"{c.upper:.6g}"] if math.isfinite(c.upper) else [])])
+        multiplier = "" if c.multiplier is None else f", multiplier {c.multiplier:.3g}"
+        state = "active" if c.active else "inactive"
+        violated = " VIOLATED" if c.slack < 0 else ""
+        lines.append(f"constraint {c.name}: value {c.value:.6g} ({bounds}), slack {c.slack:.3g}, {state}"
+                     f"{multiplier}{violated}")
+    return lines
+
+
 class SynthesisError(ComputationError):
     """A synthesis that failed (IPOPT did not converge from any start, or every converged run is
     infeasible): ``result`` is its record with the last iterate (the run with the best objective) as
     ``optimum``, in variables and design parameters, and the failing status."""
 
-    def __init__(self, message: str, result: SynthesisResult) -> None:
+    def __init__(self, message: str, result: SynthesisResult | None) -> None:
         super().__init__(message)
         self.result = result
+
+
+class InfeasibleError(SynthesisError):
+    """No design found that meets the problem's constraints: the message names each constraint that none of
+    the designs tried meets, with its best attainable value and the design that attains it (or, where each can
+    be met alone, those that the design of least violation violates); ``result`` is the failed synthesis's
+    record, None where the screening found nothing to start from. The command line exits with status 3."""
 
 
 def ipopt_options(
@@ -354,7 +378,8 @@ def evaluate_points(task: PointsTask) -> tuple[np.ndarray, np.ndarray]:
 
 def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -> tuple[np.ndarray, np.ndarray]:
     """The screening points and the indices of the starts: the best feasible points, or where none is
-    feasible the least infeasible (IPOPT starts from infeasible points too)."""
+    feasible the least infeasible (IPOPT starts from infeasible points too); none where the model is undefined
+    at every point."""
     prob = model.problem
     points = grid_points(prob.variables, screening)
     if prob.starting_points is not None:
@@ -364,9 +389,42 @@ def _screen(model: ProblemModel, resolution: int, screening: int, starts: int) -
     if len(order) == 0:
         finite = np.isfinite(violation)
         order = np.argsort(np.where(finite, violation, np.inf), kind="stable")[: min(starts, int(finite.sum()))]
-    if len(order) == 0:
-        raise ComputationError(f"the model of {prob.name} is undefined at all {len(points)} screening points")
     return points, order
+
+
+def _infeasibility(model: ProblemModel, points: np.ndarray, resolution: int) -> str:
+    """Why no design of ``points`` (the screening grid and IPOPT's last iterates) meets the constraints, or ""
+    where one does: each constraint none of them meets, with its best attainable value (least violation) and the
+    design that attains it; else the constraints that the design of least total violation violates; a quantity
+    undefined at every point (its region out of reach) named as such."""
+    prob, tol = model.problem, model.problem.feasibility_tolerance
+    objective, g = model.values(points, resolution)
+    with np.errstate(invalid="ignore"):
+        violation = np.maximum(np.maximum(model.lower - g, g - model.upper), 0.0)
+    violation = np.where(np.isnan(violation), np.inf, violation)
+    if np.any(np.all(violation <= tol, axis=1) & np.isfinite(objective)):
+        return ""
+
+    def at(k: int) -> str:
+        return ", ".join(f"{n} = {v:.6g}" for n, v in zip(prob.variable_names, points[k], strict=True))
+
+    reasons = []
+    for i, c in enumerate(prob.constraints):
+        if np.all(np.isnan(g[:, i])):
+            reasons.append(f"{c.name} is undefined at every design tried (out of reach)")
+            continue
+        k = int(np.argmin(violation[:, i]))
+        if violation[k, i] > tol:
+            bound = c.lower if g[k, i] < c.lower else c.upper
+            reasons.append(f"{c.name} cannot be met: at best {g[k, i]:.6g} against the bound {bound:.6g}, at {at(k)}")
+    if not reasons and np.all(np.isnan(objective)):
+        reasons.append("the objective is undefined at every design tried (its region out of reach)")
+    if not reasons:
+        k = int(np.argmin(violation.sum(axis=1)))
+        broken = [f"{c.name} (value {g[k, i]:.6g})" for i, c in enumerate(prob.constraints) if violation[k, i] > tol]
+        reasons.append(f"the constraints cannot be met together: the design of least violation, at {at(k)}, "
+                       f"violates {', '.join(broken)}")
+    return f"no design of {prob.name} meets its constraints among {len(points)} tried: " + "; ".join(reasons)
 
 
 def _polish(
@@ -423,6 +481,14 @@ def _refine(
         if cand.feasible:
             run, optimum = refined, cand
     return run, optimum, res, extra
+
+
+def _with_multipliers(cand: Candidate, run: Run) -> Candidate:
+    """``cand`` with IPOPT's multiplier of each constraint from the run that found it."""
+    if len(run.multipliers) != len(cand.constraints):
+        return cand
+    return replace(cand, constraints=[replace(c, multiplier=float(m))
+                                      for c, m in zip(cand.constraints, run.multipliers, strict=True)])
 
 
 def _rank(model: ProblemModel, cand: Candidate) -> tuple[bool, float]:
@@ -494,6 +560,10 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
     """The driver's stages (see :func:`synthesize`), calling ``step`` after each."""
     t0 = time.perf_counter()
     points, order = _screen(model, res, problem.screening_resolution, n_starts)
+    if len(order) == 0:
+        reason = _infeasibility(model, points, res) or f"the model of {problem.name} is undefined at all " \
+                                                       f"{len(points)} screening points"
+        raise InfeasibleError(reason, None)
     step(1 + n_starts - len(order))
     where = executor if _registered(problem) else "serial"
     settings = _settings(problem)
@@ -506,9 +576,10 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
     evaluations = len(points) + sum(r.evaluations for r in runs)
     opt_time = time.perf_counter() - t0
     good = [r for r in runs if r.success]
+    tol = problem.feasibility_tolerance
 
-    def failed(message: str, run: Run, cand: Candidate) -> SynthesisError:
-        return SynthesisError(message, SynthesisResult(
+    def failed(message: str, run: Run, cand: Candidate, kind: type[SynthesisError] = SynthesisError) -> SynthesisError:
+        return kind(message, SynthesisResult(
             problem=problem.name, sense=problem.objective.sense, optimum=cand, status=run.status,
             iterations=sum(r.iterations for r in runs), runs=runs, baselines={},
             optimizer={"wall_time_s": opt_time, "evaluations": evaluations},
@@ -516,10 +587,14 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             settings=dict(problem.values), **_where(problem),
         ))
 
+    tried = np.concatenate([points, [list(r.variables.values()) for r in runs]])
     if not good:
         finite = [r for r in runs if np.isfinite(r.objective)]
         last = min(finite, key=lambda r: model.sign * r.objective) if finite else runs[-1]
-        cand = model.candidate(np.array(list(last.variables.values())), last.objective, res)
+        cand = _with_multipliers(model.candidate(np.array(list(last.variables.values())), last.objective, res), last)
+        reason = _infeasibility(model, tried, res)
+        if reason:
+            raise failed(reason, last, cand, kind=InfeasibleError)
         raise failed(
             f"IPOPT did not converge from any of {len(runs)} starts of {problem.name}; status {last.status}, "
             f"last iterate {last.variables}, design {cand.design}, objective {last.objective:.6g}", last, cand)
@@ -534,16 +609,20 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
         run.verified_objective = cand.verified_objective
         candidates.append((run, cand))
     best_run, optimum = min(candidates, key=lambda rc: _rank(model, rc[1]))
+    optimum = _with_multipliers(optimum, best_run)
     opt_time = time.perf_counter() - t0
     step()
     if not optimum.feasible:
-        raise failed(
-            f"every converged run of {problem.name} violates a constraint by more than "
-            f"{problem.feasibility_tolerance:g} at verification; best {optimum.variables}, design {optimum.design}",
-            best_run, optimum)
+        reason = _infeasibility(model, tried, res)
+        broken = "; ".join(f"{c.name} is {c.value:.6g}" for c in optimum.constraints if not c.slack >= -tol)
+        raise failed(reason or (
+            f"every converged run of {problem.name} violates a constraint by more than {tol:g} at verification "
+            f"({broken or 'the objective is undefined'}); best {optimum.variables}, design {optimum.design}"),
+            best_run, optimum, kind=InfeasibleError if reason else SynthesisError)
     start_resolution = res
     if polish:
         best_run, optimum, res, extra = (_refine if model.extremes else _polish)(model, best_run, optimum, res, options)
+        optimum = _with_multipliers(optimum, best_run)
         runs.extend(extra)
         evaluations += sum(r.evaluations for r in extra)
         opt_time = time.perf_counter() - t0

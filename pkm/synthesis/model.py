@@ -8,7 +8,7 @@ same model in batches.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
@@ -36,7 +36,24 @@ SAMPLED_LIMIT = 512**2  # cells of a sampled check at most
 EXCHANGE_ROWS = 2  # least (and after a solve most violated) epigraph rows of each margin output an exchange adds
 EXCHANGE_LIMIT = 2048  # epigraph rows that IPOPT holds all at once
 
+ACTIVE = 1e-6  # a constraint within its margin plus this (relative to its bound, at least absolute) is active
+
 Points = dict[str, tuple[tuple[int, tuple[float, ...]], ...]]  # per extreme: (piece, reference point) between nodes
+
+
+@dataclass
+class ConstraintValue:
+    """One constraint at a candidate, as verified: its value, bounds, slack (the distance to the nearer bound,
+    negative where violated), whether it is active (within its margin plus :data:`ACTIVE` of a bound) and
+    IPOPT's multiplier where the candidate is an IPOPT run's (None for a baseline's point)."""
+
+    name: str
+    value: float
+    lower: float
+    upper: float
+    slack: float
+    active: bool
+    multiplier: float | None = None
 
 
 @dataclass
@@ -51,6 +68,7 @@ class Candidate:
     sampled_objective: float = float("nan")
     sampled_points: int = 0
     feasible: bool = True
+    constraints: list[ConstraintValue] = field(default_factory=list)
 
 
 class ProblemModel:
@@ -315,10 +333,17 @@ class ProblemModel:
             )[0])
         return self._expressions_with(point, named)
 
-    def verify(self, point: np.ndarray, design: np.ndarray, resolution: int) -> tuple[float, bool]:
-        """The objective and the feasibility at ``point`` as :meth:`verified_values` takes them."""
-        f, g = self.verified_values(point, design, resolution)
-        return f, bool(self.feasible(g[None])[0] and np.isfinite(f))
+    def constraint_values(self, g: np.ndarray) -> list[ConstraintValue]:
+        """Each constraint's record at the values ``g`` (m,) (:class:`ConstraintValue`, no multiplier)."""
+        out = []
+        for c, value in zip(self.problem.constraints, np.asarray(g, dtype=float).ravel(), strict=True):
+            with np.errstate(invalid="ignore"):
+                slack = float(min(value - c.lower, c.upper - value))
+            finite = [b for b in (c.lower, c.upper) if np.isfinite(b)]
+            reach = c.margin + max(self.problem.feasibility_tolerance, ACTIVE * max([1.0, *map(abs, finite)]))
+            out.append(ConstraintValue(c.name, float(value), float(c.lower), float(c.upper), slack,
+                                       bool(slack <= reach)))
+        return out
 
     def candidate(self, point: np.ndarray, objective: float, resolution: int) -> Candidate:
         """A candidate at ``point`` with its objective verified at twice the resolution (4x the
@@ -326,7 +351,8 @@ class ProblemModel:
         on a grid of its region."""
         point = np.asarray(point, dtype=float)
         design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
-        verified, ok = self.verify(point, design, 2 * resolution)
+        verified, g = self.verified_values(point, design, 2 * resolution)
+        ok = bool(self.feasible(g[None])[0] and np.isfinite(verified))
         sampled, points = {}, []
         # as many grid cells as a 2-D check in every dimension: (16 resolution)^2 in all
         cells = min((SAMPLED_FACTOR * resolution) ** 2, SAMPLED_LIMIT)
@@ -346,6 +372,7 @@ class ProblemModel:
             sampled_objective=sampled_objective,
             sampled_points=min(points) if points else 0,
             feasible=ok,
+            constraints=self.constraint_values(g),
         )
 
     def assess(self, point: np.ndarray, resolution: int) -> Candidate:

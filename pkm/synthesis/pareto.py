@@ -272,6 +272,8 @@ def _anchor(problem: Problem, resolution: int, starts: int | None, grid: int) ->
     try:
         return synthesize(problem, resolution=resolution, starts=starts, progress=False)
     except SynthesisError as exc:
+        if exc.result is None:
+            raise
         result = exc.result
     model = ProblemModel(problem)
     points = grid_points(problem.variables, grid)
@@ -564,12 +566,15 @@ BASELINES = {"grid": grid_front, "nsga2": nsga2_front}
 
 
 def _csv(front: ParetoFront) -> str:
+    """One row per point: its values, its variables, then the rest of its design (every parameter)."""
     names = list(front.points[0].variables) if front.points else []
+    held = [n for n in (front.points[0].design if front.points else {}) if n not in names]
     columns = ["epsilon", "status", "ipopt_status", "objective", "secondary", "verified_objective",
-               "verified_secondary", "multiplier", "trade_off", "iterations", "evaluations", "wall_time_s", *names]
+               "verified_secondary", "multiplier", "trade_off", "iterations", "evaluations", "wall_time_s", *names,
+               *held]
     rows = [[p.epsilon, p.status, p.ipopt_status, p.objective, p.secondary, p.verified_objective,
              p.verified_secondary, p.multiplier, p.trade_off, p.iterations, p.evaluations, p.wall_time_s,
-             *p.variables.values()] for p in front.points]
+             *p.variables.values(), *(p.design.get(n, float("nan")) for n in held)] for p in front.points]
     return io.csv_text(columns, rows)
 
 
