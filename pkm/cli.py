@@ -242,12 +242,14 @@ def cmd_eval(args: argparse.Namespace) -> None:
     J = m.jacobian(x, d, mode=mode)
     local = {name: m.local_index(name, x, d, mode=mode) for name in m.local_indices()}
     sing = m.singularity(x, d, mode=mode)
+    singular = m.singular_types(x, d, mode=mode)
     rows = []
     for k in range(len(x)):
         rows.append(
             {
                 "pose": x[k],
                 "reachable": bool(reached[k]),
+                "singular": singular[k],
                 "violated_limits": [name for name, v in margins.items() if v[k] < 0],
                 "q": q[k],
                 "actuators": dict(zip(m.actuator_names, q[k][: m.n_act].tolist(), strict=True)),
@@ -256,7 +258,8 @@ def cmd_eval(args: argparse.Namespace) -> None:
                 **{name: float(v[k]) for name, v in sing.items()},
             }
         )
-    shown = [name for name in ("inverse_condition_f", "velocity_max", "velocity_min") if name in local]
+    shown = [name for name in ("inverse_condition_f", "singularity_margin_type1", "singularity_margin_type2",
+                               "velocity_max", "velocity_min") if name in local]
     si = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
           "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
           "indices": {name: m.index_unit(name) for name in local}}
@@ -265,6 +268,8 @@ def cmd_eval(args: argparse.Namespace) -> None:
         f"pose {_valued(units.from_si(r['pose'], m.pose_units), mine['pose'])}: "
         f"{_valued(units.from_si(r['q'][: m.n_act], m.actuator_units), mine['actuators'])}, "
         + ", ".join(f"{name} = {r[name]:.6g}{_unit(si['indices'][name])}" for name in shown)
+        + (f"; SINGULAR ({' and '.join(r['singular'])}): the values at a singular pose are its limits, not a "
+           "machine's" if r["singular"] else "")
         if r["reachable"] else f"pose {units.from_si(r['pose'], m.pose_units).tolist()}: out of reach in mode "
                                f"{mode}{_why(m, r, d)}"
         for r in rows

@@ -50,6 +50,10 @@ class SingularityError(PkmError):
     """A configuration at which the requested quantity does not exist (raised in strict mode)."""
 
 
+class SingularityWarning(UserWarning):
+    """A pose that pkm takes as a reference (a description's home pose) is singular."""
+
+
 class ComputationError(RuntimeError):
     """A computation that failed on valid input (for instance IPOPT did not converge)."""
 

@@ -331,6 +331,30 @@ class Mechanism:
         values = self._first_order(pose, design, mode, names)
         return {k: v[..., 0, 0] for k, v in zip(names, values, strict=True)}
 
+    def singular_types(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> list[list[str]]:
+        """Per pose, the singularities it is at: ``"type I"`` and ``"type II"`` where that margin
+        (``singularity_margin_type1``, ``_type2``: normalised, in [0, 1]) is below
+        :data:`pkm.indices.local.SINGULAR`; none where the pose is out of reach."""
+        from pkm.indices.local import SINGULAR
+
+        margins = [self.local_index(f"singularity_margin_type{k}", pose, design, mode=mode) for k in (1, 2)]
+        return [[name for name, m in zip(("type I", "type II"), values, strict=True) if m < SINGULAR]
+                for values in zip(*(np.atleast_1d(m) for m in margins), strict=True)]
+
+    def singularity_note(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> str:
+        """Empty where the pose (one) is not singular in the working mode, else which singularity and its
+        margin, in words."""
+        from pkm.indices.local import SINGULAR
+
+        (types,) = self.singular_types(np.atleast_2d(pose), design, mode=mode)
+        if not types:
+            return ""
+        values = {k: float(self.local_index(f"singularity_margin_type{k}", np.atleast_2d(pose), design, mode=mode)[0])
+                  for k, name in ((1, "type I"), (2, "type II")) if name in types}
+        margins = ", ".join(f"singularity_margin_type{k} = {v:.2g}" for k, v in values.items())
+        return (f"pose {np.ravel(pose).tolist()} is a {' and '.join(types)} singularity of the {self.name} in mode "
+                f"{self.working_mode(mode).name} ({margins} < {SINGULAR:g})")
+
     def _has(self, spec: LocalIndex) -> bool:
         """Whether this mechanism offers the local index: its source function has every output the index
         reads, none of them empty (a machine without stated limits has no workspace margin)."""

@@ -64,6 +64,7 @@ import reprlib
 import subprocess
 import sys
 import tempfile
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -77,7 +78,7 @@ from pkm import expressions, io, registry
 from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Condition, Parameter
-from pkm.errors import ComputationError, PkmError
+from pkm.errors import ComputationError, PkmError, SingularityWarning
 from pkm.kinematics import Branch, FunctionTable, NearestSeeds
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
@@ -1249,6 +1250,7 @@ def _instance(description: Description) -> Mechanism:
     if description.key not in _INSTANCES:
         mech = mechanism_class(description)()
         check_mobility(mech)
+        warn_singular_home(mech)
         _INSTANCES[description.key] = mech
     return _INSTANCES[description.key]
 
@@ -1271,6 +1273,17 @@ def resolve(text: str) -> Mechanism:
 def resolve_name(name: str) -> Mechanism:
     """The mechanism of a name: a description file (``.toml``) derived on first use, or a registered one."""
     return load(name) if name.endswith(SUFFIX) else registry.mechanism(name)
+
+
+def warn_singular_home(mech: Mechanism) -> None:
+    """A :class:`pkm.errors.SingularityWarning` for each working mode in which the home pose is singular at the
+    default design, naming the singularity and its margin (an index there is its limit, not the machine's)."""
+    design = mech.design().vector()
+    (home,) = evaluate(mech.functions["home"], design)
+    for mode in mech.modes:
+        note = mech.singularity_note(home[0, :, 0], design, mode=mode)
+        if note:
+            warnings.warn(SingularityWarning(f"description {mech.name}: its home {note}"), stacklevel=3)
 
 
 def check_mobility(mech: Mechanism) -> None:

@@ -204,17 +204,21 @@ def sample(m, design, mode: str, reference: np.ndarray, rng) -> np.ndarray:
 
 
 def reference_pose(m, design, mode: str, rng) -> np.ndarray | None:
-    """None (the export's own reference pose) where the working mode reaches it, else the best conditioned of
-    random poses it reaches."""
+    """None (the export's own reference pose) where the working mode reaches it and it is not singular (the
+    export refuses a singular one: the passive leg's home pose in out_in), else the random pose it reaches
+    farthest from both singularities (the larger of the two margins' least)."""
     try:
-        structure(m, design, mode=mode)
+        built = structure(m, design, mode=mode)
     except PoseError:
-        box = m.workspace_box(m.design_vector(design))
-        x = rng.uniform(box[:, 0], box[:, 1], size=(4000, len(box)))
-        x = x[m.reachable(x, design, mode=mode)]
-        dets = m.singularity(x, design, mode=mode)
-        return x[np.argmax(np.minimum(np.abs(dets["det_type1"]), np.abs(dets["det_type2"])))]
-    return None
+        pass
+    else:
+        if not m.singularity_note(built.reference.pose, design, mode=mode):
+            return None
+    box = m.workspace_box(m.design_vector(design))
+    x = rng.uniform(box[:, 0], box[:, 1], size=(4000, len(box)))
+    x = x[m.reachable(x, design, mode=mode)]
+    margins = [m.local_index(f"singularity_margin_type{k}", x, design, mode=mode) for k in (1, 2)]
+    return x[np.argmax(np.minimum(*margins))]
 
 
 def check_export(m, design, mode: str, folder: Path, rng) -> dict[str, float]:

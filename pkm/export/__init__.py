@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm.errors import PkmError, PoseError
+from pkm.errors import PkmError, PoseError, SingularityError
 from pkm.export.structure import Reference, Structure, Tree, cut
 from pkm.export.urdf import write
 
@@ -50,9 +50,14 @@ def export_urdf(mech: Any, design: Any, folder: str | Path, *, pose: Any = None,
     The reference configuration (where every joint of the URDF is zero and every loop closes) is ``pose`` in
     working mode ``mode`` (by default the mechanism's reference pose and its first working mode). Raises
     :class:`~pkm.errors.PkmError` for a mechanism whose structure pkm does not know, a design outside its
-    bounds, a pose out of reach or a folder that cannot be written. Returns the folder.
+    bounds, a pose out of reach or singular (where the loops' closure is not unique, a multibody tool may close
+    them on another assembly) or a folder that cannot be written. Returns the folder.
     """
     cut_tree = tree(mech, design, pose=pose, mode=mode)
+    ref = cut_tree.structure.reference
+    note = mech.singularity_note(ref.pose, ref.design, mode=ref.mode)
+    if note:
+        raise SingularityError(f"the export's reference {note}: give another pose")
     parameters = [(p.name, cut_tree.structure.reference.design[p.name], p.unit, p.doc) for p in mech.parameters]
     return write(cut_tree, mech, parameters, Path(folder))
 

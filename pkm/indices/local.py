@@ -205,6 +205,40 @@ def _lowest_frequency(S: ca.SX) -> ca.SX:
     return ca.sqrt(ca.fmax(symmetric_eigenvalues(S)[1], 0))
 
 
+def hadamard_ratio(A: ca.SX) -> ca.SX:
+    """|det A| / prod_j ||a_j||, the columns' Hadamard ratio: 1 where the columns are orthogonal, 0 where A is
+    singular, in [0, 1] by Hadamard's inequality, and the same whatever the units of A's columns (a column's
+    scale cancels between det A and its norm) and under one scale of all its rows (the closure equations of a
+    mechanism, in one unit). Taken as prod_j ||a_j'|| / ||a_j||, a_j' the part of a_j orthogonal to the
+    columns before it (Gram-Schmidt, each projection applied twice), in O(n^3) operations where a determinant's
+    expansion would take n! (a six-legged chain machine's closure is 18 x 18)."""
+    ratio = ca.SX(1)
+    basis: list[ca.SX] = []
+    for j in range(A.size2()):
+        a = A[:, j]
+        v = a
+        for _ in range(2):
+            for u in basis:
+                v = v - ca.dot(u, v) * u
+        length = ca.norm_2(v)
+        ratio = ratio * (length / ca.norm_2(a))
+        basis.append(v / length)
+    return ca.if_else(ratio < np.inf, ca.fmin(ratio, 1), 0)  # 0 where not finite, at most 1 but for round-off
+
+
+def _serial_margin(H_q: ca.SX, _H_x: ca.SX) -> ca.SX:
+    """The type I margin: the Hadamard ratio of d h / d(q_a, q_p), singular where a leg's joints can move with
+    the platform held (J unbounded)."""
+    return hadamard_ratio(H_q)
+
+
+def _parallel_margin(H_q: ca.SX, H_x: ca.SX) -> ca.SX:
+    """The type II margin: the Hadamard ratio of d h / d(q_p, x), singular where the platform can move with
+    the actuators held (J_f unbounded); the first columns of H_q, as many as the pose has coordinates, are the
+    actuated joints'."""
+    return hadamard_ratio(ca.horzcat(H_q[:, H_x.size2():], H_x))
+
+
 INVERSE_CONDITION_F = LocalIndex(
     "inverse_condition_f",
     "1/kappa_f, kappa_f = ||J||_N ||J^-1||_N with ||J||_N = sqrt(tr(J J^T / n)) (Gao eqs. 8-11)",
@@ -268,6 +302,20 @@ WORKSPACE_MARGIN = LocalIndex(
     "-", -np.inf, np.inf, -np.inf, ca.mmin, "workspace_margins", ("margins",), lambda m, t: m - t, dimension=None,
 )
 
+SINGULARITY_TYPE1 = LocalIndex(
+    "singularity_margin_type1",
+    "type I (serial) singularity margin: the columns' Hadamard ratio |det A| / prod ||a_j|| of A = [H_a H_p] = "
+    "d h / d(q_a, q_p); 0 where a leg's joints move with the platform held",
+    "-", 0.0, 1.0, 0.0, _serial_margin, "constraint", ("H_q", "H_x"), dimension=None, raw=True,
+)
+SINGULARITY_TYPE2 = LocalIndex(
+    "singularity_margin_type2",
+    "type II (parallel) singularity margin: the columns' Hadamard ratio |det A| / prod ||a_j|| of A = [H_p H_x] "
+    "= d h / d(q_p, x); 0 where the platform moves with the actuators held",
+    "-", 0.0, 1.0, 0.0, _parallel_margin, "constraint", ("H_q", "H_x"), dimension=None, raw=True,
+)
+SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular)
+
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
     INVERSE_CONDITION_F,
     INVERSE_CONDITION_2,
@@ -281,6 +329,8 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     NATURAL_FREQUENCY,
     ACTUATOR_FORCE,
     WORKSPACE_MARGIN,
+    SINGULARITY_TYPE1,
+    SINGULARITY_TYPE2,
 )
 
 

@@ -165,7 +165,8 @@ def pipeline(
         q, reach = ik(x, mode, design)
     sources["inverse_kinematics"] = {"q": q}
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
-    scales = _scales(mech, design)
+    # the normalisation by a characteristic length, where an index takes normalised matrices
+    scales = _scales(mech, design) if matrices or any(not spec.raw for spec in locals_) else None
     moving = reads_motion(locals_)
     wanted = [s.source for s in locals_ if s.source != MOTION] + (["first_order"] if first_order or moving else [])
     for source in [name for name in dict.fromkeys(wanted) if name not in sources]:

@@ -1,0 +1,123 @@
+"""Singularities are never silent (issue "Trust the answer", item 1): the type I and type II margins, a
+description whose home pose is singular warned at load, singular poses marked by ``pkm eval`` and refused as
+the export's reference."""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import pkm
+from pkm.cli import main
+from pkm.errors import SingularityError, SingularityWarning
+from pkm.export import export_urdf
+from pkm.indices.local import SINGULAR, hadamard_ratio
+
+# a 3-RPR whose platform pattern is in line with the base's: at phi = 0 the three legs' lines meet at the
+# centre, a type II singularity over the whole plane phi = 0
+RPR3 = """
+name = "rpr3_in_line"
+doc = "planar 3-RPR, its platform pattern in line with the base's"
+frame = "planar"
+home = [0, 0, 0]
+characteristic_length = "r"
+parameters = [
+  {name = "R", default = 1.0, lower = 0.1, upper = 5, unit = "m", doc = "base circle"},
+  {name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},
+]
+[legs]
+kind = "RPR"
+count = 3
+base = {circle = "R", start = "pi/2"}
+platform = {circle = "r", start = "pi/2"}
+range = [0.3, 1.5]
+"""
+
+
+@pytest.fixture(scope="module")
+def rpr3_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("rpr3") / "rpr3.toml"
+    path.write_text(RPR3)
+    return path
+
+
+def test_the_hadamard_ratio_is_scale_free_one_when_orthogonal_and_zero_when_singular():
+    A = ca.SX.sym("A", 3, 3)
+    f = ca.Function("f", [A], [hadamard_ratio(A)])
+    rng = np.random.default_rng(3)
+    M = rng.normal(size=(3, 3))
+    value = float(f(M))
+    assert 0 < value < 1
+    assert float(f(M @ np.diag([2.0, 1e-4, 7.0]))) == pytest.approx(value, rel=1e-12)  # columns' units
+    assert float(f(1e3 * M)) == pytest.approx(value, rel=1e-12)  # the equations' one unit
+    Q, _ = np.linalg.qr(M)
+    assert float(f(Q @ np.diag([3.0, 0.5, 9.0]))) == pytest.approx(1.0, rel=1e-12)
+    singular = M.copy()
+    singular[:, 2] = singular[:, 0] - 2 * singular[:, 1]
+    assert float(f(singular)) < 1e-14
+    assert float(f(np.zeros((3, 3)))) == 0.0
+
+
+def test_the_margins_vanish_at_the_five_bars_stretched_leg_and_the_in_line_3rpr(rpr3_file):
+    """Type I where a leg of the five-bar is stretched (its tip at r1 + r2 from its base), type II on the
+    3-RPR's plane phi = 0; both positive and at most 1 at a regular pose."""
+    five_bar = pkm.load("five_bar")
+    stretched = np.array([[0.2, math.sqrt(2.2**2 - 1.0)]])
+    assert five_bar.local_index("singularity_margin_type1", stretched)[0] < SINGULAR
+    assert five_bar.local_index("singularity_margin_type2", stretched)[0] > 0.1
+    assert five_bar.singular_types(stretched) == [["type I"]]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)  # said once, at its first load
+        rpr3 = pkm.load(str(rpr3_file))
+    poses = np.array([[0.0, 0.0, 0.0], [0.05, -0.02, 0.0], [0.0, 0.0, 0.3]])
+    margins = rpr3.local_index("singularity_margin_type2", poses)
+    assert np.all(margins[:2] < SINGULAR)
+    assert 0.01 < margins[2] <= 1
+    assert rpr3.singular_types(poses) == [["type II"], ["type II"], []]
+
+
+def test_a_description_singular_at_home_is_warned_at_load_naming_its_margin(rpr3_file):
+    text = RPR3.replace('name = "rpr3_in_line"', 'name = "rpr3_warned"')
+    with pytest.warns(SingularityWarning, match=r"description rpr3_warned: its home pose \[0\.0, 0\.0, 0\.0\] is "
+                                                r"a type II singularity .*singularity_margin_type2 = [0-9.e-]+ < "
+                                                r"1e-06"):
+        pkm.load(__import__("tomllib").loads(text))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        pkm.load("five_bar")  # a regular home: nothing said
+
+
+def test_eval_marks_a_singular_pose_in_its_text_and_json(rpr3_file, capsys):
+    assert main(["eval", str(rpr3_file), "--pose", "0,0,0"]) == 0
+    out = capsys.readouterr().out
+    assert "singularity_margin_type2 = " in out
+    assert "SINGULAR (type II): the values at a singular pose are its limits, not a machine's" in out
+    capsys.readouterr()
+    assert main(["eval", "five_bar", "--pose", "0,1.4", "--json"]) == 0
+    (row,) = json.loads(capsys.readouterr().out)["poses"]
+    assert row["singular"] == []
+    assert 0 < row["singularity_margin_type2"] <= 1
+
+
+def test_the_export_refuses_a_singular_reference_pose(rpr3_file, tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)  # said once, at its first load
+        rpr3 = pkm.load(str(rpr3_file))
+    with pytest.raises(SingularityError, match=r"the export's reference pose \[0\.0, 0\.0, 0\.0\] is a type II "
+                                               r"singularity .*: give another pose"):
+        export_urdf(rpr3, None, tmp_path / "singular")
+    assert not (tmp_path / "singular").exists()
+    export_urdf(rpr3, None, tmp_path / "regular", pose=[0.0, 0.0, 0.2])
+    assert (tmp_path / "regular" / "robot.urdf").is_file()
+
+
+def test_the_designers_page_states_the_singular_threshold():
+    from pathlib import Path
+
+    text = " ".join((Path(__file__).parent.parent / "docs" / "designer.md").read_text().split())
+    assert f"A pose with a margin below {SINGULAR:g} (`pkm.indices.local.SINGULAR`) is singular" in text
