@@ -220,10 +220,10 @@ def hadamard_ratio(A: ca.SX) -> ca.SX:
         for _ in range(2):
             for u in basis:
                 v = v - ca.dot(u, v) * u
-        length = ca.norm_2(v)
-        ratio = ratio * (length / ca.norm_2(a))
-        basis.append(v / length)
-    return ca.if_else(ratio < np.inf, ca.fmin(ratio, 1), 0)  # 0 where not finite, at most 1 but for round-off
+        length, norm = ca.norm_2(v), ca.norm_2(a)
+        ratio = ratio * (length / ca.if_else(norm > 0, norm, 1))  # a zero column: 0
+        basis.append(v / ca.if_else(length > 0, length, 1))  # a dependent column: 0 from here on
+    return ratio - ca.if_else(ratio > 1, ratio - 1, 0)  # at most 1 but for round-off; NaN where A is
 
 
 def _serial_margin(H_q: ca.SX, _H_x: ca.SX) -> ca.SX:
@@ -314,7 +314,7 @@ SINGULARITY_TYPE2 = LocalIndex(
     "= d h / d(q_p, x); 0 where the platform moves with the actuators held",
     "-", 0.0, 1.0, 0.0, _parallel_margin, "constraint", ("H_q", "H_x"), dimension=None, raw=True,
 )
-SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular)
+SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular_types)
 
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
     INVERSE_CONDITION_F,
