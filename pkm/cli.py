@@ -345,6 +345,9 @@ def cmd_index(args: argparse.Namespace) -> None:
     text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}{_unit(data['unit'])}"
     if np.isfinite(value.accuracy):
         text += f" (accuracy {value.accuracy:.1e}, resolution {value.resolution})"
+    data["converged"] = value.converged
+    if not value.converged:
+        text += f"\nNOT CONVERGED: {value.note.removeprefix('not converged: ')}"
     if np.isnan(float(value)):
         data["undefined"] = _undefined(m, args.region)
         text += f" (undefined: {data['undefined']})"
@@ -371,9 +374,10 @@ def cmd_index(args: argparse.Namespace) -> None:
     if grad is not None:
         data["gradient"] = grad
         text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
-        if value.note:
-            data["note"] = value.note
+        if value.note and value.converged:
             text += f"\nnote: {value.note}"
+    if value.note:
+        data["note"] = value.note
     _emit(args, data, text)
 
 

@@ -44,6 +44,7 @@ if TYPE_CHECKING:
 SINGULAR_CONDITION = 1e12
 ONE_SIDED_STEP = 1e-7  # relative step to the side of a design where a one-sided derivative is taken
 ONE_SIDED_AGREEMENT = 1e-6  # relative: the value on that side, extrapolated back, equals the design's to this
+SINGULAR_SAMPLES = 64  # cells per axis of the grid of a region's poses searched for a singularity
 
 
 class _Delegate:
@@ -489,11 +490,30 @@ class Mechanism:
                                         gradient=gradient)
 
         value, grad = at(d)
+        if not value.converged:
+            value.note += self._singular_in(where, d, branch.name, spec.reduce)
         if grad is None:
             return value
         if np.isfinite(value) and not np.all(np.isfinite(grad)):
             grad = self._one_sided(at, d, value, grad)
         return value, self.design_dict(grad)
+
+    def _singular_in(self, region: Any, d: np.ndarray, mode: str, reduce: str) -> str:
+        """Where a parametrised region holds a pose near a singularity (either margin below SINGULAR_NEAR at a
+        grid of its poses), that pose and its margins, in words for a note; else empty."""
+        from pkm.indices.local import SINGULAR_NEAR
+
+        x, _ = region.sample(self.functions, d, SINGULAR_SAMPLES, reduce)
+        margins = np.minimum(*(self.local_index(f"singularity_margin_type{k}", x, d, mode=mode) for k in (1, 2)))
+        if not np.any(margins < SINGULAR_NEAR):
+            return ""
+        k = int(np.nanargmin(margins))
+        kinds = [f"type {t} {v:.1e}" for t, v in (("I", self.local_index("singularity_margin_type1", x[k], d,
+                                                                          mode=mode)),
+                                                  ("II", self.local_index("singularity_margin_type2", x[k], d,
+                                                                          mode=mode)))]
+        return (f"; the region holds poses near a singularity, where the index grows without bound or kinks: at "
+                f"{np.round(x[k], 6).tolist()} the singularity margins are {', '.join(kinds)}")
 
     def _one_sided(self, at: Callable[[np.ndarray], Any], d: np.ndarray, value: Any, grad: np.ndarray) -> np.ndarray:
         """Where the gradient of a finite value is not (the design sits where the region's placement switches

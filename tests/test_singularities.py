@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import warnings
 
 import casadi as ca
@@ -16,7 +17,7 @@ import pkm
 from pkm.cli import main
 from pkm.errors import SingularityError, SingularityWarning
 from pkm.export import export_urdf
-from pkm.indices.local import SINGULAR, hadamard_ratio
+from pkm.indices.local import SINGULAR, SINGULAR_NEAR, hadamard_ratio
 
 # a 3-RPR whose platform pattern is in line with the base's: at phi = 0 the three legs' lines meet at the
 # centre, a type II singularity over the whole plane phi = 0
@@ -121,3 +122,36 @@ def test_the_designers_page_states_the_singular_threshold():
 
     text = " ".join((Path(__file__).parent.parent / "docs" / "designer.md").read_text().split())
     assert f"A pose with a margin below {SINGULAR:g} (`pkm.indices.local.SINGULAR`) is singular" in text
+    assert f"naming a pose of the region within {SINGULAR_NEAR:g} of a singularity" in text
+
+
+def test_an_index_refined_to_its_cap_short_of_its_accuracy_says_not_converged(monkeypatch, capsys):
+    """The five-bar's k_av over its MIW in mode in_out (1/|J_11|, unbounded inside the region) changes by
+    more than its value from one resolution to the next up to the refinement's cap: the value says it did not
+    converge and the command line prints so (it printed the row as a result, "accuracy 17" beside 26.9)."""
+    from pkm.regions import quadrature
+
+    monkeypatch.setattr(quadrature, "ADAPTIVE_LIMIT", 32)  # the cap, low: the same stop, sooner
+    five_bar = pkm.load("five_bar")
+    value = five_bar.global_index("k_av", region="miw", mode="in_out")
+    assert not value.converged
+    assert value.note.startswith("not converged: at resolution 32, the largest the refinement takes")
+    assert five_bar.global_index("gci", region="miw").converged
+    assert main(["index", "five_bar", "k_av", "--region", "miw", "--mode", "in_out"]) == 0
+    assert "\nNOT CONVERGED: at resolution 32" in capsys.readouterr().out
+    assert main(["index", "five_bar", "k_av", "--region", "miw", "--mode", "in_out", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["converged"] is False
+    assert data["note"].startswith("not converged")
+
+
+def test_a_region_near_a_singularity_is_named_in_the_note():
+    """A disc beside the five-bar's stretched left leg holds poses of type I margin below 1e-2: the note of a
+    not converged index there names the pose and both margins."""
+    five_bar = pkm.load("five_bar")
+    region = five_bar.regions["miw"].at((0.2, math.sqrt(2.2**2 - 1.0) - 0.03), (0.05,))
+    note = five_bar._singular_in(region, five_bar.design().vector(), "out_out", "mean")
+    assert re.search(r"the region holds poses near a singularity, .* the singularity margins are type I "
+                     r"[0-9.]+e-0[3-9], type II [0-9.]+e-01", note)
+    clear = five_bar.regions["miw"].at((0.0, 1.6), (0.05,))
+    assert five_bar._singular_in(clear, five_bar.design().vector(), "out_out", "mean") == ""

@@ -315,6 +315,7 @@ SINGULARITY_TYPE2 = LocalIndex(
     "-", 0.0, 1.0, 0.0, _parallel_margin, "constraint", ("H_q", "H_x"), dimension=None, raw=True,
 )
 SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular_types)
+SINGULAR_NEAR = 1e-2  # one below this is near a singularity (a not converged index's note names it)
 
 LOCAL_INDICES: tuple[LocalIndex, ...] = (
     INVERSE_CONDITION_F,

@@ -378,7 +378,13 @@ def adaptive_value(
     grad = None
     if gradient:
         value, grad = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution, gradient=True)
-    return _result(spec, region, value, resolution=resolution, accuracy=abs(value - previous)), grad
+    result = _result(spec, region, value, resolution=resolution, accuracy=abs(value - previous))
+    if np.isfinite(value) and result.accuracy > tolerance * max(1.0, abs(value)):
+        result.converged = False
+        result.note = (f"not converged: at resolution {resolution}, the largest the refinement takes, the value "
+                       f"still changes by {result.accuracy:.1e} from half of it, more than the {tolerance:g} asked "
+                       "(relative above 1): the index is not smooth over the region")
+    return result, grad
 
 
 def sampled_check(

@@ -6,13 +6,15 @@ from __future__ import annotations
 class GlobalValue(float):
     """A global index value that also reports the region, the resolution, how many points it used and
     the accuracy reached: the change from the same rule at half the resolution (NaN when not estimated);
-    ``note`` says what a caller should know of it (a one-sided gradient, say)."""
+    ``converged`` is False where a refinement stopped at its largest resolution short of the accuracy asked,
+    and ``note`` says what a caller should know of it (not converged and why, a one-sided gradient)."""
 
     points: int
     region: str
     resolution: int
     accuracy: float
     note: str = ""
+    converged: bool = True
 
     def __new__(
         cls, value: float, *, points: int, region: str, resolution: int, accuracy: float = float("nan")
