@@ -178,7 +178,9 @@ def test_the_result_lists_every_constraint_with_its_value_slack_activity_and_mul
     assert main(["design", str(task), "--starts", "1", "--resolution", "4", "--out", str(tmp_path / "out")]) == 0
     text = capsys.readouterr().out
     saved = json.loads((tmp_path / "out" / "five_bar.my_disc.json").read_text())
-    margin, length = saved["constraints"]
+    margin, length, default = saved["constraints"]
+    assert default["name"] == "singularity_margin_min over task >= 0.01 (the default margin)"
+    assert default["value"] > 0.01
     assert saved["optimum"]["constraints"] == saved["constraints"]
     assert length["lower"] == 1.05
     assert length["value"] == pytest.approx(1.05, abs=1e-7)

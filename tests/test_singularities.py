@@ -61,7 +61,7 @@ def test_the_hadamard_ratio_is_scale_free_one_when_orthogonal_and_zero_when_sing
     singular = M.copy()
     singular[:, 2] = singular[:, 0] - 2 * singular[:, 1]
     assert float(f(singular)) < 1e-14
-    assert float(f(np.zeros((3, 3)))) == 0.0
+    assert float(f(np.zeros((3, 3)))) < 1e-14
 
 
 def test_the_margins_vanish_at_the_five_bars_stretched_leg_and_the_in_line_3rpr(rpr3_file):
@@ -123,6 +123,9 @@ def test_the_designers_page_states_the_singular_threshold():
     text = " ".join((Path(__file__).parent.parent / "docs" / "designer.md").read_text().split())
     assert f"A pose with a margin below {SINGULAR:g} (`pkm.indices.local.SINGULAR`) is singular" in text
     assert f"naming a pose of the region within {SINGULAR_NEAR:g} of a singularity" in text
+    from pkm.synthesis.designer import SINGULARITY_MARGIN
+
+    assert f"`singularity_margin_min >= {SINGULARITY_MARGIN:g}` over the task by default" in text
 
 
 def test_an_index_refined_to_its_cap_short_of_its_accuracy_says_not_converged(monkeypatch, capsys):
@@ -155,3 +158,39 @@ def test_a_region_near_a_singularity_is_named_in_the_note():
                      r"[0-9.]+e-0[3-9], type II [0-9.]+e-01", note)
     clear = five_bar.regions["miw"].at((0.0, 1.6), (0.05,))
     assert five_bar._singular_in(clear, five_bar.design().vector(), "out_out", "mean") == ""
+
+
+RPR3_TURNED = RPR3.replace('name = "rpr3_in_line"', 'name = "rpr3_turned"').replace(
+    '{name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},',
+    '{name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},\n'
+    '  {name = "alpha", default = 0.5, lower = -3.2, upper = 3.2, unit = "rad", doc = "platform pattern turned"},',
+).replace('platform = {circle = "r", start = "pi/2"}', 'platform = {circle = "r", start = "pi/2 + alpha"}')
+
+
+def test_a_design_over_a_singular_region_is_held_off_it_by_the_default_margin(tmp_path):
+    """The 3-RPR with its platform pattern turned by alpha is type II singular over phi = 0 at alpha = 0, where
+    its manipulability |det J_f| grows without bound: maximised over a box of poses about phi = 0 it pulls
+    alpha to 0. The default singularity margin holds every pose of the task 0.01 from singularity (active at the
+    optimum, stated in the report); singularity_margin = 0 leaves it out, and IPOPT runs into the singular
+    design."""
+    from pkm.synthesis import SynthesisError
+    from pkm.synthesis.designer import design_problem
+
+    (tmp_path / "rpr3.toml").write_text(RPR3_TURNED)
+    task = {"shape": "box", "centre": [0.0, 0.0, 0.0], "size": [0.04, 0.04, 0.2]}
+
+    def problem(**options):
+        return design_problem(str(tmp_path / "rpr3.toml"), task=task, variables={"alpha": [0.0, 1.2]},
+                              objective="manipulability", constraints=[], resolution=4, baseline=("grid", 5),
+                              **options)
+
+    held = pkm.synthesize(problem(), progress=False, starts=2)
+    (default,) = held.optimum.constraints
+    assert default.name == "singularity_margin_min over task >= 0.01 (the default margin)"
+    assert default.value == pytest.approx(0.01, abs=1e-6)
+    assert default.active
+    assert held.variables["alpha"] > 0.1
+    assert problem(singularity_margin=0).constraints == ()
+    with pytest.raises(SynthesisError) as failed:
+        pkm.synthesize(problem(singularity_margin=0), progress=False, starts=2)
+    assert failed.value.result.variables["alpha"] < held.variables["alpha"]

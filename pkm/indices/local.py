@@ -205,6 +205,10 @@ def _lowest_frequency(S: ca.SX) -> ca.SX:
     return ca.sqrt(ca.fmax(symmetric_eigenvalues(S)[1], 0))
 
 
+DEPENDENT = 1e-30  # the Hadamard ratio's floor per column, relative to its norm
+TINY = 1e-300  # the floor of a column's squared part independent of those before it
+
+
 def hadamard_ratio(A: ca.SX) -> ca.SX:
     """|det A| / prod_j ||a_j||, the columns' Hadamard ratio: 1 where the columns are orthogonal, 0 where A is
     singular, in [0, 1] by Hadamard's inequality, and the same whatever the units of A's columns (a column's
@@ -220,10 +224,18 @@ def hadamard_ratio(A: ca.SX) -> ca.SX:
         for _ in range(2):
             for u in basis:
                 v = v - ca.dot(u, v) * u
-        length, norm = ca.norm_2(v), ca.norm_2(a)
-        ratio = ratio * (length / ca.if_else(norm > 0, norm, 1))  # a zero column: 0
-        basis.append(v / ca.if_else(length > 0, length, 1))  # a dependent column: 0 from here on
+        # the norms with floors far below any margin: where a column depends on those before it exactly (or is
+        # zero) its factor is 1e-30 (DEPENDENT), not 0/0, and the derivatives are finite
+        norm = ca.sqrt(ca.sumsqr(a) + TINY / DEPENDENT**2)
+        length = ca.sqrt(ca.sumsqr(v) + DEPENDENT**2 * ca.sumsqr(a) + TINY)
+        ratio = ratio * (length / norm)
+        basis.append(v / length)
     return ratio - ca.if_else(ratio > 1, ratio - 1, 0)  # at most 1 but for round-off; NaN where A is
+
+
+def _least(a: ca.SX, b: ca.SX) -> ca.SX:
+    """The lesser of two values, NaN where either is (where fmin would give the other)."""
+    return ca.if_else(a < b, a, b) + 0 * a
 
 
 def _serial_margin(H_q: ca.SX, _H_x: ca.SX) -> ca.SX:
@@ -314,6 +326,12 @@ SINGULARITY_TYPE2 = LocalIndex(
     "= d h / d(q_p, x); 0 where the platform moves with the actuators held",
     "-", 0.0, 1.0, 0.0, _parallel_margin, "constraint", ("H_q", "H_x"), dimension=None, raw=True,
 )
+SINGULARITY = LocalIndex(
+    "singularity_margin",
+    "singularity margin: the lesser of the type I and type II margins (singularity_margin_type1, _type2)",
+    "-", 0.0, 1.0, 0.0, lambda H_q, H_x: _least(_serial_margin(H_q, H_x), _parallel_margin(H_q, H_x)),
+    "constraint", ("H_q", "H_x"), dimension=None, raw=True,
+)
 SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular_types)
 SINGULAR_NEAR = 1e-2  # one below this is near a singularity (a not converged index's note names it)
 
@@ -330,6 +348,7 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     NATURAL_FREQUENCY,
     ACTUATOR_FORCE,
     WORKSPACE_MARGIN,
+    SINGULARITY,
     SINGULARITY_TYPE1,
     SINGULARITY_TYPE2,
 )

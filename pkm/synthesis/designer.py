@@ -38,6 +38,7 @@ from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quan
 MONTE_CARLO_SEED = 0
 MAX_BOUND = 1e15  # the largest magnitude of a constraint's bound or an objective's weight (SI): IPOPT takes
 # a bound beyond 1e19 for none, and one near 1e308 overflows in its restoration phase, which then never ends
+SINGULARITY_MARGIN = 0.01  # the least singularity margin a task holds by default (singularity_margin_min)
 MAX_BASELINE_POINTS = 1_000_000  # designs a baseline evaluates at most: a grid's nodes, Monte Carlo's samples
 NAME = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")  # CasADi's function names, which pkm's follow
 DOTTED = re.compile(rf"{NAME.pattern}(?:\.{NAME.pattern})*")  # a problem's: its dots become underscores
@@ -411,6 +412,7 @@ def design_problem(
     resolution: int = 8,
     trajectory: Any = None,
     encoder: Sequence[float] | None = None,
+    singularity_margin: float = SINGULARITY_MARGIN,
 ) -> Problem:
     """A synthesis over the task region ``task`` (a region name of the mechanism, a region, a table placing one in
     SI, :func:`task_region`, or given poses, :func:`task_poses`) of ``mechanism`` (a name, a description file or a
@@ -425,7 +427,10 @@ def design_problem(
     workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
     stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``,
     at most MAX_BASELINE_POINTS designs. A bound is a finite number of magnitude at most MAX_BOUND, or -inf (a
-    lower one), inf (an upper one) for none; ``name`` letters, digits and single underscores or dots.
+    lower one), inf (an upper one) for none; ``name`` letters, digits and single underscores or dots. Every
+    problem holds its task ``singularity_margin`` (in [0, 1), SINGULARITY_MARGIN by default) from singularity:
+    the constraint ``singularity_margin_min >= singularity_margin`` over the task, which a constraint on
+    ``singularity_margin_min`` given in ``constraints`` replaces and 0 leaves out.
     IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
     holds every node, and the exact Hessian of those rows costs more than it saves). With ``trajectory`` (a
     :class:`pkm.regions.TrajectoryRegion`, a move, or {waypoints, v_max, a_max}: trapezoidal moves between the
@@ -510,6 +515,13 @@ def design_problem(
             stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
                                      lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
                                      lower, upper))
+    margin = _number(singularity_margin, "singularity_margin")
+    if not 0 <= margin < 1:
+        raise _fail("singularity_margin", "a number in [0, 1) (0: no margin)", singularity_margin)
+    if margin > 0 and "singularity_margin_min" not in quantities:
+        quantities["singularity_margin_min"] = quantity("singularity_margin_min", "singularity_margin")
+        stated.append(Constraint(f"singularity_margin_min over {task_name} >= {margin:g} (the default margin)",
+                                 lambda t: t["singularity_margin_min"], margin, math.inf))
     measured = [n for n, q in quantities.items() if q.index.reduce == "measure"]
     if measured and isinstance(region, Poses):
         raise _fail("task", f"a region with a measure for {measured[0]}; given poses have none")
@@ -534,7 +546,7 @@ def design_problem(
 
 
 PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "derived", "objective", "constraints",
-                  "mode", "baseline", "resolution", "trajectory", "encoder"}
+                  "singularity_margin", "mode", "baseline", "resolution", "trajectory", "encoder"}
 CONSTRAINT_KINDS = ("index", "expression", *PHYSICAL)
 
 
@@ -586,4 +598,5 @@ def read_problem(path: str | os.PathLike) -> Problem:
         objective=raw.get("objective", "gci"), constraints=triples, mode=raw.get("mode"),
         name=raw.get("name"), doc=raw.get("doc"), baseline=(baseline.get("kind", "grid"), baseline.get("size", 21)),
         resolution=raw.get("resolution", 8), trajectory=raw.get("trajectory"), encoder=raw.get("encoder"),
+        singularity_margin=raw.get("singularity_margin", SINGULARITY_MARGIN),
     )
