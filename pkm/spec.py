@@ -677,6 +677,13 @@ def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
     return [(field, value)]
 
 
+def _within_a_turn(field: str, name: str, angle: float) -> None:
+    """An angle of a description within a turn either way, else the error asks whether it is in degrees."""
+    if abs(angle) > 2 * math.pi:
+        raise _fail(field, f"an angle in radians within a turn (|{name}| <= 2 pi); {angle:g} rad is beyond it: in "
+                           f"degrees? ({angle:g} deg = {math.radians(angle):.6g} rad)")
+
+
 def _check_values(data: Mapping[str, Any]) -> None:
     """At the default design, every expression has a finite value, the legs' lengths are positive, their
     directions do not vanish, a range's lower end lies below its upper, the regions' sizes are positive and
@@ -695,8 +702,19 @@ def _check_values(data: Mapping[str, Any]) -> None:
     for field, part in fields:
         for where, tree in ([] if part is None else _trees(part, field)):
             value(where, tree)
+    names = FRAMES[data["pose"]["frame"]][0]
+    for j, (name, unit) in enumerate(zip(names, data["pose"]["units"], strict=True)):
+        if unit == "rad":
+            _within_a_turn(f"home[{j}]", name, value(f"home[{j}]", data["home"][j]))
     for k, leg in enumerate(data["legs"]):
         where = f"legs (leg {k + 1})"
+        if "range" in leg and kind_of(leg).unit == "rad":
+            low, high = (value(f"{where}.range[{j}]", leg["range"][j]) for j in range(2))
+            for j, bound in enumerate((low, high)):
+                _within_a_turn(f"{where}.range[{j}]", "the actuated joint's bound", bound)
+            if high - low > 2 * math.pi:
+                raise _fail(f"{where}.range", f"a revolute joint's range of a turn at most; [{low:g}, {high:g}] rad "
+                                              f"spans {high - low:g} rad: in degrees?")
         for name in POSITIVE:
             if name in leg and not value(f"{where}.{name}", leg[name]) > 0:
                 raise _fail(f"{where}.{name}", "a positive value at the default design")

@@ -8,6 +8,7 @@ import json
 import math
 import re
 import warnings
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -194,3 +195,26 @@ def test_a_design_over_a_singular_region_is_held_off_it_by_the_default_margin(tm
     with pytest.raises(SynthesisError) as failed:
         pkm.synthesize(problem(singularity_margin=0), progress=False, starts=2)
     assert failed.value.result.variables["alpha"] < held.variables["alpha"]
+
+
+def test_an_angle_beyond_a_turn_in_a_description_asks_whether_it_is_in_degrees():
+    """The home pose's angle and a revolute actuator's range beyond a turn are refused naming the field and
+    asking "in degrees?", as a pose beyond a turn on the command line is."""
+    import tomllib
+
+    from pkm.spec import DescriptionError, describe
+
+    raw = tomllib.loads(RPR3.replace("home = [0, 0, 0]", "home = [0, 0, 30]"))
+    with pytest.raises(DescriptionError, match=r"home\[2\] violates: an angle in radians within a turn "
+                                               r"\(\|phi\| <= 2 pi\); 30 rad is beyond it: in degrees\? "
+                                               r"\(30 deg = 0\.523599 rad\)"):
+        describe(raw)
+    rrr3 = tomllib.loads((Path(pkm.__file__).parent / "models" / "described" / "rrr3.toml").read_text())
+    rrr3["legs"]["range"] = [-180, 180]
+    with pytest.raises(DescriptionError, match=r"legs \(leg 1\)\.range\[0\] violates: an angle in radians within a "
+                                               r"turn .*-180 rad is beyond it: in degrees\?"):
+        describe(rrr3)
+    rrr3["legs"]["range"] = [-4, 4]
+    with pytest.raises(DescriptionError, match=r"legs \(leg 1\)\.range violates: a revolute joint's range of a turn "
+                                               r"at most; \[-4, 4\] rad spans 8 rad: in degrees\?"):
+        describe(rrr3)
