@@ -45,6 +45,7 @@ SINGULAR_CONDITION = 1e12
 ONE_SIDED_STEP = 1e-7  # relative step to the side of a design where a one-sided derivative is taken
 ONE_SIDED_AGREEMENT = 1e-6  # relative: the value on that side, extrapolated back, equals the design's to this
 SINGULAR_SAMPLES = 64  # cells per axis of the grid of a region's poses searched for a singularity
+SINGULARITY_TYPES = ("type I", "type II")
 
 
 class _Delegate:
@@ -332,29 +333,33 @@ class Mechanism:
         values = self._first_order(pose, design, mode, names)
         return {k: v[..., 0, 0] for k, v in zip(names, values, strict=True)}
 
+    def _singularity_margins(self, pose: Any, design: DesignLike, mode: str | None) -> np.ndarray:
+        """The type I and type II singularity margins at each pose, (N, 2)."""
+        return np.stack([np.atleast_1d(self.local_index(f"singularity_margin_type{k}", pose, design, mode=mode))
+                         for k in (1, 2)], axis=-1)
+
     def singular_types(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> list[list[str]]:
         """Per pose, the singularities it is at: ``"type I"`` and ``"type II"`` where that margin
         (``singularity_margin_type1``, ``_type2``: normalised, in [0, 1]) is below
         :data:`pkm.indices.local.SINGULAR`; none where the pose is out of reach."""
         from pkm.indices.local import SINGULAR
 
-        margins = [self.local_index(f"singularity_margin_type{k}", pose, design, mode=mode) for k in (1, 2)]
-        return [[name for name, m in zip(("type I", "type II"), values, strict=True) if m < SINGULAR]
-                for values in zip(*(np.atleast_1d(m) for m in margins), strict=True)]
+        return [[name for name, m in zip(SINGULARITY_TYPES, row, strict=True) if m < SINGULAR]
+                for row in self._singularity_margins(pose, design, mode)]
 
     def singularity_note(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> str:
         """Empty where the pose (one) is not singular in the working mode, else which singularity and its
         margin, in words."""
         from pkm.indices.local import SINGULAR
 
-        (types,) = self.singular_types(np.atleast_2d(pose), design, mode=mode)
-        if not types:
+        (row,) = self._singularity_margins(np.atleast_2d(pose), design, mode)
+        singular = [(k, name, m) for k, (name, m) in enumerate(zip(SINGULARITY_TYPES, row, strict=True), 1)
+                    if m < SINGULAR]
+        if not singular:
             return ""
-        values = {k: float(self.local_index(f"singularity_margin_type{k}", np.atleast_2d(pose), design, mode=mode)[0])
-                  for k, name in ((1, "type I"), (2, "type II")) if name in types}
-        margins = ", ".join(f"singularity_margin_type{k} = {v:.2g}" for k, v in values.items())
-        return (f"pose {np.ravel(pose).tolist()} is a {' and '.join(types)} singularity of the {self.name} in mode "
-                f"{self.working_mode(mode).name} ({margins} < {SINGULAR:g})")
+        margins = ", ".join(f"singularity_margin_type{k} = {m:.2g}" for k, _, m in singular)
+        return (f"pose {np.ravel(pose).tolist()} is a {' and '.join(name for _, name, _ in singular)} singularity "
+                f"of the {self.name} in mode {self.working_mode(mode).name} ({margins} < {SINGULAR:g})")
 
     def _has(self, spec: LocalIndex) -> bool:
         """Whether this mechanism offers the local index: its source function has every output the index
@@ -504,16 +509,14 @@ class Mechanism:
         from pkm.indices.local import SINGULAR_NEAR
 
         x, _ = region.sample(self.functions, d, SINGULAR_SAMPLES, reduce)
-        margins = np.minimum(*(self.local_index(f"singularity_margin_type{k}", x, d, mode=mode) for k in (1, 2)))
-        if not np.any(margins < SINGULAR_NEAR):
+        margins = self._singularity_margins(x, d, mode)
+        least = margins.min(axis=1)
+        if not np.any(least < SINGULAR_NEAR):
             return ""
-        k = int(np.nanargmin(margins))
-        kinds = [f"type {t} {v:.1e}" for t, v in (("I", self.local_index("singularity_margin_type1", x[k], d,
-                                                                          mode=mode)),
-                                                  ("II", self.local_index("singularity_margin_type2", x[k], d,
-                                                                          mode=mode)))]
+        k = int(np.nanargmin(least))
+        kinds = ", ".join(f"type {t} {v:.1e}" for t, v in zip(("I", "II"), margins[k], strict=True))
         return (f"; the region holds poses near a singularity, where the index grows without bound or kinks: at "
-                f"{np.round(x[k], 6).tolist()} the singularity margins are {', '.join(kinds)}")
+                f"{np.round(x[k], 6).tolist()} the singularity margins are {kinds}")
 
     def _one_sided(self, at: Callable[[np.ndarray], Any], d: np.ndarray, value: Any, grad: np.ndarray) -> np.ndarray:
         """Where the gradient of a finite value is not (the design sits where the region's placement switches
