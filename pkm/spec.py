@@ -79,7 +79,7 @@ from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Condition, Parameter
 from pkm.errors import ComputationError, PkmError, SingularityWarning
-from pkm.kinematics import Branch, FunctionTable, NearestSeeds
+from pkm.kinematics import Branch, FunctionTable, NearestSeeds, within_limits
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
 from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle
@@ -899,9 +899,10 @@ def composed_inverse_kinematics(description: Description, functions: Mapping[str
     step at each of CONTINUATION_STEPS points, then NEWTON_STEPS there; NaN where it does not close to
     CHAIN_TOLERANCE (so that no value depends on the rounding of iterations that diverge). Its reach: the
     closed-form legs', then per chain leg its closure's Jacobian's determinant in its joints with the sign of
-    the seed's (the branch not left; 0 at the leg's singularity, the edge of its reach), then every leg's
-    range margins. The joints are differentiable in the pose and the design: at a converged Newton step the
-    derivative is the implicit function's."""
+    the seed's (the branch not left; 0 at the leg's singularity, the edge of its reach); the legs' ranges are
+    the description's stated limits (:func:`pkm.kinematics.within_limits`), not its reach. The joints are
+    differentiable in the pose and the design: at a converged Newton step the derivative is the implicit
+    function's."""
     start = functions["continuation_start"]
     d0 = np.array([p["default"] for p in description.data["parameters"]])
     (x0,) = evaluate(functions["home"], d0)
@@ -942,8 +943,7 @@ def composed_inverse_kinematics(description: Description, functions: Mapping[str
         margins.append(side * ca.det(leg(q_leg, c1, d)[1]))
         for j, c in enumerate(columns):
             q[c] = q_leg[j]
-    margins_all = functions["workspace_margins"](ca.vertcat(*q), x, d)
-    return ca.Function("inverse_kinematics", [x, mode, d], [ca.vertcat(*q), ca.vertcat(*margins, margins_all)],
+    return ca.Function("inverse_kinematics", [x, mode, d], [ca.vertcat(*q), ca.vertcat(*margins)],
                        start.name_in(), start.name_out())
 
 
@@ -1142,6 +1142,9 @@ class DescribedFunctions(FunctionTable):
         functions["first_order"] = composed_first_order(functions["constraint"], n_act, _legs_layout(self.description))
         if "continuation_start" in functions:
             functions["inverse_kinematics"] = composed_inverse_kinematics(self.description, functions)
+        if limited(self.description.data):
+            functions.update(within_limits(functions, LIMITS))
+        self._limit_names = tuple(getattr(module, "LIMITS", ()))
         if "mass_matrix" in functions:
             functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
             functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"],
@@ -1154,9 +1157,24 @@ class DescribedFunctions(FunctionTable):
         return self._functions
 
     @property
+    def limit_names(self) -> tuple[str, ...]:
+        """The names of the margins of ``workspace_margins``, leg by leg (``leg 1 reach``, ``leg 1 range
+        upper``, ...)."""
+        self._load()
+        return self._limit_names
+
+    @property
     def source_hash(self) -> str:
         """The description's key: the hash of its normalised form and of the tools that derive it."""
         return self.description.key[:16]
+
+
+LIMITS = "workspace_margins"  # a description's stated limits: its legs' ranges and cones, beside their reach
+
+
+def limited(data: Mapping[str, Any]) -> bool:
+    """Whether a normalised description states limits beyond its legs' reach (a range, a cone)."""
+    return any("range" in leg or "cone" in leg for leg in data["legs"])
 
 
 def _mode_name(signs: Sequence[int]) -> str:
@@ -1230,6 +1248,8 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "functions": cached_property(lambda self: DescribedFunctions(self.description)),
         "workspace_box": _workspace_box,
         "regions": {r["name"]: _region(r, len(pose_names)) for r in data["regions"]},
+        "limits": LIMITS if limited(data) else None,
+        "limit_names": property(lambda self: self.functions.limit_names),
     }
     if length is not None:
         attributes["characteristic_length"] = staticmethod(expressions.function(length))

@@ -61,7 +61,8 @@ class ModuleSpec:
 
     ``parameters``, ``pose`` and ``actuators`` are the names of the symbols of the design port, the
     pose port and the actuated joints (set by :func:`symbolic.kinematics.add_kinematics`); they are
-    emitted as the module's ``PARAMETERS``, ``POSE`` and ``ACTUATORS`` for the runtime to check.
+    emitted as the module's ``PARAMETERS``, ``POSE`` and ``ACTUATORS`` for the runtime to check; ``limits``
+    names the margins of a ``workspace_margins`` function, emitted as ``LIMITS`` where there are any.
     """
 
     name: str
@@ -71,6 +72,7 @@ class ModuleSpec:
     parameters: tuple[str, ...] = ()
     pose: tuple[str, ...] = ()
     actuators: tuple[str, ...] = ()
+    limits: tuple[str, ...] = ()
 
     def add(
         self,
@@ -233,6 +235,7 @@ def render_module(spec: ModuleSpec, source_hash: str) -> str:
         "PARAMETERS = " + _tuple(spec.parameters),
         "POSE = " + _tuple(spec.pose),
         "ACTUATORS = " + _tuple(spec.actuators),
+        *(["LIMITS = " + _tuple(spec.limits)] if spec.limits else []),
         "",
     ]
     for fn in spec.functions:

@@ -32,7 +32,8 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   Q^2)); reach: P^2 + Q^2 - K^2.
 * ``UPS``, spatial: an actuated prismatic joint of length l between A and C (universal and spherical joints
   at its ends): h = |C - A|^2 - l^2, l = |C - A|, one branch; with ``cone``, the leg's angle from the base's
-  normal and from the platform's at most cone: (C - A).n - cos(cone) |C - A| >= 0 for both normals.
+  normal and from the platform's at most cone: (C - A).n - cos(cone) |C - A| >= 0 for both normals (two
+  stated limits beside its reach).
 
 * ``chain``, planar or spatial: R, P, U and parallelogram joints from A, each with its axes and its link in
   the frame of the body before it (the leg's frame the base's turned about z by ``turn``), ending at C in
@@ -42,7 +43,8 @@ Legs (A the base attachment, C the platform attachment in the base frame, sigma 
   :func:`pkm.spec.composed_inverse_kinematics` solves it from ``chain<k>(q_leg, c, design) -> (h, H)`` and
   ``chain<k>_ends(x, design) -> (a, c)``. Its side is the sign of det H.
 
-A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more reach margins.
+A leg's ``range`` (lower, upper) bounds its actuated joint (a stroke, an arm's sweep): two more margins of
+``workspace_margins``, not of the reach (the runtime states them as limits: :func:`pkm.kinematics.within_limits`).
 With bodies, ``mass_matrix(q, x, design) -> M`` (T = z_dot^T M z_dot / 2 in z = (q, x)) and, with
 ``gravity``, ``gravity(q, x, design) -> (G, V)`` (dV/dz and V). ``skeleton(q, x, design)`` gives the joints'
 points leg by leg (base, the leg's joints between, platform). ``branch_sides(q, x, design)`` has a sign per leg
@@ -60,7 +62,7 @@ import json
 import math
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -141,6 +143,8 @@ class _Leg:
     frames: tuple[tuple[sp.Matrix, sp.Matrix, tuple[tuple[sp.Symbol, sp.Matrix], ...], sp.Expr], ...] = ()
     # of a chain leg, per joint: the origin and rotation of the body after it, its angular velocity's axis per
     # joint variable (spatial) and its angle (planar)
+    reach_names: tuple[str, ...] = ()  # what each reach margin bounds, where it is not the leg's reach alone
+    stated: tuple[tuple[str, sp.Expr], ...] = ()  # limits of its joints beside its reach (a cone), named
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
@@ -152,7 +156,7 @@ def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> _Leg:
     h = list(a + l1 * _e(theta) + l2 * _e(phi) - c)
     ik = {theta: angle, phi: sp.atan2(c[1] - elbow[1], c[0] - elbow[0])}
     return _Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma,
-                side=sp.sin(phi - theta), joints=(a + l1 * _e(theta),))
+                side=sp.sin(phi - theta), joints=(a + l1 * _e(theta),), reach_names=("reach outer", "reach inner"))
 
 
 def _rpr(k: int, a: sp.Matrix, c: sp.Matrix) -> _Leg:
@@ -191,11 +195,12 @@ def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) ->
 def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr | None) -> _Leg:
     length = sp.Symbol(f"l{k + 1}", real=True)
     d = c - a
-    reach = [d.dot(d)]
+    stated = ()
     if cone is not None:
         normal = rotation[:, 2]
-        reach += [d[2] - sp.cos(cone) * sp.sqrt(d.dot(d)), d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))]
-    return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, reach, None)
+        stated = (("cone at the base", d[2] - sp.cos(cone) * sp.sqrt(d.dot(d))),
+                  ("cone at the platform", d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))))
+    return _Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None, stated=stated)
 
 
 def _axis_rotation(axis: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
@@ -555,6 +560,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     kinetic: list[Kinetic] = []
     skeleton: list[sp.Matrix] = []
     ends: list[tuple[sp.Matrix, sp.Matrix]] = []
+    limits: list[str] = []
     for k, leg in enumerate(description["legs"]):
         a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
         if leg["kind"] == "RR":
@@ -571,16 +577,16 @@ def module(description: dict[str, Any]) -> ModuleSpec:
         else:
             legs.append(_chain(k, a, c, leg, vector=vector, scalar=scalar, start=start))
         last = legs[-1]
-        margins = tuple(last.reach)
+        names = last.reach_names or (("reach",) if len(last.reach) == 1 else
+                                     tuple(f"reach {i + 1}" for i in range(len(last.reach))))
+        margins = (*last.reach, *(m for _, m in last.stated))
+        names += tuple(n for n, _ in last.stated)
         if "range" in leg:
             lo, hi = (scalar(t) for t in leg["range"])
-            closed = [] if last.end is not None else [last.ik[last.actuated] - lo, hi - last.ik[last.actuated]]
-            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, [*last.reach, *closed], last.sign,
-                            (*margins, last.actuated - lo, hi - last.actuated), last.side, last.joints, last.end,
-                            last.frames)
-        else:
-            legs[-1] = _Leg(last.h, last.actuated, last.passive, last.ik, last.reach, last.sign, margins, last.side,
-                            last.joints, last.end, last.frames)
+            margins += (last.actuated - lo, hi - last.actuated)
+            names += ("range lower", "range upper")
+        legs[-1] = replace(last, margins=margins)
+        limits += [f"leg {k + 1} {name}" for name in names]
         ends.append((a, c))
         skeleton += [a, *legs[-1].joints, c]
         if leg["kind"] == "chain":
@@ -593,7 +599,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     loop = LoopClosure.of([h for leg in legs for h in leg.h], q_a, q_p, pose)
     solution = {s: e for leg in legs for s, e in leg.ik.items()}
     q = sp.Matrix([solution[s] for s in (*q_a, *q_p)])
-    spec = ModuleSpec(name, "symbolic/describe.py", description.get("doc", name))
+    spec = ModuleSpec(name, "symbolic/describe.py", description.get("doc", name), limits=tuple(limits))
     design_port = Port("design", design, "; ".join(f"{p['name']} [{p['unit']}]" for p in description["parameters"]))
     pose_port = Port("x", pose, ", ".join(f"{n} [{u}]" for n, u in zip(FRAMES[frame], description["pose"]["units"],
                                                                        strict=True)))
@@ -645,7 +651,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     margins = [m for leg in legs for m in leg.margins]
     spec.add("workspace_margins", (joints, pose_port, design_port),
              (Output("margins", sp.Matrix(margins), "each leg's reach margins and its actuated joint's range, >= 0 "
-                     "inside the workspace"),),
+                     "inside the workspace, named by the module's LIMITS"),),
              "The workspace's margins at a configuration: >= 0 where the legs reach and the actuated joints lie "
              "in their ranges.")
     if description.get("characteristic_length"):

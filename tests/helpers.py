@@ -177,6 +177,31 @@ def benchmarks_section(heading: str) -> str:
     return text[start : None if end < 0 else end].strip()
 
 
+def rpr3_text(name: str, *, R: float, r: float, stroke: tuple[float, float],
+              alpha: tuple[float, float, float] | None = None) -> str:
+    """A planar 3-RPR's description (TOML): base and platform circles R and r, strokes within ``stroke``;
+    its platform pattern in line with the base's, or turned by the parameter alpha (default, lower, upper)."""
+    turn = "" if alpha is None else (f'  {{name = "alpha", default = {alpha[0]}, lower = {alpha[1]}, upper = '
+                                     f'{alpha[2]}, unit = "rad", doc = "the platform pattern turned"}},\n')
+    return f"""
+name = "{name}"
+doc = "planar 3-RPR"
+frame = "planar"
+home = [0, 0, 0]
+characteristic_length = "r"
+parameters = [
+  {{name = "R", default = {R}, lower = 0.1, upper = 5, unit = "m", doc = "base circle"}},
+  {{name = "r", default = {r}, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"}},
+{turn}]
+[legs]
+kind = "RPR"
+count = 3
+base = {{circle = "R", start = "pi/2"}}
+platform = {{circle = "r", start = "pi/2{'' if alpha is None else ' + alpha'}"}}
+range = [{stroke[0]}, {stroke[1]}]
+"""
+
+
 FIVE_BAR_OF_RR_LEGS = {
     "name": "five_bar_described",
     "doc": "the symmetric planar 5R, described: two RR legs from the base ends to the end effector",

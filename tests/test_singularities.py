@@ -13,6 +13,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 import pytest
+from helpers import rpr3_text
 
 import pkm
 from pkm.cli import main
@@ -22,23 +23,7 @@ from pkm.indices.local import SINGULAR, SINGULAR_NEAR, hadamard_ratio
 
 # a 3-RPR whose platform pattern is in line with the base's: at phi = 0 the three legs' lines meet at the
 # centre, a type II singularity over the whole plane phi = 0
-RPR3 = """
-name = "rpr3_in_line"
-doc = "planar 3-RPR, its platform pattern in line with the base's"
-frame = "planar"
-home = [0, 0, 0]
-characteristic_length = "r"
-parameters = [
-  {name = "R", default = 1.0, lower = 0.1, upper = 5, unit = "m", doc = "base circle"},
-  {name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},
-]
-[legs]
-kind = "RPR"
-count = 3
-base = {circle = "R", start = "pi/2"}
-platform = {circle = "r", start = "pi/2"}
-range = [0.3, 1.5]
-"""
+RPR3 = rpr3_text("rpr3_in_line", R=1.0, r=0.4, stroke=(0.3, 1.5))
 
 
 @pytest.fixture(scope="module")
@@ -161,11 +146,7 @@ def test_a_region_near_a_singularity_is_named_in_the_note():
     assert five_bar._singular_in(clear, five_bar.design().vector(), "out_out", "mean") == ""
 
 
-RPR3_TURNED = RPR3.replace('name = "rpr3_in_line"', 'name = "rpr3_turned"').replace(
-    '{name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},',
-    '{name = "r", default = 0.4, lower = 0.05, upper = 5, unit = "m", doc = "platform circle"},\n'
-    '  {name = "alpha", default = 0.5, lower = -3.2, upper = 3.2, unit = "rad", doc = "platform pattern turned"},',
-).replace('platform = {circle = "r", start = "pi/2"}', 'platform = {circle = "r", start = "pi/2 + alpha"}')
+RPR3_TURNED = rpr3_text("rpr3_turned", R=1.0, r=0.4, stroke=(0.3, 1.5), alpha=(0.5, -3.2, 3.2))
 
 
 def test_a_design_over_a_singular_region_is_held_off_it_by_the_default_margin(tmp_path):

@@ -44,7 +44,9 @@ class LocalIndex:
     takes the arguments as generated, in SI, where the index is a physical quantity (an actuator effort,
     a joint angle) rather than a ratio of normalised matrices (:mod:`pkm.regions.pipeline`); ``smooth``,
     where given, a smooth stand-in of the formula (same arguments) that an optimiser's quadrature integrates
-    instead (a positive part smoothed), while every reported value takes the formula."""
+    instead (a positive part smoothed), while every reported value takes the formula; a ``signed`` index (a
+    margin) is defined beyond the reach, negative where a limit or the assembly is violated, and is NaN only
+    where its formula is (:mod:`pkm.regions.pipeline`)."""
 
     name: str
     doc: str
@@ -60,6 +62,7 @@ class LocalIndex:
     dimension: int | None = MAX_DIMENSION  # the largest n x n its formula takes (None: any)
     raw: bool = False
     smooth: Callable[..., ca.SX] | None = None
+    signed: bool = False
 
 
 def _check_square(A: ca.SX) -> int:
@@ -307,11 +310,23 @@ ACTUATOR_FORCE = LocalIndex(
     "N", 0.0, np.inf, np.inf, lambda f: ca.mmax(ca.fabs(f)), "actuator_forces", ("f_a",),
     epigraph_upper=lambda f, t: ca.vertcat(t - f, t + f), dimension=None,
 )
+def defined_margins(m: ca.SX) -> ca.SX:
+    """Margins with each undefined one (a joint's range where its leg does not assemble: NaN) replaced by the
+    least defined one, so that their least value and each epigraph row stay signed and differentiable
+    beyond the reach (a reach margin is negative there); NaN where none is defined."""
+    defined = ca.fabs(m) < np.inf
+    least = ca.mmin(ca.if_else(defined, m, np.inf, True))
+    least = ca.if_else(least < np.inf, least, np.nan, True)
+    return ca.if_else(defined, m, least, True)
+
+
 WORKSPACE_MARGIN = LocalIndex(
     "workspace_margin",
-    "least margin of the mechanism's workspace constraints (>= 0 inside the workspace), from its generated "
-    "workspace_margins; its epigraph keeps every margin as its own smooth constraint",
-    "-", -np.inf, np.inf, -np.inf, ca.mmin, "workspace_margins", ("margins",), lambda m, t: m - t, dimension=None,
+    "least margin of the mechanism's workspace constraints (>= 0 inside the workspace, < 0 beyond it: a "
+    "stroke's or a range's margin wherever the leg's geometry is defined, a reach margin beyond the assembly), "
+    "from its generated workspace_margins; its epigraph keeps every margin as its own smooth constraint",
+    "-", -np.inf, np.inf, -np.inf, lambda m: ca.mmin(defined_margins(m)), "workspace_margins", ("margins",),
+    lambda m, t: defined_margins(m) - t, dimension=None, signed=True,
 )
 
 SINGULARITY_TYPE1 = LocalIndex(

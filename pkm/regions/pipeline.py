@@ -149,10 +149,12 @@ def pipeline(
     With ``matrices`` the normalised argument matrices of the first index follow, with ``first_order``
     every output of the generated ``first_order`` (as generated, not normalised). A pose is reached
     where the mechanism assembles within its stated limits (:func:`pkm.kinematics.within_limits`); with
-    ``assembled``, and for indices that measure those limits, where it assembles. With ``smooth``, an index's
-    smooth stand-in replaces its formula where it has one."""
+    ``assembled``, and for indices that measure those limits, where it assembles; where every index is
+    signed (a margin, defined beyond the reach), where each value is finite, the values unmasked. With
+    ``smooth``, an index's smooth stand-in replaces its formula where it has one."""
     fns = mech.functions
     measures_limits = bool(locals_) and all(spec.source == getattr(mech, "limits", None) for spec in locals_)
+    signed = bool(locals_) and all(spec.signed for spec in locals_)
     ik = fns[ASSEMBLED if (assembled or measures_limits) and ASSEMBLED in fns else "inverse_kinematics"]
     x = ca.SX.sym("x", mech.n_out)
     mode = ca.SX.sym("mode", ik.numel_in(1))
@@ -199,8 +201,10 @@ def pipeline(
         arguments[spec.name] = args
         formula = replace(spec, formula=spec.smooth, smooth=None) if smooth and spec.smooth is not None else spec
         value = local_function(formula, args[0].size1(), tuple(a.shape for a in args))(*args)
-        outputs.append(ca.if_else(reachable, value, np.nan))
+        outputs.append(value if signed else ca.if_else(reachable, value, np.nan))
         names.append(spec.name)
+    if signed:
+        outputs[2] = ca.mmin(ca.fabs(ca.vertcat(*outputs[3:])) < np.inf)
     if matrices:
         outputs += arguments[locals_[0].name]
         names += [f"argument_{a}" for a in locals_[0].arguments]

@@ -459,19 +459,34 @@ def _refine(
     the constraints at their exact bounds instead of the node margins, and each extreme held, beside the
     nodes, at the points between them where the verification finds it (:meth:`ProblemModel.extreme_points`,
     from the verification's nodes and from those of EXTREME_SEARCH), more points each round, until the
-    optimised objective agrees with the verified one to ACCURACY (relative above 1) at a feasible design, or
-    REFINE_ROUNDS. The last feasible optimum stands."""
+    optimised objective agrees with the verified one to ACCURACY (relative above 1) at a design where every
+    constraint holds exactly (a bound that the verification finds missed by less than the feasibility tolerance
+    is moved inside by twice the miss for the next round), or REFINE_ROUNDS. The last feasible optimum stands
+    (an infeasible one where none was: a run that the verification found violating a limit between the
+    nodes is exchanged from it, too)."""
     extra: list[Run] = []
     points: Points = dict.fromkeys(model.extremes, ())
     point = np.array(list(run.variables.values()))
+    m = len(model.problem.constraints)
+    raised, lowered = np.zeros(m), np.zeros(m)
     for _ in range(REFINE_ROUNDS):
         scale = max(1.0, abs(optimum.verified_objective))
-        if abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
+        if optimum.feasible and _exact(optimum) and \
+                abs(optimum.objective - optimum.verified_objective) <= ACCURACY * scale:
             break
+        if optimum.feasible:
+            for i, c in enumerate(optimum.constraints):
+                if c.value < c.lower:
+                    raised[i] += 2 * (c.lower - c.value)
+                elif c.value > c.upper:
+                    lowered[i] += 2 * (c.value - c.upper)
         found = [model.extreme_points(point, r) for r in (2 * res, max(2 * res, EXTREME_SEARCH))]
         points = {name: tuple(dict.fromkeys(points[name] + found[0][name] + found[1][name])) for name in points}
         task = StartTask(model.problem.name, point, res, json.dumps(options, sort_keys=True), _settings(model.problem))
-        refined = solve_from(model, *nlp_solver(model, res, options, points=points), task, points)
+        solver, bounds = nlp_solver(model, res, options, points=points)
+        bounds["lbg"][:m] += raised
+        bounds["ubg"][:m] -= lowered
+        refined = solve_from(model, solver, bounds, task, points)
         extra.append(refined)
         if not refined.success:
             break
@@ -481,6 +496,31 @@ def _refine(
         if cand.feasible:
             run, optimum = refined, cand
     return run, optimum, res, extra
+
+
+def _exact(cand: Candidate) -> bool:
+    """Whether every constraint holds at the candidate as verified, without the feasibility tolerance."""
+    return all(c.lower <= c.value <= c.upper for c in cand.constraints)
+
+
+def _exchanged(model: ProblemModel, candidates: list[tuple[Run, Candidate]], res: int, options: dict[str, Any]
+               ) -> tuple[list[tuple[Run, Candidate]], list[Run]]:
+    """The candidates with each one that the verification found violating a constraint (a limit between
+    the nodes) and whose optimised objective beats every feasible candidate's verified one exchanged over
+    its regions (:func:`_refine`): the optimum next to it that holds the limit everywhere, where there is
+    one. Candidates shared by several runs are exchanged once."""
+    feasible = [model.sign * c.verified_objective for _, c in candidates if c.feasible]
+    bar = min(feasible, default=np.inf)
+    out, extra, done = [], [], {}
+    for run, cand in candidates:
+        if cand.feasible or model.sign * run.objective >= bar:
+            out.append((run, cand))
+            continue
+        if id(cand) not in done:
+            done[id(cand)] = _refine(model, run, cand, res, options)
+            extra += done[id(cand)][3]
+        out.append(done[id(cand)][:2])
+    return out, extra
 
 
 def _with_multipliers(cand: Candidate, run: Run) -> Candidate:
@@ -608,6 +648,10 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
         cand = same[0] if same else model.candidate(point, run.objective, res)
         run.verified_objective = cand.verified_objective
         candidates.append((run, cand))
+    if polish and model.extremes:
+        candidates, exchanged = _exchanged(model, candidates, res, options)
+        runs.extend(exchanged)
+        evaluations += sum(r.evaluations for r in exchanged)
     best_run, optimum = min(candidates, key=lambda rc: _rank(model, rc[1]))
     optimum = _with_multipliers(optimum, best_run)
     opt_time = time.perf_counter() - t0
