@@ -194,16 +194,17 @@ def test_the_description_page_states_the_expressions_limits():
 
 
 def test_a_chain_actuated_at_its_last_joint_is_evaluated(tmp_path, capsys):
-    """The 3-RRR's legs as chains actuated at the elbow: no leg has a reach margin or a range, so the machine
-    offers no workspace margin index (an index of an empty margin vector raised IndexError in pkm eval)."""
+    """The 3-RRR's legs as chains actuated at the elbow: no leg has a closed-form reach margin or a range, and
+    the workspace margin is the chain legs' branch margins (the closure's Jacobian determinant in the leg's
+    joints, with its seed's sign; an index of an empty margin vector raised IndexError in pkm eval)."""
     from pkm.cli import main
 
     raw = rrr3_of_chains()
     raw["name"] = "rrr3_actuated_last"
     raw["legs"]["joints"] = [{"type": "R", "link": ["l1", 0]}, {"type": "R", "actuated": True, "link": ["l2", 0]}]
     mech = spec.load(raw)
-    assert "workspace_margin" not in mech.local_indices()
-    assert "inverse_condition_f" in mech.local_indices()
+    assert mech.functions["inverse_kinematics"].numel_out(1) == 3
+    assert "workspace_margin" in mech.local_indices()
     path = tmp_path / "last.toml"
     path.write_text(RRR3.replace('name = "rrr3"', 'name = "rrr3_actuated_last"').replace(
         'kind = "RR"', 'kind = "chain"').replace(
@@ -212,3 +213,4 @@ def test_a_chain_actuated_at_its_last_joint_is_evaluated(tmp_path, capsys):
         'branches = {left = [-2.1, -2.1], right = [2.1, 2.1]}'))
     assert main(["eval", str(path), "--pose=0.01,0.02,0.05"]) == 0
     assert "inverse_condition_f = 0.24" in capsys.readouterr().out
+    assert mech.local_index("workspace_margin", [0.01, 0.02, 0.05]) > 0

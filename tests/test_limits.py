@@ -57,7 +57,8 @@ def test_a_stroke_margin_is_signed_beyond_the_stroke(rpr3):
 
 def test_a_reach_margin_is_signed_beyond_the_assembly():
     """The 3-RRR's workspace margin beyond its legs' reach is the reach margin, negative, where its joints
-    (and so its ranges) are undefined; its gradient in the pose is finite there."""
+    (and so its ranges) are undefined, and so is every mechanism's (the five-bar's, from its generated
+    inverse kinematics' reach)."""
     rrr3 = pkm.load("rrr3")
     far = np.array([[0.0, 2.0, 0.0], [0.0, 0.0, 0.0]])
     margin = rrr3.local_index("workspace_margin", far)
@@ -65,6 +66,10 @@ def test_a_reach_margin_is_signed_beyond_the_assembly():
     assert margin[0] < 0 < margin[1]
     step = np.array([[0.0, 2.0 + 1e-3, 0.0]])
     assert rrr3.local_index("workspace_margin", step)[0] < margin[0]  # farther out, more negative
+    five_bar = pkm.load("five_bar")  # derived by hand: its inverse kinematics' reach, as generated
+    margin = five_bar.local_index("workspace_margin", np.array([[0.0, 1.4], [0.0, 3.0], [0.0, 3.1]]))
+    assert np.isnan(five_bar.inverse_kinematics([0.0, 3.0])).all()
+    assert margin[2] < margin[1] < 0 < margin[0]
 
 
 def test_a_synthesis_with_an_active_stroke_holds_it_at_every_task_pose(rpr3):

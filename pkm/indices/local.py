@@ -322,10 +322,10 @@ def defined_margins(m: ca.SX) -> ca.SX:
 
 WORKSPACE_MARGIN = LocalIndex(
     "workspace_margin",
-    "least margin of the mechanism's workspace constraints (>= 0 inside the workspace, < 0 beyond it: a "
-    "stroke's or a range's margin wherever the leg's geometry is defined, a reach margin beyond the assembly), "
-    "from its generated workspace_margins; its epigraph keeps every margin as its own smooth constraint",
-    "-", -np.inf, np.inf, -np.inf, lambda m: ca.mmin(defined_margins(m)), "workspace_margins", ("margins",),
+    "least margin of the mechanism's workspace: its inverse kinematics' reach and its stated limits (>= 0 "
+    "inside the workspace, < 0 beyond it: a reach margin beyond the assembly, a stroke's or a range's margin "
+    "wherever the leg's geometry is defined); its epigraph keeps every margin as its own smooth constraint",
+    "-", -np.inf, np.inf, -np.inf, lambda m: ca.mmin(defined_margins(m)), "inverse_kinematics", ("reach",),
     lambda m, t: defined_margins(m) - t, dimension=None, signed=True,
 )
 

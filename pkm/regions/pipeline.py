@@ -150,12 +150,14 @@ def pipeline(
     every output of the generated ``first_order`` (as generated, not normalised). A pose is reached
     where the mechanism assembles within its stated limits (:func:`pkm.kinematics.within_limits`); with
     ``assembled``, and for indices that measure those limits, where it assembles; where every index is
-    signed (a margin, defined beyond the reach), where each value is finite, the values unmasked. With
+    signed (a margin of the reach and the limits, defined beyond them), where each value is finite, the
+    values unmasked. With
     ``smooth``, an index's smooth stand-in replaces its formula where it has one."""
     fns = mech.functions
     measures_limits = bool(locals_) and all(spec.source == getattr(mech, "limits", None) for spec in locals_)
     signed = bool(locals_) and all(spec.signed for spec in locals_)
-    ik = fns[ASSEMBLED if (assembled or measures_limits) and ASSEMBLED in fns else "inverse_kinematics"]
+    unlimited = (assembled or measures_limits) and ASSEMBLED in fns
+    ik = fns[ASSEMBLED if unlimited else "inverse_kinematics"]
     x = ca.SX.sym("x", mech.n_out)
     mode = ca.SX.sym("mode", ik.numel_in(1))
     design = ca.SX.sym("design", ik.numel_in(2))
@@ -165,7 +167,9 @@ def pipeline(
         q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
     else:
         q, reach = ik(x, mode, design)
-    sources["inverse_kinematics"] = {"q": q}
+    # the reach with the stated limits, whichever set the pipeline reads (within_limits appends them)
+    limited = ca.vertcat(reach, fns[mech.limits](q, x, design)) if unlimited else reach
+    sources["inverse_kinematics"] = {"q": q, "reach": limited}
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     # the normalisation by a characteristic length, where an index takes normalised matrices
     scales = _scales(mech, design) if matrices or any(not spec.raw for spec in locals_) else None

@@ -216,7 +216,8 @@ def guard_index(region: Any) -> LocalIndex | None:
     """The least of the region's guard margins as a local index (None for a region without a guard)."""
     if region.guard is None:
         return None
-    return replace(WORKSPACE_MARGIN, name=f"{region.guard}_min", source=region.guard,
+    return replace(WORKSPACE_MARGIN, name=f"{region.guard}_min", source=region.guard, arguments=("margins",),
+                   signed=False,
                    doc=f"least of the margins {region.guard} that the region {region.name} needs at every node")
 
 
