@@ -24,7 +24,12 @@ def test_the_run_has_both_fronts_and_every_baseline():
     report = json.loads(RUN.read_text())
     assert report["command"].startswith("python -m bench.pareto")
     assert set(report["fronts"]) == {f"{name}/{secondary}" for name, secondary in pareto.FRONTS}
-    for front in report["fronts"].values():
-        assert set(front["baselines"]) == {"grid", "nsga2_equal_evaluations", "nsga2_equal_time"}
-        assert front["pkm"]["points"] + front["pkm"]["dominated"] + front["pkm"]["failed"] == report["points"]
+    for key, front in report["fronts"].items():
+        dense = [f"grid_{n}" for name, n in report["dense"].items() if key.startswith(f"{name}/")]
+        assert set(front["baselines"]) == {"grid", "nsga2_equal_evaluations", "nsga2_equal_time", *dense}
+        assert front["pkm"]["points"] + front["pkm"]["dominated"] + front["pkm"]["failed"] == len(front["front"])
+        assert front["pkm"]["open_hypervolume"] < front["pkm"]["hypervolume"]
         assert len(front["reference"]) == 2
+        for grid in dense:  # the front's hypervolume at least the dense grid's, no node beyond its accuracy
+            assert front["pkm"]["hypervolume"] >= front["baselines"][grid]["hypervolume"]
+            assert front["baselines"][grid]["dominating_beyond_accuracy"] == 0
