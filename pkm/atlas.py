@@ -151,7 +151,7 @@ class Atlas:
     mechanism: Mechanism
     index: GlobalIndex
     space: DesignSpace
-    region: str
+    region: str | Any  # a region by name, or one given as it is (a task's)
     modes: tuple[str, ...]
     u: np.ndarray
     v: np.ndarray
@@ -171,8 +171,13 @@ class Atlas:
         if self.admissible is None:
             self.admissible = self.inside.copy()
 
+    @property
+    def region_name(self) -> str:
+        return getattr(self.region, "name", self.region)
+
     def __str__(self) -> str:
-        head = (f"{self.index.name} atlas of the {self.mechanism.name} over {self.region} in the {self.space.name} "
+        head = (f"{self.index.name} atlas of the {self.mechanism.name} over {self.region_name} in the "
+                f"{self.space.name} "
                 f"space: {int(self.inside.sum())} designs x {len(self.modes)} modes, pose resolution "
                 f"{self.pose_resolution}, {self.wall_time:.1f} s")
         return "\n".join([head, *(f"  {self.checked[mode]}" for mode in self.modes if mode in self.checked)])
@@ -202,7 +207,7 @@ class Atlas:
 
     def metadata(self) -> dict:
         """Everything but the arrays, JSON-serialisable."""
-        names = ("region", "resolution", "pose_resolution", "singularity_margin", "wall_time", "evaluations")
+        names = ("region_name", "resolution", "pose_resolution", "singularity_margin", "wall_time", "evaluations")
         return {
             "mechanism": self.mechanism.name,
             "index": self.index.name,
@@ -212,7 +217,7 @@ class Atlas:
             "chart_axes": list(self.space.chart_axes),
             "chart_labels": list(self.space.chart_labels),
             "held": dict(self.space.base),
-            **{name: getattr(self, name) for name in names},
+            **{name.removesuffix("_name"): getattr(self, name) for name in names},
             "checks": asdict(self.checks),
             "requirements": [r.name for r in self.space.requirements],
             "admissible_designs": int(self.admissible.sum()),
@@ -287,7 +292,8 @@ class Atlas:
                     label=textwrap.fill(label, 60))
             aliases = self.mechanism.working_mode(mode).aliases
             alias = f" ({', '.join(aliases)})" if aliases else ""
-            ax.set_title(textwrap.fill(f"{self.index.name} over {self.region}, mode {mode}{alias}", 50), fontsize=10)
+            ax.set_title(textwrap.fill(f"{self.index.name} over {self.region_name}, mode {mode}{alias}", 50),
+                         fontsize=10)
             ax.set_xlabel(textwrap.fill(self._axis_label(0), 50))
             ax.set_ylabel(textwrap.fill(self._axis_label(1), 40))
             ax.xaxis.set_major_locator(MaxNLocator(6))
@@ -316,14 +322,15 @@ class AtlasTask(NamedTuple):
 
     mechanism: str
     indices: tuple[str, ...]
-    region: str
+    region: str | Any
     mode: str
     designs: np.ndarray
     resolution: int
     margin: float | None
 
     def describe(self) -> str:
-        return (f"{registry.label(self.mechanism)} {', '.join(self.indices)} over {self.region} in {self.mode}, "
+        return (f"{registry.label(self.mechanism)} {', '.join(self.indices)} over "
+                f"{getattr(self.region, 'name', self.region)} in {self.mode}, "
                 f"{len(self.designs)} designs from {self.designs[0].tolist()}, resolution {self.resolution}")
 
 

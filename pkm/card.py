@@ -85,7 +85,7 @@ def _default_region(mech: Any) -> str:
     return next(iter(mech.regions), "reachable")
 
 
-def region_centre(mech: Any, design: Any, region: str) -> tuple[dict[str, Any] | None, np.ndarray | None]:
+def region_centre(mech: Any, design: Any, region: str | Any) -> tuple[dict[str, Any] | None, np.ndarray | None]:
     """A region's placement at a design (:meth:`pkm.Mechanism.region_placement`, None where it has none) and its
     centre in the pose's coordinates: the placement's centre, else the mean of its coarsest quadrature's nodes;
     None for a sampled region."""
@@ -106,7 +106,7 @@ def design_card(
     design: Any = None,
     *,
     modes: Sequence[str] | None = None,
-    region: str | None = None,
+    region: str | Any | None = None,
     index: str = "inverse_condition_f",
     axes: tuple[str, str] | None = None,
     held: Mapping[str, float] | None = None,
@@ -117,7 +117,8 @@ def design_card(
     """The card of a design in ``modes`` (all by default): maps of ``index`` over the plane ``axes`` (the
     other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
     ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
-    offers (or ``indices``) over ``region`` (its first parametrised region by default). The maps' options are
+    offers (or ``indices``) over ``region`` (its first parametrised region by default, or a region given as it
+    is: a task file's, :func:`pkm.synthesis.designer.task_of`). The maps' options are
     checked before anything is computed (:func:`pkm.workspace_map.check_plane`)."""
     axes, _, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
@@ -146,7 +147,7 @@ def design_card(
             rows.append({"index": name, "mode": mode, "value": float(value), "unit": mech.index_unit(name),
                          "resolution": value.resolution, "points": value.points,
                          "accuracy": float(value.accuracy) if math.isfinite(value.accuracy) else float("nan")})
-    return Card(mech, design, region, maps, pose, rows, placement)
+    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement)
 
 
 @dataclass

@@ -45,6 +45,7 @@ from pkm.parallel import task_key
 from pkm.reproduce import reproduce
 from pkm.synthesis import InfeasibleError, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.driver import constraint_lines
+from pkm.synthesis.pareto import FRONT_TOLERANCE
 from pkm.units import Units
 
 
@@ -86,15 +87,44 @@ def _number(text: str) -> float:
     return value
 
 
+RESULT = ".json"  # a design given as a result file
+TASK = ".toml"  # a region or a problem given as a task file
+
+
 def _design(mech: Mechanism, text: str | None, units: Units | None = None) -> Design:
-    """A design from ``name=value,...`` in the user's units (SI by default)."""
+    """A design from ``name=value,...`` in the user's units (SI by default), or the design a result file
+    records (``.json``: what ``design``, ``synth`` and ``index`` write, SI)."""
     if not text:
         return mech.design(None, partial=True)
+    if text.endswith(RESULT):
+        return mech.design(io.read_design(text), partial=True)
     values = parse_design(text)
     if units is not None:
         scale = {p.name: units.scale(p.unit) for p in mech.parameters}
         values = {k: v * scale.get(k, 1.0) for k, v in values.items()}
     return mech.design(values, partial=True)
+
+
+def _region(m: Mechanism, text: str) -> Any:
+    """A region by name, or a task file's (``.toml``: the region its objective is taken over)."""
+    if text.endswith(TASK):
+        from pkm.synthesis.designer import task_of
+
+        return task_of(text, m)
+    return text
+
+
+def _region_name(region: Any) -> str:
+    return getattr(region, "name", region)
+
+
+def _problem(text: str) -> Any:
+    """A synthesis problem: a registered one by name, or a task file's (``.toml``)."""
+    if text.endswith(TASK):
+        from pkm.synthesis.designer import read_problem
+
+        return read_problem(text)
+    return registry.problem(text)
 
 
 def _modes(m: Mechanism, text: str | None) -> list[str] | None:
@@ -320,10 +350,12 @@ def cmd_index(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     d = _design(m, args.design, _units(args))
     mode = m.working_mode(args.mode).name
+    region = _region(m, args.region)
+    args.region = _region_name(region)
     out = m.global_index(
         args.index,
         d,
-        region=args.region,
+        region=region,
         mode=mode,
         resolution=args.resolution,
         gradient=args.gradient,
@@ -349,11 +381,11 @@ def cmd_index(args: argparse.Namespace) -> None:
     if not value.converged:
         text += f"\nNOT CONVERGED: {value.note.removeprefix('not converged: ')}"
     if np.isnan(float(value)):
-        data["undefined"] = _undefined(m, args.region)
+        data["undefined"] = _undefined(m, region)
         text += f" (undefined: {data['undefined']})"
     if args.region not in {"reachable", "assembled"}:
         try:
-            placed = m.region_placement(args.region, d)
+            placed = m.region_placement(region, d)
         except PkmError:
             placed = None
         if placed is not None:
@@ -390,7 +422,8 @@ def cmd_show(args: argparse.Namespace) -> None:
     modes = _modes(m, args.mode)
     axes = tuple(args.plane.split(",")) if args.plane else None
     held = parse_design(args.held, "held coordinates", "pose coordinate", PkmError) if args.held else None
-    card = design_card(m, d, modes=modes, region=args.region, index=args.index, axes=axes, held=held,
+    card = design_card(m, d, modes=modes, region=_region(m, args.region) if args.region else None, index=args.index,
+                       axes=axes, held=held,
                        resolution=args.resolution)
     folder = Path(args.out)
     written = io.write_result(folder, card.write)
@@ -412,7 +445,8 @@ def cmd_compare(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     designs = [_design(m, text, _units(args)) for text in args.design]
     modes = _modes(m, args.mode)
-    comparison = compare(m, designs, modes=modes, region=args.region, resolution=args.resolution)
+    comparison = compare(m, designs, modes=modes, region=_region(m, args.region) if args.region else None,
+                         resolution=args.resolution)
     folder = Path(args.out)
     written = io.write_result(folder, comparison.write)
     data = {**comparison.to_dict(), "files": [str(p) for p in written]}
@@ -446,8 +480,9 @@ def cmd_explore(args: argparse.Namespace) -> None:
         from pkm.synthesis.designer import read_problem
 
         problem = read_problem(problem)
+    design = io.read_design(args.design) if args.design and args.design.endswith(RESULT) else args.design
     explorer = Explorer(m, index=args.index, region=args.region, space=args.space, axes=args.axes,
-                        design=args.design, problem=problem, resolution=args.resolution,
+                        design=design, problem=problem, resolution=args.resolution,
                         map_resolution=args.map_resolution)
     if args.html is not None:
         path = export_html(explorer, args.html, grid=args.grid)
@@ -469,7 +504,7 @@ def _numbers(values: list[float]) -> str:
     return "(" + ", ".join(f"{v:.6g}" for v in values) + ")"
 
 
-def _undefined(m: Any, region: str) -> str:
+def _undefined(m: Any, region: str | Any) -> str:
     """Why an index over a region can be NaN."""
     guard = getattr(m.region(region), "guard", None)
     reasons = ["a node of the region is out of reach in this mode"]
@@ -503,11 +538,12 @@ def _sweep(m: Mechanism, args: argparse.Namespace, names: list[str], store: Path
 
     space = _space(m, args)
     indices = tuple(m.global_spec(name) for name in names)
-    modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, args.region)
+    region = _region(m, args.region)
+    modes = tuple(args.modes.split(",")) if args.modes else default_modes(m, region)
     check_integer("resolution", args.resolution, 3, MAX_CHART)
     checks = Checks(tolerance=args.tolerance, min_points=args.min_points, min_fraction=args.min_fraction)
     return compute_sweep(
-        m, indices, space=space, modes=modes, region=args.region, resolution=args.resolution,
+        m, indices, space=space, modes=modes, region=region, resolution=args.resolution,
         pose_resolution=args.pose_resolution, executor=args.executor, store=store, checks=checks,
     )
 
@@ -524,7 +560,7 @@ def cmd_atlas(args: argparse.Namespace) -> None:
     atlas = _sweep(m, args, [args.index], store)[args.index]
     index, space = atlas.index, atlas.space
     space_name = "axes" if args.axes else atlas.space.name
-    stem = "_".join([m.name, args.index, args.region, space_name, *atlas.modes])
+    stem = "_".join([m.name, args.index, atlas.region_name, space_name, *atlas.modes])
 
     def write(folder: Path) -> tuple[Path, Path]:
         npz, png = folder / f"{stem}.npz", folder / f"{stem}.png"
@@ -546,7 +582,8 @@ def cmd_atlas(args: argparse.Namespace) -> None:
 def cmd_sweep(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     names = [n.strip() for n in args.indices.split(",") if n.strip()]
-    folder = Path(args.out) / f"{m.name}_sweep_{args.region}_{_run_key(m, args, names)[:8]}"
+    region = _region_name(_region(m, args.region))
+    folder = Path(args.out) / f"{m.name}_sweep_{region}_{_run_key(m, args, names)[:8]}"
     (folder / "index.json").unlink(missing_ok=True)
     atlases = _sweep(m, args, names, folder / "chunks")
     first = next(iter(atlases.values()))
@@ -564,7 +601,7 @@ def cmd_sweep(args: argparse.Namespace) -> None:
                 io.copy_file(folder / chunk["file"], target / chunk["file"])
         figures = {name: str(a.plot(target / f"{name}.png")) for name, a in atlases.items()}
         listing = {
-            "mechanism": m.name, "region": args.region, "space": first.space.name, "modes": list(first.modes),
+            "mechanism": m.name, "region": region, "space": first.space.name, "modes": list(first.modes),
             "indices": names, "resolution": first.resolution, "pose_resolution": first.pose_resolution,
             "chart_axes": list(first.space.chart_axes), "u": first.u.tolist(), "v": first.v.tolist(),
             "inside": first.inside.tolist(), "chunks": chunks, "figures": figures, "wall_time_s": first.wall_time,
@@ -618,7 +655,8 @@ def cmd_synth(args: argparse.Namespace) -> None:
 
 def _synth(args: argparse.Namespace) -> None:
     with _logs_to_stderr(args.json):
-        problem = registry.problem(args.problem)
+        problem = _problem(args.problem)
+        args.problem = problem.name
         settings = parse_design(args.set, "settings", "setting", PkmError) if args.set else {}
         result = synthesize(
             problem.configure(**settings),
@@ -655,8 +693,8 @@ def cmd_pareto(args: argparse.Namespace) -> None:
     from pkm.synthesis.pareto import pareto
 
     with _logs_to_stderr(args.json):
-        front = pareto(registry.problem(args.problem), args.secondary, n=args.points, resolution=args.resolution,
-                       baselines=tuple(b for b in args.baselines.split(",") if b))
+        front = pareto(_problem(args.problem), args.secondary, n=args.points, tolerance=args.tolerance,
+                       resolution=args.resolution, baselines=tuple(b for b in args.baselines.split(",") if b))
     if args.out:
         front.write(Path(args.out))
     _emit(args, front.to_dict(), str(front))
@@ -758,19 +796,20 @@ HELP = {
     "indices": lambda: f"comma-separated global indices (required, no default), per mechanism: "
                        f"{_catalogue('index')}; e.g. gci,gamma_max",
     "design": lambda: f"design parameters name=value,... in the units shown (missing ones take their defaults, "
-                      f"see `pkm list`); per mechanism: {_catalogue('design')}; e.g. --design {_example_design()}",
+                      f"see `pkm list`), or a result file (.json) whose design it takes; per mechanism: "
+                      f"{_catalogue('design')}; e.g. --design {_example_design()}",
     "mode": lambda: f"working mode by name or paper alias (default: the first); per mechanism: {_catalogue('mode')}; "
                     f"e.g. --mode out_out",
     "modes": lambda: f"comma-separated working modes (default: the distinct ones over the region); per mechanism: "
                      f"{_catalogue('mode')}; e.g. --modes out_out,out_in",
-    "region": lambda: f"region of the index (default reachable: the sampled workspace of the mode); per mechanism: "
-                      f"{_catalogue('region')}; e.g. --region miw",
+    "region": lambda: f"region of the index (default reachable: the sampled workspace of the mode), or a task file "
+                      f"(.toml) whose task region it takes; per mechanism: {_catalogue('region')}; e.g. --region miw",
     "space": lambda: f"normalised design space (default: the mechanism's first); per mechanism: {_catalogue('space')}; "
                      f"e.g. --space {_example_space()}",
     "pose": lambda: f"a pose (required, no default), comma-separated in the mechanism's pose coordinates (repeat "
                     f"for several poses); per "
                     f"mechanism: {_catalogue('pose')}; e.g. --pose {_example_pose()}",
-    "problem": lambda: "synthesis problem: " + "; ".join(f"{p.name} ({p.doc.split(':')[0]})"
+    "problem": lambda: "synthesis problem, or a task file (.toml): " + "; ".join(f"{p.name} ({p.doc.split(':')[0]})"
                                                         for p in registry.problems().values())
                        + f"; e.g. {next(iter(registry.problems()))}",
     "paper": lambda: "paper key, or all: "
@@ -824,7 +863,8 @@ def build_parser() -> argparse.ArgumentParser:
         """The working modes and the region of a design card's maps and indices."""
         example(p, "--mode", help="working modes, comma-separated (default: all); e.g. {mode}")
         example(p, "--region", help=f"the region of {region_of} (default: the mechanism's first parametrised one, "
-                                    "else reachable); e.g. {region}")
+                                    "else reachable), or a task file (.toml) whose task region it takes; e.g. "
+                                    "{region}")
 
     resolution = (f"pose grid per axis over the sampled region (default {SAMPLED_RESOLUTION}) or quadrature "
                   f"resolution of a parametrised region (default {QUADRATURE_RESOLUTION}); e.g. 32")
@@ -933,7 +973,11 @@ def build_parser() -> argparse.ArgumentParser:
     listed(p, "problem", key="problem")
     example(p, "--secondary", required=True, help="the secondary objective, one of the problem's quantities or "
                                                   "secondaries (required, no default); e.g. {secondary}")
-    p.add_argument("--points", type=_integer, default=9, help="points of the front, at least 2 (default 9); e.g. 5")
+    p.add_argument("--points", type=_integer, help="distinct designs on the front, at least 2 (default: as many as "
+                                                 "it takes for --tolerance); e.g. 5")
+    p.add_argument("--tolerance", type=_number, default=FRONT_TOLERANCE,
+                   help="the hypervolume the front's points may leave open between them, as a share of the anchors' "
+                        f"box (default {FRONT_TOLERANCE:g}); e.g. 0.01")
     p.add_argument("--resolution", type=_integer, help="quadrature resolution (default: the problem's); e.g. 4")
     p.add_argument("--baselines", default="grid", help="comma-separated among grid and nsga2 (pymoo) (default "
                                                        "grid); e.g. grid,nsga2")

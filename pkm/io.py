@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import errno
 import json
+import math
 import os
 import reprlib
 import shutil
@@ -116,6 +117,35 @@ def read_toml(path: str | os.PathLike, error: type[PkmError] = PkmError, kind: s
     except (tomllib.TOMLDecodeError, RecursionError) as exc:
         reason = str(exc) if isinstance(exc, tomllib.TOMLDecodeError) else "nested too deep"
         raise error(f"{kind} {shown_path(path)} violates: TOML ({reason})") from None
+
+
+RESULT_BYTES = 1 << 24  # the largest result file a design is read from
+
+
+def read_design(path: str | os.PathLike, error: type[PkmError] = PkmError) -> dict[str, float]:
+    """The design a result file records (a JSON object whose ``design`` is a table of parameter names and
+    finite numbers, SI: what ``pkm design``, ``pkm synth`` and ``pkm index`` write), or ``error`` naming the
+    file and what is wrong."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(RESULT_BYTES + 1)
+    except (OSError, ValueError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise error(f"result file {shown_path(path)} cannot be read ({reason})") from None
+    if len(data) > RESULT_BYTES:
+        raise error(f"result file {shown_path(path)} violates: at most {RESULT_BYTES} bytes")
+    try:
+        record = json.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        raise error(f"result file {shown_path(path)} violates: JSON ({exc.__class__.__name__})") from None
+    design = record.get("design") if isinstance(record, dict) else None
+    if not isinstance(design, dict) or not design or not all(
+            isinstance(k, str) and isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+            for k, v in design.items()):
+        raise error(f"result file {shown_path(path)} violates: a JSON object whose design is a table of parameter "
+                    "names and finite numbers (what pkm design, synth and index write)")
+    return {k: float(v) for k, v in design.items()}
 
 
 def read_poses(path: str | Path, names: tuple[str, ...]) -> np.ndarray:

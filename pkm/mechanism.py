@@ -134,9 +134,12 @@ class Mechanism:
     def region_names(self) -> tuple[str, ...]:
         return ("reachable", *(("assembled",) if self.limits else ()), *self.regions)
 
-    def region(self, name: str) -> Any:
+    def region(self, name: str | Any) -> Any:
         """The parametrised region ``name``, or the sampled workspace for ``"reachable"`` (within the stated
-        limits) and ``"assembled"`` (wherever the mechanism assembles, for a mechanism with limits)."""
+        limits) and ``"assembled"`` (wherever the mechanism assembles, for a mechanism with limits); a region
+        given as one (a task's, :func:`pkm.synthesis.designer.task_region`) as it is."""
+        if hasattr(name, "quadrature"):
+            return name
         if check_name(f"{self.name} region", name, self.region_names()) == "reachable":
             return regions.SampledWorkspace()
         if name == "assembled" and self.limits:
@@ -162,11 +165,12 @@ class Mechanism:
         bounds = np.cumsum([0, *self.skeleton_legs])
         return [points[a:b] for a, b in itertools.pairwise(bounds)]
 
-    def region_placement(self, name: str, design: DesignLike = None) -> dict[str, Any]:
-        """Where the parametrised region ``name`` lies at a design: its shape, centre and size (a disc's or
-        cylinder's radius first; half extents otherwise) in the coordinates it spans (the pose's, or those a
-        mapped region names), SI."""
+    def region_placement(self, name: str | Any, design: DesignLike = None) -> dict[str, Any]:
+        """Where the parametrised region ``name`` (or a region given as one) lies at a design: its shape, centre
+        and size (a disc's or cylinder's radius first; half extents otherwise) in the coordinates it spans (the
+        pose's, or those a mapped region names), SI."""
         where = self.region(name)
+        name = getattr(where, "name", name)
         inner = getattr(where, "inner", where)
         if isinstance(where, regions.SampledWorkspace) or not hasattr(inner, "placement"):
             raise PkmError(f"region {name} of {self.name} violates: a placed shape (a disc, rectangle, box or "

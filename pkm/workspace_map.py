@@ -158,12 +158,13 @@ def workspace_slice(
     mode: str | None = None,
     axes: tuple[str, str] | None = None,
     held: Mapping[str, float] | None = None,
-    region: str | None = None,
+    region: str | Any | None = None,
     resolution: int = RESOLUTION,
 ) -> WorkspaceSlice:
     """The local index ``index`` over the plane of the pose coordinates ``axes`` (the first two by default)
     across the workspace box, the others at ``held`` (by default the box's centre), in working mode
-    ``mode``; with ``region`` (a parametrised region of the mechanism) its nodes near the plane. The plane's
+    ``mode``; with ``region`` (a parametrised region of the mechanism, or one given as it is) its nodes near
+    the plane. The plane's
     options are checked first (:func:`check_plane`)."""
     axes, given, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
@@ -193,4 +194,4 @@ def workspace_slice(
         near = np.all(np.abs(points[:, others] - x[0, others]) <= NEAR * width[others], axis=1)
         nodes = points[near][:, [i, j]]
     return WorkspaceSlice(mech, design, branch.name, index, axes, {k: v for k, v in given.items() if k not in axes},
-                          u, v, values, singular, region, nodes)
+                          u, v, values, singular, getattr(region, "name", region), nodes)

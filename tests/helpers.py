@@ -8,6 +8,7 @@ pytest puts tests/ on ``sys.path`` (``pythonpath`` in pyproject.toml): test file
 from __future__ import annotations
 
 import copy
+import threading
 import tomllib
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -341,3 +342,27 @@ def fuzz(examples: int):
     return settings(max_examples=examples, derandomize=True, database=None, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
                                            HealthCheck.filter_too_much])
+
+
+def watch_atlas(monkeypatch: Any) -> tuple[threading.Event, threading.Event]:
+    """Events set when the explorer's atlas computes its first chunk of designs and when it ends (returns or
+    is cancelled), by wrapping ``pkm.atlas._chunk`` and the explorer's ``compute_atlas``."""
+    from pkm import atlas
+    from pkm.explore import api
+
+    started, ended = threading.Event(), threading.Event()
+    chunk, compute_atlas = atlas._chunk, api.compute_atlas
+
+    def first_chunk(*args: Any) -> Any:
+        started.set()
+        return chunk(*args)
+
+    def watched(*args: Any, **options: Any) -> Any:
+        try:
+            return compute_atlas(*args, **options)
+        finally:
+            ended.set()
+
+    monkeypatch.setattr(atlas, "_chunk", first_chunk)
+    monkeypatch.setattr(api, "compute_atlas", watched)
+    return started, ended

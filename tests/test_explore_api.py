@@ -6,6 +6,7 @@ request, Ctrl-C and the static export."""
 from __future__ import annotations
 
 import base64
+import http.client
 import json
 import math
 import signal
@@ -20,12 +21,13 @@ from importlib import resources
 
 import numpy as np
 import pytest
+from helpers import watch_atlas
 
 import pkm
 from pkm.atlas import compute_atlas
 from pkm.card import design_card
 from pkm.cli import main
-from pkm.explore import Explorer, serve
+from pkm.explore import Explorer, api, serve
 
 pytest.importorskip("plotly", reason="pkm explore needs plotly (pip install 'pkm[explore]')")
 
@@ -177,6 +179,18 @@ def test_the_linkage_answers_the_actuators_and_says_when_there_is_no_drawing(ser
     assert away["projected"] is None
 
 
+def test_a_pose_out_of_reach_is_said_out_of_reach_and_has_no_linkage(server):
+    away = get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,9")
+    assert away["reason"] == f"pose x = 0.1, y = 9 is out of reach in mode {MODE}"
+    assert (away["reachable"], away["legs"], away["projected"]) == (False, [], None)
+    assert get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,1.2")["reason"] is None
+    stewart = Explorer(pkm.load("stewart"), resolution=3, map_resolution=8)
+    far = stewart.handle("linkage", {"pose": "5,5,5,0,0,0"})
+    assert not far["reachable"]
+    assert far["reason"].startswith("pose x = 5, y = 5, z = 5, roll = 0")
+    assert (far["legs"], far["projected"]) == ([], None), "the skeleton of a pose out of reach is no linkage"
+
+
 def test_the_optimum_of_the_mechanisms_problem_is_placed_on_the_chart(server):
     atlas = get(server, "atlas")
     optimum = get(server, "optimum")
@@ -266,6 +280,47 @@ def test_the_stop_request_stops_the_server():
     assert not running._thread.is_alive()
     with pytest.raises(urllib.error.URLError):
         urllib.request.urlopen(running.url + "api/mechanism", timeout=5)
+    running.shutdown()
+
+
+def test_the_stop_request_cancels_the_computation_in_flight(monkeypatch):
+    running = serve("five_bar", index="lambda_e", resolution=81)
+    started, ended = watch_atlas(monkeypatch)
+    answers = []
+    asking = threading.Thread(target=lambda: answers.append(_request(running.url + "api/atlas")))
+    asking.start()
+    assert started.wait(timeout=120), "the atlas began"
+    assert not ended.is_set(), "the atlas of lambda_e at 81 x 81 designs takes seconds"
+    stop = time.monotonic()
+    assert _request(running.url + "api/stop", data=b"{}", headers={"Content-Type": "application/json"})[0] == 200
+    asking.join(timeout=30)
+    running._thread.join(timeout=30)
+    status, data = answers[0]
+    assert status == 503
+    assert data["error"].endswith("computation cancelled")
+    assert ended.is_set()
+    assert time.monotonic() - stop < 5
+    assert not running._thread.is_alive()
+    assert running.explorer.closed
+    with pytest.raises(api.CancelledError):
+        running.explorer.handle("map", {})
+    running.shutdown()
+
+
+def test_a_connection_kept_open_is_refused_once_the_server_stopped():
+    running = serve("five_bar")
+    kept = http.client.HTTPConnection("127.0.0.1", running.port, timeout=30)
+    kept.request("GET", "/api/mechanism")
+    first = kept.getresponse()
+    assert (first.status, json.loads(first.read())["name"]) == (200, "five_bar")
+    _request(running.url + "api/stop", data=b"{}", headers={"Content-Type": "application/json"})
+    running._thread.join(timeout=30)
+    kept.request("GET", "/api/mechanism")
+    response = kept.getresponse()
+    assert (response.status, json.loads(response.read())) == (503, {"error": "the server has stopped",
+                                                                    "field": None})
+    assert response.getheader("Connection") == "close"
+    kept.close()
     running.shutdown()
 
 

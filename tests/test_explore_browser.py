@@ -2,7 +2,9 @@
 address other than 127.0.0.1 aborted (and counted: there must be none). A click on an atlas cell shows that
 cell's design in the card and a workspace map whose values are ``Mechanism.local_index`` at the map's poses;
 hovering shows a design; the index selector recomputes the atlas and the map; the static export opens with the
-network blocked and shows the atlas and a card.
+network blocked and shows the atlas and a card. The plots' titles clear plotly's mode bar, the held parameters'
+placeholders fit their inputs, a tooltip over a gap of a map shows no value, a pose out of reach under the pointer
+says so, and the stop button stops the server with the atlas it was computing.
 
 Without playwright or /usr/bin/chromium these tests are skipped, unless ``PKM_REQUIRE_BROWSER=1`` (CI sets it):
 then they fail."""
@@ -11,11 +13,15 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
+import threading
+import time
 from pathlib import Path
 from urllib.parse import urlsplit
 
 import numpy as np
 import pytest
+from helpers import watch_atlas
 
 import pkm
 from bench.explore import ARGS, CELL, CHROMIUM, clickable
@@ -31,6 +37,24 @@ SHOWS = """(design) => { const c = window.pkmExplore.card;
   return Boolean(c) && c.design.every((p) => p.value === design[p.name]); }"""
 CARD_DESIGN = """() => Object.fromEntries(Array.from(document.querySelectorAll("#card-design td[data-param]"))
   .map((td) => [td.dataset.param, Number(td.dataset.value)]))"""
+PIXEL = """([id, x, y]) => {
+  const gd = document.getElementById(id), L = gd._fullLayout, box = gd.getBoundingClientRect();
+  return {x: box.left + L._size.l + L.xaxis.l2p(x), y: box.top + L._size.t + L.yaxis.l2p(y)};
+}"""
+TOOLTIPS = "(id) => Array.from(document.querySelectorAll(`#${id} .hoverlayer .hovertext`)).map((e) => e.textContent)"
+TITLE_AND_MODE_BAR = """(id) => [".gtitle", ".modebar"].map((selector) => {
+  const b = document.querySelector(`#${id} ${selector}`).getBoundingClientRect();
+  return [b.left, b.top, b.right, b.bottom];
+})"""
+PLACEHOLDERS = """() => {
+  const context = document.createElement("canvas").getContext("2d");
+  return Array.from(document.querySelectorAll("#held input")).filter((el) => el.value === "").map((el) => {
+    const style = getComputedStyle(el);
+    context.font = style.font;
+    return [el.dataset.param, context.measureText(el.placeholder).width,
+            el.clientWidth - parseFloat(style.paddingLeft) - parseFloat(style.paddingRight)];
+  });
+}"""
 
 
 def _missing() -> str | None:
@@ -149,6 +173,80 @@ def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, t
     assert (tmp_path / "explore.png").stat().st_size > 20_000
     assert page.evaluate("window.pkmExplore.errors") == []
     assert page.blocked == []
+
+
+def _hover(page, plot: str, u: float, v: float) -> str:
+    """The tooltip of the plot at (u, v) of its axes."""
+    page.mouse.move(0, 0)
+    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 0", arg=plot)
+    point = page.evaluate(PIXEL, [plot, u, v])
+    page.mouse.move(point["x"], point["y"])
+    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 1", arg=plot)
+    return page.evaluate(TOOLTIPS, plot)[0]
+
+
+def _wait(page, event: threading.Event, timeout: float) -> bool:
+    """Wait for an event of the server's threads while playwright serves the page (its routes run in this
+    thread): whether it came within ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while not event.is_set() and time.monotonic() < deadline:
+        page.wait_for_timeout(20)
+    return event.is_set()
+
+
+def test_the_titles_clear_the_mode_bar_and_the_held_placeholders_fit(page, server):
+    page.goto(server.url)
+    page.wait_for_function(LOADED, timeout=60_000)
+    for plot in ("atlas", "map"):
+        title, bar = page.evaluate(TITLE_AND_MODE_BAR, plot)
+        apart = title[2] <= bar[0] or bar[2] <= title[0] or title[3] <= bar[1] or bar[3] <= title[1]
+        assert apart, f"the {plot}'s title {title} overlaps its mode bar {bar}"
+    placeholders = page.evaluate(PLACEHOLDERS)
+    assert placeholders, "five_bar's masses follow the chart of Gao's space"
+    for name, needed, room in placeholders:
+        assert needed <= room, f"the placeholder of {name} needs {needed:.0f} px of {room:.0f}"
+
+
+def test_a_pose_out_of_reach_under_the_pointer_says_so_and_gaps_show_no_value(page, server):
+    page.goto(server.url)
+    page.wait_for_function(LOADED, timeout=60_000)
+    shown = page.evaluate("(() => { const m = window.pkmExplore.map; return {u: m.u, v: m.v, z: m.z, "
+                          "index: m.index}; })()")
+    z = np.array(shown["z"], dtype=float)
+    inner = np.zeros_like(z, dtype=bool)
+    inner[2:-2, 2:-2] = True
+    gap = np.argwhere(np.isnan(z) & inner)[0]
+    reached = np.argwhere(np.isfinite(z) & inner)[len(np.argwhere(np.isfinite(z) & inner)) // 2]
+    tooltip = _hover(page, "map", shown["u"][gap[1]], shown["v"][gap[0]])
+    assert tooltip.endswith("out of reach")
+    assert shown["index"] not in tooltip
+    page.wait_for_function("document.getElementById('map-note').textContent.includes('is out of reach in mode')")
+    assert "no drawing" not in page.inner_text("#map-note")
+    tooltip = _hover(page, "map", shown["u"][reached[1]], shown["v"][reached[0]])
+    assert re.search(rf"{shown['index']} [0-9.e-]+$", tooltip), tooltip
+    page.wait_for_function("!document.getElementById('map-note').textContent.includes('out of reach')")
+    atlas = page.evaluate("window.pkmExplore.atlas")
+    assert atlas["designs"][0][0] is None
+    assert _hover(page, "atlas", atlas["u"][0], atlas["v"][0]).endswith("outside the design space")
+
+
+def test_stop_server_cancels_the_atlas_in_flight_and_the_page_says_stopped(page, monkeypatch):
+    running = serve("five_bar", index="lambda_e", resolution=81, map_resolution=48)
+    started, ended = watch_atlas(monkeypatch)
+    page.goto(running.url)
+    assert _wait(page, started, 120), "the page asked for its atlas"
+    page.click("#stop")
+    page.wait_for_function("document.getElementById('status').textContent.includes('stopped')")
+    assert _wait(page, ended, 5), "the atlas of lambda_e at 81 x 81 designs was cancelled"
+    running._thread.join(timeout=30)
+    assert not running._thread.is_alive()
+    page.wait_for_timeout(500)
+    assert page.inner_text("#status") == "the server has stopped; close this page"
+    assert page.evaluate("window.pkmExplore.drawn.atlas") == 0
+    assert page.evaluate("window.pkmExplore.errors") == []
+    assert page.is_disabled("#stop")
+    assert page.is_disabled("#index")
+    running.shutdown()
 
 
 def test_the_static_export_shows_the_atlas_and_a_card_offline(page, server, tmp_path):

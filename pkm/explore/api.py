@@ -8,6 +8,9 @@ is malformed, unknown to the endpoint or names what the mechanism does not have 
 :class:`RequestError`, which names the field (the server answers it with HTTP 400). Arrays are nested lists
 (NaN as null), or with ``arrays=base64`` objects ``{"dtype": "float64", "shape": [...], "data": ...}``: the
 array's little-endian bytes in base64, row-major, NaN kept (a 256 x 256 map encodes in milliseconds).
+
+The explorer computes one request at a time; :meth:`Explorer.close` cancels the computation in flight and every
+later one (:class:`CancelledError`), as its server does when it stops.
 """
 
 from __future__ import annotations
@@ -51,6 +54,11 @@ FIELDS = {
     "map": ("design", "mode", "index", "plane", "held", "region", "resolution", "arrays"),
     "linkage": ("design", "mode", "pose", "plane"),
 }
+
+
+class CancelledError(Exception):
+    """A computation of an :class:`Explorer` that was closed (its server stopped) before or while it ran: not a
+    PkmError, which a request's field would be blamed for."""
 
 
 class RequestError(PkmError):
@@ -120,10 +128,11 @@ class Explorer:
     (``"a=lo:hi,b=lo:hi"`` or ``[(a, lo, hi), (b, lo, hi)]``; by default the first design space, else the first
     two required parameters at their defaults times 1 -/+ AXIS_SPAN), ``design`` the values of the parameters
     off the atlas's chart, ``problem`` a synthesis problem whose optimum the atlas marks (a registered name or a
-    :class:`pkm.synthesis.Problem`; by default a registered problem of the mechanism that optimises the index
+    :class:`pkm.synthesis.Problem`, whose task region, where it is not one of the mechanism's, is offered by its
+    name and is the default region; by default a registered problem of the mechanism that optimises the index
     over the region), ``resolution`` the atlas's nodes per axis and ``map_resolution`` the maps' poses per axis.
     Every default is checked as a request's field would be (:class:`RequestError`). Computations run one at a
-    time (CasADi's functions are not called from two threads at once)."""
+    time (CasADi's functions are not called from two threads at once); :meth:`close` cancels them."""
 
     def __init__(
         self,
@@ -140,6 +149,7 @@ class Explorer:
     ) -> None:
         self.mechanism = mech = mechanism
         self._lock = threading.Lock()
+        self._closed = threading.Event()
         self._optima: dict[str, dict[str, Any]] = {}
         if space and axes:
             raise RequestError("axes", "space and axes violate: one or the other")
@@ -150,16 +160,17 @@ class Explorer:
                 space = next(iter(mech.design_spaces))
             else:
                 axes = self._default_axes()
+        self._task_regions: dict[str, Any] = {}
+        self.problem = self._given_problem(problem)
         self.defaults: dict[str, str] = {
             "index": index or next(iter(mech.global_indices()), ""),
-            "region": region or next(iter(mech.regions), "reachable"),
+            "region": region or next(iter(self._task_regions), None) or next(iter(mech.regions), "reachable"),
             "design": design if isinstance(design, str | None) else _text(design),
             "resolution": str(resolution),
             "map_resolution": str(map_resolution),
             **({"space": space} if space else {"axes": axes}),
         }
         self.defaults = {k: v for k, v in self.defaults.items() if v}
-        self.problem = self._given_problem(problem)
         fields = self._fields("atlas", {})
         self._index(fields)
         self._region(fields)
@@ -187,7 +198,43 @@ class Explorer:
         if problem.mechanism.name != self.mechanism.name:
             raise RequestError("problem", f"problem {problem.name} violates: a problem of the {self.mechanism.name} "
                                           f"(it is of the {problem.mechanism.name})")
+        quantity = problem.quantities.get(problem.objective.quantity) if problem.objective.quantity else None
+        region = getattr(quantity, "region", None)
+        if region is not None and not any(region is r for r in self.mechanism.regions.values()):
+            name = region.name if region.name not in self.mechanism.region_names() else f"{problem.name} task"
+            self._task_regions[name] = region
         return problem
+
+    def close(self, *, timeout: float | None = None) -> bool:
+        """Cancel the computation in flight and every later one: each raises :class:`CancelledError` after its
+        current step (an atlas's chunk of designs, a synthesis's stage or start), as it ends where it has no steps
+        (a map, a card, a linkage), or before it starts. Waits up to ``timeout`` seconds (None: as long as it
+        takes) for the computation in flight to end; whether it did."""
+        self._closed.set()
+        if not self._lock.acquire(timeout=-1 if timeout is None else timeout):
+            return False
+        self._lock.release()
+        return True
+
+    @property
+    def closed(self) -> bool:
+        """Whether :meth:`close` was called: the explorer computes nothing more."""
+        return self._closed.is_set()
+
+    def _check_open(self, *_progress: int) -> None:
+        """CancelledError once :meth:`close` was called; a computation's ``progress(done, total)``."""
+        if self._closed.is_set():
+            raise CancelledError(f"the explorer of the {self.mechanism.name} was closed (its server stopped): "
+                                 "computation cancelled")
+
+    @contextmanager
+    def _turn(self) -> Iterator[None]:
+        """The block's turn to compute, one at a time; cancelled where the explorer is closed when its turn comes
+        or by the time it ends."""
+        with self._lock:
+            self._check_open()
+            yield
+        self._check_open()
 
     def handle(self, endpoint: str, fields: Mapping[str, str]) -> dict[str, Any]:
         """The answer of ``endpoint`` to a request's ``fields``."""
@@ -244,8 +291,11 @@ class Explorer:
                                     f"{', '.join(self.mechanism.local_indices())} or global "
                                     f"{', '.join(self.mechanism.global_indices())}")
 
-    def _region(self, fields: Mapping[str, str]) -> str:
+    def _region(self, fields: Mapping[str, str]) -> str | Any:
+        """The region by name: the mechanism's, or the task region of the explorer's problem (a task file's)."""
         name = fields.get("region", "")
+        if name in self._task_regions:
+            return self._task_regions[name]
         with blame("region"):
             self.mechanism.region(name)
         return name
@@ -337,7 +387,8 @@ class Explorer:
             "modes": [{"name": b.name, "aliases": list(b.aliases), "doc": b.doc} for b in mech.working_modes],
             "pose": [{"name": n, "unit": u} for n, u in zip(mech.pose_names, mech.pose_units, strict=True)],
             "regions": [{"name": name, "sampled": name in SAMPLED,
-                         "modes": list(default_modes(mech, name))} for name in mech.region_names()],
+                         "modes": list(default_modes(mech, self._task_regions.get(name, name)))}
+                        for name in [*self._task_regions, *mech.region_names()]],
             "design_spaces": [{"name": s.name, "doc": s.doc, "chart_axes": list(s.chart_axes),
                                "chart_labels": list(s.chart_labels), "parameters": list(s.parameters)}
                               for s in mech.design_spaces.values()],
@@ -375,9 +426,9 @@ class Explorer:
         space, axes = self._space(fields)
         resolution = self._integer(fields, "resolution", 3, MAX_ATLAS)
         modes = (self._mode(fields),) if "mode" in fields else default_modes(mech, region)
-        with self._lock, blame("mode"):
+        with self._turn(), blame("mode"):
             atlas = compute_atlas(mech, mech.global_spec(index), space=space, modes=modes, region=region,
-                                  resolution=resolution, progress=False, executor="serial")
+                                  resolution=resolution, progress=self._check_open, executor="serial")
         U, V = np.meshgrid(atlas.u, atlas.v, indexing="ij")
         designs = space.designs(mech.parameters, space.from_chart(U[atlas.inside], V[atlas.inside]))
         names = mech.parameter_names()
@@ -417,9 +468,9 @@ class Explorer:
                                                    f"{fields.get('index')} over {fields.get('region')}"}
             problem = problems[0]
         if problem.name not in self._optima:
-            with self._lock:
+            with self._turn():
                 try:
-                    result = synthesize(problem, progress=False, executor="serial")
+                    result = synthesize(problem, progress=self._check_open, executor="serial")
                 except SynthesisError as exc:
                     if exc.result is None:
                         raise
@@ -448,7 +499,7 @@ class Explorer:
                 raise RequestError("indices", f"unknown index {reprlib.repr(name)} of the {mech.name}; known: "
                                               f"{', '.join(mech.global_indices())}")
         resolution = self._integer(fields, "resolution", 3, MAX_MAP)
-        with self._lock, blame("design"):
+        with self._turn(), blame("design"):
             card = design_card(mech, design, modes=[mode], region=region, index=index, indices=names,
                                resolution=resolution)
         return {**card.to_dict(), "mode": mode}
@@ -461,7 +512,7 @@ class Explorer:
         held = self._held(fields, plane)
         resolution = self._integer(fields, "resolution", 3, MAX_MAP)
         arrays = self._arrays(fields)
-        with self._lock, blame("design"):
+        with self._turn(), blame("design"):
             _, centre = region_centre(mech, design, region)
             if centre is not None:
                 at_centre = {n: float(c) for n, c in zip(mech.pose_names, centre, strict=True) if n not in plane}
@@ -488,14 +539,25 @@ class Explorer:
     def _linkage(self, fields: Mapping[str, str]) -> dict[str, Any]:
         mech = self.mechanism
         design, mode, pose, plane = self._design(fields), self._mode(fields), self._pose(fields), self._plane(fields)
-        with self._lock, blame("pose"):
-            legs = mech.linkage(pose, design, mode=mode)
+        with self._turn(), blame("pose"):
             q = mech.inverse_kinematics(pose, design, mode=mode)
+            reachable = bool(np.all(np.isfinite(q)))
+            legs = mech.linkage(pose, design, mode=mode) if reachable else []
         columns = plane_columns(plane, legs)
+        named = dict(zip(mech.pose_names, pose.tolist(), strict=True))
+        if not reachable:
+            reason = f"pose {', '.join(f'{n} = {v:.6g}' for n, v in named.items())} is out of reach in mode {mode}"
+        elif not legs:
+            reason = f"the {mech.name} has no drawing of its linkage"
+        elif columns is None:
+            reason = f"the linkage is not drawn in the plane {', '.join(plane)}"
+        else:
+            reason = None
         return {
-            "pose": dict(zip(mech.pose_names, pose.tolist(), strict=True)),
+            "pose": named,
             "mode": mode,
-            "reachable": bool(np.all(np.isfinite(q))),
+            "reachable": reachable,
+            "reason": reason,
             "actuators": dict(zip(mech.actuator_names, q.tolist(), strict=True)),
             "legs": legs,
             "plane": list(plane),
@@ -503,7 +565,7 @@ class Explorer:
         }
 
 
-def region_section(section: WorkspaceSlice, region: str) -> np.ndarray | None:
+def region_section(section: WorkspaceSlice, region: str | Any) -> np.ndarray | None:
     """Where the poses of a workspace map lie inside a placed region (a disc, rectangle, box or cylinder in the
     pose's own coordinates) at the map's design: a mask over the map's grid whose edge is the region's outline in
     the plane; None for a sampled region or one that is not placed in the pose."""

@@ -4,7 +4,10 @@ page, plotly.js from the installed plotly package and the JSON API (:mod:`pkm.ex
 Routes: ``GET /`` the page, ``GET /explore.js``, ``/explore.css`` and ``/plotly.min.js`` its assets,
 ``GET /api/<endpoint>?field=value&...`` an endpoint's JSON (400 with ``{"error", "field"}`` for a bad
 request, 500 with a one-line ``{"error"}`` for anything else), ``POST /api/stop`` (with a JSON content
-type, which a page of another origin cannot send without the server's consent) stops the server. A request
+type, which a page of another origin cannot send without the server's consent) stops the server. Stopping (the
+stop request or :meth:`Server.shutdown`) closes the explorer (:meth:`pkm.explore.api.Explorer.close`): the
+computation in flight is cancelled at its next step and answered 503, as is every request after it on a
+connection kept open; the server waits up to :data:`CANCEL_WAIT` seconds for the computation to end. A request
 whose Host header is not this server's loopback address is refused (403): a page of another site cannot reach
 the API through a name that resolves to 127.0.0.1. A POST states its body's length: without a Content-Length
 header it is refused with 411, with one that is not a count of bytes with 400, with a body beyond
@@ -32,7 +35,7 @@ from urllib.parse import parse_qsl, urlsplit
 
 from pkm import io
 from pkm.errors import PkmError, check_integer
-from pkm.explore.api import FIELDS, Explorer, RequestError
+from pkm.explore.api import FIELDS, CancelledError, Explorer, RequestError
 
 HOST = "127.0.0.1"
 ASSETS = {"/explore.js": "text/javascript", "/explore.css": "text/css", "/": "text/html"}
@@ -40,6 +43,7 @@ MAX_QUERY = 65536
 MAX_BODY = 65536  # bytes of a POST's body (the stop request sends "{}")
 LISTEN_QUEUE = 128  # connections waiting to be accepted
 IDLE_TIMEOUT = 60.0  # seconds a connection may send nothing
+CANCEL_WAIT = 10.0  # seconds a stop waits for the computation in flight to reach its next step
 
 
 def require_plotly() -> None:
@@ -93,8 +97,16 @@ class _Handler(BaseHTTPRequestHandler):
             return False
         return True
 
+    def _stopped(self) -> bool:
+        """Whether the server has stopped, after answering so (503, the connection then closed)."""
+        if not self.server.explorer.closed:
+            return False
+        self.close_connection = True
+        self._json(HTTPStatus.SERVICE_UNAVAILABLE, {"error": "the server has stopped", "field": None})
+        return True
+
     def do_GET(self) -> None:
-        if not self._local():
+        if not self._local() or self._stopped():
             return
         parts = urlsplit(self.path)
         if parts.path.startswith("/api/"):
@@ -138,7 +150,7 @@ class _Handler(BaseHTTPRequestHandler):
         if len(self.rfile.read(length)) < length:  # the client left before its body: nothing to act on
             self.close_connection = True
             return
-        if not self._local():
+        if not self._local() or self._stopped():
             return
         if urlsplit(self.path).path != "/api/stop":
             self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {reprlib.repr(self.path)}", "field": "path"})
@@ -147,7 +159,7 @@ class _Handler(BaseHTTPRequestHandler):
                                                          "application/json)", "field": "Content-Type"})
         else:
             self._json(HTTPStatus.OK, {"stopped": True})
-            threading.Thread(target=self.server.shutdown, daemon=True).start()
+            threading.Thread(target=self.server.stop, daemon=True).start()
 
     def _api(self, endpoint: str, query: str) -> None:
         """Answer an endpoint: its answer or the error it raised is computed first and written after, so that a
@@ -157,6 +169,9 @@ class _Handler(BaseHTTPRequestHandler):
             status, payload = HTTPStatus.OK, self._answer(endpoint, query)
         except RequestError as exc:
             status, payload = HTTPStatus.BAD_REQUEST, exc.to_dict()
+        except CancelledError as exc:
+            self.close_connection = True
+            status, payload = HTTPStatus.SERVICE_UNAVAILABLE, {"error": str(exc), "field": None}
         except _UnknownEndpointError:
             status, payload = HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {reprlib.repr(endpoint)}",
                                                      "field": "endpoint"}
@@ -194,6 +209,12 @@ class _HTTPServer(ThreadingHTTPServer):
         self.verbose = verbose
         super().__init__((HOST, port), _Handler)
 
+    def stop(self) -> None:
+        """Close the explorer (the computation in flight cancelled, waited for up to CANCEL_WAIT seconds), then end
+        :meth:`serve_forever`."""
+        self.explorer.close(timeout=CANCEL_WAIT)
+        self.shutdown()
+
     def handle_error(self, _request: Any, client_address: tuple[str, int]) -> None:
         """A client that left (a reset or closed connection) or fell silent: nothing to report. Anything else
         raised outside an endpoint (which answers its own failures): one line, not socketserver's traceback."""
@@ -206,7 +227,8 @@ class _HTTPServer(ThreadingHTTPServer):
 
 class Server:
     """A running explorer: ``url``, :meth:`serve_forever` (in this thread, until :meth:`shutdown` or a stop
-    request), :meth:`start` (in a thread of its own) and :meth:`shutdown`, which also closes the socket."""
+    request), :meth:`start` (in a thread of its own) and :meth:`shutdown`, which also closes the socket. Either
+    way of stopping closes the explorer: its computation in flight is cancelled."""
 
     def __init__(self, explorer: Explorer, *, port: int = 0, verbose: bool = False) -> None:
         require_plotly()
@@ -238,8 +260,9 @@ class Server:
         return self
 
     def shutdown(self) -> None:
-        """Stop serving and close the socket (waits for the serving thread where :meth:`start` began one)."""
-        self._httpd.shutdown()
+        """Cancel the computation in flight, stop serving and close the socket (waits for the serving thread where
+        :meth:`start` began one)."""
+        self._httpd.stop()
         if self._thread is not None:
             self._thread.join()
         self._httpd.server_close()

@@ -550,6 +550,16 @@ PROBLEM_FIELDS = {"name", "doc", "mechanism", "task", "variables", "fixed", "der
 CONSTRAINT_KINDS = ("index", "expression", *PHYSICAL)
 
 
+def task_of(path: str | os.PathLike, mech: Any) -> Any:
+    """The task region of a task file (:func:`read_problem`) for ``mech``: the region its objective is taken
+    over, or :class:`ProblemError` where the file's mechanism is another."""
+    problem = read_problem(path)
+    if problem.mechanism.name != mech.name:
+        raise ProblemError(f"task file {path}: its mechanism is the {problem.mechanism.name}, not the {mech.name}")
+    quantity = problem.objective.quantity or next(iter(problem.quantities))
+    return problem.quantities[quantity].region
+
+
 def read_problem(path: str | os.PathLike) -> Problem:
     """:func:`design_problem` from a TOML file: ``mechanism`` (a name or a description file, relative to the
     file), ``task`` (a region name or a table {shape, centre, size, axis}), ``variables`` {name = [lower,

@@ -9,13 +9,15 @@
   const HOVER_DELAY = 120; // ms the cursor rests on a design before its map is asked for
   const RETURN_DELAY = 400; // ms after the cursor leaves the atlas before the clicked design returns
   const PLOT = { displaylogo: false, responsive: true };
+  // the top margin holds plotly's mode bar (its top 25 px or so) and below it the title, above the plotting area
+  const MARGIN = { l: 60, r: 20, t: 64, b: 50 };
 
   // The page's state, read by the tests and the benchmark: the answers as drawn, and the time from each
   // click on the atlas to its map drawn (ms).
   const state = {
-    static: offline !== null, meta: null, atlas: null, optimum: null, mode: null, clicked: null, shown: null,
-    design: null, map: null, card: null, linkage: null, pose: null, followed: false, timings: [], errors: [],
-    drawn: { atlas: 0, map: 0, card: 0 }, seq: { atlas: 0, map: 0, card: 0 },
+    static: offline !== null, stopped: false, meta: null, atlas: null, optimum: null, mode: null, clicked: null,
+    shown: null, design: null, map: null, card: null, linkage: null, pose: null, followed: false, timings: [],
+    errors: [], drawn: { atlas: 0, map: 0, card: 0 }, seq: { atlas: 0, map: 0, card: 0 },
   };
   window.pkmExplore = state;
 
@@ -45,8 +47,9 @@
     return u && u !== "-" ? ` [${u}]` : "";
   }
 
-  // the API: one request of each kind in flight, an older one aborted
+  // the API: one request of each kind in flight, an older one aborted; none once the server is stopped
   async function api(endpoint, fields, kind) {
+    if (state.stopped) throw new DOMException("the server has stopped", "AbortError");
     const query = new URLSearchParams();
     for (const [k, v] of Object.entries(fields)) if (v !== undefined && v !== null && v !== "") query.set(k, v);
     if (kind) {
@@ -64,7 +67,7 @@
   }
 
   function failed(error) {
-    if (error.name !== "AbortError") status(error.message, true);
+    if (error.name !== "AbortError" && !state.stopped) status(error.message, true);
   }
 
   // arrays: nested lists (null for NaN) or base64 of little-endian float64, row-major
@@ -91,6 +94,16 @@
       z.push(row);
     }
     return z;
+  }
+
+  // each cell's tooltip over z (as transpose gives it): the index's value, or what a gap means (gap(i, j) of the
+  // cell at (u[i], v[j])), never a number where there is none
+  function cellText(z, name, gap) {
+    return z.map((row, j) => row.map((x, i) => (x === null ? gap(i, j) : `${name} ${fmt(x)}`)));
+  }
+
+  function plotTitle(text) {
+    return { text, font: { size: 14 }, y: 1, yref: "paper", yanchor: "bottom", pad: { b: 12 } };
   }
 
   // the plots' legends in the page, so that a plot's area does not move when a legend entry comes or goes
@@ -181,11 +194,13 @@
   function atlasTraces() {
     const a = state.atlas;
     const mode = state.mode;
+    const z = transpose(decode(a.values[mode]));
+    const gap = (i, j) => (a.designs[i][j] ? "infeasible: no value" : "outside the design space");
     const traces = [{
-      type: "heatmap", x: a.u, y: a.v, z: transpose(decode(a.values[mode])), colorscale: "Viridis",
+      type: "heatmap", x: a.u, y: a.v, z, text: cellText(z, a.index, gap), colorscale: "Viridis",
       zmin: a.limits ? a.limits.min : undefined, zmax: a.limits ? a.limits.max : undefined,
       colorbar: { title: { text: a.index + unit(a.unit) } }, name: a.index,
-      hovertemplate: `${a.chart_axes[0]} %{x:.4g}, ${a.chart_axes[1]} %{y:.4g}<br>${a.index} %{z:.4g}<extra></extra>`,
+      hovertemplate: `${a.chart_axes[0]} %{x:.4g}, ${a.chart_axes[1]} %{y:.4g}<br>%{text}<extra></extra>`,
     }];
     const excluded = { x: [], y: [] };
     a.u.forEach((u, i) => a.v.forEach((v, j) => {
@@ -223,10 +238,10 @@
     const a = state.atlas;
     const space = a.axes ? a.axes.map((x) => x[0]).join(", ") : `space ${a.space}`;
     return {
-      title: { text: `${a.index} over ${a.region} (${space}), mode ${state.mode}`, font: { size: 14 } },
+      title: plotTitle(`${a.index} over ${a.region} (${space}), mode ${state.mode}`),
       xaxis: { title: { text: a.chart_labels[0] }, zeroline: false },
       yaxis: { title: { text: a.chart_labels[1] }, zeroline: false },
-      showlegend: false, margin: { l: 60, r: 20, t: 40, b: 50 }, hovermode: "closest",
+      showlegend: false, margin: MARGIN, hovermode: "closest",
       uirevision: `${a.index}/${a.region}/${space}`,
     };
   }
@@ -392,7 +407,8 @@
     }
     if (seq !== state.seq.map) return;
     const values = decode(answer.values);
-    state.map = { ...answer, values, z: transpose(values) };
+    const z = transpose(values);
+    state.map = { ...answer, values, z, text: cellText(z, answer.index, () => "out of reach") };
     state.linkage = offline ? offlineAnswer("linkage") : null;
     state.pose = null;
     state.followed = false;
@@ -412,10 +428,10 @@
   function mapTraces() {
     const m = state.map;
     const traces = [{
-      type: "heatmap", x: m.u, y: m.v, z: m.z, colorscale: "Viridis", name: m.index,
+      type: "heatmap", x: m.u, y: m.v, z: m.z, text: m.text, colorscale: "Viridis", name: m.index,
       zmin: m.limits ? m.limits.min : undefined, zmax: m.limits ? m.limits.max : undefined,
       colorbar: { title: { text: m.index + unit(m.unit) } },
-      hovertemplate: `${m.axes[0]} %{x:.4g}, ${m.axes[1]} %{y:.4g}<br>${m.index} %{z:.4g}<extra></extra>`,
+      hovertemplate: `${m.axes[0]} %{x:.4g}, ${m.axes[1]} %{y:.4g}<br>%{text}<extra></extra>`,
     }];
     const styles = { det_type1: ["#000000", "type I singularity"], det_type2: ["#d62728", "type II singularity"] };
     for (const [key, curves] of Object.entries(m.curves)) {
@@ -454,19 +470,18 @@
     const sameUnits = m.axis_units[0] === m.axis_units[1];
     const held = Object.entries(m.held).map(([k, v]) => `${k} = ${fmt(v)}`).join(", ");
     const layout = {
-      title: { text: `${state.meta.name}, mode ${m.mode}${held ? `; ${held}` : ""}`, font: { size: 14 } },
+      title: plotTitle(`${state.meta.name}, mode ${m.mode}${held ? `; ${held}` : ""}`),
       xaxis: { title: { text: m.axes[0] + unit(m.axis_units[0]) }, zeroline: false },
       yaxis: { title: { text: m.axes[1] + unit(m.axis_units[1]) }, zeroline: false, ...(sameUnits ? { scaleanchor: "x" } : {}) },
-      showlegend: false, margin: { l: 60, r: 20, t: 40, b: 50 }, hovermode: "closest",
+      showlegend: false, margin: MARGIN, hovermode: "closest",
       uirevision: `${m.axes.join(",")}`,
     };
     const traces = mapTraces();
     await Plotly.react("map", traces, layout, PLOT);
     const link = state.linkage;
     const notes = [`${m.index}${unit(m.unit)} over ${m.u.length} x ${m.v.length} poses`];
-    if (link && !link.legs.length) notes.push("this mechanism has no drawing of its linkage");
-    else if (link && !link.projected) notes.push(`the linkage is not drawn in the plane ${m.axes.join(", ")}`);
-    if (link && link.legs.length) notes.push(`pose ${Object.values(link.pose).map(fmt).join(", ")}${link.reachable ? "" : " (out of reach)"}`);
+    if (link && link.reason) notes.push(link.reason);
+    if (link && link.reachable) notes.push(`pose ${Object.values(link.pose).map(fmt).join(", ")}`);
     $("map-note").innerHTML = `${legend(traces)}<br>${escape(notes.join(" · "))}`;
   }
 
@@ -553,14 +568,23 @@
     select.value = chosen;
   }
 
+  // the server cancels its computation in flight; the page aborts its requests in flight and makes none after
   async function stop() {
+    state.stopped = true;
+    for (const controller of Object.values(controllers)) controller.abort();
     try {
-      await fetch("/api/stop", { method: "POST", headers: { "Content-Type": "application/json" }, body: "{}" });
-      status("the server has stopped; close this page");
+      const response = await fetch("/api/stop", { method: "POST", headers: { "Content-Type": "application/json" },
+        body: "{}" });
+      if (!response.ok && response.status !== 503) throw new Error((await response.json()).error);
     } catch (error) {
-      failed(error);
+      state.stopped = false;
+      status(`the server did not stop: ${error.message}`, true);
+      return;
     }
-    $("stop").disabled = true;
+    clearTimeout(hoverTimer);
+    clearTimeout(returnTimer);
+    for (const el of document.querySelectorAll("header select, header button, #held input")) el.disabled = true;
+    status("the server has stopped; close this page");
   }
 
   async function start() {
