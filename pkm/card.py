@@ -17,6 +17,7 @@ import numpy as np
 
 from pkm import io, registry
 from pkm.errors import PkmError
+from pkm.units import Units, placement_in, placement_text
 from pkm.workspace_map import WorkspaceSlice, check_plane, workspace_slice
 
 SLOW = ("lambda_e",)  # indices whose adaptive quadrature a card leaves out (an eigenvalue problem per node)
@@ -33,28 +34,30 @@ class Card:
     pose: np.ndarray
     indices: list[dict[str, Any]] = field(default_factory=list)
     placement: dict[str, Any] | None = None
+    units: Units = field(default_factory=Units)  # every number of the card's files in them
 
     def to_dict(self) -> dict[str, Any]:
-        m = self.mechanism
+        m, units = self.mechanism, self.units
         return {
             "mechanism": m.name,
-            "design": [{"name": p.name, "value": float(self.design[p.name]), "unit": p.unit, "doc": p.doc}
-                       for p in m.parameters],
+            "design": [{"name": p.name, "value": units.value(float(self.design[p.name]), p.unit),
+                        "unit": units.convert(p.unit)[1], "doc": p.doc} for p in m.parameters],
             "region": self.region,
             "placement": self.placement,
-            "pose": dict(zip(m.pose_names, self.pose.tolist(), strict=True)),
-            "maps": {mode: s.metadata() for mode, s in self.maps.items()},
+            "pose": dict(zip(m.pose_names, units.from_si(self.pose, m.pose_units).tolist(), strict=True)),
+            "pose_units": dict(zip(m.pose_names, [units.name(u) for u in m.pose_units], strict=True)),
+            "maps": {mode: s.metadata(units) for mode, s in self.maps.items()},
             "global_indices": self.indices,
         }
 
     def markdown(self, figures: Mapping[str, str]) -> str:
-        m = self.mechanism
+        m, units = self.mechanism, self.units
         lines = [f"# {m.name}: design card", "", m.doc, "", "## Design", "", "| parameter | value | unit | meaning |",
                  "|---|---|---|---|"]
-        lines += [f"| {p.name} | {self.design[p.name]:.6g} | {p.unit} | {p.doc} |" for p in m.parameters]
+        lines += [f"| {p.name} | {units.value(float(self.design[p.name]), p.unit):.6g} | {units.convert(p.unit)[1]} "
+                  f"| {p.doc} |" for p in m.parameters]
         if self.placement is not None:
-            lines += ["", f"Region {self.region}: {self.placement['shape']} at {self.placement['centre']}, size "
-                          f"{self.placement['size']}."]
+            lines += ["", f"Region {self.region}: {placement_text(self.placement)}."]
         lines += ["", f"## Global indices over {self.region}", "", "| index | mode | value | unit | resolution | "
                   "accuracy |", "|---|---|---|---|---|---|"]
         for row in self.indices:
@@ -74,7 +77,7 @@ class Card:
             linkage = self.mechanism.linkage(self.pose, self.design, mode=mode)
             for suffix in ("png", "svg"):
                 name = f"workspace_{mode}.{suffix}"
-                written.append(s.plot(folder / name, linkage=linkage))
+                written.append(s.plot(folder / name, linkage=linkage, units=self.units))
             figures[mode] = f"workspace_{mode}.png"
         written.append(io.atomic_write(folder / "report.json", lambda p: p.write_text(io.to_json(self.to_dict()))))
         written.append(io.atomic_write(folder / "report.md", lambda p: p.write_text(self.markdown(figures))))
@@ -113,13 +116,16 @@ def design_card(
     pose: Sequence[float] | None = None,
     indices: Sequence[str] | None = None,
     resolution: int = 81,
+    units: Units | None = None,
 ) -> Card:
     """The card of a design in ``modes`` (all by default): maps of ``index`` over the plane ``axes`` (the
     other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
     ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
     offers (or ``indices``) over ``region`` (its first parametrised region by default, or a region given as it
     is: a task file's, :func:`pkm.synthesis.designer.task_of`). The maps' options are
-    checked before anything is computed (:func:`pkm.workspace_map.check_plane`)."""
+    checked before anything is computed (:func:`pkm.workspace_map.check_plane`). With ``units``, every number of
+    the card's files (its table, its report and its figures' axes) is in them (:class:`pkm.units.Units`)."""
+    units = units or Units()
     axes, _, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
     region = region or _default_region(mech)
@@ -144,10 +150,13 @@ def design_card(
             if allowed and mode not in allowed:
                 continue
             value = mech.global_index(name, design, region=region, mode=mode)
-            rows.append({"index": name, "mode": mode, "value": float(value), "unit": mech.index_unit(name),
+            scale, unit = units.convert(mech.index_unit(name))
+            rows.append({"index": name, "mode": mode, "value": float(value) / scale, "unit": unit,
                          "resolution": value.resolution, "points": value.points,
-                         "accuracy": float(value.accuracy) if math.isfinite(value.accuracy) else float("nan")})
-    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement)
+                         "accuracy": float(value.accuracy) / scale if math.isfinite(value.accuracy) else float("nan")})
+    if placement is not None:
+        placement = placement_in(mech, where, placement, units)
+    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement, units)
 
 
 @dataclass
@@ -189,8 +198,10 @@ class Comparison:
         names = [f"design {k + 1}" for k in range(len(self.cards))]
         lines = [f"# {m.name}: {len(self.cards)} designs compared", "",
                  "| parameter | unit | " + " | ".join(names) + " |", "|---|---|" + "---|" * len(names)]
+        units = self.cards[0].units
         for p in m.parameters:
-            lines.append(f"| {p.name} | {p.unit} | " + " | ".join(f"{c.design[p.name]:.6g}" for c in self.cards) + " |")
+            lines.append(f"| {p.name} | {units.convert(p.unit)[1]} | "
+                         + " | ".join(f"{units.value(float(c.design[p.name]), p.unit):.6g}" for c in self.cards) + " |")
         lines += ["", "Global indices (the best of each row in bold, where the designs differ):", "",
                   "| index | mode | unit | " + " | ".join(names) + " |", "|---|---|---|" + "---|" * len(names)]
         for row in self.rows():

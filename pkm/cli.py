@@ -46,7 +46,7 @@ from pkm.reproduce import reproduce
 from pkm.synthesis import InfeasibleError, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.driver import constraint_lines
 from pkm.synthesis.pareto import FRONT_TOLERANCE
-from pkm.units import Units
+from pkm.units import Units, placement_in, placement_text
 
 
 class _Parser(argparse.ArgumentParser):
@@ -273,44 +273,45 @@ def cmd_eval(args: argparse.Namespace) -> None:
     local = {name: m.local_index(name, x, d, mode=mode) for name in m.local_indices()}
     sing = m.singularity(x, d, mode=mode)
     singular = m.singular_types(x, d, mode=mode)
+    si = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
+          "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
+          "indices": {name: m.index_unit(name) for name in local}}
+    mine = {key: {n: units.convert(u)[1] for n, u in table.items()} for key, table in si.items()}
+    jacobian = np.outer(1 / np.array([units.scale(u) for u in m.actuator_units]),
+                        [units.scale(u) for u in m.pose_units])
     rows = []
     for k in range(len(x)):
         rows.append(
             {
-                "pose": x[k],
+                "pose": units.from_si(x[k], m.pose_units),
                 "reachable": bool(reached[k]),
                 "singular": singular[k],
                 "violated_limits": [name for name, v in margins.items() if v[k] < 0],
-                "q": q[k],
-                "actuators": dict(zip(m.actuator_names, q[k][: m.n_act].tolist(), strict=True)),
-                "J": J[k],
-                **{name: float(v[k]) for name, v in local.items()},
+                **({"q": q[k]} if units == Units() else {}),
+                "actuators": dict(zip(m.actuator_names, units.from_si(q[k][: m.n_act], m.actuator_units).tolist(),
+                                      strict=True)),
+                "J": J[k] * jacobian,
+                **{name: units.value(float(v[k]), si["indices"][name]) for name, v in local.items()},
                 **{name: float(v[k]) for name, v in sing.items()},
             }
         )
     shown = [name for name in ("inverse_condition_f", "singularity_margin_type1", "singularity_margin_type2",
                                "velocity_max", "velocity_min") if name in local]
-    si = {"pose": dict(zip(m.pose_names, m.pose_units, strict=True)),
-          "actuators": dict(zip(m.actuator_names, m.actuator_units, strict=True)),
-          "indices": {name: m.index_unit(name) for name in local}}
-    mine = {key: {n: units.name(u) for n, u in si[key].items()} for key in ("pose", "actuators")}
     text = "\n".join(
-        f"pose {_valued(units.from_si(r['pose'], m.pose_units), mine['pose'])}: "
-        f"{_valued(units.from_si(r['q'][: m.n_act], m.actuator_units), mine['actuators'])}, "
-        + ", ".join(f"{name} = {r[name]:.6g}{_unit(si['indices'][name])}" for name in shown)
+        f"pose {_valued(r['pose'], mine['pose'])}: {_valued(list(r['actuators'].values()), mine['actuators'])}, "
+        + ", ".join(f"{name} = {r[name]:.6g}{_unit(mine['indices'][name])}" for name in shown)
         + (f"; SINGULAR ({' and '.join(r['singular'])}): the values at a singular pose are its limits, not a "
            "machine's" if r["singular"] else "")
-        if r["reachable"] else f"pose {units.from_si(r['pose'], m.pose_units).tolist()}: out of reach in mode "
-                               f"{mode}{_why(m, r, d)}"
+        if r["reachable"] else f"pose {r['pose'].tolist()}: out of reach in mode {mode}{_why(m, r, d, units)}"
         for r in rows
     )
-    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "units": si, "poses": rows}
+    data = {"mechanism": m.name, "design": _design_in(m, d, units), "mode": mode, "units": mine, "poses": rows}
     if args.out:
-        columns = [*(f"{n} [{u}]" for n, u in si["pose"].items()), "reachable",
-                   *(f"{n} [{u}]" for n, u in si["actuators"].items()),
-                   *(f"{n} [{u}]" for n, u in si["indices"].items()), *sing]
-        table = [[*r["pose"], r["reachable"], *r["q"][: m.n_act], *(r[n] for n in local), *(r[n] for n in sing)]
-                 for r in rows]
+        columns = [*(f"{n} [{u}]" for n, u in mine["pose"].items()), "reachable",
+                   *(f"{n} [{u}]" for n, u in mine["actuators"].items()),
+                   *(f"{n} [{u}]" for n, u in mine["indices"].items()), *sing]
+        table = [[*r["pose"], r["reachable"], *r["actuators"].values(), *(r[n] for n in local),
+                  *(r[n] for n in sing)] for r in rows]
 
         def write(folder: Path) -> list[Path]:
             return [io.write_text(folder / "eval.json", io.to_json(data)),
@@ -320,20 +321,34 @@ def cmd_eval(args: argparse.Namespace) -> None:
     _emit(args, data, text)
 
 
-def _why(m: Any, row: dict[str, Any], design: Any) -> str:
+def _why(m: Any, row: dict[str, Any], design: Any, units: Units) -> str:
     """Why a pose is out of reach, where pkm can say: the stated limits it violates, an angle beyond a turn
     (typed in degrees where radians go?) and a length beyond the workspace box that would lie in it read in
-    mm."""
+    mm (each where the pose is given in SI; the pose looked at in SI)."""
+    pose = units.to_si(row["pose"], m.pose_units)
     reasons = [f"violates {', '.join(row['violated_limits'])}"] if row["violated_limits"] else []
-    turns = [f"{name} = {v:g} rad: in degrees?" for name, unit, v in zip(m.pose_names, m.pose_units, row["pose"],
+    turns = [f"{name} = {v:g} rad: in degrees?" for name, unit, v in zip(m.pose_names, m.pose_units, pose,
                                                                          strict=True)
-             if unit == "rad" and abs(v) > 2 * math.pi]
+             if unit == "rad" and units.angle == "rad" and abs(v) > 2 * math.pi]
     box = m.workspace_box(m.design_vector(design))
     lengths = [f"{name} = {v:g} m: in mm? (--units mm)" for name, unit, v, (lo, hi)
-               in zip(m.pose_names, m.pose_units, row["pose"], box, strict=True)
-               if unit == "m" and not lo <= v <= hi and lo <= v / 1000 <= hi]
+               in zip(m.pose_names, m.pose_units, pose, box, strict=True)
+               if unit == "m" and units.length == "m" and not lo <= v <= hi and lo <= v / 1000 <= hi]
     notes = reasons + turns + lengths
     return f" ({'; '.join(notes)})" if notes else ""
+
+
+def _per(unit: str, other: str) -> str:
+    """The unit of a derivative of ``unit`` in a quantity of unit ``other`` (``-`` for a pure number)."""
+    if other == "-":
+        return unit
+    other = f"({other})" if any(c in other for c in " /") else other
+    return f"1/{other}" if unit == "-" else f"{unit}/{other}"
+
+
+def _design_in(m: Mechanism, design: Design, units: Units) -> dict[str, float]:
+    """A design's values in the user's units."""
+    return {p.name: units.value(float(design[p.name]), p.unit) for p in m.parameters}
 
 
 def _unit(unit: str) -> str:
@@ -348,7 +363,8 @@ def _valued(values: np.ndarray, units: dict[str, str]) -> str:
 
 def cmd_index(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
-    d = _design(m, args.design, _units(args))
+    units = _units(args)
+    d = _design(m, args.design, units)
     mode = m.working_mode(args.mode).name
     region = _region(m, args.region)
     args.region = _region_name(region)
@@ -362,21 +378,25 @@ def cmd_index(args: argparse.Namespace) -> None:
         singularity_margin=args.margin,
     )
     value, grad = out if args.gradient else (out, None)
+    unit = m.index_unit(args.index)
+    scale, shown = units.convert(unit)
     data = {
         "mechanism": m.name,
         "index": args.index,
         "region": args.region,
         "mode": mode,
-        "design": dict(d),
-        "value": float(value),
+        "design": _design_in(m, d, units),
+        "value": float(value) / scale,
         "points": value.points,
         "resolution": value.resolution,
-        "accuracy": value.accuracy,
-        "unit": m.index_unit(args.index),
+        "accuracy": value.accuracy / scale,
+        "unit": shown,
     }
-    text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {float(value):.8g}{_unit(data['unit'])}"
+    if grad is not None:
+        grad = {p.name: grad[p.name] * units.convert(p.unit)[0] / scale for p in m.parameters}
+    text = f"{args.index} over {args.region} ({mode}, {value.points} points) = {data['value']:.8g}{_unit(shown)}"
     if np.isfinite(value.accuracy):
-        text += f" (accuracy {value.accuracy:.1e}, resolution {value.resolution})"
+        text += f" (accuracy {data['accuracy']:.1e}, resolution {value.resolution})"
     data["converged"] = value.converged
     if not value.converged:
         text += f"\nNOT CONVERGED: {value.note.removeprefix('not converged: ')}"
@@ -389,14 +409,13 @@ def cmd_index(args: argparse.Namespace) -> None:
         except PkmError:
             placed = None
         if placed is not None:
-            data["placement"] = placed
-            text += (f"\nregion {args.region}: {placed['shape']} at {_numbers(placed['centre'])}, size "
-                     f"{_numbers(placed['size'])}" + (" (in its own coordinates)" if placed["mapped"] else ""))
+            data["placement"] = placed = placement_in(m, region, placed, units)
+            text += f"\nregion {args.region}: {placement_text(placed)}"
     if args.out:
-        columns = ["mechanism", "index", "region", "mode", f"value [{data['unit']}]", "points", "resolution",
-                   "accuracy", *(f"{k} [{p.unit}]" for k, p in zip(d, m.parameters, strict=True))]
-        row = [m.name, args.index, args.region, mode, data["value"], value.points, value.resolution, value.accuracy,
-               *d.values()]
+        columns = ["mechanism", "index", "region", "mode", f"value [{shown}]", "points", "resolution",
+                   f"accuracy [{shown}]", *(f"{p.name} [{units.convert(p.unit)[1]}]" for p in m.parameters)]
+        row = [m.name, args.index, args.region, mode, data["value"], value.points, value.resolution,
+               data["accuracy"], *data["design"].values()]
 
         def write(folder: Path) -> list[Path]:
             return [io.write_text(folder / "index.json", io.to_json({**data, **({"gradient": grad} if grad else {})})),
@@ -405,7 +424,8 @@ def cmd_index(args: argparse.Namespace) -> None:
         text += "\nwrote " + ", ".join(str(p) for p in io.write_result(Path(args.out), write))
     if grad is not None:
         data["gradient"] = grad
-        text += "\ngradient: " + ", ".join(f"d/d{k} = {v:.6g}" for k, v in grad.items())
+        text += "\ngradient: " + ", ".join(
+            f"d/d{p.name} = {grad[p.name]:.6g}{_unit(_per(shown, units.convert(p.unit)[1]))}" for p in m.parameters)
         if value.note and value.converged:
             text += f"\nnote: {value.note}"
     if value.note:
@@ -418,20 +438,22 @@ def cmd_show(args: argparse.Namespace) -> None:
     from pkm.card import design_card
 
     m = load_mechanism(args.mechanism)
-    d = _design(m, args.design, _units(args))
+    units = _units(args)
+    d = _design(m, args.design, units)
     modes = _modes(m, args.mode)
     axes = tuple(args.plane.split(",")) if args.plane else None
     held = parse_design(args.held, "held coordinates", "pose coordinate", PkmError) if args.held else None
+    if held is not None:
+        named = dict(zip(m.pose_names, m.pose_units, strict=True))
+        held = {k: v * units.scale(named.get(k, "-")) for k, v in held.items()}
     card = design_card(m, d, modes=modes, region=_region(m, args.region) if args.region else None, index=args.index,
-                       axes=axes, held=held,
-                       resolution=args.resolution)
+                       axes=axes, held=held, resolution=args.resolution, units=units)
     folder = Path(args.out)
     written = io.write_result(folder, card.write)
     data = {**card.to_dict(), "files": [str(p) for p in written]}
-    lines = [f"{m.name} at {_named(dict(d))}"]
+    lines = [f"{m.name} at {_with_units(_design_in(m, d, units), m, units)}"]
     if card.placement is not None:
-        lines.append(f"region {card.region}: {card.placement['shape']} at {_numbers(card.placement['centre'])}, "
-                     f"size {_numbers(card.placement['size'])}")
+        lines.append(f"region {card.region}: {placement_text(card.placement)}")
     lines += [f"{r['index']} ({r['mode']}) = {r['value']:.6g}{_unit(r['unit'])} (resolution {r['resolution']}, "
               f"accuracy {r['accuracy']:.1e})" for r in card.indices]
     lines.append(f"wrote {len(written)} files to {io.kept_path(folder)}")
@@ -443,10 +465,11 @@ def cmd_compare(args: argparse.Namespace) -> None:
     from pkm.card import compare
 
     m = load_mechanism(args.mechanism)
-    designs = [_design(m, text, _units(args)) for text in args.design]
+    units = _units(args)
+    designs = [_design(m, text, units) for text in args.design]
     modes = _modes(m, args.mode)
     comparison = compare(m, designs, modes=modes, region=_region(m, args.region) if args.region else None,
-                         resolution=args.resolution)
+                         resolution=args.resolution, units=units)
     folder = Path(args.out)
     written = io.write_result(folder, comparison.write)
     data = {**comparison.to_dict(), "files": [str(p) for p in written]}
@@ -462,9 +485,11 @@ def cmd_export(args: argparse.Namespace) -> None:
     mode = m.working_mode(args.mode).name
     folder = m.export_urdf(d, args.out, pose=pose, mode=mode)
     files = sorted(str(p) for p in folder.iterdir())
-    data = {"mechanism": m.name, "design": dict(d), "mode": mode, "folder": str(folder), "files": files}
-    _emit(args, data, f"{m.name} at {_named(dict(d))}, reference in working mode {mode}\nwrote {len(files)} files "
-                      f"to {folder}: {', '.join(Path(f).name for f in files)}")
+    data = {"mechanism": m.name, "design": _design_in(m, d, units), "mode": mode, "folder": str(folder),
+            "files": files}
+    _emit(args, data, f"{m.name} at {_with_units(data['design'], m, units)}, reference in working mode {mode}\n"
+                      f"wrote {len(files)} files (SI, as URDF states) to {folder}: "
+                      f"{', '.join(Path(f).name for f in files)}")
 
 
 def cmd_explore(args: argparse.Namespace) -> None:
@@ -629,6 +654,12 @@ def _remove_if_empty(folder: Path) -> None:
 
 def _named(values: dict[str, float]) -> str:
     return ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
+
+
+def _with_units(values: dict[str, float], m: Mechanism, units: Units) -> str:
+    """A design's values by name, each with its unit in the user's units."""
+    names = {p.name: units.convert(p.unit)[1] for p in m.parameters}
+    return ", ".join(f"{k} = {v:.6g}{_unit(names[k])}" for k, v in values.items())
 
 
 @contextmanager
@@ -875,8 +906,9 @@ def build_parser() -> argparse.ArgumentParser:
                                     "parallel (everything else compiles at first use)")
     listed(p, "mechanisms", key="mechanism", nargs="*")
     def units_option(p: argparse.ArgumentParser) -> None:
-        p.add_argument("--units", help="units of the lengths and angles given (and printed) instead of m and rad: "
-                                       "mm or cm, deg; JSON, CSV and npz stay SI (default: SI); e.g. mm,deg")
+        p.add_argument("--units", help="units of the lengths and angles given, printed and written instead of m and "
+                                       "rad: mm or cm, deg; every number of the text, JSON (its units named), CSV "
+                                       "and figures in them (default: SI); e.g. mm,deg")
 
     p = command("eval", cmd_eval, "inverse kinematics, Jacobian and local indices at poses")
     listed(p, "mechanism", key="mechanism")

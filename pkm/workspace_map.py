@@ -20,6 +20,7 @@ import numpy as np
 
 from pkm import figures, io
 from pkm.errors import PkmError, check_real
+from pkm.units import Units
 
 RESOLUTION = 121  # poses per axis of the plane
 MAX_RESOLUTION = 2001  # 4 million poses, a few hundred MB of arrays; odd, so that the plane's middle is a pose
@@ -46,10 +47,14 @@ class WorkspaceSlice:
     region: str | None = None
     region_points: np.ndarray | None = None  # (k, 2): the region's nodes near the plane
 
-    def metadata(self) -> dict[str, Any]:
-        m = self.mechanism
-        return {"mechanism": m.name, "design": dict(self.design), "mode": self.mode, "index": self.index,
-                "unit": m.index_unit(self.index), "axes": list(self.axes), "held": dict(self.held),
+    def metadata(self, units: Units | None = None) -> dict[str, Any]:
+        """What the map is of; with ``units``, its numbers and their units' names in them."""
+        m, units = self.mechanism, units or Units()
+        named = dict(zip(m.pose_names, m.pose_units, strict=True))
+        return {"mechanism": m.name, "design": {p.name: units.value(float(self.design[p.name]), p.unit)
+                                                for p in m.parameters},
+                "mode": self.mode, "index": self.index, "unit": units.convert(m.index_unit(self.index))[1],
+                "axes": list(self.axes), "held": {k: units.value(v, named[k]) for k, v in self.held.items()},
                 "region": self.region}
 
     def save(self, path: str | os.PathLike) -> Path:
@@ -61,20 +66,24 @@ class WorkspaceSlice:
             arrays["region_points"] = self.region_points
         return io.atomic_write(Path(path), lambda tmp: np.savez_compressed(tmp, **arrays))
 
-    def plot(self, path: str | os.PathLike, *, linkage: Sequence[np.ndarray] = ()) -> Path:
+    def plot(self, path: str | os.PathLike, *, linkage: Sequence[np.ndarray] = (), units: Units | None = None
+             ) -> Path:
         """The map: the index's colours (robust limits), the type-I (black) and type-II (red) singularity
         curves, the region's nodes near the plane (white dots), axes to scale where both are lengths; with
         ``linkage`` (each leg's joint points, :meth:`pkm.Mechanism.linkage`) the legs and the platform drawn
-        in the plane's coordinates where they are positions."""
-        m = self.mechanism
+        in the plane's coordinates where they are positions; with ``units`` every axis and value in them."""
+        m, units = self.mechanism, units or Units()
         if not np.isfinite(self.values).any():
             raise PkmError(f"the {self.mode} mode of {m.name} reaches no pose of the plane {', '.join(self.axes)} "
                            f"at {self.held}")
-        limits = figures.robust_limits(self.values)
-        U, V = np.meshgrid(self.u, self.v, indexing="ij")
+        named = dict(zip(m.pose_names, m.pose_units, strict=True))
+        su, sv = (units.scale(named[a]) for a in self.axes)
+        values = self.values / units.convert(m.index_unit(self.index))[0]
+        limits = figures.robust_limits(values)
+        U, V = np.meshgrid(self.u / su, self.v / sv, indexing="ij")
         fig = figures.figure(6.4, 5.6)
         ax = fig.subplots()
-        filled = ax.pcolormesh(U, V, np.ma.masked_invalid(self.values), cmap="viridis", vmin=limits.vmin,
+        filled = ax.pcolormesh(U, V, np.ma.masked_invalid(values), cmap="viridis", vmin=limits.vmin,
                                vmax=limits.vmax, shading="nearest")
         styles = {"det_type1": ("k", "type I"), "det_type2": ("tab:red", "type II")}
         for name, det in self.singular.items():
@@ -83,32 +92,33 @@ class WorkspaceSlice:
                 ax.contour(U, V, det, levels=[0.0], colors=colour, linewidths=1.2)
                 ax.plot([], [], color=colour, label=f"{label} singularity")
         if self.region_points is not None and len(self.region_points):
-            ax.plot(self.region_points[:, 0], self.region_points[:, 1], "o", markerfacecolor="white",
+            ax.plot(self.region_points[:, 0] / su, self.region_points[:, 1] / sv, "o", markerfacecolor="white",
                     markeredgecolor="k", markeredgewidth=0.3, markersize=3, linestyle="none",
                     label=f"region {self.region} (nodes near the plane)")
-        self._draw_linkage(ax, linkage)
-        units = dict(zip(m.pose_names, m.pose_units, strict=True))
-        ax.set_xlabel(f"{self.axes[0]} [{units[self.axes[0]]}]")
-        ax.set_ylabel(f"{self.axes[1]} [{units[self.axes[1]]}]")
-        if units[self.axes[0]] == units[self.axes[1]]:
+        self._draw_linkage(ax, linkage, (su, sv))
+        ax.set_xlabel(f"{self.axes[0]} [{units.name(named[self.axes[0]])}]")
+        ax.set_ylabel(f"{self.axes[1]} [{units.name(named[self.axes[1]])}]")
+        if named[self.axes[0]] == named[self.axes[1]]:
             ax.set_aspect("equal")
-        held = ", ".join(f"{k} = {v:.3g} {units[k]}" for k, v in self.held.items())
+        held = ", ".join(f"{k} = {units.value(v, named[k]):.3g} {units.name(named[k])}" for k, v in self.held.items())
         ax.set_title(textwrap.fill(f"{m.name}, mode {self.mode}" + (f"; {held}" if held else ""), 60), fontsize=10)
-        unit = m.index_unit(self.index)
+        unit = units.convert(m.index_unit(self.index))[1]
         figures.colour_bar(fig, filled, limits, ax=ax, label=f"{self.index}" + (f" [{unit}]" if unit != "-" else ""))
         if ax.get_legend_handles_labels()[0]:
             figures.legends_below([ax], fontsize=8, ncols=3)
         return figures.save(fig, path, dpi=120)
 
 
-    def _draw_linkage(self, ax: Any, linkage: Sequence[np.ndarray]) -> None:
+    def _draw_linkage(self, ax: Any, linkage: Sequence[np.ndarray], scales: tuple[float, float]) -> None:
         columns = plane_columns(self.axes, linkage)
         if columns is None:
             return
+        scale = np.asarray(scales)
         for k, leg in enumerate(linkage):
-            ax.plot(leg[:, columns[0]], leg[:, columns[1]], "-o", color="k", linewidth=1.6, markersize=3.5,
+            drawn = leg[:, list(columns)] / scale
+            ax.plot(drawn[:, 0], drawn[:, 1], "-o", color="k", linewidth=1.6, markersize=3.5,
                     markerfacecolor="white", label="linkage" if k == 0 else None)
-        ends = np.array([leg[-1, columns] for leg in linkage] + [linkage[0][-1, columns]])
+        ends = np.array([leg[-1, columns] for leg in linkage] + [linkage[0][-1, columns]]) / scale
         ax.plot(ends[:, 0], ends[:, 1], "-", color="k", linewidth=1.0)
 
 
