@@ -35,6 +35,7 @@ class Card:
     indices: list[dict[str, Any]] = field(default_factory=list)
     placement: dict[str, Any] | None = None
     units: Units = field(default_factory=Units)  # every number of the card's files in them
+    singular: dict[str, list[str]] = field(default_factory=dict)  # the singularities the pose is at, per mode
 
     def to_dict(self) -> dict[str, Any]:
         m, units = self.mechanism, self.units
@@ -46,6 +47,7 @@ class Card:
             "placement": self.placement,
             "pose": dict(zip(m.pose_names, units.from_si(self.pose, m.pose_units).tolist(), strict=True)),
             "pose_units": dict(zip(m.pose_names, [units.name(u) for u in m.pose_units], strict=True)),
+            "singular": self.singular,
             "maps": {mode: s.metadata(units) for mode, s in self.maps.items()},
             "global_indices": self.indices,
         }
@@ -58,6 +60,9 @@ class Card:
                   f"| {p.doc} |" for p in m.parameters]
         if self.placement is not None:
             lines += ["", f"Region {self.region}: {placement_text(self.placement)}."]
+        for mode, types in self.singular.items():
+            lines += ["", f"SINGULAR: the linkage's pose is a {' and '.join(types)} singularity in mode {mode}: the "
+                          "local indices there are their limits, not the machine's."]
         lines += ["", f"## Global indices over {self.region}", "", "| index | mode | value | unit | resolution | "
                   "accuracy |", "|---|---|---|---|---|---|"]
         for row in self.indices:
@@ -144,6 +149,7 @@ def design_card(
         pose = centre if centre is not None else np.array(
             [first.held.get(n, float(np.mean(first.u if n == axes[0] else first.v))) for n in names])
     pose = np.asarray(pose, dtype=float)
+    singular = {mode: mech.singular_types(pose[None], design, mode=mode)[0] for mode in chosen}
     rows = []
     for name in indices or [i for i in mech.global_indices() if i not in SLOW]:
         for mode in chosen:
@@ -156,7 +162,8 @@ def design_card(
                          "accuracy": float(value.accuracy) / scale if math.isfinite(value.accuracy) else float("nan")})
     if placement is not None:
         placement = placement_in(mech, where, placement, units)
-    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement, units)
+    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement, units,
+                {mode: types for mode, types in singular.items() if types})
 
 
 @dataclass

@@ -454,6 +454,8 @@ def cmd_show(args: argparse.Namespace) -> None:
     lines = [f"{m.name} at {_with_units(_design_in(m, d, units), m, units)}"]
     if card.placement is not None:
         lines.append(f"region {card.region}: {placement_text(card.placement)}")
+    lines += [f"SINGULAR: the linkage's pose {_numbers(data['pose'].values())} is a {' and '.join(types)} "
+              f"singularity in mode {mode}" for mode, types in card.singular.items()]
     lines += [f"{r['index']} ({r['mode']}) = {r['value']:.6g}{_unit(r['unit'])} (resolution {r['resolution']}, "
               f"accuracy {r['accuracy']:.1e})" for r in card.indices]
     lines.append(f"wrote {len(written)} files to {io.kept_path(folder)}")

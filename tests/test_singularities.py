@@ -124,14 +124,41 @@ def test_an_index_refined_to_its_cap_short_of_its_accuracy_says_not_converged(mo
     five_bar = pkm.load("five_bar")
     value = five_bar.global_index("k_av", region="miw", mode="in_out")
     assert not value.converged
-    assert value.note.startswith("not converged: at resolution 32, the largest the refinement takes")
+    assert value.note.startswith("not converged: stopped at resolution 32, the largest the refinement takes")
     assert five_bar.global_index("gci", region="miw").converged
     assert main(["index", "five_bar", "k_av", "--region", "miw", "--mode", "in_out"]) == 0
-    assert "\nNOT CONVERGED: at resolution 32" in capsys.readouterr().out
+    assert "\nNOT CONVERGED: stopped at resolution 32" in capsys.readouterr().out
     assert main(["index", "five_bar", "k_av", "--region", "miw", "--mode", "in_out", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["converged"] is False
     assert data["note"].startswith("not converged")
+
+
+def test_the_refinement_stops_at_its_budget_of_points_and_seconds_and_says_so(monkeypatch, rpr3_file):
+    """The in-line 3-RPR's velocity ratio over a box across its singular plane phi = 0 does not converge: the
+    refinement doubled to resolution 256 (134 M nodes of a 3-D box, a minute); it stops where the next
+    resolution would exceed its budget of nodes, or of seconds at the last resolution's pace, and the note says
+    which."""
+    from pkm.regions import Box, quadrature
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        rpr3 = pkm.load(str(rpr3_file))
+    docs = (Path(__file__).resolve().parent.parent / "docs" / "designer.md").read_text()
+    assert f"{quadrature.ADAPTIVE_POINTS:,} nodes" in docs
+    assert f"beyond {quadrature.ADAPTIVE_SECONDS:g} s" in docs
+    across = Box("across", "a box across the singular plane", fixed=((0.0, 0.0, 0.0), (0.05, 0.05, 0.2)))
+    monkeypatch.setattr(quadrature, "ADAPTIVE_POINTS", 40_000)
+    value = rpr3.global_index("k_av", region=across)
+    assert not value.converged
+    assert "beyond the budget of 40000" in value.note
+    assert value.points <= 40_000
+    monkeypatch.setattr(quadrature, "ADAPTIVE_POINTS", 1 << 40)
+    monkeypatch.setattr(quadrature, "ADAPTIVE_SECONDS", 1e-9)
+    value = rpr3.global_index("k_av", region=across)
+    assert not value.converged
+    assert "beyond the budget of 1e-09 s" in value.note
+    assert value.resolution == quadrature.QUADRATURE_RESOLUTION
 
 
 def test_a_region_near_a_singularity_is_named_in_the_note():
@@ -199,3 +226,25 @@ def test_an_angle_beyond_a_turn_in_a_description_asks_whether_it_is_in_degrees()
     with pytest.raises(DescriptionError, match=r"legs \(leg 1\)\.range violates: a revolute joint's range of a turn "
                                                r"at most; \[-4, 4\] rad spans 8 rad: in degrees\?"):
         describe(rrr3)
+
+
+def test_show_and_the_explorer_mark_a_singular_pose(tmp_path, capsys, rpr3_file):
+    """The in-line 3-RPR's card is drawn at its region's centre, a type II singularity: pkm show says SINGULAR,
+    and so do its report and the explorer's linkage answer for that pose."""
+    from pkm.explore import Explorer
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        assert main(["show", str(rpr3_file), "--out", str(tmp_path / "card"), "--region", "reachable",
+                     "--plane", "x,y", "--held", "phi=0"]) == 0
+        text = capsys.readouterr().out
+        rpr3 = pkm.load(str(rpr3_file))
+    assert "SINGULAR: the linkage's pose" in text
+    assert "type II" in text
+    report = json.loads((tmp_path / "card" / "report.json").read_text())
+    assert report["singular"] == {"single": ["type II"]}
+    assert "SINGULAR" in (tmp_path / "card" / "report.md").read_text()
+    explorer = Explorer(rpr3, axes="R=0.8:1.2,r=0.3:0.5", resolution=3, region="reachable")
+    answer = explorer.handle("linkage", {"pose": "0,0,0", "plane": "x,y"})
+    assert answer["singular"] == ["type II"]
+    assert explorer.handle("linkage", {"pose": "0,0,0.3", "plane": "x,y"})["singular"] == []

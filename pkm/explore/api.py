@@ -543,6 +543,7 @@ class Explorer:
             q = mech.inverse_kinematics(pose, design, mode=mode)
             reachable = bool(np.all(np.isfinite(q)))
             legs = mech.linkage(pose, design, mode=mode) if reachable else []
+            singular = mech.singular_types(pose[None], design, mode=mode)[0] if reachable else []
         columns = plane_columns(plane, legs)
         named = dict(zip(mech.pose_names, pose.tolist(), strict=True))
         if not reachable:
@@ -558,6 +559,7 @@ class Explorer:
             "mode": mode,
             "reachable": reachable,
             "reason": reason,
+            "singular": singular,
             "actuators": dict(zip(mech.actuator_names, q.tolist(), strict=True)),
             "legs": legs,
             "plane": list(plane),

@@ -13,6 +13,7 @@ with the gradient of the active node. Syntheses maximise it in the smooth epigra
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import replace
 from functools import cache, lru_cache
@@ -25,6 +26,7 @@ from pkm.batch import evaluate
 from pkm.indices import GlobalIndex, LocalIndex, reduce_samples
 from pkm.indices.global_indices import EXTREMES_REDUCE
 from pkm.indices.local import WORKSPACE_MARGIN
+from pkm.progress import Progress
 from pkm.regions.extremes import Refined, refine, refined_gradient
 from pkm.regions.integrand import (
     COMPONENTS,
@@ -48,6 +50,8 @@ GUARD_TOLERANCE = 1e-9
 EXTREME_ACCURACY = 1e-5  # relative, of a refined region extreme at the default resolution (tested)
 INDEX_ACCURACY = 1e-5  # the accuracy a global index is refined to when no resolution is given (relative above 1)
 ADAPTIVE_LIMIT = 256  # the largest resolution the refinement doubles to
+ADAPTIVE_POINTS = 1 << 22  # the most nodes the refinement's next resolution may take
+ADAPTIVE_SECONDS = 20.0  # the refinement takes no next resolution that would end beyond this, at the last pace
 
 
 @cache
@@ -362,28 +366,50 @@ def adaptive_value(
     tolerance: float = INDEX_ACCURACY,
 ) -> tuple[GlobalValue, np.ndarray | None]:
     """The index of one design at the resolution it needs: from QUADRATURE_RESOLUTION the resolution
-    doubles until the change from half of it is at most ``tolerance`` (times the value where it exceeds 1)
-    or ADAPTIVE_LIMIT is reached; the value reports the accuracy it reached either way. Each resolution
-    is evaluated once."""
+    doubles until the change from half of it is at most ``tolerance`` (times the value where it exceeds 1),
+    or ADAPTIVE_LIMIT is reached, or the next resolution would take more than ADAPTIVE_POINTS nodes or, at the
+    pace of the last one, end beyond ADAPTIVE_SECONDS; the value reports the accuracy it reached either way,
+    and why it stopped where it did not converge. Each resolution is evaluated once; a progress bar on a
+    terminal shows the resolutions done."""
     design = np.asarray(design, dtype=float).ravel()
     resolution = QUADRATURE_RESOLUTION
+    planned = int(np.log2(ADAPTIVE_LIMIT // QUADRATURE_RESOLUTION)) + 2
+    bar = Progress(planned, f"{spec.name} over {region.name}")
+    start = time.perf_counter()
 
     def at(n: int) -> float:
-        return _at_resolution(mech, spec, region, design, branch=branch, resolution=n, gradient=False)[0]
+        out = _at_resolution(mech, spec, region, design, branch=branch, resolution=n, gradient=False)[0]
+        bar.advance()
+        return out
 
     previous, value = at(resolution // 2), at(resolution)
-    while np.isfinite(value) and abs(value - previous) > tolerance * max(1.0, abs(value)) \
-            and 2 * resolution <= ADAPTIVE_LIMIT:
+    stopped = ""
+    while np.isfinite(value) and abs(value - previous) > tolerance * max(1.0, abs(value)):
+        if 2 * resolution > ADAPTIVE_LIMIT:
+            stopped = f"at resolution {resolution}, the largest the refinement takes"
+            break
+        nodes = _node_count(region, 2 * resolution, spec.reduce)
+        last = _node_count(region, resolution, spec.reduce)
+        elapsed = time.perf_counter() - start
+        if nodes > ADAPTIVE_POINTS:
+            stopped = (f"at resolution {resolution}: the next would take {nodes} nodes, beyond the budget of "
+                       f"{ADAPTIVE_POINTS}")
+            break
+        if elapsed * (1 + nodes / last) > ADAPTIVE_SECONDS:
+            stopped = (f"at resolution {resolution} after {elapsed:.1f} s: the next would end beyond the budget of "
+                       f"{ADAPTIVE_SECONDS:g} s")
+            break
         resolution *= 2
         previous, value = value, at(resolution)
+    bar.close()
     grad = None
     if gradient:
         value, grad = _at_resolution(mech, spec, region, design, branch=branch, resolution=resolution, gradient=True)
     result = _result(spec, region, value, resolution=resolution, accuracy=abs(value - previous))
     if np.isfinite(value) and result.accuracy > tolerance * max(1.0, abs(value)):
         result.converged = False
-        result.note = (f"not converged: at resolution {resolution}, the largest the refinement takes, the value "
-                       f"still changes by {result.accuracy:.1e} from half of it, more than the {tolerance:g} asked "
+        result.note = (f"not converged: stopped {stopped or f'at resolution {resolution}'}, where the value still "
+                       f"changes by {result.accuracy:.1e} from half of it, more than the {tolerance:g} asked "
                        "(relative above 1): the index is not smooth over the region")
     return result, grad
 

@@ -482,6 +482,9 @@
     const notes = [`${m.index}${unit(m.unit)} over ${m.u.length} x ${m.v.length} poses`];
     if (link && link.reason) notes.push(link.reason);
     if (link && link.reachable) notes.push(`pose ${Object.values(link.pose).map(fmt).join(", ")}`);
+    if (link && link.singular && link.singular.length) {
+      notes.push(`SINGULAR (${link.singular.join(" and ")}): the indices there are their limits`);
+    }
     $("map-note").innerHTML = `${legend(traces)}<br>${escape(notes.join(" · "))}`;
   }
 
