@@ -186,13 +186,13 @@ def test_a_five_bar_trade_off_rate_is_the_slope_between_its_neighbours():
 
 def test_the_five_bar_front_is_a_front_against_a_dense_grid():
     """The GCI against the MIW radius, its count not given: the points placed by the front's own shape until
-    the boxes they leave open sum to 1% of the anchors' box (it returned 9 points, 4 of them one design on a
+    the boxes they leave open sum to 2% of the anchors' box (it returned 9 points, 4 of them one design on a
     plateau, the last failed at the secondary's anchor, none beyond a radius of 0.891), each a distinct design,
-    both anchors reached, every point polished so that no node of a 201-per-variable grid, verified at the
+    both anchors reached, every point polished so that no node of a 101-per-variable grid, verified at the
     point's resolution, dominates it beyond its accuracy, and the front's hypervolume at least the grid's
-    (0.006037 against 0.006663 from the issue's reference point). The default tolerance against the
-    601-per-variable grid: docs/benchmarks.md."""
-    front = pareto(registry.problem("five_bar.max_gci_miw"), "miw_radius", tolerance=1e-2, grid=201, progress=False)
+    (0.006037 against 0.006663 for a 201-per-variable grid from the issue's reference point). The default
+    tolerance against the 601-per-variable grid: docs/benchmarks.md and tests/test_bench_pareto.py."""
+    front = pareto(registry.problem("five_bar.max_gci_miw"), "miw_radius", tolerance=2e-2, grid=101, progress=False)
     good = front.optimal
     designs = np.array([list(p.variables.values()) for p in good])
     gaps = np.abs(designs[:, None, :] - designs[None, :, :]).max(axis=2) + np.eye(len(good))
