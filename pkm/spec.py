@@ -1,50 +1,17 @@
 """Machines as data (DESIGN.md section 6b): a description, checked, derived on first use, loaded as a
 :class:`pkm.mechanism.Mechanism`.
 
-A description is a mapping (or a TOML file) with
-
-* ``name``, ``doc``;
-* ``frame``: the pose, ``planar_point`` (x, y), ``planar`` (x, y, phi), ``spatial_point`` (x, y, z) or
-  ``spatial`` (x, y, z, roll, pitch, yaw; R = Rz(yaw) Ry(pitch) Rx(roll));
-* ``parameters``: a list of {name, default, lower, upper, unit, doc}; optionally ``conditions``: validity
-  conditions of the design, each {margin, doc} with the margin an expression of the parameters, positive where
-  the design is valid;
-* ``legs``: one table or a list of tables, each with ``kind`` (``RR``, ``RPR``, ``PRR``, ``R_parallelogram``,
-  ``UPS``, see :mod:`symbolic.describe`, or ``chain``: a serial chain of joints, :func:`_chain_legs`),
-  ``count`` (legs of the table, 1 by default) and the leg's data: ``base`` and ``platform`` attachments,
-  each a list of points (one per leg, each a list of coordinates) or a pattern
-  ``{circle = "R", start = "pi/2"}`` (``count`` points at ``start + 2 pi i / count``) or ``{circle = "R",
-  start = "0", pairs = "theta"}`` (``count / 2`` pairs centred at ``start + 2 pi j / (count / 2)``,
-  ``theta`` apart), spatial points in the plane z = 0; the lengths (``proximal``, ``distal`` for RR;
-  ``distal`` for PRR, with the direction ``axis`` of its prismatic joint; ``arm``, ``rod`` for
-  R_parallelogram, whose ``axis`` and ``zero`` directions are ``"tangent"`` and
-  ``"radial"`` to the base circle by default), and optionally ``range = [lower, upper]`` of the actuated
-  joint (a stroke, an arm's sweep: outside it a pose is out of reach), and for a UPS leg ``cone``, the
-  largest angle of the leg from the base's normal at its universal joint and from the platform's normal at
-  its spherical joint (the joints' range); every coordinate and length an
-  expression of the parameters with ``pi`` and :data:`pkm.expressions.FUNCTIONS`, read into
-  :mod:`pkm.expressions`' tree (never evaluated as Python; the normalised description holds the trees);
-* ``home``: the home pose (expressions), the seed of the forward kinematics;
-* optionally ``characteristic_length`` (an expression) and ``modes``: the working modes by name, each a
-  combination of the branched legs' signs (``{out_out = [1, -1]}``), the first the default; without it every
-  combination is a mode, named by the words of its legs' branches (``left_right`` for two RR legs on +1, -1:
-  :data:`KINDS`);
-* optionally bodies, for the inertia matrices: ``platform = {mass, centre (in the platform frame), inertia
-  (planar: about z; spatial: the principal moments about x, y, z of the platform frame)}`` and in each leg
-  table ``bodies``: a rotor inertia on the actuated joint (``rotor``) and the leg's bodies, each {mass,
-  centre (the distance from the body's first joint along it), inertia (about its centre of mass)}:
-  ``proximal`` and ``distal`` of an RR leg (inertia about z), ``slider`` (mass only) and ``distal`` of a PRR
-  leg, ``cylinder`` and ``piston`` of an RPR leg, ``arm`` (inertia about the joint's axis) and
-  ``rod`` (both rods of the parallelogram, mass only: half at the arm's tip, half at the platform joint) of
-  an R_parallelogram leg, ``cylinder`` (from the base joint) and ``piston`` (from the platform joint) of a
-  UPS leg (inertia about an axis across the leg); every leg has bodies where any body is given;
-* optionally ``gravity``: the acceleration of gravity in the base frame (a vector of the pose's plane or
-  space, m/s^2), for the bodies' weight in the inverse dynamics;
-* optionally ``regions``: task regions, each {name, doc, shape (``disc``, ``rectangle``, ``box``,
-  ``cylinder``), coordinates (the pose coordinates it spans, the pose's first by default; the others stay at
-  the home pose's values), centre, size (a disc's radius; a rectangle's or box's half extents; a cylinder's
-  radius and half length) and, for a cylinder, axis (one of its coordinates, the last by default)}, every
-  entry an expression of the parameters.
+A description is a mapping (or a TOML file) of the fields of :data:`DESCRIPTION_FIELDS`: its parameters'
+(:data:`PARAMETER_FIELDS`), its conditions' (:data:`CONDITION_FIELDS`), its regions' (:data:`REGION_FIELDS`), its
+bodies' (:data:`BODY_FIELDS`) and its legs', each leg table those of :func:`leg_fields`: every leg's
+(:data:`LEG_FIELDS`, its attachments lists of points or patterns of :data:`PATTERN_FIELDS`) and its kind's, a
+known subproblem's (:data:`KINDS`, derived by :mod:`symbolic.describe`) or a chain's (:data:`CHAIN_FIELDS`, its
+joints' types :data:`JOINTS`). Each :class:`Field` says what it holds and means, and docs/mechanisms.md lists them
+all (:mod:`pkm.schema_docs` writes that section from these tables). Every coordinate and length is an expression
+of the parameters with ``pi`` and :data:`pkm.expressions.FUNCTIONS`, read into :mod:`pkm.expressions`' tree
+(never evaluated as Python; the normalised description holds the trees). The working modes are the named sign
+combinations of the legs with two branches or, unnamed, every combination, those in which the home pose is
+regular first (:func:`_modes`, :func:`working_modes`).
 
 :func:`describe` checks a description and returns a :class:`Description` (errors name the field and the
 violated condition); :func:`load` derives it once into the user's cache (``descriptions/`` of the kernel cache,
@@ -79,10 +46,11 @@ from pkm.batch import evaluate
 from pkm.compiled.cache import location
 from pkm.design import Condition, Parameter
 from pkm.errors import ComputationError, PkmError, SingularityWarning
+from pkm.indices.local import SINGULAR, SINGULARITY_TYPE1, SINGULARITY_TYPE2
 from pkm.kinematics import Branch, FunctionTable, NearestSeeds, within_limits
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
-from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle
+from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle, index_values
 
 FRAMES = {
     "planar_point": (("x", "y"), ("m", "m")),
@@ -90,43 +58,286 @@ FRAMES = {
     "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
     "spatial": (("x", "y", "z", "roll", "pitch", "yaw"), ("m", "m", "m", "rad", "rad", "rad")),
 }
+FRAME_DOCS = {
+    "planar_point": "a point in the plane: the platform translates",
+    "planar": "a body in the plane, turned by phi about z",
+    "spatial_point": "a point in space: the platform translates",
+    "spatial": "a body in space, turned by R = Rz(yaw) Ry(pitch) Rx(roll)",
+}
+NAME_LENGTH = 64  # the longest name of a machine, a parameter, a region, a mode or a branch
+TEXT_LENGTH = 2000  # the longest text of a doc or a unit
+
+
+@dataclass(frozen=True)
+class Field:
+    """A field of a table of a description: its name, what it holds (a kind of value, its unit in brackets),
+    what it means (with its default where it has one) and whether it must be given. :func:`describe` refuses a
+    field that its table does not hold and a required one that is missing, naming it; docs/mechanisms.md lists
+    the tables (:mod:`pkm.schema_docs`)."""
+
+    name: str
+    holds: str
+    doc: str
+    required: bool = False
+
+
+IDENTIFIER = f"an identifier of at most {NAME_LENGTH} characters"
+TEXT = f"text of at most {TEXT_LENGTH} characters"
+LENGTH = "an expression [m], positive"
+CONE = "an expression [rad], positive"
+BODY = "a body {mass, centre, inertia}"
+POINT_BODY = "a body {mass}"  # a body without extent: its mass at a point
+EACH = "2 in the plane, 3 in space"
+
+DESCRIPTION_FIELDS = (
+    Field("name", IDENTIFIER, "the machine's name", required=True),
+    Field("doc", TEXT, "what the machine is; its name by default"),
+    Field("frame", f"one of {', '.join(FRAMES)} (Frames)", "the pose: its coordinates and their units",
+          required=True),
+    Field("parameters", "a non-empty list of tables (Parameters)", "the design's parameters", required=True),
+    Field("conditions", "a list of tables (Conditions)", "the design's validity conditions"),
+    Field("legs", "a table or a list of tables (Legs)", "the legs, one actuated joint per pose coordinate in all",
+          required=True),
+    Field("home", "a list of expressions [the pose's units]", "the home pose, a value per pose coordinate: it "
+          "assembles at the default design in the first working mode and seeds the forward kinematics; its angles "
+          "within a turn", required=True),
+    Field("characteristic_length", "an expression [m]", "the length that turns the pose's angles into lengths in "
+          "the indices of J"),
+    Field("modes", "a table: name = a list of signs (Working modes)", "the working modes by name, the first the "
+          "default; every combination of the legs' branches by default"),
+    Field("regions", "a list of tables (Regions)", "task regions"),
+    Field("platform", f"{BODY} (Bodies)", "the platform's body: its centre a point of the platform frame; its "
+          "inertia about z (planar), the principal moments about the platform frame's x, y, z (spatial), none for a "
+          "point (planar_point, spatial_point)"),
+    Field("gravity", f"a list of expressions ({EACH}) [m/s^2]", "the acceleration of gravity in the base frame, "
+          "for the bodies' weight in the inverse dynamics"),
+)
+PARAMETER_FIELDS = (
+    Field("name", IDENTIFIER, "its name in the expressions, given once, other than "
+          f"{', '.join(expressions.RESERVED)}", required=True),
+    Field("default", "a number", "its value at the default design, lower <= default < upper", required=True),
+    Field("lower", "a number", "its lower bound (every parameter has bounds)", required=True),
+    Field("upper", "a number", "its upper bound, above lower", required=True),
+    Field("unit", TEXT, "its unit; - by default"),
+    Field("doc", TEXT, "what it is"),
+)
+CONDITION_FIELDS = (
+    Field("margin", "an expression", "positive where the design is valid: a design that violates it is refused, "
+          "naming it", required=True),
+    Field("doc", TEXT, "what the condition is; a valid design by default"),
+)
+PATTERN_FIELDS = (
+    Field("circle", "an expression [m]", "the circle's radius: count points at start + 2 pi i / count",
+          required=True),
+    Field("start", "an expression [rad]", "the angle of the first point (with pairs, of the first pair's centre); "
+          "0 by default"),
+    Field("pairs", "an expression [rad]", "legs in pairs (an even count): count / 2 pairs centred at start + 2 pi j "
+          "/ (count / 2), their points this angle apart"),
+)
+BODY_FIELDS = (
+    Field("mass", "an expression [kg]", "its mass", required=True),
+    Field("centre", "an expression or a point (a list of expressions) [m]", "its centre of mass: along a leg "
+          "kind's body from the joint its kind names (a distance), or a point of the frame of a chain joint's body "
+          "from the joint or of the platform frame; 0 by default"),
+    Field("inertia", "an expression or a list of expressions [kg m^2]", "about its centre of mass: a leg kind's "
+          "body's about the axis its kind names; a chain joint's body's and the platform's about z in the plane, "
+          "its principal moments about the axes of its frame in space; 0 by default"),
+)
+ROTOR = Field("rotor", "an expression [kg m^2, kg on a prismatic joint]", "the actuated joint's rotor: its inertia "
+              "after the reduction, or a reflected mass on a prismatic joint; 0 by default")
+LEG_BODIES = Field("bodies", "a table {rotor, the kind's bodies} (Bodies)", "the leg's rotor and bodies, each "
+                   "optional; where a description gives a body, every leg has bodies")
+SHAPES = {"disc": (2, 1, "its radius"), "rectangle": (2, 2, "its half extents"), "box": (3, 3, "its half extents"),
+          "cylinder": (3, 2, "its radius and half length")}  # a region's dimension, its size's entries, their meaning
+REGION_FIELDS = (
+    Field("name", IDENTIFIER, "the region's name, given once, other than reachable and assembled", required=True),
+    Field("doc", TEXT, "what the region is; its name by default"),
+    Field("shape", f"one of {', '.join(SHAPES)}", "its shape: "
+          + "; ".join(f"{s} ({d} coordinates)" for s, (d, _, _) in SHAPES.items()), required=True),
+    Field("coordinates", "a list of pose coordinates' names", "the distinct pose coordinates it spans, the pose's "
+          "first by default; the others stay at the home pose's values"),
+    Field("centre", "a list of expressions [the coordinates' units]", "its centre, a value per coordinate",
+          required=True),
+    Field("size", "a list of expressions [the coordinates' units]", "its size, positive: "
+          + "; ".join(f"a {s}'s {meaning.removeprefix('its ')}" for s, (_, _, meaning) in SHAPES.items()),
+          required=True),
+    Field("axis", "a pose coordinate's name", "a cylinder's axis, one of its coordinates; the last by default"),
+)
+
+
 @dataclass(frozen=True)
 class Kind:
-    """A kind of leg: the space it moves in, its lengths, the words for the two branches of its inverse
-    kinematics (sign +1, then -1; none where it has one), what they mean, its actuated joint's unit, its
-    passive angles, whether its passive joints have two branches too (their side names the assembly modes)
-    and its bodies."""
+    """A kind of leg: the space it moves in, what it is, its own fields (beside :data:`LEG_FIELDS`), the words
+    for the two branches of its inverse kinematics (sign +1, then -1; none where it has one), what they mean,
+    its actuated joint's unit, its passive angles, whether its passive joints have two branches too (their side
+    names the assembly modes), its bodies and the joints drawn."""
 
     space: str
-    lengths: tuple[str, ...]
+    doc: str
+    fields: tuple[Field, ...]
     branches: tuple[str, ...]
     meaning: str
     unit: str
     passive: int
     sided: bool
-    bodies: tuple[str, ...]
+    bodies: tuple[Field, ...]
     points: int  # joints drawn, from the base's to the platform's
 
     @property
     def branched(self) -> bool:
         return bool(self.branches)
 
+    @property
+    def lengths(self) -> tuple[str, ...]:
+        """Its lengths: the fields that are positive lengths."""
+        return tuple(f.name for f in self.fields if f.holds == LENGTH)
+
 
 KINDS = {
-    "RR": Kind("planar", ("proximal", "distal"), ("left", "right"),
-               "the elbow left or right of the line from the base joint to the platform joint, seen from +z", "rad",
-               1, True, ("proximal", "distal"), 3),
-    "RPR": Kind("planar", (), (), "", "m", 1, False, ("cylinder", "piston"), 2),
-    "PRR": Kind("planar", ("distal",), ("ahead", "behind"),
-                "the slider ahead of or behind the platform joint's foot on the slide's axis", "m", 1, True,
-                ("slider", "distal"), 3),
-    "R_parallelogram": Kind("spatial", ("arm", "rod"), ("ccw", "cw"),
-                            "the arm turned counter-clockwise or clockwise about its axis from the plane of the axis "
-                            "and the platform joint", "rad", 0, False, ("arm", "rod"), 3),
-    "UPS": Kind("spatial", (), (), "", "m", 0, False, ("cylinder", "piston"), 2),
+    "RR": Kind(
+        space="planar",
+        doc="an actuated revolute at the base attachment, a link of length proximal to a passive revolute (the "
+            "elbow), a link of length distal to the platform's revolute",
+        fields=(Field("proximal", LENGTH, "the actuated link, from the base joint to the elbow", required=True),
+                Field("distal", LENGTH, "the passive link, from the elbow to the platform joint", required=True),
+                LEG_BODIES),
+        branches=("left", "right"),
+        meaning="the elbow left or right of the line from the base joint to the platform joint, seen from +z",
+        unit="rad", passive=1, sided=True,
+        bodies=(Field("proximal", BODY, "the actuated link, its centre from the base joint, its inertia about z"),
+                Field("distal", BODY, "the passive link, its centre from the elbow, its inertia about z")),
+        points=3),
+    "RPR": Kind(
+        space="planar",
+        doc="a passive revolute at the base attachment, an actuated prismatic joint along the leg (its length, to "
+            "the platform joint), a passive revolute at the platform attachment",
+        fields=(LEG_BODIES,), branches=(), meaning="", unit="m", passive=1, sided=False,
+        bodies=(Field("cylinder", BODY, "the part on the base joint, its centre from it, its inertia about z"),
+                Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about z")),
+        points=2),
+    "PRR": Kind(
+        space="planar",
+        doc="an actuated slider along axis (its position from the base attachment), a passive revolute on it, a "
+            "link of length distal to the platform's revolute",
+        fields=(Field("distal", LENGTH, "the link, from the slider's joint to the platform joint", required=True),
+                Field("axis", "a direction: a list of 2 expressions", "the slide's direction", required=True),
+                LEG_BODIES),
+        branches=("ahead", "behind"),
+        meaning="the slider ahead of or behind the platform joint's foot on the slide's axis",
+        unit="m", passive=1, sided=True,
+        bodies=(Field("slider", POINT_BODY, "the slider, its mass at its joint"),
+                Field("distal", BODY, "the link, its centre from the slider's joint, its inertia about z")),
+        points=3),
+    "R_parallelogram": Kind(
+        space="spatial",
+        doc="an actuated revolute at the base attachment about axis, turning an arm of length arm from the "
+            "direction zero (its angle 0) towards axis x zero, and a parallelogram of rods of length rod from the "
+            "arm's tip to the platform joint",
+        fields=(Field("arm", LENGTH, "the arm, from the motor's axis to the rods' joints", required=True),
+                Field("rod", LENGTH, "the parallelogram's rods", required=True),
+                Field("axis", "tangent, or a direction: a list of 3 expressions", "the motor's axis; tangent to the "
+                      "base's circle by default, given with zero where the base is not a pattern"),
+                Field("zero", "radial, or a direction: a list of 3 expressions", "the arm's direction at its angle "
+                      "0; radial to the base's circle by default"),
+                LEG_BODIES),
+        branches=("ccw", "cw"),
+        meaning="the arm turned counter-clockwise or clockwise about its axis from the plane of the axis and the "
+                "platform joint",
+        unit="rad", passive=0, sided=False,
+        bodies=(Field("arm", BODY, "the arm, its centre from the motor's axis, its inertia about that axis"),
+                Field("rod", POINT_BODY, "both rods of the parallelogram: half the mass at the arm's tip, half at "
+                      "the platform joint")),
+        points=3),
+    "UPS": Kind(
+        space="spatial",
+        doc="a universal joint at the base attachment, an actuated prismatic joint along the leg (its length), a "
+            "spherical joint at the platform attachment",
+        fields=(Field("cone", CONE, "the joints' range: the largest angle of the leg from the base's normal at its "
+                      "universal joint and from the platform's at its spherical joint, a stated limit beside its "
+                      "reach"),
+                LEG_BODIES),
+        branches=(), meaning="", unit="m", passive=0, sided=False,
+        bodies=(Field("cylinder", BODY, "the part on the base joint, its centre from it, its inertia about an axis "
+                      "across the leg"),
+                Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about an axis "
+                      "across the leg")),
+        points=2),
 }
 CHAIN = "chain"  # the kind of a leg given as a serial chain of joints, solved by continuation
-CHAIN_JOINTS = {"R": 1, "P": 1, "U": 2, "parallelogram": 2}  # the joint variables of each type of a chain's joints
+CHAIN_DOC = ("a serial chain of joints from the base attachment to the platform's point joint (a revolute in the "
+             "plane, a spherical joint in space), in closed form where its joints match a known subproblem, else by "
+             "Newton continuation from its branches' seeds")
+CHAIN_MEANING = "the leg's joints continued from the branch's seed at the home pose"
+CHAIN_FIELDS = (
+    Field("joints", "a list of joint tables (Chain joints)", "the chain's joints from the base attachment, with as "
+          "many joint variables as the closure at the platform's point joint has equations (2 in the plane, 3 in "
+          "space), exactly one actuated", required=True),
+    Field("branches", "a table: name = a list of numbers", "one or two seeds by name, each the joints' values (a U's "
+          "two in order) at the home pose and the default design, roughly: where the branch is continued from (the "
+          "first sign +1)", required=True),
+    Field("turn", "a list of count expressions [rad]", "each leg's frame turned about z from the base's; the "
+          "circle's angle where the base is a pattern, else 0, by default"),
+    Field("newton", "true or false", "solved by Newton continuation even where a closed form matches the chain; "
+          "false by default"),
+)
+LEG_FIELDS = (
+    Field("kind", "a leg kind (Leg kinds)", f"one of {', '.join((*KINDS, CHAIN))}", required=True),
+    Field("count", "an integer from 1 to 12", "the legs of the table; 1 by default"),
+    Field("base", "a list of points or a pattern (Attachment patterns)", "each leg's base attachment in the base "
+          f"frame: a list of count points, each a list of expressions ({EACH}) [m], or a pattern, in space in the "
+          "plane z = 0", required=True),
+    Field("platform", "a list of points or a pattern (Attachment patterns)", "each leg's platform attachment in the "
+          "platform frame", required=True),
+    Field("range", "a list [lower, upper] of expressions [the actuated joint's unit]", "the actuated joint's stated "
+          "range (a stroke, an arm's sweep): outside it a pose is out of reach; a revolute's within a turn, spanning "
+          "at most one"),
+)
+
+
+def leg_fields(kind: str) -> tuple[Field, ...]:
+    """The fields of a leg table of a kind: those of every leg, then the kind's own."""
+    return (*LEG_FIELDS, *(CHAIN_FIELDS if kind == CHAIN else KINDS[kind].fields))
+
+
+@dataclass(frozen=True)
+class JointType:
+    """A type of a chain's joints: what it is, its joint variables, whether a planar chain may hold it and its
+    fields."""
+
+    doc: str
+    variables: int
+    planar: bool
+    fields: tuple[Field, ...]
+
+
+JOINT_FIELD = Field("type", "a joint type (Chain joints)", "the joint's type", required=True)
+LINK = Field("link", f"a vector: a list of expressions ({EACH}) [m]", "to the next joint (the last's to the "
+             "platform joint), fixed in the frame the joint turns or slides; zero by default")
+ACTUATED = Field("actuated", "true or false", "whether it is the leg's actuated joint (one per leg, an R or a P); "
+                 "false by default")
+JOINT_BODY = Field("body", f"{BODY} (Bodies)", "the body after it, its centre a point of its frame from the joint")
+AXES = Field("axes", "two directions: lists of 3 expressions", "the axes it turns about, the first in the frame of "
+             "the body before it, the second in the frame the first turns", required=True)
+JOINTS = {
+    "R": JointType("a revolute joint, turning about its axis", 1, True, (
+        JOINT_FIELD, Field("axis", "a direction: a list of 3 expressions", "in space, the axis it turns about in the "
+                           "frame of the body before it, [0, 0, 1] by default; absent in the plane (about z)"),
+        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+    "P": JointType("a prismatic joint, sliding along its axis", 1, True, (
+        JOINT_FIELD, Field("axis", f"a direction: a list of expressions ({EACH})", "the direction it slides along in "
+                           "the frame of the body before it", required=True),
+        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+    "U": JointType("a universal joint, turning about its two axes, the second turned by the first", 2, False,
+                   (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+    "parallelogram": JointType("a parallelogram: its rods (its link) turned like a universal joint's link, the body "
+                               "after it keeping the frame of the body before it; its body is its rods", 2, False,
+                               (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+    "S": JointType("the platform's spherical joint, passive: last in a spatial chain, which ends there without it "
+                   "too", 0, False, (JOINT_FIELD, ACTUATED)),
+}
+PLATFORM_JOINT = "S"  # the joint type that only ends a spatial chain
+# the types of a chain's joints with joint variables, and how many each has
+CHAIN_JOINTS = {name: joint.variables for name, joint in JOINTS.items() if joint.variables}
 
 
 def kind_of(leg: Mapping[str, Any]) -> Kind:
@@ -136,9 +347,11 @@ def kind_of(leg: Mapping[str, Any]) -> Kind:
         return KINDS[leg["kind"]]
     actuated = next(j for j in leg["joints"] if j["actuated"])
     branches = tuple(name for name, _ in leg["branches"]) if len(leg["branches"]) == 2 else ()
-    return Kind("planar" if len(leg["joints"][0]["link"]) == 2 else "spatial", (), branches,
-                "the leg's joints continued from the branch's seed at the home pose", "rad" if actuated["type"] == "R"
-                else "m", sum(CHAIN_JOINTS[j["type"]] for j in leg["joints"]) - 1, True, (), len(leg["joints"]) + 1)
+    return Kind(space="planar" if len(leg["joints"][0]["link"]) == 2 else "spatial", doc=CHAIN_DOC,
+                fields=CHAIN_FIELDS, branches=branches, meaning=CHAIN_MEANING,
+                unit="rad" if actuated["type"] == "R" else "m",
+                passive=sum(CHAIN_JOINTS[j["type"]] for j in leg["joints"]) - 1, sided=True, bodies=(),
+                points=len(leg["joints"]) + 1)
 
 
 def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
@@ -148,8 +361,6 @@ def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
     return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
 
 
-NAME_LENGTH = 64  # the longest name of a machine, a parameter, a region, a mode or a branch
-TEXT_LENGTH = 2000  # the longest text of a doc or a unit
 SUFFIX = ".toml"  # a mechanism name with it is a description file
 ROOT = Path(__file__).resolve().parent.parent
 CLOSURE_TOLERANCE = 1e-9  # [m] the home pose closes every leg to this, relative to the largest length
@@ -187,6 +398,17 @@ def _tool_versions() -> dict[str, str]:
 
 def _fail(field: str, condition: str) -> DescriptionError:
     return DescriptionError(f"description field {field} violates: {condition}")
+
+
+def _check_fields(table: Mapping[str, Any], fields: Sequence[Field], where: str, what: str) -> None:
+    """A field of ``table`` that ``fields`` does not hold, or a required one that it lacks, refused by name."""
+    names = [f.name for f in fields]
+    extra = sorted(set(table) - set(names), key=str)
+    if extra:
+        raise _fail(f"{where}.{extra[0]}" if where else str(extra[0]), f"a known field of {what} ({', '.join(names)})")
+    for f in fields:
+        if f.required and f.name not in table:
+            raise _fail(f"{where}.{f.name}" if where else f.name, f"given ({f.doc})")
 
 
 def _expression(field: str, text: Any, names: set[str]) -> expressions.Tree:
@@ -238,16 +460,15 @@ def _number(field: str, value: Any) -> float:
 
 
 def _parameters(raw: Any) -> list[dict[str, Any]]:
+    table = f"{{{', '.join(f.name for f in PARAMETER_FIELDS)}}}"
     if not isinstance(raw, list) or not raw:
-        raise _fail("parameters", "a non-empty list of {name, default, lower, upper, unit, doc}")
+        raise _fail("parameters", f"a non-empty list of {table}")
     out, seen = [], set()
     for k, p in enumerate(raw):
         where = f"parameters[{k}]"
         if not isinstance(p, Mapping):
-            raise _fail(where, "a table {name, default, lower, upper, unit, doc}")
-        extra = set(p) - {"name", "default", "lower", "upper", "unit", "doc"}
-        if extra:
-            raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, default, lower, upper, unit, doc)")
+            raise _fail(where, f"a table {table}")
+        _check_fields(p, PARAMETER_FIELDS, where, "a parameter")
         name = p.get("name")
         if not _identifier(name) or name in expressions.RESERVED:
             raise _fail(f"{where}.name", f"an identifier of at most {NAME_LENGTH} characters other than "
@@ -255,9 +476,6 @@ def _parameters(raw: Any) -> list[dict[str, Any]]:
         if name in seen:
             raise _fail(f"{where}.name", f"a name not given before; {name} is")
         seen.add(name)
-        for bound in ("lower", "upper"):
-            if bound not in p:
-                raise _fail(f"{where}.{bound}", f"given (every parameter of a description has bounds; {name} has none)")
         lower, upper = _number(f"{where}.lower", p["lower"]), _number(f"{where}.upper", p["upper"])
         default = _number(f"{where}.default", p.get("default"))
         if not lower < upper:
@@ -284,9 +502,7 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]
             ) -> tuple[list[list[expressions.Tree]], list[expressions.Tree] | None]:
     """``count`` points of ``dim`` expressions, and the circle's angles where a pattern gave them."""
     if isinstance(raw, Mapping):
-        extra = set(raw) - {"circle", "start", "pairs"}
-        if extra or "circle" not in raw:
-            raise _fail(field, "a list of points or a pattern {circle, start, pairs}")
+        _check_fields(raw, PATTERN_FIELDS, field, "a pattern")
         radius = _expression(f"{field}.circle", raw["circle"], names)
         angles = _angles(raw, count, field, names)
         plane = [[_compose(f"{field}.circle", f"{{r}}*{f}({{a}})", names, r=radius, a=a) for f in ("cos", "sin")]
@@ -302,20 +518,13 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]
     return points, None
 
 
-BODY_FIELDS = {"mass", "centre", "inertia"}
-
-
 def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -> dict[str, Any]:
     """A body {mass, centre (``centre`` expressions: 0 for none, 1 a distance, 2 or 3 a point), inertia
     (``inertia`` expressions: 0 for none)}: mass required, the others 0 by default."""
     if not isinstance(raw, Mapping):
-        raise _fail(field, "a table {mass, centre, inertia}")
-    allowed = {"mass"} | ({"centre"} if centre else set()) | ({"inertia"} if inertia else set())
-    extra = set(raw) - allowed
-    if extra:
-        raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of this body ({', '.join(sorted(allowed))})")
-    if "mass" not in raw:
-        raise _fail(f"{field}.mass", "given (a body's mass)")
+        raise _fail(field, f"a table {{{', '.join(f.name for f in BODY_FIELDS)}}}")
+    counts = {"centre": centre, "inertia": inertia}
+    _check_fields(raw, [f for f in BODY_FIELDS if counts.get(f.name, 1)], field, "this body")
     out: dict[str, Any] = {"mass": _expression(f"{field}.mass", raw["mass"], names)}
     for key, count in (("centre", centre), ("inertia", inertia)):
         if not count:
@@ -331,18 +540,15 @@ def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -
 
 
 def _leg_bodies(raw: Any, kind: str, field: str, names: set[str]) -> dict[str, Any]:
+    fields = (ROTOR, *KINDS[kind].bodies)
     if not isinstance(raw, Mapping):
-        raise _fail(field, f"a table of the {kind} leg's bodies ({', '.join(KINDS[kind].bodies)}) and rotor")
-    known = {*KINDS[kind].bodies, "rotor"}
-    extra = set(raw) - known
-    if extra:
-        raise _fail(f"{field}.{sorted(extra)[0]}", f"a body of a {kind} leg ({', '.join(sorted(known))})")
+        raise _fail(field, f"a table of the {kind} leg's rotor and bodies ({', '.join(f.name for f in fields)})")
+    _check_fields(raw, fields, field, f"a {kind} leg's bodies")
     out: dict[str, Any] = {"rotor": _expression(f"{field}.rotor", raw.get("rotor", 0), names)}
-    for name in KINDS[kind].bodies:
-        if name in raw:
-            point = name in ("rod", "slider")
-            out[name] = _body(raw[name], f"{field}.{name}", names, centre=0 if point else 1,
-                              inertia=0 if point else 1)
+    for body in KINDS[kind].bodies:
+        if body.name in raw:
+            extent = int(body.holds != POINT_BODY)
+            out[body.name] = _body(raw[body.name], f"{field}.{body.name}", names, centre=extent, inertia=extent)
     return out
 
 
@@ -365,13 +571,8 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
         if (space == "planar") != planar:
             raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
-        known = {"kind", "count", "base", "platform", "axis", "zero", "range", "bodies", *lengths,
-                 *(("cone",) if kind == "UPS" else ())}
-        count, base, angles, platform = _attachments(table, where, known, f"a {kind} leg", dim=dim,
+        count, base, angles, platform = _attachments(table, where, leg_fields(kind), f"a {kind} leg", dim=dim,
                                                       names=names)
-        for length in lengths:
-            if length not in table:
-                raise _fail(f"{where}.{length}", f"given (the {kind} leg's length)")
         for i in range(count):
             leg = {"kind": kind, "base": base[i], "platform": platform[i],
                    **{n: _expression(f"{where}.{n}", table[n], names) for n in lengths}}
@@ -385,8 +586,6 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
             if "bodies" in table:
                 leg["bodies"] = _leg_bodies(table["bodies"], kind, f"{where}.bodies", names)
             if kind == "PRR":
-                if "axis" not in table:
-                    raise _fail(f"{where}.axis", "given (the direction of the PRR leg's prismatic joint)")
                 if not isinstance(table["axis"], list) or len(table["axis"]) != 2:
                     raise _fail(f"{where}.axis", "a direction of 2 expressions")
                 leg["axis"] = [_expression(f"{where}.axis[{j}]", c, names) for j, c in enumerate(table["axis"])]
@@ -402,14 +601,12 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
     return legs
 
 
-def _attachments(table: Mapping[str, Any], where: str, known: set[str], what: str, *, dim: int, names: set[str]
-                 ) -> tuple[int, list[list[expressions.Tree]], list[expressions.Tree] | None,
-                            list[list[expressions.Tree]]]:
-    """A leg table's fields checked against ``known``, its count of legs, their base attachments (with the
+def _attachments(table: Mapping[str, Any], where: str, fields: Sequence[Field], what: str, *, dim: int,
+                 names: set[str]) -> tuple[int, list[list[expressions.Tree]], list[expressions.Tree] | None,
+                                           list[list[expressions.Tree]]]:
+    """A leg table's fields checked against ``fields``, its count of legs, their base attachments (with the
     circle's angles where a pattern gives them) and their platform attachments."""
-    extra = set(table) - known
-    if extra:
-        raise _fail(f"{where}.{sorted(extra)[0]}", f"a field of {what} ({', '.join(sorted(known))})")
+    _check_fields(table, fields, where, what)
     count = table.get("count", 1)
     if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 12:
         raise _fail(f"{where}.count", "an integer from 1 to 12")
@@ -425,25 +622,21 @@ def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[expressions
 
 
 def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, Any]:
-    types = ("R", "P") if dim == 2 else ("R", "P", "U", "parallelogram")
+    types = tuple(t for t in CHAIN_JOINTS if dim == 3 or JOINTS[t].planar)
     if not isinstance(raw, Mapping):
         raise _fail(field, "a table {type, axis or axes, link, actuated}")
     kind = _choice(f"{field}.type", raw.get("type"), types)
-    known = {"type", "link", "actuated", "body", "axes" if kind in ("U", "parallelogram") else "axis",
-             *(("rotor",) if raw.get("actuated") is True else ())}
-    extra = set(raw) - known
-    if extra:
-        raise _fail(f"{field}.{sorted(extra)[0]}", f"a field of a chain's {kind} joint ({', '.join(sorted(known))})")
+    _check_fields(raw, JOINTS[kind].fields, field, f"a chain's {kind} joint")
     actuated = raw.get("actuated", False)
     if not isinstance(actuated, bool):
         raise _fail(f"{field}.actuated", "true or false")
     if actuated and kind not in ("R", "P"):
         raise _fail(f"{field}.actuated", f"an actuated R or P joint; a {kind} joint is passive")
+    if "rotor" in raw and not actuated:
+        raise _fail(f"{field}.rotor", "on the actuated joint only (its rotor)")
     out = {"type": kind, "actuated": actuated,
            "link": _vector(raw.get("link", [0] * dim), dim, f"{field}.link", names)}
     if kind == "P":
-        if "axis" not in raw:
-            raise _fail(f"{field}.axis", "given (the direction of the prismatic joint)")
         out["axis"] = _vector(raw["axis"], dim, f"{field}.axis", names)
     elif kind == "R":
         out["axes"] = [[0, 0, 1] if dim == 2 else _vector(raw.get("axis", [0, 0, 1]), 3, f"{field}.axis", names)]
@@ -468,8 +661,9 @@ def _conditions(raw: Any, names: set[str]) -> list[dict[str, Any]]:
         raise _fail("conditions", "a list of {margin, doc}")
     out = []
     for k, condition in enumerate(raw):
-        if not isinstance(condition, Mapping) or "margin" not in condition or set(condition) - {"margin", "doc"}:
+        if not isinstance(condition, Mapping):
             raise _fail(f"conditions[{k}]", "a table {margin, doc}: the margin positive where the design is valid")
+        _check_fields(condition, CONDITION_FIELDS, f"conditions[{k}]", "a condition")
         doc = _text(f"conditions[{k}].doc", condition.get("doc", "a valid design"))
         out.append({"margin": _expression(f"conditions[{k}].margin", condition["margin"], names), "doc": doc})
     return out
@@ -496,14 +690,15 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     circle's angle where the base is a circle pattern, else 0; ``newton = true`` solves the leg by Newton
     continuation even where a closed form matches it."""
     dim = 2 if frame.startswith("planar") else 3
-    known = {"kind", "count", "base", "platform", "joints", "branches", "turn", "range", "newton"}
-    count, base, angles, platform = _attachments(table, where, known, "a chain leg", dim=dim, names=names)
+    count, base, angles, platform = _attachments(table, where, leg_fields(CHAIN), "a chain leg", dim=dim, names=names)
     raw = table.get("joints")
     if not isinstance(raw, list) or not raw:
         raise _fail(f"{where}.joints", "a list of the chain's joints from the base")
-    if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == "S":
-        if raw[-1].get("actuated", False) is not False or set(raw[-1]) - {"type", "actuated"}:
-            raise _fail(f"{where}.joints[{len(raw) - 1}]", "the platform's spherical joint: passive, without fields")
+    if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == PLATFORM_JOINT:
+        last = f"{where}.joints[{len(raw) - 1}]"
+        _check_fields(raw[-1], JOINTS[PLATFORM_JOINT].fields, last, "the platform's spherical joint")
+        if raw[-1].get("actuated", False) is not False:
+            raise _fail(last, "the platform's spherical joint: passive")
         raw = raw[:-1]
     joints = [_chain_joint(j, f"{where}.joints[{i}]", dim, names) for i, j in enumerate(raw)]
     actuated = sum(j["actuated"] for j in joints)
@@ -547,32 +742,27 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     return legs
 
 
-SHAPES = {"disc": (2, 1), "rectangle": (2, 2), "box": (3, 3), "cylinder": (3, 2)}  # dimension, size entries
-
-
 def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dict[str, Any]]:
     """Task regions: a shape spanning some pose coordinates, placed by expressions of the parameters; the
     other coordinates stay at the home pose's values."""
     if raw is None:
         return []
+    table = f"{{{', '.join(f.name for f in REGION_FIELDS)}}}"
     if not isinstance(raw, list):
-        raise _fail("regions", "a list of tables {name, shape, coordinates, centre, size, axis, doc}")
+        raise _fail("regions", f"a list of tables {table}")
     out, seen = [], set()
     for k, region in enumerate(raw):
         where = f"regions[{k}]"
         if not isinstance(region, Mapping):
-            raise _fail(where, "a table {name, shape, coordinates, centre, size, axis, doc}")
-        extra = set(region) - {"name", "doc", "shape", "coordinates", "centre", "size", "axis"}
-        if extra:
-            raise _fail(f"{where}.{sorted(extra)[0]}", "a known field (name, doc, shape, coordinates, centre, size, "
-                                                        "axis)")
+            raise _fail(where, f"a table {table}")
+        _check_fields(region, REGION_FIELDS, where, "a region")
         name = region.get("name")
         if not _identifier(name) or name in seen or name in ("reachable", "assembled"):
             raise _fail(f"{where}.name", f"an identifier of at most {NAME_LENGTH} characters not given before, other "
                                          "than reachable and assembled")
         seen.add(name)
         shape = _choice(f"{where}.shape", region.get("shape"), tuple(SHAPES))
-        dimension, sizes = SHAPES[shape]
+        dimension, sizes, _ = SHAPES[shape]
         coordinates = region.get("coordinates", list(pose_names[:dimension]))
         if (not isinstance(coordinates, list) or len(coordinates) != dimension
                 or not all(isinstance(c, str) and c in pose_names for c in coordinates)
@@ -602,11 +792,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
         return raw
     if not isinstance(raw, Mapping):
         raise _fail("(the description)", "a mapping or a TOML file")
-    known = {"name", "doc", "frame", "parameters", "conditions", "legs", "home", "characteristic_length", "modes",
-             "regions", "platform", "gravity"}
-    extra = set(raw) - known
-    if extra:
-        raise _fail(sorted(extra)[0], f"a known field ({', '.join(sorted(known))})")
+    _check_fields(raw, DESCRIPTION_FIELDS, "", "a description")
     name = raw.get("name")
     if not _identifier(name):
         raise _fail("name", f"an identifier of at most {NAME_LENGTH} characters")
@@ -664,7 +850,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
 
 
 NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton")  # a normalised leg's fields of other data
-POSITIVE = ("proximal", "distal", "arm", "rod", "cone")  # a leg's lengths and angles that must be positive
+# a leg's lengths and angles that must be positive
+POSITIVE = tuple(dict.fromkeys(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)))
 DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which must not vanish
 
 
@@ -1183,7 +1370,8 @@ def _mode_name(signs: Sequence[int]) -> str:
 
 def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     """The working modes: the named sign combinations of the branched legs where the description names
-    some, else every combination, named by the words of each leg's branch in order (``left_left_right``)."""
+    some, else every combination (the first leg's sign the slowest, +1 before -1), named by the words of each
+    leg's branch in order (``left_left_right``)."""
     kinds = [kind_of(leg) for leg in data["legs"] if kind_of(leg).branched]
     named = {tuple(float(s) for s in v): k for k, v in data["modes"].items()}
     combos = list(named) or (list(itertools.product((1.0, -1.0), repeat=len(kinds))) if kinds else [(1.0,)])
@@ -1197,6 +1385,26 @@ def _modes(data: Mapping[str, Any]) -> tuple[Branch, ...]:
     return tuple(Branch(named.get(c, "_".join(words(c))), tuple(c),
                         f"legs {', '.join(words(c))} ({meanings}); branch signs {', '.join(f'{s:+.0f}' for s in c)}")
                  for c in combos)
+
+
+def working_modes(mech: Mechanism) -> tuple[Branch, ...]:
+    """A described mechanism's working modes (:func:`_modes`): those its description names, in its order, else
+    every combination, those in which the home pose is regular at the default design (reached, both
+    singularity margins at least :data:`pkm.indices.local.SINGULAR`) first, each part in the combinations' order:
+    the default mode is not a degenerate one where another is regular (a 2-PRR's with both sliders at one
+    point, where the platform turns about them with the sliders held)."""
+    modes = _modes(mech.description.data)
+    if mech.description.data["modes"] or len(modes) == 1:
+        return modes
+    design = mech.design().vector()
+    (home,) = evaluate(mech.functions["home"], design)
+
+    def singular(mode: Branch) -> bool:
+        margins = [index_values(mech, (index,), home[:, :, 0], np.array(mode.signs), design)[0][0]
+                   for index in (SINGULARITY_TYPE1, SINGULARITY_TYPE2)]
+        return not np.all(np.concatenate(margins) >= SINGULAR)
+
+    return tuple(sorted(modes, key=singular))
 
 
 RANKS = {"planar_point": 1, "planar": 2, "spatial_point": 1, "spatial": 8}  # solutions of one signature told
@@ -1224,7 +1432,6 @@ def mechanism_class(description: Description) -> type[Mechanism]:
     """The :class:`Mechanism` subclass of a description."""
     data = description.data
     pose_names, _ = FRAMES[data["pose"]["frame"]]
-    modes = _modes(data)
     seeds = Seeds(data)
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
@@ -1236,7 +1443,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "doc": data["doc"],
         "parameters": parameters,
         "conditions": conditions,
-        "working_modes": modes,
+        "working_modes": cached_property(working_modes),
         "assembly_modes": _assemblies(data),
         "pose_names": pose_names,
         "pose_units": tuple(data["pose"]["units"]),
@@ -1324,6 +1531,36 @@ def warn_singular_home(mech: Mechanism) -> None:
             warnings.warn(SingularityWarning(f"description {mech.name}: its home {note}"), stacklevel=3)
 
 
+def _unreached(mech: Mechanism, x: np.ndarray, design: np.ndarray) -> list[str]:
+    """Why a pose is out of reach in the first working mode: each margin of ``workspace_margins`` below 0 at
+    the joints without the stated limits (a range by its leg's actuated joint, its value and the range; a reach
+    or a cone by its margin), and each leg whose joints do not close there otherwise; else a chain leg's reach
+    (the sign of its Jacobian's determinant, which ``workspace_margins`` does not hold)."""
+    data = mech.description.data
+    q = mech.inverse_kinematics(x, design, passive=True, limits=False)
+    (margins,) = evaluate(mech.functions["workspace_margins"], q, x, design)
+    values = dict(zip(mech.parameter_names(), design, strict=True))
+    reasons, named = [], set()
+    for name, margin in zip(mech.limit_names, margins[0, :, 0], strict=True):
+        if not margin < 0:
+            continue
+        leg, what = name.removeprefix("leg ").split(" ", 1)
+        k = int(leg) - 1
+        named.add(k)
+        if what.startswith("range"):
+            unit = mech.actuator_units[k]
+            low, high = (expressions.evaluate(b, values) for b in data["legs"][k]["range"])
+            reasons.append(f"leg {leg}'s actuated joint {mech.actuator_names[k]} = {q[k]:.6g} {unit} lies outside "
+                           f"its range [{low:.6g}, {high:.6g}] {unit} ({name} = {margin:.3g})")
+        else:
+            reasons.append(f"{name} = {margin:.3g} < 0")
+    for k, (_, passive, _) in enumerate(_legs_layout(mech.description)):
+        joints = q[[k, *(len(data["legs"]) + p for p in passive)]]
+        if k not in named and not np.all(np.isfinite(joints)):
+            reasons.append(f"leg {k + 1}'s joints do not close at the pose")
+    return reasons or ["a chain leg crosses its own singularity on the way from its seed"]
+
+
 def check_mobility(mech: Mechanism) -> None:
     """The home pose assembles at the default design in the first mode, closing every leg, and the closure's
     Jacobian [H_q H_x] has full row rank there with as many degrees of freedom as actuated joints:
@@ -1334,7 +1571,8 @@ def check_mobility(mech: Mechanism) -> None:
     q = mech.inverse_kinematics(x, design, passive=True)
     if not np.all(np.isfinite(q)):
         raise DescriptionError(f"description {mech.name}: the home pose {x.tolist()} does not assemble at the "
-                               "default design in the first working mode")
+                               f"default design in its first working mode {mech.working_modes[0].name}: "
+                               f"{'; '.join(_unreached(mech, x, design))}")
     h, H_q, H_x = (v[0] for v in evaluate(mech.functions["constraint"], q, x, design))
     scale = max(1.0, float(np.abs(design).max()))
     if np.abs(h).max() > CLOSURE_TOLERANCE * scale**2:

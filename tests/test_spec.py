@@ -15,6 +15,7 @@ from helpers import FIVE_BAR_OF_RR_LEGS as FIVE_BAR
 from helpers import assert_five_bar_gci, assert_five_bar_torques, assert_forward_kinematics_returns_the_pose
 
 import pkm
+from pkm.errors import SingularityWarning
 from pkm.models.described import DESCRIPTIONS
 from pkm.spec import DescriptionError, describe
 
@@ -95,6 +96,9 @@ def _broken(name: str, change) -> dict:
     (lambda r: r["parameters"][1].update(name="R_b"), "parameters[1].name"),
     (lambda r: r["legs"].update(base=[["0", "0"]]), "legs.base"),
     (lambda r: r.update(frame="spatial"), "legs.kind"),
+    (lambda r: r["legs"].update(axis=[1, 0]), "legs.axis"),
+    (lambda r: r["legs"].pop("distal"), "legs.distal"),
+    (lambda r: r["legs"]["base"].update(radius="R_b"), "legs.base.radius"),
 ])
 def test_a_bad_description_names_its_field(change, field):
     with pytest.raises(DescriptionError, match=re.escape(f"description field {field} violates")):
@@ -103,8 +107,51 @@ def test_a_bad_description_names_its_field(change, field):
 
 def test_a_home_pose_that_does_not_assemble_is_refused():
     raw = _broken("rrr3", lambda r: r.update(home=[5, 5, 0]))
-    with pytest.raises(DescriptionError, match=r"home pose .* does not assemble"):
+    with pytest.raises(DescriptionError, match=r"home pose .* does not assemble .* leg 1 reach outer = -"):
         pkm.load(raw)
+
+
+PRR2 = {
+    "name": "prr2", "doc": "two sliders on the x axis, a link from each to a point", "frame": "planar_point",
+    "home": [0, 0.6],
+    "parameters": [
+        {"name": "a", "default": 0.5, "lower": 0.0, "upper": 2, "unit": "m", "doc": "half the slides' distance"},
+        {"name": "l", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "links"},
+    ],
+    "legs": {"kind": "PRR", "count": 2, "base": [["-a", 0], ["a", 0]], "platform": [[0, 0], [0, 0]], "distal": "l",
+             "axis": [1, 0]},
+}
+
+
+def test_a_home_pose_beyond_a_legs_stroke_is_refused_naming_the_leg_its_joint_its_range_and_the_mode():
+    """Leg 2's slider reaches the home pose at 0.3 m or -1.3 m from its origin, both outside its stroke."""
+    legs = [{**PRR2["legs"], "count": 1, "base": [[end, 0]], "platform": [[0, 0]], "range": stroke}
+            for end, stroke in (("-a", [-1, 2]), ("a", [0.5, 1]))]
+    with pytest.raises(DescriptionError) as refused:
+        pkm.load({**PRR2, "name": "prr2_short_stroke", "legs": legs})
+    message = str(refused.value)
+    assert "in its first working mode ahead_ahead" in message
+    assert "leg 2's actuated joint q2 = 0.3 m lies outside its range [0.5, 1] m" in message
+    assert "leg 1" not in message
+
+
+def test_a_2prrs_first_working_mode_is_not_the_one_with_both_sliders_at_one_point():
+    """Both sliders ahead of (or behind) the point on one line meet there: the links coincide and the platform
+    turns about them with the sliders held (type II). The modes in which the home pose is regular come first;
+    a description that names its modes keeps their order."""
+    home = PRR2["home"]
+    with pytest.warns(SingularityWarning, match="ahead_ahead"):
+        m = pkm.load(PRR2)
+    assert m.modes == ("ahead_behind", "behind_ahead", "ahead_ahead", "behind_behind")
+    assert m.singular_types(home) == [[]]
+    sliders = m.inverse_kinematics(home) + np.array([-0.5, 0.5])
+    np.testing.assert_allclose(sliders, [0.8, -0.8], atol=1e-12)
+    for mode in ("ahead_ahead", "behind_behind"):
+        assert m.singular_types(home, mode=mode) == [["type II"]]
+        assert m.local_index("singularity_margin_type2", home, mode=mode) < 1e-12
+    named = {**PRR2, "name": "prr2_named", "modes": {"both_ahead": [1, 1], "apart": [1, -1]}}
+    with pytest.warns(SingularityWarning, match="both_ahead"):
+        assert pkm.load(named).modes == ("both_ahead", "apart")
 
 
 def test_the_five_bar_described_in_twenty_lines_is_the_hand_derived_one():
@@ -340,6 +387,7 @@ def test_a_condition_of_the_design_refuses_a_design_that_violates_it_naming_it()
     violated = "the legs reach the centre (l1 + l2 - (R_b - r_p) > 0)"
     with pytest.raises(pkm.errors.DesignError, match=re.escape(violated)):
         m.design({**m.design(), "l1": 0.2, "l2": 0.3})
-    for bad, field in (([{"doc": "no margin"}], "conditions[0]"), ([{"margin": "l9"}], "conditions[0].margin")):
+    for bad, field in (([{"doc": "no margin"}], "conditions[0].margin"), ([{"margin": "l9"}], "conditions[0].margin"),
+                       ([{"margin": "l1", "colour": "red"}], "conditions[0].colour")):
         with pytest.raises(DescriptionError, match=re.escape(f"description field {field} violates")):
             describe({**raw, "conditions": bad})
