@@ -60,7 +60,7 @@ def measure(count: int, *, log=log) -> dict[str, Any]:
             seconds = []
             for _ in range(2):
                 start = time.perf_counter()
-                toolchain.compile_kernel(source, Path(tmp) / "kernel.so", instructions)
+                toolchain.compile_kernel(source, Path(tmp) / "kernel.so", instructions, entry.summed)
                 seconds.append(time.perf_counter() - start)
             args = [rng.uniform(-1, 1, (ROWS, fn.numel_in(i))) for i in range(fn.n_in())]
             interpreting = []
@@ -68,7 +68,8 @@ def measure(count: int, *, log=log) -> dict[str, Any]:
                 start = time.perf_counter()
                 interpreted(fn, *args)
                 interpreting.append(time.perf_counter() - start)
-            row = {"kernel": entry.label, "instructions": instructions, "level": toolchain.optimisation(instructions),
+            row = {"kernel": entry.label, "instructions": instructions,
+                   "level": toolchain.optimisation(instructions, entry.summed),
                    "compile_s": min(seconds), "interpreter_ns": min(interpreting) / (ROWS * instructions) * 1e9}
             log(f"{row['kernel']}: {instructions} instructions, compile {row['compile_s']:.3f} s, "
                 f"interpreter {row['interpreter_ns']:.1f} ns per instruction and row")

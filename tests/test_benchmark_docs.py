@@ -105,3 +105,21 @@ def test_the_compile_price_table_is_quoted_from_the_committed_run_and_names_the_
     # the constants are the fit's terms to within a factor of two
     assert 0.5 <= report["fit"]["compile_work"] / compiled.COMPILE_WORK <= 2
     assert 0.5 <= report["fit"]["compile_rows"] / compiled.COMPILE_ROWS <= 2
+
+
+def test_the_compile_levels_table_is_quoted_from_the_committed_run_and_holds_the_levels_pkm_takes():
+    """Summing kernels at -O1 run within 4% of -O3 in the committed run (pkm compiles them at -O1), row kernels
+    lose at -O1 (pkm keeps them at -O3)."""
+    from bench.compile_levels import markdown
+    from pkm.compiled.toolchain import Toolchain
+
+    report = json.loads((RUNS / "compile_levels.json").read_text())
+    assert markdown(report) in (ROOT / "docs" / "benchmarks.md").read_text()
+
+    def run_ms(level: str, summed: bool) -> float:
+        return sum(r["run_ms"] for r in report["levels"][level] if r["summed"] == summed)
+
+    assert run_ms("-O1", True) <= 1.04 * run_ms("-O3", True)
+    assert run_ms("-O1", False) > 2 * run_ms("-O3", False)
+    assert Toolchain.optimisation(500, summed=True) == "-O1"
+    assert Toolchain.optimisation(500) == "-O3"

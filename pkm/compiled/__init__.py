@@ -50,10 +50,10 @@ from pkm.compiled.cache import Cache, location
 from pkm.compiled.toolchain import CompileError, Toolchain, find
 from pkm.progress import Progress
 
-COMPILE_WORK = 1 << 26  # a compile's cost whatever the graph (the compiler's start, the link, the load), in
-# the interpreter's work: about 0.14 s at its 1-4 ns per instruction and row
-COMPILE_ROWS = 1 << 17  # and its cost per instruction of the graph, in rows of that instruction: the compiler's
-# 0.2 ms per instruction (docs/benchmarks.md, "What a compile costs")
+COMPILE_WORK = 1 << 27  # a compile's cost whatever the graph (the compiler's start, the link, the load), in
+# the interpreter's work: about 0.24 s at its 1-4 ns per instruction and row
+COMPILE_ROWS = 1 << 16  # and its cost per instruction of the graph, in rows of that instruction: the compiler's
+# 0.12 ms per instruction (docs/benchmarks.md, "What a compile costs")
 LITTLE_WORK = "little work so far"  # the reason of an evaluation on the interpreter below its compile's price
 
 
@@ -218,10 +218,10 @@ def _emitter() -> str:
 
 def key(fn: ca.Function, summed: bool = False) -> str:
     """The cache key of ``fn``'s kernel: the sha256 of its serialised graph, whether it sums over the batch,
-    the emitter's source, the toolchain's fingerprint, the optimisation level for its size and CasADi's
-    version."""
+    the emitter's source, the toolchain's fingerprint, the optimisation level for its size and kind and
+    CasADi's version."""
     toolchain = _path().toolchain
-    level = toolchain.optimisation(fn.n_instructions()) if toolchain else ""
+    level = toolchain.optimisation(fn.n_instructions(), summed) if toolchain else ""
     parts = [fn.serialize(), str(summed), _emitter(), toolchain.fingerprint if toolchain else "", level, ca.__version__]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()
 
@@ -292,7 +292,7 @@ class _Kernel:
         def build(folder: Path) -> dict:
             (folder / "kernel.c").write_text(source)
             started = time.perf_counter()
-            toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so", instructions)
+            toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so", instructions, summed)
             return {"function": name, "summed": summed, "instructions": instructions, "compiler": toolchain.identity,
                     "instruction_set": toolchain.instruction_set, "seconds": round(time.perf_counter() - started, 3)}
 
