@@ -18,6 +18,7 @@ import urllib.error
 import urllib.parse
 import urllib.request
 from importlib import resources
+from typing import Any
 
 import numpy as np
 import pytest
@@ -283,7 +284,9 @@ def test_the_stop_request_stops_the_server():
     running.shutdown()
 
 
-def test_the_stop_request_cancels_the_computation_in_flight(monkeypatch):
+def _atlas_in_flight(monkeypatch) -> tuple[Any, threading.Event, list, threading.Thread]:
+    """A server computing an atlas of lambda_e at 81 x 81 designs (seconds) for a request in a thread: the
+    server, the event set when the atlas ends, the request's answers and its thread, once the atlas began."""
     running = serve("five_bar", index="lambda_e", resolution=81)
     started, ended = watch_atlas(monkeypatch)
     answers = []
@@ -291,6 +294,11 @@ def test_the_stop_request_cancels_the_computation_in_flight(monkeypatch):
     asking.start()
     assert started.wait(timeout=120), "the atlas began"
     assert not ended.is_set(), "the atlas of lambda_e at 81 x 81 designs takes seconds"
+    return running, ended, answers, asking
+
+
+def test_the_stop_request_cancels_the_computation_in_flight(monkeypatch):
+    running, ended, answers, asking = _atlas_in_flight(monkeypatch)
     stop = time.monotonic()
     assert _request(running.url + "api/stop", data=b"{}", headers={"Content-Type": "application/json"})[0] == 200
     asking.join(timeout=30)
@@ -304,6 +312,21 @@ def test_the_stop_request_cancels_the_computation_in_flight(monkeypatch):
     assert running.explorer.closed
     with pytest.raises(api.CancelledError):
         running.explorer.handle("map", {})
+    running.shutdown()
+
+
+def test_the_cancel_request_cancels_the_computation_in_flight_and_the_server_goes_on(monkeypatch):
+    """The page's cancel: the atlas in flight is answered 409 within seconds and the next request is served."""
+    running, _, answers, asking = _atlas_in_flight(monkeypatch)
+    cancelled = time.monotonic()
+    json_type = {"Content-Type": "application/json"}
+    assert _request(running.url + "api/cancel", data=b"{}", headers=json_type) == (200, {"cancelled": True})
+    asking.join(timeout=30)
+    assert answers[0] == (409, {"error": "computation cancelled at the page's request", "field": None})
+    assert time.monotonic() - cancelled < 5
+    assert not running.explorer.closed
+    assert _request(running.url + "api/mechanism")[1]["name"] == "five_bar"
+    assert _request(running.url + "api/cancel", data=b"{}")[0] == 400
     running.shutdown()
 
 

@@ -249,6 +249,25 @@ def test_stop_server_cancels_the_atlas_in_flight_and_the_page_says_stopped(page,
     running.shutdown()
 
 
+def test_cancel_stops_the_atlas_in_flight_and_the_page_goes_on(page, monkeypatch):
+    """The Cancel button, shown while the atlas is computed: the server cancels it (not an error on the page),
+    and the page then draws the atlas of another index."""
+    running = serve("five_bar", index="lambda_e", resolution=81, map_resolution=48)
+    started, ended = watch_atlas(monkeypatch)
+    page.goto(running.url)
+    assert _wait(page, started, 120), "the page asked for its atlas"
+    assert page.is_visible("#cancel")
+    page.click("#cancel")
+    page.wait_for_function("document.getElementById('status').textContent.includes('cancelled')")
+    assert _wait(page, ended, 5), "the atlas of lambda_e at 81 x 81 designs was cancelled"
+    assert page.evaluate("window.pkmExplore.errors") == []
+    assert not page.is_visible("#cancel")
+    page.select_option("#index", "gci")
+    page.wait_for_function("window.pkmExplore.drawn.atlas >= 1", timeout=60_000)
+    assert not running.explorer.closed
+    running.shutdown()
+
+
 def test_the_static_export_shows_the_atlas_and_a_card_offline(page, server, tmp_path):
     path = export_html(server.explorer, tmp_path / "atlas.html", grid=2, map_resolution=24)
     page.goto(path.as_uri())

@@ -150,6 +150,7 @@ class Explorer:
         self.mechanism = mech = mechanism
         self._lock = threading.Lock()
         self._closed = threading.Event()
+        self._cancelled = threading.Event()
         self._optima: dict[str, dict[str, Any]] = {}
         if space and axes:
             raise RequestError("axes", "space and axes violate: one or the other")
@@ -216,25 +217,34 @@ class Explorer:
         self._lock.release()
         return True
 
+    def cancel(self) -> None:
+        """Cancel the computation in flight (it raises :class:`CancelledError` after its current step); the
+        explorer answers the next request as before."""
+        self._cancelled.set()
+
     @property
     def closed(self) -> bool:
         """Whether :meth:`close` was called: the explorer computes nothing more."""
         return self._closed.is_set()
 
     def _check_open(self, *_progress: int) -> None:
-        """CancelledError once :meth:`close` was called; a computation's ``progress(done, total)``."""
+        """CancelledError once :meth:`close` was called, or :meth:`cancel` since the computation in flight took its
+        turn; a computation's ``progress(done, total)``."""
         if self._closed.is_set():
             raise CancelledError(f"the explorer of the {self.mechanism.name} was closed (its server stopped): "
                                  "computation cancelled")
+        if self._cancelled.is_set():
+            raise CancelledError("computation cancelled at the page's request")
 
     @contextmanager
     def _turn(self) -> Iterator[None]:
         """The block's turn to compute, one at a time; cancelled where the explorer is closed when its turn comes
         or by the time it ends."""
         with self._lock:
+            self._cancelled.clear()
             self._check_open()
             yield
-        self._check_open()
+            self._check_open()
 
     def handle(self, endpoint: str, fields: Mapping[str, str]) -> dict[str, Any]:
         """The answer of ``endpoint`` to a request's ``fields``."""

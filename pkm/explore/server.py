@@ -4,7 +4,8 @@ page, plotly.js from the installed plotly package and the JSON API (:mod:`pkm.ex
 Routes: ``GET /`` the page, ``GET /explore.js``, ``/explore.css`` and ``/plotly.min.js`` its assets,
 ``GET /api/<endpoint>?field=value&...`` an endpoint's JSON (400 with ``{"error", "field"}`` for a bad
 request, 500 with a one-line ``{"error"}`` for anything else), ``POST /api/stop`` (with a JSON content
-type, which a page of another origin cannot send without the server's consent) stops the server. Stopping (the
+type, which a page of another origin cannot send without the server's consent) stops the server, and ``POST
+/api/cancel`` cancels the computation in flight (answered 409; the server goes on serving). Stopping (the
 stop request or :meth:`Server.shutdown`) closes the explorer (:meth:`pkm.explore.api.Explorer.close`): the
 computation in flight is cancelled at its next step and answered 503, as is every request after it on a
 connection kept open; the server waits up to :data:`CANCEL_WAIT` seconds for the computation to end. A request
@@ -152,11 +153,15 @@ class _Handler(BaseHTTPRequestHandler):
             return
         if not self._local() or self._stopped():
             return
-        if urlsplit(self.path).path != "/api/stop":
+        path = urlsplit(self.path).path
+        if path not in ("/api/stop", "/api/cancel"):
             self._json(HTTPStatus.NOT_FOUND, {"error": f"no such path {reprlib.repr(self.path)}", "field": "path"})
         elif not (self.headers.get("Content-Type") or "").startswith("application/json"):
-            self._json(HTTPStatus.BAD_REQUEST, {"error": "stop violates: a JSON request (Content-Type "
-                                                         "application/json)", "field": "Content-Type"})
+            self._json(HTTPStatus.BAD_REQUEST, {"error": f"{path.removeprefix('/api/')} violates: a JSON request "
+                                                         "(Content-Type application/json)", "field": "Content-Type"})
+        elif path == "/api/cancel":
+            self.server.explorer.cancel()
+            self._json(HTTPStatus.OK, {"cancelled": True})
         else:
             self._json(HTTPStatus.OK, {"stopped": True})
             threading.Thread(target=self.server.stop, daemon=True).start()
@@ -170,8 +175,10 @@ class _Handler(BaseHTTPRequestHandler):
         except RequestError as exc:
             status, payload = HTTPStatus.BAD_REQUEST, exc.to_dict()
         except CancelledError as exc:
-            self.close_connection = True
-            status, payload = HTTPStatus.SERVICE_UNAVAILABLE, {"error": str(exc), "field": None}
+            stopped = self.server.explorer.closed
+            self.close_connection = stopped
+            status = HTTPStatus.SERVICE_UNAVAILABLE if stopped else HTTPStatus.CONFLICT
+            payload = {"error": str(exc), "field": None}
         except _UnknownEndpointError:
             status, payload = HTTPStatus.NOT_FOUND, {"error": f"unknown endpoint {reprlib.repr(endpoint)}",
                                                      "field": "endpoint"}

@@ -225,10 +225,11 @@ def pareto(
     """The front of the problem's objective against ``secondary`` by the epsilon-constraint method (module
     docstring): ``n`` distinct designs from one anchor to the other placed by the front's shape, or where ``n``
     is not given as many (at most AUTO_POINTS) as it takes for the boxes the points leave open to sum to
-    ``tolerance`` of the anchors' box (the front's ``open_hypervolume``), or at the given ``epsilons``; every
-    point polished to one resolution where both objectives are verified to ACCURACY; at the problem's
-    resolution unless ``resolution`` is given (verification at twice it); ``baselines`` among ``"grid"``
-    (``grid`` nodes per variable) and ``"nsga2"`` (pymoo's NSGA-II, ``nsga`` = (population, generations)),
+    ``tolerance`` of the anchors' box (the front's ``open_hypervolume``), or at the given ``epsilons``; at the
+    problem's resolution, every point then polished to one resolution where both objectives are verified to
+    ACCURACY, or at ``resolution`` where it is given, unpolished (verification at twice it); ``baselines``
+    among ``"grid"`` (``grid`` nodes per variable) and ``"nsga2"`` (pymoo's NSGA-II, ``nsga`` = (population,
+    generations)),
     each on the same model; ``starts`` IPOPT starts of each anchor; ``progress(done, total)`` after each point
     (a bar on a terminal by default, False: nothing)."""
     name, second, problem = secondary_objective(problem, secondary)
@@ -273,7 +274,8 @@ def pareto(
                                      options=options, step=step), float("nan")
         _classify(points, problem.objective.sense, second.sense)
         _repair(problem, second, points, res=res, options=options)
-        points = _polished(problem, second, points, options)
+        if resolution is None:
+            points = _polished(problem, second, points, options)
         _classify(points, problem.objective.sense, second.sense)
         found = {}
         for kind in baselines:

@@ -61,13 +61,14 @@
     if (!response.ok) {
       const error = new Error(data.error + (data.field ? ` (field ${data.field})` : ""));
       error.field = data.field;
+      error.cancelled = response.status === 409;
       throw error;
     }
     return data;
   }
 
   function failed(error) {
-    if (error.name !== "AbortError" && !state.stopped) status(error.message, true);
+    if (error.name !== "AbortError" && !state.stopped) status(error.message, !error.cancelled);
   }
 
   // arrays: nested lists (null for NaN) or base64 of little-endian float64, row-major
@@ -317,12 +318,15 @@
   async function loadAtlas() {
     const seq = ++state.seq.atlas;
     status("computing the atlas ...");
+    $("cancel").hidden = Boolean(offline);
     let atlas;
     try {
       atlas = offline ? offline.atlas : await api("atlas", atlasFields(), "atlas");
     } catch (error) {
       failed(error);
       return;
+    } finally {
+      if (seq === state.seq.atlas) $("cancel").hidden = true;
     }
     if (seq !== state.seq.atlas) return;
     state.atlas = atlas;
@@ -571,6 +575,18 @@
     select.value = chosen;
   }
 
+  // the server cancels the computation in flight (the atlas's) and serves the next request
+  async function cancel() {
+    $("cancel").hidden = true;
+    try {
+      const response = await fetch("/api/cancel", { method: "POST", headers: { "Content-Type": "application/json" },
+        body: "{}" });
+      if (!response.ok) throw new Error((await response.json()).error);
+    } catch (error) {
+      status(`the computation was not cancelled: ${error.message}`, true);
+    }
+  }
+
   // the server cancels its computation in flight; the page aborts its requests in flight and makes none after
   async function stop() {
     state.stopped = true;
@@ -620,6 +636,7 @@
     });
     $("plane").addEventListener("change", () => { if (state.shown) select(state.shown, false); });
     $("stop").addEventListener("click", stop);
+    $("cancel").addEventListener("click", cancel);
     await Plotly.newPlot("atlas", [], {}, PLOT);
     await Plotly.newPlot("map", [], {}, PLOT);
     bindAtlas();
