@@ -4,8 +4,8 @@ For summing kernels (a region's integrands, :func:`pkm.batch.total`) and row ker
 pipelines, :func:`pkm.batch.evaluate`) of the five-bar, the 3-RRR and the passive leg, spread over their sizes,
 each level in a process of its own with an empty kernel cache: the compile's wall time (pkm's toolchain, its
 flags but the level) and the kernel's run over ``ROWS`` rows (a summing kernel's rows summed in one group),
-best of ``REPEATS``. pkm compiles a summing kernel at -O1 and a row kernel at -O3 (-O2 from
-:data:`pkm.compiled.toolchain.LARGE` instructions): :meth:`pkm.compiled.toolchain.Toolchain.optimisation`.
+best of ``REPEATS``. pkm compiles a summing kernel at -O1 and a row kernel at -O2 (-O3 below
+:data:`pkm.compiled.toolchain.SMALL` instructions): :meth:`pkm.compiled.toolchain.Toolchain.optimisation`.
 Nothing asserts on time.
 """
 

@@ -171,7 +171,7 @@ def test_the_architecture_states_the_compiled_paths_constants():
 
     from pkm.compiled import COMPILE_ROWS, COMPILE_WORK, MAX_INSTRUCTIONS
     from pkm.compiled.cache import LIMIT_MB
-    from pkm.compiled.toolchain import LARGE
+    from pkm.compiled.toolchain import SMALL
     from pkm.synthesis.model import EXCHANGE_LIMIT, EXCHANGE_ROWS
 
     text = " ".join((Path(__file__).parent.parent / "docs" / "architecture.md").read_text().split())
@@ -182,7 +182,7 @@ def test_the_architecture_states_the_compiled_paths_constants():
             f"2^{COMPILE_ROWS.bit_length() - 1} rows per instruction of the graph") in text
     assert f"at most {LIMIT_MB} MiB" in text
     assert f"more than {MAX_INSTRUCTIONS:,} instructions" in text
-    assert f"or -O2 from {LARGE:,} instructions" in text
+    assert f"-O3 below {SMALL:,} instructions" in text
     assert f"2^{COMPILED_WORK.bit_length() - 1} instructions times rows" in text
     assert f"`{', '.join(f'`{name}`' for name in GROUP_SHARED)[1:]}" in text
     runner = Path(__file__).parent.parent / "pkm" / "compiled" / "_runner.c"

@@ -36,7 +36,7 @@ COMMON_FLAGS = ("-march=native", "-fPIC", "-shared", "-fno-math-errno",
 GCC_FLAGS = ("-fno-tree-sink", "-fno-thread-jumps", "-fira-region=one", "-fira-algorithm=priority")
 X86_FLAGS = ("-mprefer-vector-width=512",)
 RUNNER_FLAGS = ("-O2", "-fPIC", "-shared")
-LARGE = 4000  # instructions from which a kernel is compiled with -O2 instead of -O3
+SMALL = 200  # instructions below which a row kernel is compiled with -O3 instead of -O2
 TIMEOUT = 600  # seconds one compile may take before it counts as failed
 
 
@@ -77,13 +77,13 @@ class Toolchain:
 
     @staticmethod
     def optimisation(instructions: int, summed: bool = False) -> str:
-        """-O3, or -O2 for a kernel of LARGE instructions or more: the integrands' Hessians compile a quarter
-        faster at -O2 and run a few per cent slower, the small kernels of the batch methods lose more; -O1 for
-        a summing kernel (a region's integrand): its loop adds each row into the sums and does not vectorise,
-        and it runs as fast as at -O3 (within 4%, bench/compile_levels.py) for 40% less compile."""
+        """-O1 for a summing kernel (a region's integrand): its loop adds each row into the sums and does not
+        vectorise, and it runs within 4% as fast as at -O3 for 40% less compile; a row kernel vectorises at -O2
+        and -O3 alike and runs as fast at either for 30% less compile at -O2 (bench/compile_levels.py), and
+        the smallest (below SMALL instructions: the batch methods' inverse kinematics) keep -O3."""
         if summed:
             return "-O1"
-        return "-O2" if instructions >= LARGE else "-O3"
+        return "-O3" if instructions < SMALL else "-O2"
 
     def kernel_flags(self, instructions: int, summed: bool = False) -> tuple[str, ...]:
         """The flags a kernel of ``instructions`` instructions (summing over its rows or not) is compiled with."""
