@@ -11,7 +11,7 @@ import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
-from pkm import expressions, spec
+from pkm import expressions, spec, vocabulary
 from pkm.indices.local import SINGULAR
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "mechanisms.md"
@@ -25,25 +25,25 @@ def _paragraph(text: str) -> list[str]:
     return [*textwrap.wrap(text, WIDTH, break_long_words=False, break_on_hyphens=False), ""]
 
 
-def _fields(fields: Sequence[spec.Field], prefix: str = "") -> list[str]:
+def _fields(fields: Sequence[vocabulary.Field], prefix: str = "") -> list[str]:
     return [f"| `{prefix}{f.name}` | {'required' if f.required else 'optional'} | {f.holds} | {f.doc} |"
             for f in fields]
 
 
-def _table(fields: Sequence[spec.Field]) -> list[str]:
+def _table(fields: Sequence[vocabulary.Field]) -> list[str]:
     return ["| field | given | holds | meaning |", "|---|---|---|---|", *_fields(fields), ""]
 
 
-def _kind(name: str, kind: spec.Kind) -> list[str]:
+def _kind(name: str, kind: vocabulary.Kind) -> list[str]:
     branches = (f"its branches `{kind.branches[0]}` (sign +1) and `{kind.branches[1]}` (-1): {kind.meaning}"
                 if kind.branched else "one branch")
     return [f"#### `{name}`", "", *_paragraph(f"{kind.space.capitalize()}: {kind.doc}; the actuated joint in "
                                               f"{kind.unit}; {branches}. Its fields beside every leg's, and in "
                                               "`bodies` its rotor and bodies:"),
-            *_table(kind.fields)[:-1], *_fields((spec.ROTOR, *kind.bodies), "bodies."), ""]
+            *_table(kind.fields)[:-1], *_fields((vocabulary.ROTOR, *kind.bodies), "bodies."), ""]
 
 
-def _joint(name: str, joint: spec.JointType) -> list[str]:
+def _joint(name: str, joint: vocabulary.JointType) -> list[str]:
     chains = "planar and spatial" if joint.planar else "spatial"
     plural = "" if joint.variables == 1 else "s"
     return [f"#### `{name}`", "", *_paragraph(f"{joint.doc[0].upper()}{joint.doc[1:]}; {joint.variables} joint "
@@ -51,9 +51,9 @@ def _joint(name: str, joint: spec.JointType) -> list[str]:
 
 
 def _modes() -> list[str]:
-    sided = [name for name, kind in spec.KINDS.items() if kind.sided] + [spec.CHAIN]
-    single = [name for name, kind in spec.KINDS.items() if not kind.branched]
-    left, right = spec.KINDS["RR"].branches
+    sided = [name for name, kind in vocabulary.KINDS.items() if kind.sided] + [vocabulary.CHAIN]
+    single = [name for name, kind in vocabulary.KINDS.items() if not kind.branched]
+    left, right = vocabulary.KINDS["RR"].branches
     ranks = ", ".join(f"{frame} {n}" for frame, n in spec.RANKS.items())
     return [*_paragraph(
         "A working mode is a branch of every leg's inverse kinematics. `modes` names some, each a list of one sign "
@@ -66,8 +66,9 @@ def _modes() -> list[str]:
         "| kind | +1 | -1 | meaning |",
         "|---|---|---|---|",
         *(f"| `{name}` | `{kind.branches[0]}` | `{kind.branches[1]}` | {kind.meaning} |"
-          for name, kind in spec.KINDS.items() if kind.branched),
-        f"| `{spec.CHAIN}` | its first seed's name | its second's | {spec.CHAIN_MEANING} (one seed: one branch) |",
+          for name, kind in vocabulary.KINDS.items() if kind.branched),
+        f"| `{vocabulary.CHAIN}` | its first seed's name | its second's | {vocabulary.CHAIN_MEANING} (one seed: one "
+        "branch) |",
         "",
         *_paragraph(
         f"One branch, no sign: {', '.join(f'`{name}`' for name in single)}. An assembly mode (a branch of the "
@@ -94,48 +95,48 @@ def section() -> str:
         "(`python -m pkm.schema_docs`), and a test fails where the two differ."),
         "### The description",
         "",
-        *_table(spec.DESCRIPTION_FIELDS),
+        *_table(vocabulary.DESCRIPTION_FIELDS),
         "### Frames",
         "",
         "| frame | pose coordinates | the pose |",
         "|---|---|---|",
         *(f"| `{frame}` | {', '.join(f'{n} [{u}]' for n, u in zip(names, units, strict=True))} | "
-          f"{spec.FRAME_DOCS[frame]} |" for frame, (names, units) in spec.FRAMES.items()),
+          f"{vocabulary.FRAME_DOCS[frame]} |" for frame, (names, units) in vocabulary.FRAMES.items()),
         "",
         "### Parameters",
         "",
-        *_table(spec.PARAMETER_FIELDS),
+        *_table(vocabulary.PARAMETER_FIELDS),
         "### Conditions",
         "",
-        *_table(spec.CONDITION_FIELDS),
+        *_table(vocabulary.CONDITION_FIELDS),
         "### Legs",
         "",
         *_paragraph(f"`legs` is one table or a list of them (`[legs]` or `[[legs]]`), each of `count` legs of one "
-                    f"kind. Every leg table, of any kind (`{spec.CHAIN}` too), holds:"),
-        *_table(spec.LEG_FIELDS),
+                    f"kind. Every leg table, of any kind (`{vocabulary.CHAIN}` too), holds:"),
+        *_table(vocabulary.LEG_FIELDS),
         "#### Attachment patterns",
         "",
-        *_table(spec.PATTERN_FIELDS),
+        *_table(vocabulary.PATTERN_FIELDS),
         "### Leg kinds",
         "",
-        *(line for name, kind in spec.KINDS.items() for line in _kind(name, kind)),
-        f"#### `{spec.CHAIN}`",
+        *(line for name, kind in vocabulary.KINDS.items() for line in _kind(name, kind)),
+        f"#### `{vocabulary.CHAIN}`",
         "",
-        *_paragraph(f"Planar or spatial: {spec.CHAIN_DOC}; the actuated joint in rad (an R) or m (a P); its "
+        *_paragraph(f"Planar or spatial: {vocabulary.CHAIN_DOC}; the actuated joint in rad (an R) or m (a P); its "
                     "branches its seeds in `branches`, the first sign +1, the second -1. Its fields beside every "
                     "leg's (its bodies are on its joints):"),
-        *_table(spec.CHAIN_FIELDS),
+        *_table(vocabulary.CHAIN_FIELDS),
         "### Chain joints",
         "",
-        *(line for name, joint in spec.JOINTS.items() for line in _joint(name, joint)),
+        *(line for name, joint in vocabulary.JOINTS.items() for line in _joint(name, joint)),
         "### Bodies",
         "",
         *_paragraph("A body (the platform's, a leg kind's in `bodies`, a chain joint's `body`); a body without "
                     "extent holds its mass alone:"),
-        *_table(spec.BODY_FIELDS),
+        *_table(vocabulary.BODY_FIELDS),
         "### Regions",
         "",
-        *_table(spec.REGION_FIELDS),
+        *_table(vocabulary.REGION_FIELDS),
         "### Working modes",
         "",
         *_modes(),

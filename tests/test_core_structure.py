@@ -38,12 +38,21 @@ def _resolve(module: str, node: ast.ImportFrom) -> str:
     return ".".join([*base, *([node.module] if node.module else [])])
 
 
+LATE = ("import_module", "_Delegate")  # calls whose first argument, a module's name, is an import done later
+
+
 def imports(module: str) -> set[str]:
-    """The pkm modules that ``module`` imports anywhere in its source (not only at the top)."""
+    """The pkm modules that ``module`` imports anywhere in its source (not only at the top), by an import
+    statement or by name (``importlib.import_module("pkm.export")``, ``_Delegate("pkm.dynamics")``)."""
     tree = ast.parse(MODULES[module].read_text())
     out = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
+        if isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant) and \
+                isinstance(node.args[0].value, str) and node.args[0].value.split(".")[0] == "pkm":
+            called = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+            if called in LATE:
+                out.add(node.args[0].value)
+        elif isinstance(node, ast.Import):
             out |= {a.name for a in node.names if a.name.split(".")[0] == "pkm"}
         elif isinstance(node, ast.ImportFrom):
             target = _resolve(module, node)

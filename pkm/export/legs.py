@@ -52,7 +52,7 @@ from pkm.export.structure import (
     translation_effector,
     unit,
 )
-from pkm.spec import CHAIN_JOINTS, kind_of
+from pkm.vocabulary import CHAIN_JOINTS, kind_of
 
 Z = np.array([0.0, 0.0, 1.0])
 SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical (and chains in space)

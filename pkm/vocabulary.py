@@ -1,0 +1,320 @@
+"""The vocabulary of machines described as data: what a description, a leg of each kind and a joint of each type
+hold (each field with what it holds and means), the frames of a pose, and the kinds' branches. :mod:`pkm.spec`
+checks descriptions against these tables and :mod:`pkm.schema_docs` writes docs/mechanisms.md's reference from
+them; :mod:`pkm.export.legs` reads a leg's kind here. It imports nothing that knows a mechanism."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from pkm import expressions
+
+FRAMES = {
+    "planar_point": (("x", "y"), ("m", "m")),
+    "planar": (("x", "y", "phi"), ("m", "m", "rad")),
+    "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
+    "spatial": (("x", "y", "z", "roll", "pitch", "yaw"), ("m", "m", "m", "rad", "rad", "rad")),
+}
+FRAME_DOCS = {
+    "planar_point": "a point in the plane: the platform translates",
+    "planar": "a body in the plane, turned by phi about z",
+    "spatial_point": "a point in space: the platform translates",
+    "spatial": "a body in space, turned by R = Rz(yaw) Ry(pitch) Rx(roll)",
+}
+NAME_LENGTH = 64  # the longest name of a machine, a parameter, a region, a mode or a branch
+TEXT_LENGTH = 2000  # the longest text of a doc or a unit
+
+
+@dataclass(frozen=True)
+class Field:
+    """A field of a table of a description: its name, what it holds (a kind of value, its unit in brackets),
+    what it means (with its default where it has one) and whether it must be given. :func:`describe` refuses a
+    field that its table does not hold and a required one that is missing, naming it; docs/mechanisms.md lists
+    the tables (:mod:`pkm.schema_docs`)."""
+
+    name: str
+    holds: str
+    doc: str
+    required: bool = False
+
+
+IDENTIFIER = f"an identifier of at most {NAME_LENGTH} characters"
+TEXT = f"text of at most {TEXT_LENGTH} characters"
+LENGTH = "an expression [m], positive"
+CONE = "an expression [rad], positive"
+BODY = "a body {mass, centre, inertia}"
+POINT_BODY = "a body {mass}"  # a body without extent: its mass at a point
+EACH = "2 in the plane, 3 in space"
+
+DESCRIPTION_FIELDS = (
+    Field("name", IDENTIFIER, "the machine's name", required=True),
+    Field("doc", TEXT, "what the machine is; its name by default"),
+    Field("frame", f"one of {', '.join(FRAMES)} (Frames)", "the pose: its coordinates and their units",
+          required=True),
+    Field("parameters", "a non-empty list of tables (Parameters)", "the design's parameters", required=True),
+    Field("conditions", "a list of tables (Conditions)", "the design's validity conditions"),
+    Field("legs", "a table or a list of tables (Legs)", "the legs, one actuated joint per pose coordinate in all",
+          required=True),
+    Field("home", "a list of expressions [the pose's units]", "the home pose, a value per pose coordinate: it "
+          "assembles at the default design in the first working mode and seeds the forward kinematics; its angles "
+          "within a turn", required=True),
+    Field("characteristic_length", "an expression [m]", "the length that turns the pose's angles into lengths in "
+          "the indices of J"),
+    Field("modes", "a table: name = a list of signs (Working modes)", "the working modes by name, the first the "
+          "default; every combination of the legs' branches by default"),
+    Field("regions", "a list of tables (Regions)", "task regions"),
+    Field("platform", f"{BODY} (Bodies)", "the platform's body: its centre a point of the platform frame; its "
+          "inertia about z (planar), the principal moments about the platform frame's x, y, z (spatial), none for a "
+          "point (planar_point, spatial_point)"),
+    Field("gravity", f"a list of expressions ({EACH}) [m/s^2]", "the acceleration of gravity in the base frame, "
+          "for the bodies' weight in the inverse dynamics"),
+)
+PARAMETER_FIELDS = (
+    Field("name", IDENTIFIER, "its name in the expressions, given once, other than "
+          f"{', '.join(expressions.RESERVED)}", required=True),
+    Field("default", "a number", "its value at the default design, lower <= default < upper", required=True),
+    Field("lower", "a number", "its lower bound (every parameter has bounds)", required=True),
+    Field("upper", "a number", "its upper bound, above lower", required=True),
+    Field("unit", TEXT, "its unit; - by default"),
+    Field("doc", TEXT, "what it is"),
+)
+CONDITION_FIELDS = (
+    Field("margin", "an expression", "positive where the design is valid: a design that violates it is refused, "
+          "naming it", required=True),
+    Field("doc", TEXT, "what the condition is; a valid design by default"),
+)
+PATTERN_FIELDS = (
+    Field("circle", "an expression [m]", "the circle's radius: count points at start + 2 pi i / count",
+          required=True),
+    Field("start", "an expression [rad]", "the angle of the first point (with pairs, of the first pair's centre); "
+          "0 by default"),
+    Field("pairs", "an expression [rad]", "legs in pairs (an even count): count / 2 pairs centred at start + 2 pi j "
+          "/ (count / 2), their points this angle apart"),
+)
+BODY_FIELDS = (
+    Field("mass", "an expression [kg]", "its mass", required=True),
+    Field("centre", "an expression or a point (a list of expressions) [m]", "its centre of mass: along a leg "
+          "kind's body from the joint its kind names (a distance), or a point of the frame of a chain joint's body "
+          "from the joint or of the platform frame; 0 by default"),
+    Field("inertia", "an expression or a list of expressions [kg m^2]", "about its centre of mass: a leg kind's "
+          "body's about the axis its kind names; a chain joint's body's and the platform's about z in the plane, "
+          "its principal moments about the axes of its frame in space; 0 by default"),
+)
+ROTOR = Field("rotor", "an expression [kg m^2, kg on a prismatic joint]", "the actuated joint's rotor: its inertia "
+              "after the reduction, or a reflected mass on a prismatic joint; 0 by default")
+LEG_BODIES = Field("bodies", "a table {rotor, the kind's bodies} (Bodies)", "the leg's rotor and bodies, each "
+                   "optional; where a description gives a body, every leg has bodies")
+SHAPES = {"disc": (2, 1, "its radius"), "rectangle": (2, 2, "its half extents"), "box": (3, 3, "its half extents"),
+          "cylinder": (3, 2, "its radius and half length")}  # a region's dimension, its size's entries, their meaning
+REGION_FIELDS = (
+    Field("name", IDENTIFIER, "the region's name, given once, other than reachable and assembled", required=True),
+    Field("doc", TEXT, "what the region is; its name by default"),
+    Field("shape", f"one of {', '.join(SHAPES)}", "its shape: "
+          + "; ".join(f"{s} ({d} coordinates)" for s, (d, _, _) in SHAPES.items()), required=True),
+    Field("coordinates", "a list of pose coordinates' names", "the distinct pose coordinates it spans, the pose's "
+          "first by default; the others stay at the home pose's values"),
+    Field("centre", "a list of expressions [the coordinates' units]", "its centre, a value per coordinate",
+          required=True),
+    Field("size", "a list of expressions [the coordinates' units]", "its size, positive: "
+          + "; ".join(f"a {s}'s {meaning.removeprefix('its ')}" for s, (_, _, meaning) in SHAPES.items()),
+          required=True),
+    Field("axis", "a pose coordinate's name", "a cylinder's axis, one of its coordinates; the last by default"),
+)
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A kind of leg: the space it moves in, what it is, its own fields (beside :data:`LEG_FIELDS`), the words
+    for the two branches of its inverse kinematics (sign +1, then -1; none where it has one), what they mean,
+    its actuated joint's unit, its passive angles, whether its passive joints have two branches too (their side
+    names the assembly modes), its bodies and the joints drawn."""
+
+    space: str
+    doc: str
+    fields: tuple[Field, ...]
+    branches: tuple[str, ...]
+    meaning: str
+    unit: str
+    passive: int
+    sided: bool
+    bodies: tuple[Field, ...]
+    points: int  # joints drawn, from the base's to the platform's
+
+    @property
+    def branched(self) -> bool:
+        return bool(self.branches)
+
+    @property
+    def lengths(self) -> tuple[str, ...]:
+        """Its lengths: the fields that are positive lengths."""
+        return tuple(f.name for f in self.fields if f.holds == LENGTH)
+
+
+KINDS = {
+    "RR": Kind(
+        space="planar",
+        doc="an actuated revolute at the base attachment, a link of length proximal to a passive revolute (the "
+            "elbow), a link of length distal to the platform's revolute",
+        fields=(Field("proximal", LENGTH, "the actuated link, from the base joint to the elbow", required=True),
+                Field("distal", LENGTH, "the passive link, from the elbow to the platform joint", required=True),
+                LEG_BODIES),
+        branches=("left", "right"),
+        meaning="the elbow left or right of the line from the base joint to the platform joint, seen from +z",
+        unit="rad", passive=1, sided=True,
+        bodies=(Field("proximal", BODY, "the actuated link, its centre from the base joint, its inertia about z"),
+                Field("distal", BODY, "the passive link, its centre from the elbow, its inertia about z")),
+        points=3),
+    "RPR": Kind(
+        space="planar",
+        doc="a passive revolute at the base attachment, an actuated prismatic joint along the leg (its length, to "
+            "the platform joint), a passive revolute at the platform attachment",
+        fields=(LEG_BODIES,), branches=(), meaning="", unit="m", passive=1, sided=False,
+        bodies=(Field("cylinder", BODY, "the part on the base joint, its centre from it, its inertia about z"),
+                Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about z")),
+        points=2),
+    "PRR": Kind(
+        space="planar",
+        doc="an actuated slider along axis (its position from the base attachment), a passive revolute on it, a "
+            "link of length distal to the platform's revolute",
+        fields=(Field("distal", LENGTH, "the link, from the slider's joint to the platform joint", required=True),
+                Field("axis", "a direction: a list of 2 expressions", "the slide's direction", required=True),
+                LEG_BODIES),
+        branches=("ahead", "behind"),
+        meaning="the slider ahead of or behind the platform joint's foot on the slide's axis",
+        unit="m", passive=1, sided=True,
+        bodies=(Field("slider", POINT_BODY, "the slider, its mass at its joint"),
+                Field("distal", BODY, "the link, its centre from the slider's joint, its inertia about z")),
+        points=3),
+    "R_parallelogram": Kind(
+        space="spatial",
+        doc="an actuated revolute at the base attachment about axis, turning an arm of length arm from the "
+            "direction zero (its angle 0) towards axis x zero, and a parallelogram of rods of length rod from the "
+            "arm's tip to the platform joint",
+        fields=(Field("arm", LENGTH, "the arm, from the motor's axis to the rods' joints", required=True),
+                Field("rod", LENGTH, "the parallelogram's rods", required=True),
+                Field("axis", "tangent, or a direction: a list of 3 expressions", "the motor's axis; tangent to the "
+                      "base's circle by default, given with zero where the base is not a pattern"),
+                Field("zero", "radial, or a direction: a list of 3 expressions", "the arm's direction at its angle "
+                      "0; radial to the base's circle by default"),
+                LEG_BODIES),
+        branches=("ccw", "cw"),
+        meaning="the arm turned counter-clockwise or clockwise about its axis from the plane of the axis and the "
+                "platform joint",
+        unit="rad", passive=0, sided=False,
+        bodies=(Field("arm", BODY, "the arm, its centre from the motor's axis, its inertia about that axis"),
+                Field("rod", POINT_BODY, "both rods of the parallelogram: half the mass at the arm's tip, half at "
+                      "the platform joint")),
+        points=3),
+    "UPS": Kind(
+        space="spatial",
+        doc="a universal joint at the base attachment, an actuated prismatic joint along the leg (its length), a "
+            "spherical joint at the platform attachment",
+        fields=(Field("cone", CONE, "the joints' range: the largest angle of the leg from the base's normal at its "
+                      "universal joint and from the platform's at its spherical joint, a stated limit beside its "
+                      "reach"),
+                LEG_BODIES),
+        branches=(), meaning="", unit="m", passive=0, sided=False,
+        bodies=(Field("cylinder", BODY, "the part on the base joint, its centre from it, its inertia about an axis "
+                      "across the leg"),
+                Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about an axis "
+                      "across the leg")),
+        points=2),
+}
+CHAIN = "chain"  # the kind of a leg given as a serial chain of joints, solved by continuation
+CHAIN_DOC = ("a serial chain of joints from the base attachment to the platform's point joint (a revolute in the "
+             "plane, a spherical joint in space), in closed form where its joints match a known subproblem, else by "
+             "Newton continuation from its branches' seeds")
+CHAIN_MEANING = "the leg's joints continued from the branch's seed at the home pose"
+CHAIN_FIELDS = (
+    Field("joints", "a list of joint tables (Chain joints)", "the chain's joints from the base attachment, with as "
+          "many joint variables as the closure at the platform's point joint has equations (2 in the plane, 3 in "
+          "space), exactly one actuated", required=True),
+    Field("branches", "a table: name = a list of numbers", "one or two seeds by name, each the joints' values (a U's "
+          "two in order) at the home pose and the default design, roughly: where the branch is continued from (the "
+          "first sign +1)", required=True),
+    Field("turn", "a list of count expressions [rad]", "each leg's frame turned about z from the base's; the "
+          "circle's angle where the base is a pattern, else 0, by default"),
+    Field("newton", "true or false", "solved by Newton continuation even where a closed form matches the chain; "
+          "false by default"),
+)
+LEG_FIELDS = (
+    Field("kind", "a leg kind (Leg kinds)", f"one of {', '.join((*KINDS, CHAIN))}", required=True),
+    Field("count", "an integer from 1 to 12", "the legs of the table; 1 by default"),
+    Field("base", "a list of points or a pattern (Attachment patterns)", "each leg's base attachment in the base "
+          f"frame: a list of count points, each a list of expressions ({EACH}) [m], or a pattern, in space in the "
+          "plane z = 0", required=True),
+    Field("platform", "a list of points or a pattern (Attachment patterns)", "each leg's platform attachment in the "
+          "platform frame", required=True),
+    Field("range", "a list [lower, upper] of expressions [the actuated joint's unit]", "the actuated joint's stated "
+          "range (a stroke, an arm's sweep): outside it a pose is out of reach; a revolute's within a turn, spanning "
+          "at most one"),
+)
+
+
+def leg_fields(kind: str) -> tuple[Field, ...]:
+    """The fields of a leg table of a kind: those of every leg, then the kind's own."""
+    return (*LEG_FIELDS, *(CHAIN_FIELDS if kind == CHAIN else KINDS[kind].fields))
+
+
+@dataclass(frozen=True)
+class JointType:
+    """A type of a chain's joints: what it is, its joint variables, whether a planar chain may hold it and its
+    fields."""
+
+    doc: str
+    variables: int
+    planar: bool
+    fields: tuple[Field, ...]
+
+
+JOINT_FIELD = Field("type", "a joint type (Chain joints)", "the joint's type", required=True)
+LINK = Field("link", f"a vector: a list of expressions ({EACH}) [m]", "to the next joint (the last's to the "
+             "platform joint), fixed in the frame the joint turns or slides; zero by default")
+ACTUATED = Field("actuated", "true or false", "whether it is the leg's actuated joint (one per leg, an R or a P); "
+                 "false by default")
+JOINT_BODY = Field("body", f"{BODY} (Bodies)", "the body after it, its centre a point of its frame from the joint")
+AXES = Field("axes", "two directions: lists of 3 expressions", "the axes it turns about, the first in the frame of "
+             "the body before it, the second in the frame the first turns", required=True)
+JOINTS = {
+    "R": JointType("a revolute joint, turning about its axis", 1, True, (
+        JOINT_FIELD, Field("axis", "a direction: a list of 3 expressions", "in space, the axis it turns about in the "
+                           "frame of the body before it, [0, 0, 1] by default; absent in the plane (about z)"),
+        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+    "P": JointType("a prismatic joint, sliding along its axis", 1, True, (
+        JOINT_FIELD, Field("axis", f"a direction: a list of expressions ({EACH})", "the direction it slides along in "
+                           "the frame of the body before it", required=True),
+        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+    "U": JointType("a universal joint, turning about its two axes, the second turned by the first", 2, False,
+                   (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+    "parallelogram": JointType("a parallelogram: its rods (its link) turned like a universal joint's link, the body "
+                               "after it keeping the frame of the body before it; its body is its rods", 2, False,
+                               (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+    "S": JointType("the platform's spherical joint, passive: last in a spatial chain, which ends there without it "
+                   "too", 0, False, (JOINT_FIELD, ACTUATED)),
+}
+PLATFORM_JOINT = "S"  # the joint type that only ends a spatial chain
+# the types of a chain's joints with joint variables, and how many each has
+CHAIN_JOINTS = {name: joint.variables for name, joint in JOINTS.items() if joint.variables}
+
+
+def kind_of(leg: Mapping[str, Any]) -> Kind:
+    """The kind of a normalised leg: a known subproblem's (:data:`KINDS`), or a chain's from its joints (its
+    branches named by its seeds, sided by the sign of its closure's Jacobian in its joints)."""
+    if leg["kind"] != CHAIN:
+        return KINDS[leg["kind"]]
+    actuated = next(j for j in leg["joints"] if j["actuated"])
+    branches = tuple(name for name, _ in leg["branches"]) if len(leg["branches"]) == 2 else ()
+    return Kind(space="planar" if len(leg["joints"][0]["link"]) == 2 else "spatial", doc=CHAIN_DOC,
+                fields=CHAIN_FIELDS, branches=branches, meaning=CHAIN_MEANING,
+                unit="rad" if actuated["type"] == "R" else "m",
+                passive=sum(CHAIN_JOINTS[j["type"]] for j in leg["joints"]) - 1, sided=True, bodies=(),
+                points=len(leg["joints"]) + 1)
+
+
+def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
+    """Whether each of a normalised leg's passive joints is an angle."""
+    if leg["kind"] != CHAIN:
+        return (True,) * KINDS[leg["kind"]].passive
+    return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
