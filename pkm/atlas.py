@@ -173,7 +173,7 @@ class Atlas:
 
     @property
     def region_name(self) -> str:
-        return getattr(self.region, "name", self.region)
+        return regions.region_name(self.region)
 
     def __str__(self) -> str:
         head = (f"{self.index.name} atlas of the {self.mechanism.name} over {self.region_name} in the "
@@ -330,7 +330,7 @@ class AtlasTask(NamedTuple):
 
     def describe(self) -> str:
         return (f"{registry.label(self.mechanism)} {', '.join(self.indices)} over "
-                f"{getattr(self.region, 'name', self.region)} in {self.mode}, "
+                f"{regions.region_name(self.region)} in {self.mode}, "
                 f"{len(self.designs)} designs from {self.designs[0].tolist()}, resolution {self.resolution}")
 
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from pkm import io, registry
 from pkm.errors import PkmError
+from pkm.regions import region_name
 from pkm.units import Units, placement_in, placement_text
 from pkm.workspace_map import WorkspaceSlice, check_plane, workspace_slice
 
@@ -162,7 +163,7 @@ def design_card(
                          "accuracy": float(value.accuracy) / scale if math.isfinite(value.accuracy) else float("nan")})
     if placement is not None:
         placement = placement_in(mech, where, placement, units)
-    return Card(mech, design, getattr(where, "name", region), maps, pose, rows, placement, units,
+    return Card(mech, design, region_name(where), maps, pose, rows, placement, units,
                 {mode: types for mode, types in singular.items() if types})
 
 

@@ -42,6 +42,7 @@ from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integ
 from pkm.interrupts import interruptible
 from pkm.mechanism import Mechanism
 from pkm.parallel import task_key
+from pkm.regions import region_name
 from pkm.reproduce import reproduce
 from pkm.synthesis import InfeasibleError, SynthesisError, SynthesisResult, synthesize
 from pkm.synthesis.driver import constraint_lines
@@ -112,10 +113,6 @@ def _region(m: Mechanism, text: str) -> Any:
 
         return task_of(text, m)
     return text
-
-
-def _region_name(region: Any) -> str:
-    return getattr(region, "name", region)
 
 
 def _problem(text: str) -> Any:
@@ -367,7 +364,7 @@ def cmd_index(args: argparse.Namespace) -> None:
     d = _design(m, args.design, units)
     mode = m.working_mode(args.mode).name
     region = _region(m, args.region)
-    args.region = _region_name(region)
+    args.region = region_name(region)
     out = m.global_index(
         args.index,
         d,
@@ -609,7 +606,7 @@ def cmd_atlas(args: argparse.Namespace) -> None:
 def cmd_sweep(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     names = [n.strip() for n in args.indices.split(",") if n.strip()]
-    region = _region_name(_region(m, args.region))
+    region = region_name(_region(m, args.region))
     folder = Path(args.out) / f"{m.name}_sweep_{region}_{_run_key(m, args, names)[:8]}"
     (folder / "index.json").unlink(missing_ok=True)
     atlases = _sweep(m, args, names, folder / "chunks")

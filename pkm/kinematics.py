@@ -262,9 +262,16 @@ def within_limits(functions: Mapping[str, ca.Function], limits: str) -> dict[str
     ik = functions["inverse_kinematics"]
     args = [ca.SX.sym(ik.name_in(i), ik.sparsity_in(i)) for i in range(ik.n_in())]
     q, reach = ik(*args)
-    margins = functions[limits](q, args[0], args[2])
-    limited = ca.Function("inverse_kinematics", args, [q, ca.vertcat(reach, margins)], ik.name_in(), ik.name_out())
+    reach = limited_reach(functions, limits, reach, q=q, x=args[0], design=args[2])
+    limited = ca.Function("inverse_kinematics", args, [q, reach], ik.name_in(), ik.name_out())
     return {"inverse_kinematics": limited, ASSEMBLED: ik}
+
+
+def limited_reach(functions: Mapping[str, ca.Function], limits: str, reach: Any, *, q: Any, x: Any, design: Any
+                  ) -> Any:
+    """In a graph: the reach margins of the inverse kinematics without the stated limits, followed by the limits'
+    margins ``functions[limits](q, x, design)``: the reach of :func:`within_limits`' inverse kinematics."""
+    return ca.vertcat(reach, functions[limits](q, x, design))
 
 
 def closed(reach: Any, values: Any) -> Any:

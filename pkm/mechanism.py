@@ -170,7 +170,7 @@ class Mechanism:
         and size (a disc's or cylinder's radius first; half extents otherwise) in the coordinates it spans (the
         pose's, or those a mapped region names), SI."""
         where = self.region(name)
-        name = getattr(where, "name", name)
+        name = regions.region_name(where)
         inner = getattr(where, "inner", where)
         if isinstance(where, regions.SampledWorkspace) or not hasattr(inner, "placement"):
             raise PkmError(f"region {name} of {self.name} violates: a placed shape (a disc, rectangle, box or "
@@ -470,7 +470,7 @@ class Mechanism:
         spec = self.global_spec(name)
         d = self.design_vector(design)
         where = region if hasattr(region, "quadrature") else self.region(region)
-        region = getattr(where, "name", region)
+        region = regions.region_name(where)
         if spec.local.source == regions.MOTION and not isinstance(where, regions.TrajectoryRegion):
             raise PkmError(f"{name} is taken along a trajectory: region {region} is not one (a "
                            "pkm.regions.TrajectoryRegion, such as a mechanism's named move)")

@@ -20,6 +20,7 @@ import numpy as np
 
 from pkm import figures, io
 from pkm.errors import PkmError, check_real
+from pkm.regions import region_name
 from pkm.units import Units
 
 RESOLUTION = 121  # poses per axis of the plane
@@ -204,4 +205,4 @@ def workspace_slice(
         near = np.all(np.abs(points[:, others] - x[0, others]) <= NEAR * width[others], axis=1)
         nodes = points[near][:, [i, j]]
     return WorkspaceSlice(mech, design, branch.name, index, axes, {k: v for k, v in given.items() if k not in axes},
-                          u, v, values, singular, getattr(region, "name", region), nodes)
+                          u, v, values, singular, region_name(region), nodes)

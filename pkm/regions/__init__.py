@@ -28,6 +28,7 @@ from pkm.regions.shapes import (
     Rectangle,
     Union,
     grid,
+    region_name,
 )
 from pkm.regions.value import GlobalValue
 
@@ -91,6 +92,7 @@ __all__ = [
     "quadrature_function",
     "quadrature_value",
     "refined_extremes",
+    "region_name",
     "sampled_check",
     "sampled_global",
     "trajectory_region",

@@ -44,7 +44,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
-from pkm.kinematics import ASSEMBLED, closed, from_pose, nan_unless
+from pkm.kinematics import ASSEMBLED, closed, from_pose, limited_reach, nan_unless
 
 ANGLE = "rad"
 MOTION = "motion"  # the source of the local indices that read the pose's velocity and acceleration
@@ -167,8 +167,8 @@ def pipeline(
         q, reach = sources["first_order"].pop("q"), sources["first_order"].pop("reach")
     else:
         q, reach = ik(x, mode, design)
-    # the reach with the stated limits, whichever set the pipeline reads (within_limits appends them)
-    limited = ca.vertcat(reach, fns[mech.limits](q, x, design)) if unlimited else reach
+    # the reach with the stated limits, whichever set the pipeline reads
+    limited = limited_reach(fns, mech.limits, reach, q=q, x=x, design=design) if unlimited else reach
     sources["inverse_kinematics"] = {"q": q, "reach": limited}
     reachable = ca.mmin(reach) >= -REACH_TOLERANCE
     # the normalisation by a characteristic length, where an index takes normalised matrices

@@ -58,6 +58,11 @@ MAX_SAMPLES = 50_000_000  # cells of a sampled grid
 MAX_NODES = 1 << 24  # poses or nodes one evaluation of a global index may take (a few hundred MB of values)
 
 
+def region_name(region: str | Any) -> str:
+    """A region's name: a region given by name is its name, one given as a region (a task's) its ``name``."""
+    return getattr(region, "name", region)
+
+
 def check_resolution(resolution: int, minimum: int) -> int:
     return check_integer("resolution", resolution, minimum, MAX_RESOLUTION)
 
