@@ -5,7 +5,7 @@ For each described machine (pkm/models/described: rrr3, delta, stewart):
 
 * **derivation** from an empty cache: a new process with ``PKM_CACHE_DIR`` a new, empty folder imports pkm,
   loads the machine by name (``pkm.load``), asks for its functions (the first use: the derivation of its
-  module, ``python -m symbolic.describe``, into ``<cache>/descriptions/``, then its CasADi functions built
+  module, ``python -m symbolic.described``, into ``<cache>/descriptions/``, then its CasADi functions built
   from it) and calls ``inverse_kinematics`` once at its home pose; then **load from the warm cache**: another
   new process with the same folder does the same and finds the module derived;
 * **compiled 1/kappa_f**: ``local_index("inverse_condition_f")`` at N reachable poses (10^6; bench.methods'
@@ -294,7 +294,7 @@ def markdown(report: Mapping[str, Any]) -> str:
         f"available to two busy processes (`cores_available`) {report['cores_available_before']:.2f} "
         f"before, {report['cores_available_after']:.2f} after. Each "
         "derivation runs in a new process with an empty kernel cache (`PKM_CACHE_DIR` a new folder): "
-        "`pkm.load(name)` and the first use of its functions (the derivation by `python -m symbolic.describe` "
+        "`pkm.load(name)` and the first use of its functions (the derivation by `python -m symbolic.described` "
         "into the cache, then the CasADi functions built from it), then the first `inverse_kinematics` at the "
         "home pose; the warm load is the same in a second new process on the same cache; a process's wall time "
         "includes Python's start and `import pkm`. Goals (issue 24): derivation under 30 s for the 3-DOF "

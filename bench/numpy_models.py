@@ -123,7 +123,7 @@ def wrap(angles: np.ndarray) -> np.ndarray:
 
 class Seeded:
     """A described machine's forward kinematics in numpy (module docstring): its loop h(z, q) = 0 in z =
-    (passive joints, pose), as pkm's description states it (symbolic/describe.py), ``n_out`` pose
+    (passive joints, pose), as pkm's description states it (symbolic/described), ``n_out`` pose
     coordinates, ``periodic`` whether the actuated joints are angles, ``angles`` the angles of z (wrapped into
     [-pi, pi) as pkm gives them)."""
 

@@ -66,11 +66,11 @@ def mechanisms() -> list[str]:
 
 def load(name: Any) -> Mechanism:
     """The mechanism registered under ``name``, or a described machine: a description file (``.toml``), a
-    mapping or a :class:`pkm.spec.Description`, derived on first use (:mod:`pkm.spec`)."""
-    from pkm import spec
+    mapping or a :class:`pkm.spec.schema.Description`, derived on first use (:mod:`pkm.spec`)."""
+    from pkm.spec import machine, schema
 
-    if (isinstance(name, str) and name.endswith(spec.SUFFIX)) or isinstance(name, Mapping | spec.Description):
-        return spec.load(name)
+    if (isinstance(name, str) and name.endswith(schema.SUFFIX)) or isinstance(name, Mapping | schema.Description):
+        return machine.load(name)
     return registry.mechanism(name)
 
 

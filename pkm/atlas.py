@@ -29,7 +29,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from pkm import figures, io, parallel, regions, registry, spec
+from pkm import figures, io, parallel, regions, registry
 from pkm.design_space import DesignSpace
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.indices import GlobalIndex
@@ -37,6 +37,7 @@ from pkm.mechanism import Mechanism
 from pkm.parallel import ChunkStore, task_key
 from pkm.progress import Progress
 from pkm.regions.shapes import MAX_RESOLUTION
+from pkm.spec.machine import resolve
 
 
 class BestPoint(NamedTuple):
@@ -356,7 +357,7 @@ def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
     """One task of an atlas in a worker: the mechanism by its name or description (:func:`pkm.registry.reference`,
     :mod:`pkm.parallel`)."""
     parallel.as_worker()
-    return _chunk(spec.resolve(task.mechanism), task)
+    return _chunk(resolve(task.mechanism), task)
 
 
 def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:

@@ -1,5 +1,5 @@
 """The reference of docs/mechanisms.md, every field of a description: ``python -m pkm.schema_docs [--check]``
-writes the section between its markers from the tables that :func:`pkm.spec.describe` checks descriptions
+writes the section between its markers from the tables that :func:`pkm.spec.schema.describe` checks descriptions
 against (``--check`` compares it with the page instead, as tests/test_description_schema.py does), so that the
 page and the checks cannot drift apart."""
 
@@ -11,8 +11,9 @@ import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
-from pkm import expressions, spec, vocabulary
+from pkm import expressions
 from pkm.indices.local import SINGULAR
+from pkm.spec import vocabulary
 
 PAGE = Path(__file__).resolve().parent.parent / "docs" / "mechanisms.md"
 OPENING = "<!-- schema: begin"
@@ -54,7 +55,7 @@ def _modes() -> list[str]:
     sided = [name for name, kind in vocabulary.KINDS.items() if kind.sided] + [vocabulary.CHAIN]
     single = [name for name, kind in vocabulary.KINDS.items() if not kind.branched]
     left, right = vocabulary.KINDS["RR"].branches
-    ranks = ", ".join(f"{frame} {n}" for frame, n in spec.RANKS.items())
+    ranks = ", ".join(f"{frame} {n}" for frame, n in vocabulary.RANKS.items())
     return [*_paragraph(
         "A working mode is a branch of every leg's inverse kinematics. `modes` names some, each a list of one sign "
         "per leg with two branches, in the order of the legs (a table's `count` legs in turn): +1 for the branch its "

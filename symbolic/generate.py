@@ -22,13 +22,16 @@ GENERATED = ROOT / "generated"
 
 def sources(spec: codegen.ModuleSpec) -> list[Path]:
     """The files whose bytes determine a mechanism's generated module, relative to the repository root
-    and sorted: every module of symbolic/ outside symbolic/mechanisms/, and the mechanism's own source.
+    and sorted: every module of symbolic/ outside symbolic/mechanisms/ and symbolic/described/, and the
+    mechanism's own source.
 
     The shared modules are found, not listed, so that a new helper cannot be forgotten; the other
-    mechanisms' sources are left out, so that editing one mechanism does not restamp the others.
+    mechanisms' sources are left out, so that editing one mechanism does not restamp the others, and so is
+    the derivation of machines described as data, which no hand-derived module runs.
     """
     here = ROOT / "symbolic"
-    shared = [p.relative_to(ROOT) for p in here.rglob("*.py") if p.relative_to(here).parts[0] != "mechanisms"]
+    shared = [p.relative_to(ROOT) for p in here.rglob("*.py")
+              if p.relative_to(here).parts[0] not in ("mechanisms", "described")]
     return sorted({*shared, Path(spec.source)}, key=Path.as_posix)
 
 

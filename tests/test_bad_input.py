@@ -374,7 +374,7 @@ def test_a_wrench_batch_of_another_length_than_the_poses_is_a_pose_error():
 def test_pkm_load_takes_a_mapping_as_a_description_and_names_what_it_lacks():
     """pkm.load reads a mapping as a machine description (issue 24): a field it does not know is refused by
     name."""
-    from pkm.spec import DescriptionError
+    from pkm.spec.schema import DescriptionError
 
     with pytest.raises(DescriptionError, match="description field r1 violates: a known field"):
         pkm.load({"r1": 1.2})

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 import pytest
 
 from pkm import schema_docs
-from pkm.spec import DescriptionError, describe
+from pkm.spec.schema import DescriptionError, describe
 
 PARAMETERS = [
     {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},

@@ -2,7 +2,7 @@
 Python, their text fields never become code, and every bad input is refused naming its field.
 
 The payloads of the issue run through the real ``pkm`` command in a folder of their own, which must hold no
-file afterwards; the other causes are refused in-process by :func:`pkm.spec.describe`."""
+file afterwards; the other causes are refused in-process by :func:`pkm.schema.describe`."""
 
 from __future__ import annotations
 
@@ -18,9 +18,10 @@ import numpy as np
 import pytest
 from helpers import EXAMPLES, FIVE_BAR_OF_CHAINS, rrr3_of_chains
 
-from pkm import expressions, spec
+from pkm import expressions
 from pkm.models.described import DESCRIPTIONS
-from pkm.spec import DescriptionError
+from pkm.spec import machine, schema, vocabulary
+from pkm.spec.schema import DescriptionError
 from symbolic import codegen
 
 PKM = Path(sys.executable).with_name("pkm")
@@ -57,8 +58,8 @@ def test_a_doc_that_closes_its_docstring_is_text_and_runs_nothing(tmp_path):
     done = run_in(tmp_path, text)
     assert done.returncode == 0, done.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["z.toml"]
-    mech = spec.read(tmp_path / "z.toml")
-    module = ast.parse(spec.module_path(mech).read_text())
+    mech = schema.read(tmp_path / "z.toml")
+    module = ast.parse(machine.module_path(mech).read_text())
     assert ast.get_docstring(module, clean=False) == doc
 
 
@@ -67,7 +68,7 @@ def test_a_derivation_that_meets_an_undefined_value_is_a_description_error():
     raw["name"] = "rrr3_tan"
     raw["legs"]["proximal"] = "l1 + 0*tan(pi/2)"
     with pytest.raises(DescriptionError, match=r"tan\(pi/2\) has no finite value"):
-        spec.load(raw)
+        machine.load(raw)
 
 
 def changed(path: str, value) -> dict:
@@ -121,7 +122,7 @@ def test_a_bad_field_is_refused_naming_it(path, value, field):
         raw["regions"][0]["coordinates"] = ["x", "y"] if value == "rectangle" else raw["regions"][0]["coordinates"]
         raw["regions"][0]["centre"] = [0, 0] if value == "rectangle" else raw["regions"][0]["centre"]
     with pytest.raises(DescriptionError) as error:
-        spec.describe(raw)
+        schema.describe(raw)
     assert field in str(error.value)
     assert len(str(error.value)) < 600
 
@@ -130,21 +131,21 @@ def test_a_condition_undefined_at_the_default_design_is_refused():
     raw = tomllib.loads(RRR3)
     raw["conditions"] = [{"margin": "1/(l1 - 0.6)", "doc": "a margin that divides by zero"}]
     with pytest.raises(DescriptionError, match=r"conditions\[0\]\.margin"):
-        spec.describe(raw)
+        schema.describe(raw)
 
 
 def test_zero_directions_are_refused():
     raw = copy.deepcopy(FIVE_BAR_OF_CHAINS)
     raw["legs"][0]["joints"][0] = {"type": "P", "actuated": True, "axis": [0, 0], "link": ["r1", 0]}
     with pytest.raises(DescriptionError, match=r"legs \(leg 1\)\.joints\[0\]\.axis"):
-        spec.describe(raw)
+        schema.describe(raw)
 
 
 def test_a_text_file_that_is_not_utf8_is_refused(tmp_path):
     path = tmp_path / "latin.toml"
     path.write_bytes(RRR3.replace("symmetric", "sym\xe9tric").encode("latin-1"))
     with pytest.raises(DescriptionError, match="UTF-8"):
-        spec.read(path)
+        schema.read(path)
 
 
 def test_a_parameter_named_like_a_pose_coordinate_stays_a_parameter():
@@ -155,7 +156,7 @@ def test_a_parameter_named_like_a_pose_coordinate_stays_a_parameter():
     renamed = tomllib.loads(text.replace('"r"', '"x"').replace("r_", "x_"))
     assert any(p["name"] == "x" for p in renamed["parameters"])
     renamed["name"] = "delta_chains_x"
-    first, second = spec.load(original), spec.load(renamed)
+    first, second = machine.load(original), machine.load(renamed)
     poses = np.array([[0.0, 0.0, -0.9], [0.05, -0.03, -0.85], [-0.08, 0.04, -0.95]])
     np.testing.assert_allclose(second.inverse_kinematics(poses), first.inverse_kinematics(poses), atol=1e-12)
 
@@ -184,12 +185,12 @@ def test_a_docstring_is_always_a_literal_of_its_text(doc):
 
 
 def test_the_description_page_states_the_expressions_limits():
-    text = " ".join((Path(spec.__file__).resolve().parent.parent / "docs" / "mechanisms.md").read_text().split())
+    text = " ".join((Path(expressions.__file__).resolve().parent.parent / "docs" / "mechanisms.md").read_text().split())
     limits = expressions.LIMITS
     assert (f"at most {limits['characters']} characters, {limits['nodes']} terms nested at most {limits['depth']} "
             f"deep, a constant exponent of at most {limits['exponent']:g} in magnitude") in text
-    assert (f"identifiers of at most {spec.NAME_LENGTH} characters; texts (docs, units) at most "
-            f"{spec.TEXT_LENGTH}") in text
+    assert (f"identifiers of at most {vocabulary.NAME_LENGTH} characters; texts (docs, units) at most "
+            f"{vocabulary.TEXT_LENGTH}") in text
     assert ", ".join(f"`{f}`" for f in expressions.FUNCTIONS[:-1]) in text
 
 
@@ -202,7 +203,7 @@ def test_a_chain_actuated_at_its_last_joint_is_evaluated(tmp_path, capsys):
     raw = rrr3_of_chains()
     raw["name"] = "rrr3_actuated_last"
     raw["legs"]["joints"] = [{"type": "R", "link": ["l1", 0]}, {"type": "R", "actuated": True, "link": ["l2", 0]}]
-    mech = spec.load(raw)
+    mech = machine.load(raw)
     assert mech.functions["inverse_kinematics"].numel_out(1) == 3
     assert "workspace_margin" in mech.local_indices()
     path = tmp_path / "last.toml"

@@ -11,8 +11,8 @@ What is drawn, and how many:
   -1, 1e308, nan, inf; booleans; dates; lists and nested tables), a field deleted, added (known, unknown or
   named with control characters), renamed or duplicated, a parameter renamed alone or everywhere (to ``x``,
   ``y``, ``pi``, ``cos``, ``neg``, another parameter's name), a count, a kind, a frame, a mode or a range
-  set to a value of its kind. :func:`pkm.spec.describe` returns or raises
-  :class:`pkm.spec.DescriptionError`. The first 15 it accepts whose geometry changed are derived (in a
+  set to a value of its kind. :func:`pkm.schema.describe` returns or raises
+  :class:`pkm.schema.DescriptionError`. The first 15 it accepts whose geometry changed are derived (in a
   thread, the derivation's subprocess on the other core) and loaded, and their inverse kinematics at the home
   pose in every working mode returns or raises :class:`PkmError` or :class:`ComputationError`;
 * task files, 300: those of ``docs/tasks`` mutated the same way (mechanisms, regions, pose files broken or
@@ -66,10 +66,11 @@ from helpers import fuzz
 from hypothesis import given, note
 from hypothesis import strategies as st
 
-from pkm import expressions, spec
+from pkm import expressions
 from pkm.cli import main
 from pkm.errors import ComputationError, PkmError
 from pkm.explore.api import FIELDS
+from pkm.spec import machine, schema
 from pkm.synthesis.designer import PROBLEM_FIELDS, read_problem
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -371,7 +372,7 @@ def files(folder: Path) -> set[str]:
     return {str(p.relative_to(folder)) for p in folder.rglob("*")}
 
 
-def home_pose(description: spec.Description) -> np.ndarray:
+def home_pose(description: schema.Description) -> np.ndarray:
     design = {p["name"]: p["default"] for p in description.data["parameters"]}
     return np.array([float(expressions.evaluate(h, design)) for h in description.data["home"]])
 
@@ -383,15 +384,15 @@ def shape(data: Any) -> Any:
     return [shape(v) for v in data] if isinstance(data, list) else data
 
 
-SHIPPED = {repr(shape({**spec.describe(raw).data, "name": ""})) for raw in DESCRIPTIONS.values()}
+SHIPPED = {repr(shape({**schema.describe(raw).data, "name": ""})) for raw in DESCRIPTIONS.values()}
 
 
 def derive_and_solve(raw: dict[str, Any]) -> None:
     """The mechanism of an accepted description, loaded, and its inverse kinematics at the home pose in every
     working mode: a result or pkm's own error."""
     try:
-        mech = spec.load(raw)
-        x = home_pose(spec.describe(raw))
+        mech = machine.load(raw)
+        x = home_pose(schema.describe(raw))
         for mode in mech.modes:
             mech.inverse_kinematics(x, mode=mode)
     except (PkmError, ComputationError):
@@ -414,10 +415,10 @@ def test_mutated_descriptions_are_described_or_refused_and_the_first_accepted_lo
             case = f"{name} mutated: {mutate(data.draw, raw, names)!r}"
             note(case)
             try:
-                description = spec.describe(raw)
+                description = schema.describe(raw)
                 json.loads(json.dumps(description.data))  # the derivation reads it as JSON
                 assert len(description.key) == 64
-            except spec.DescriptionError:
+            except schema.DescriptionError:
                 return
             if len(loads) < LOADED_AT_MOST and repr(shape({**description.data, "name": ""})) not in SHIPPED:
                 loads.append((case, pool.submit(derive_and_solve, fresh(raw))))
@@ -425,7 +426,7 @@ def test_mutated_descriptions_are_described_or_refused_and_the_first_accepted_lo
         check()
         for case, load in loads:
             try:
-                load.result(timeout=spec.DERIVATION_SECONDS + 60)
+                load.result(timeout=machine.DERIVATION_SECONDS + 60)
             except Exception as exc:
                 raise AssertionError(f"{case}: loading raised {exc!r}") from exc
     assert len(loads) == LOADED_AT_MOST  # mutations that keep a description valid are among those drawn
@@ -585,9 +586,9 @@ def test_pkm_eval_answers_mutated_description_files_with_an_exit_status_and_one_
         text = broken(data.draw, toml_document(raw))
         write(path, text)
         try:
-            spec.read(path)
+            schema.read(path)
             return
-        except spec.DescriptionError:
+        except schema.DescriptionError:
             pass
         argv = ["eval", str(path), "--pose", "0,0,0", *data.draw(st.sampled_from([[], ["--json"]]))]
         check_cli(case, *run_cli(argv))

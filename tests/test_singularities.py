@@ -210,7 +210,7 @@ def test_an_angle_beyond_a_turn_in_a_description_asks_whether_it_is_in_degrees()
     asking "in degrees?", as a pose beyond a turn on the command line is."""
     import tomllib
 
-    from pkm.spec import DescriptionError, describe
+    from pkm.spec.schema import DescriptionError, describe
 
     raw = tomllib.loads(RPR3.replace("home = [0, 0, 0]", "home = [0, 0, 30]"))
     with pytest.raises(DescriptionError, match=r"home\[2\] violates: an angle in radians within a turn "

@@ -17,7 +17,7 @@ from helpers import assert_five_bar_gci, assert_five_bar_torques, assert_forward
 import pkm
 from pkm.errors import SingularityWarning
 from pkm.models.described import DESCRIPTIONS
-from pkm.spec import DescriptionError, describe
+from pkm.spec.schema import DescriptionError, describe
 
 N = 200
 

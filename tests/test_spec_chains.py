@@ -31,7 +31,7 @@ import pkm
 from pkm import compiled
 from pkm.batch import evaluate, interpreted
 from pkm.models.described import DESCRIPTIONS
-from pkm.spec import DescriptionError, describe
+from pkm.spec.schema import DescriptionError, describe
 
 SOLVERS = ("closed", "newton")
 

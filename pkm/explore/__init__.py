@@ -24,7 +24,7 @@ from pkm.explore.api import Explorer, RequestError
 from pkm.explore.export import export_html
 from pkm.explore.server import Server, require_plotly
 from pkm.mechanism import Mechanism
-from pkm.spec import resolve_name
+from pkm.spec.machine import resolve_name
 
 __all__ = ["Explorer", "RequestError", "Server", "explorer", "export_html", "require_plotly", "serve"]
 

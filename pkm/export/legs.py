@@ -1,7 +1,7 @@
 """The structure of a described machine (:mod:`pkm.spec`), leg by leg from its legs' kinds.
 
-Each kind of leg (:data:`pkm.spec.KINDS`) is a chain of joints from its base attachment A to its platform
-attachment C (:mod:`symbolic.describe` states their coordinates):
+Each kind of leg (:data:`pkm.spec.vocabulary.KINDS`) is a chain of joints from its base attachment A to its platform
+attachment C (:mod:`symbolic.described` states their coordinates):
 
 * ``RR``: the actuated revolute at A (the proximal link's angle theta about z), the elbow (phi - theta) and a
   revolute at C;
@@ -24,7 +24,7 @@ The platform hangs from the first leg whose platform joint is not spherical (its
 in their order); where every leg ends in a spherical joint the platform floats (a free joint). Every other
 leg is cut at its platform joint: a spherical joint as a point contact, any other joint kept on the leg and
 welded to the platform. Bodies are those of the description (masses at their centres, inertias as the
-kinetic energy of :mod:`symbolic.describe` has them).
+kinetic energy of :mod:`symbolic.described` has them).
 """
 
 from __future__ import annotations
@@ -52,7 +52,7 @@ from pkm.export.structure import (
     translation_effector,
     unit,
 )
-from pkm.vocabulary import CHAIN_JOINTS, kind_of
+from pkm.spec.vocabulary import CHAIN_JOINTS, kind_of
 
 Z = np.array([0.0, 0.0, 1.0])
 SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical (and chains in space)

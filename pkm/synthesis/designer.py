@@ -26,13 +26,14 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import expressions, io, registry, spec
+from pkm import expressions, io, registry
 from pkm.design import MAX_MAGNITUDE, completed, stack_design
 from pkm.dynamics import Trajectory
 from pkm.dynamics.quantities import effort_unit, joint_extremes, trajectory_indices
 from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle, TrajectoryRegion, trajectory_region
+from pkm.spec.machine import resolve_name
 from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
 
 MONTE_CARLO_SEED = 0
@@ -439,7 +440,7 @@ def design_problem(
     """
     if isinstance(mechanism, str):
         with _field("mechanism"):
-            mechanism = spec.resolve_name(_file_name(mechanism, "mechanism", MECHANISM))
+            mechanism = resolve_name(_file_name(mechanism, "mechanism", MECHANISM))
     mech = mechanism
     if isinstance(task, str):
         with _field("task"):

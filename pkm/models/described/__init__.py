@@ -3,8 +3,9 @@ symmetric planar 3-RRR, the Delta robot and the 6-UPS Stewart-Gough platform. Ea
 
 from pathlib import Path
 
-from pkm import spec
+from pkm.spec.machine import mechanism_class
+from pkm.spec.schema import read
 
 HERE = Path(__file__).resolve().parent
 DESCRIPTIONS = {name: HERE / f"{name}.toml" for name in ("rrr3", "delta", "stewart")}
-MECHANISMS = [spec.mechanism_class(spec.read(path)) for path in DESCRIPTIONS.values()]
+MECHANISMS = [mechanism_class(read(path)) for path in DESCRIPTIONS.values()]

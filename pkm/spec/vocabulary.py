@@ -5,6 +5,7 @@ them; :mod:`pkm.export.legs` reads a leg's kind here. It imports nothing that kn
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -17,6 +18,8 @@ FRAMES = {
     "spatial_point": (("x", "y", "z"), ("m", "m", "m")),
     "spatial": (("x", "y", "z", "roll", "pitch", "yaw"), ("m", "m", "m", "rad", "rad", "rad")),
 }
+RANKS = {"planar_point": 1, "planar": 2, "spatial_point": 1, "spatial": 8}  # solutions of one signature told
+# apart by rank, by the pose (a planar 3-DOF machine has up to 6 assemblies, a 6-DOF one up to 40)
 FRAME_DOCS = {
     "planar_point": "a point in the plane: the platform translates",
     "planar": "a body in the plane, turned by phi about z",
@@ -40,7 +43,9 @@ class Field:
     required: bool = False
 
 
-IDENTIFIER = f"an identifier of at most {NAME_LENGTH} characters"
+IDENTIFIER = (f"an identifier of at most {NAME_LENGTH} characters: a letter, then letters, digits and single "
+              "underscores, not ending in one")
+IDENTIFIER_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9]*(_[A-Za-z0-9]+)*")
 TEXT = f"text of at most {TEXT_LENGTH} characters"
 LENGTH = "an expression [m], positive"
 CONE = "an expression [rad], positive"

@@ -1,0 +1,186 @@
+"""A normalised description's module (:func:`module`) and the derivation's command (:func:`main`)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from symbolic import codegen
+from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.described.bodies import Kinetic, chain_bodies, leg_bodies, mass_matrix, platform_bodies
+from symbolic.described.legs import FRAMES, Leg, UndefinedError, derive_leg, expression, platform_rotation
+from symbolic.kinematics import InverseKinematics, add_kinematics
+from symbolic.loops import LoopClosure
+
+
+def _add_chain(spec: ModuleSpec, k: int, leg: Leg, ends: tuple[sp.Matrix, sp.Matrix], *, pose: Port, design: Port
+               ) -> None:
+    """``chain<k>(q_leg, c, design) -> (h, H)``: a chain leg's closure at a platform attachment c and its Jacobian
+    in the leg's joints (actuated first), and ``chain<k>_ends(x, design) -> (a, c)``: its base and platform
+    attachments at a pose, between which the runtime continues it."""
+    a, c = ends
+    target = sp.Matrix([sp.Symbol(f"c{j + 1}", real=True) for j in range(a.rows)])
+    joints = (leg.actuated, *leg.passive)
+    h = leg.end - target
+    spec.add(f"chain{k + 1}", (Port("q_leg", joints, "the leg's joints, actuated first"),
+                               Port("c", tuple(target), "the platform attachment [m]"), design),
+             (Output("h", h, "the chain's end less c [m]"), Output("H", h.jacobian(joints), "dh/dq_leg")),
+             f"The closure of chain leg {k + 1} at a platform attachment, and its Jacobian in the leg's joints.")
+    spec.add(f"chain{k + 1}_ends", (pose, design),
+             (Output("a", a, "the base attachment [m]"), Output("c", c, "the platform attachment [m]")),
+             f"The attachments of chain leg {k + 1} at a pose.")
+
+
+def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
+    """``region_<name>(design) -> (centre, size)`` and, where the region spans other coordinates than the
+    pose's own in order, ``region_<name>_pose(y, design) -> x`` (the others at the home pose's values)."""
+    name = region["name"]
+    spec.add(f"region_{name}", (design_port,),
+             (Output("centre", vector(region["centre"]), "[pose units]"),
+              Output("size", vector(region["size"]), "[pose units]")),
+             f"Placement of the region {name}: {region['doc']}.")
+    if region["coordinates"] != list(range(len(home))):
+        y = tuple(sp.Symbol(f"y{k + 1}", real=True) for k in range(len(region["coordinates"])))
+        x = list(home)
+        for k, index in enumerate(region["coordinates"]):
+            x[index] = y[k]
+        spec.add(f"region_{name}_pose", (Port("y", y, "the region's coordinates"), design_port),
+                 (Output("x", sp.Matrix(x), "[pose units]"),),
+                 f"The pose at a point of the region {name}.")
+
+
+def module(description: dict[str, Any]) -> ModuleSpec:
+    """The ModuleSpec of a normalised description (:mod:`pkm.spec`)."""
+    name = description["name"]
+    frame = description["pose"]["frame"]
+    parameters = [p["name"] for p in description["parameters"]]
+    design = tuple(sp.Symbol(f"design.{p}", real=True) for p in parameters)
+    pose = tuple(sp.Symbol(p, real=True) for p in FRAMES[frame])
+    env = dict(zip(parameters, design, strict=True))
+
+    def vector(trees: list[Any]) -> sp.Matrix:
+        return sp.Matrix([expression(t, env) for t in trees])
+
+    def scalar(tree: Any) -> sp.Expr:
+        return expression(tree, env)
+
+    rotation = platform_rotation(frame, pose)
+    dim = rotation.rows
+    defaults = {s: p["default"] for s, p in zip(design, description["parameters"], strict=True)}
+    start = {**defaults, **{s: float(v.subs(defaults)) for s, v in zip(pose, vector(description["home"]), strict=True)}}
+    origin = sp.Matrix(pose[:dim])
+    legs = []
+    kinetic: list[Kinetic] = []
+    skeleton: list[sp.Matrix] = []
+    ends: list[tuple[sp.Matrix, sp.Matrix]] = []
+    limits: list[str] = []
+    for k, leg in enumerate(description["legs"]):
+        a, c = vector(leg["base"]), origin + rotation * vector(leg["platform"])
+        legs.append(derive_leg(k, a, c, leg, rotation, vector=vector, scalar=scalar, start=start))
+        last = legs[-1]
+        names = last.reach_names or (("reach",) if len(last.reach) == 1 else
+                                     tuple(f"reach {i + 1}" for i in range(len(last.reach))))
+        margins = (*last.reach, *(m for _, m in last.stated))
+        names += tuple(n for n, _ in last.stated)
+        if "range" in leg:
+            lo, hi = (scalar(t) for t in leg["range"])
+            margins += (last.actuated - lo, hi - last.actuated)
+            names += ("range lower", "range upper")
+        legs[-1] = replace(last, margins=margins)
+        limits += [f"leg {k + 1} {name}" for name in names]
+        ends.append((a, c))
+        skeleton += [a, *legs[-1].joints, c]
+        if leg["kind"] == "chain":
+            kinetic += chain_bodies(leg, legs[-1], scalar=scalar, vector=vector)
+        elif "bodies" in leg:
+            kinetic += leg_bodies(leg, legs[-1], a, c, scalar)
+    q_a = tuple(leg.actuated for leg in legs)
+    q_p = tuple(s for leg in legs for s in leg.passive)
+    signs = tuple(leg.sign for leg in legs if leg.sign is not None) or (sp.Symbol("branch", real=True),)
+    loop = LoopClosure.of([h for leg in legs for h in leg.h], q_a, q_p, pose)
+    solution = {s: e for leg in legs for s, e in leg.ik.items()}
+    q = sp.Matrix([solution[s] for s in (*q_a, *q_p)])
+    spec = ModuleSpec(name, "symbolic/described", description.get("doc", name), limits=tuple(limits))
+    design_port = Port("design", design, "; ".join(f"{p['name']} [{p['unit']}]" for p in description["parameters"]))
+    pose_port = Port("x", pose, ", ".join(f"{n} [{u}]" for n, u in zip(FRAMES[frame], description["pose"]["units"],
+                                                                       strict=True)))
+    joints = Port("q", (*q_a, *q_p), "actuated joints, then the passive joints leg by leg")
+    actuated = Port("q_a", q_a, "actuated joints")
+    mode = Port("mode", signs, "branch sign of each leg with two (+1 or -1)")
+    chains = any(leg.end is not None for leg in legs)
+    inverse = InverseKinematics(
+        q, sp.Matrix([m for leg in legs for m in leg.reach]),
+        "Closed-form inverse kinematics, leg by leg, on the branch of the mode's signs"
+        + ("; a chain leg's joints are its branch's seed, where the runtime's continuation starts." if chains
+           else "."),
+        "actuated, then passive joints", "margins of each closed-form leg's reach, >= 0 where it assembles",
+    )
+    add_kinematics(spec, loop, pose=pose_port, joints=joints, actuated=actuated, design=design_port, mode=mode,
+                   inverse=inverse, units=dict.fromkeys(("h", "H_q", "H_x", "J", "J_f", "psi", "det"), "-"),
+                   composed=True, inverse_name="continuation_start" if chains else "inverse_kinematics")
+    for k, (leg, attachments) in enumerate(zip(legs, ends, strict=True)):
+        if leg.end is not None:
+            _add_chain(spec, k, leg, attachments, pose=pose_port, design=design_port)
+    spec.add("home", (design_port,), (Output("x", vector(description["home"]), "the home pose"),),
+             "The home pose: the seed of the forward kinematics.")
+    if description.get("platform") is not None or kinetic:
+        kinetic += platform_bodies(description.get("platform"), frame, pose, rotation, vector=vector, scalar=scalar)
+        z = [*q_a, *q_p, *pose]
+        spec.add("mass_matrix", (joints, pose_port, design_port),
+                 (Output("M", mass_matrix(kinetic, z), "the kinetic energy's matrix in (q, x): T = z_dot^T M "
+                         "z_dot / 2, z = (q, x) [SI]"),),
+                 "The mass matrix of the bodies in all the joint and pose coordinates.")
+        if description.get("gravity") is not None:
+            g = vector(description["gravity"])
+            potential = -sum((w * g.dot(p) for w, _, _, p in kinetic if p is not None), sp.Integer(0))
+            spec.add("gravity", (joints, pose_port, design_port),
+                     (Output("G", sp.Matrix([potential]).jacobian(z).T, "dV/dz [N or N m]"),
+                      Output("V", sp.Matrix([potential]), "the bodies' potential energy in the gravity field [J]")),
+                     "The gradient of the bodies' potential energy in all the joint and pose coordinates.")
+    spec.add("skeleton", (joints, pose_port, design_port),
+             (Output("points", sp.Matrix.hstack(*skeleton).T, "each leg's joints from the base's to the platform's, "
+                     "one row each [m]"),),
+             "The points of the joints, leg by leg, for drawing the linkage.")
+    sides = [leg.side for leg in legs if leg.side is not None]
+    if sides:
+        spec.add("branch_sides", (joints, pose_port, design_port),
+                 (Output("sides", sp.Matrix(sides), "one per leg with passive joints and two branches: its sign "
+                         "tells the branches apart"),),
+                 "The side of each two-branched leg's passive joints at a configuration.")
+    for region in description.get("regions", []):
+        _add_region(spec, region, design_port, vector(description["home"]), vector)
+    margins = [m for leg in legs for m in leg.margins]
+    spec.add("workspace_margins", (joints, pose_port, design_port),
+             (Output("margins", sp.Matrix(margins), "each leg's reach margins and its actuated joint's range, >= 0 "
+                     "inside the workspace, named by the module's LIMITS"),),
+             "The workspace's margins at a configuration: >= 0 where the legs reach and the actuated joints lie "
+             "in their ranges.")
+    if description.get("characteristic_length"):
+        spec.add("characteristic_length", (design_port,),
+                 (Output("L", sp.Matrix([scalar(description["characteristic_length"])]), "[m]"),),
+                 "The length that turns the pose's angles into arc lengths.")
+    return spec
+
+
+UNDEFINED = 3  # the exit status of a derivation that meets an expression without a finite value
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Derive the description at the first path into the module at the second; an expression without a
+    finite value ends it with one line on standard error and :data:`UNDEFINED`."""
+    source, target = (Path(a) for a in (argv if argv is not None else sys.argv[1:]))
+    description = json.loads(source.read_text())
+    try:
+        rendered = codegen.RenderedModule.of(module(description), description["key"])
+    except (UndefinedError, codegen.UndefinedError) as exc:
+        print(f"undefined: {exc}", file=sys.stderr)
+        return UNDEFINED
+    target.write_text(rendered.text)
+    return 0
+
+
