@@ -38,9 +38,11 @@ def _table(fields: Sequence[vocabulary.Field]) -> list[str]:
 def _kind(name: str, kind: vocabulary.Kind) -> list[str]:
     branches = (f"its branches `{kind.branches[0]}` (sign +1) and `{kind.branches[1]}` (-1): {kind.meaning}"
                 if kind.branched else "one branch")
+    fields = {f.name: [f.name] * 3 if f.name in ("axis", "zero") else f.name for f in kind.fields}
+    joints = ", ".join(f"{'an actuated' if j.get('actuated') else 'a'} `{j['type']}`" for j in kind.chain(fields))
     return [f"#### `{name}`", "", *_paragraph(f"{kind.space.capitalize()}: {kind.doc}; the actuated joint in "
-                                              f"{kind.unit}; {branches}. Its fields beside every leg's, and in "
-                                              "`bodies` its rotor and bodies:"),
+                                              f"{kind.unit}; {branches}. As a chain (Chain joints): {joints}. Its "
+                                              "fields beside every leg's, and in `bodies` its rotor and bodies:"),
             *_table(kind.fields)[:-1], *_fields((vocabulary.ROTOR, *kind.bodies), "bodies."), ""]
 
 

@@ -203,6 +203,32 @@ range = [{stroke[0]}, {stroke[1]}]
 """
 
 
+# a planar 3-RPR and a 3-PRR with sliders parallel to x, described by their legs' kinds
+RPR3 = {
+    "name": "rpr3", "doc": "planar 3-RPR", "frame": "planar", "home": [0, 0, 0], "characteristic_length": "r",
+    "parameters": [
+        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
+        {"name": "r", "default": 0.4, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
+    ],
+    "legs": {"kind": "RPR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+             "platform": {"circle": "r", "start": "pi/2"}, "range": [0.3, 1.5],
+             "bodies": {"cylinder": {"mass": 1.0, "centre": 0.2, "inertia": 0.01},
+                        "piston": {"mass": 0.5, "centre": 0.3, "inertia": 0.005}}},
+    "platform": {"mass": 2.0, "centre": [0, 0], "inertia": 0.05},
+}
+PRR3 = {
+    "name": "prr3", "doc": "planar 3-PRR, sliders parallel to x", "frame": "planar", "home": [0, 0, 0],
+    "characteristic_length": "r",
+    "parameters": [
+        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
+        {"name": "r", "default": 0.3, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
+        {"name": "l", "default": 0.9, "lower": 0.05, "upper": 5, "unit": "m", "doc": "links"},
+    ],
+    "legs": {"kind": "PRR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+             "platform": {"circle": "r", "start": "pi/2"}, "distal": "l", "axis": ["-1", "0"]},
+}
+
+
 FIVE_BAR_OF_RR_LEGS = {
     "name": "five_bar_described",
     "doc": "the symmetric planar 5R, described: two RR legs from the base ends to the end effector",

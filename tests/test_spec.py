@@ -12,7 +12,7 @@ import numpy as np
 import oracles
 import pytest
 from helpers import FIVE_BAR_OF_RR_LEGS as FIVE_BAR
-from helpers import assert_five_bar_gci, assert_five_bar_torques, assert_forward_kinematics_returns_the_pose
+from helpers import PRR3, RPR3, assert_five_bar_gci, assert_five_bar_torques, assert_forward_kinematics_returns_the_pose
 
 import pkm
 from pkm.errors import SingularityWarning
@@ -293,31 +293,6 @@ def test_the_power_of_the_actuators_is_the_rate_of_the_energy_with_gravity():
     held = m.inverse_dynamics([0.0, 0.0, -0.5], np.zeros(3), np.zeros(3))
     np.testing.assert_allclose(held, held[0], rtol=1e-12)
     assert held[0] != 0
-
-
-RPR3 = {
-    "name": "rpr3", "doc": "planar 3-RPR", "frame": "planar", "home": [0, 0, 0], "characteristic_length": "r",
-    "parameters": [
-        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
-        {"name": "r", "default": 0.4, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
-    ],
-    "legs": {"kind": "RPR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
-             "platform": {"circle": "r", "start": "pi/2"}, "range": [0.3, 1.5],
-             "bodies": {"cylinder": {"mass": 1.0, "centre": 0.2, "inertia": 0.01},
-                        "piston": {"mass": 0.5, "centre": 0.3, "inertia": 0.005}}},
-    "platform": {"mass": 2.0, "centre": [0, 0], "inertia": 0.05},
-}
-PRR3 = {
-    "name": "prr3", "doc": "planar 3-PRR, sliders parallel to x", "frame": "planar", "home": [0, 0, 0],
-    "characteristic_length": "r",
-    "parameters": [
-        {"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
-        {"name": "r", "default": 0.3, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
-        {"name": "l", "default": 0.9, "lower": 0.05, "upper": 5, "unit": "m", "doc": "links"},
-    ],
-    "legs": {"kind": "PRR", "count": 3, "base": {"circle": "R", "start": "pi/2"},
-             "platform": {"circle": "r", "start": "pi/2"}, "distal": "l", "axis": ["-1", "0"]},
-}
 
 
 def _attachments(design: dict, radius: str, x: np.ndarray) -> np.ndarray:

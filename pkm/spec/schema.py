@@ -287,6 +287,7 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                     else _vector(table["axis"], 3, f"{where}.axis", names)
                 leg["zero"] = [["cos", a], ["sin", a], 0] if table.get("zero", "radial") == "radial" else \
                     _vector(table["zero"], 3, f"{where}.zero", names)
+            leg["joints"] = _kind_chain(leg, where, dim, names)
             legs.append(leg)
     return legs
 
@@ -366,6 +367,37 @@ def _has_bodies(leg: Mapping[str, Any]) -> bool:
     return "bodies" in leg
 
 
+def _chain_joints(raw: Any, where: str, dim: int, names: set[str]) -> list[dict[str, Any]]:
+    """A chain's joints from the base checked and normalised (the one check of a chain, a named kind's too): each
+    joint's type and fields, the platform's spherical joint ending a spatial chain (dropped), exactly one actuated
+    joint, and as many joint variables as the closure at the platform's point joint has equations."""
+    if not isinstance(raw, list) or not raw:
+        raise _fail(where, "a list of the chain's joints from the base")
+    if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == PLATFORM_JOINT:
+        last = f"{where}[{len(raw) - 1}]"
+        _check_fields(raw[-1], JOINTS[PLATFORM_JOINT].fields, last, "the platform's spherical joint")
+        if raw[-1].get("actuated", False) is not False:
+            raise _fail(last, "the platform's spherical joint: passive")
+        raw = raw[:-1]
+    joints = [_chain_joint(j, f"{where}[{i}]", dim, names) for i, j in enumerate(raw)]
+    actuated = sum(j["actuated"] for j in joints)
+    if actuated != 1:
+        raise _fail(where, f"exactly one actuated joint; got {actuated}")
+    variables = sum(CHAIN_JOINTS[j["type"]] for j in joints)
+    if variables != dim:
+        raise _fail(where, f"{dim} joint variables (R and P one each, U two), as many as the closure at the "
+                           f"platform's point joint has equations; got {variables}")
+    return joints
+
+
+def _kind_chain(leg: Mapping[str, Any], where: str, dim: int, names: set[str]) -> list[dict[str, Any]]:
+    """The chain of joints a normalised leg of a named kind is (:attr:`pkm.spec.vocabulary.Kind.chain`), checked
+    as a chain's joints are."""
+    texts = {k: expressions.text(v) if not isinstance(v, list) or expressions.is_operation(v)
+             else [expressions.text(c) for c in v] for k, v in leg.items() if k not in ("kind", "range", "bodies")}
+    return _chain_joints(KINDS[leg["kind"]].chain(texts), f"{where} (its chain's joints)", dim, names)
+
+
 def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str]) -> list[dict[str, Any]]:
     """The legs of a ``chain`` table: its joints from the base attachment, each with its type (R, P, U,
     parallelogram), axis (axes of a U or a parallelogram), link (the vector to the next joint, fixed in the
@@ -381,23 +413,7 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     continuation even where a closed form matches it."""
     dim = 2 if frame.startswith("planar") else 3
     count, base, angles, platform = _attachments(table, where, leg_fields(CHAIN), "a chain leg", dim=dim, names=names)
-    raw = table.get("joints")
-    if not isinstance(raw, list) or not raw:
-        raise _fail(f"{where}.joints", "a list of the chain's joints from the base")
-    if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == PLATFORM_JOINT:
-        last = f"{where}.joints[{len(raw) - 1}]"
-        _check_fields(raw[-1], JOINTS[PLATFORM_JOINT].fields, last, "the platform's spherical joint")
-        if raw[-1].get("actuated", False) is not False:
-            raise _fail(last, "the platform's spherical joint: passive")
-        raw = raw[:-1]
-    joints = [_chain_joint(j, f"{where}.joints[{i}]", dim, names) for i, j in enumerate(raw)]
-    actuated = sum(j["actuated"] for j in joints)
-    if actuated != 1:
-        raise _fail(f"{where}.joints", f"exactly one actuated joint; got {actuated}")
-    variables = sum(CHAIN_JOINTS[j["type"]] for j in joints)
-    if variables != dim:
-        raise _fail(f"{where}.joints", f"{dim} joint variables (R and P one each, U two), as many as the closure at "
-                                       f"the platform's point joint has equations; got {variables}")
+    joints = _chain_joints(table.get("joints"), f"{where}.joints", dim, names)
     branches = table.get("branches")
     if not isinstance(branches, Mapping) or not 1 <= len(branches) <= 2:
         raise _fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
@@ -405,8 +421,8 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     for name, values in branches.items():
         if not _identifier(name):
             raise _fail(f"{where}.branches.{reprlib.repr(name)}", IDENTIFIER)
-        if not isinstance(values, list) or len(values) != variables:
-            raise _fail(f"{where}.branches.{name}", f"a list of {variables} joint values (the U's two in order)")
+        if not isinstance(values, list) or len(values) != dim:
+            raise _fail(f"{where}.branches.{name}", f"a list of {dim} joint values (the U's two in order)")
         seeds.append([name, [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]])
     turns = table.get("turn")
     if turns is None:

@@ -6,7 +6,7 @@ them; :mod:`pkm.export.legs` reads a leg's kind here. It imports nothing that kn
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -134,7 +134,10 @@ class Kind:
     """A kind of leg: the space it moves in, what it is, its own fields (beside :data:`LEG_FIELDS`), the words
     for the two branches of its inverse kinematics (sign +1, then -1; none where it has one), what they mean,
     its actuated joint's unit, its passive angles, whether its passive joints have two branches too (their side
-    names the assembly modes), its bodies and the joints drawn."""
+    names the assembly modes), its bodies, the joints drawn, and the chain of joints a leg of it is: ``chain``
+    takes the leg's own fields as expression texts (a direction a list of them) and gives the joints as a chain
+    leg's ``joints`` table states them, in the base's frame (``turn`` 0); None for a chain, whose joints are its
+    own."""
 
     space: str
     doc: str
@@ -146,6 +149,7 @@ class Kind:
     sided: bool
     bodies: tuple[Field, ...]
     points: int  # joints drawn, from the base's to the platform's
+    chain: Callable[[Mapping[str, Any]], list[dict[str, Any]]] | None = None
 
     @property
     def branched(self) -> bool:
@@ -155,6 +159,30 @@ class Kind:
     def lengths(self) -> tuple[str, ...]:
         """Its lengths: the fields that are positive lengths."""
         return tuple(f.name for f in self.fields if f.holds == LENGTH)
+
+
+ZEROS = ("0", "0.0")  # expression texts of zero
+
+
+def _product(a: str, b: str) -> str:
+    """The expression text a times b, zero where either is."""
+    return "0" if a in ZEROS or b in ZEROS else f"({a}) * ({b})"
+
+
+def _difference(a: str, b: str) -> str:
+    """The expression text a less b, without a zero term."""
+    return a if b in ZEROS else f"-({b})" if a in ZEROS else f"{a} - {b}"
+
+
+def _times(length: str, direction: list[str]) -> list[str]:
+    """The vector ``length`` times ``direction``, each coordinate an expression text."""
+    return [_product(length, c) for c in direction]
+
+
+def _cross(u: list[str], v: list[str]) -> list[str]:
+    """The cross product u x v of two directions of three expression texts."""
+    return [_difference(_product(u[(i + 1) % 3], v[(i + 2) % 3]), _product(u[(i + 2) % 3], v[(i + 1) % 3]))
+            for i in range(3)]
 
 
 KINDS = {
@@ -170,7 +198,9 @@ KINDS = {
         unit="rad", passive=1, sided=True,
         bodies=(Field("proximal", BODY, "the actuated link, its centre from the base joint, its inertia about z"),
                 Field("distal", BODY, "the passive link, its centre from the elbow, its inertia about z")),
-        points=3),
+        points=3,
+        chain=lambda leg: [{"type": "R", "actuated": True, "link": [leg["proximal"], "0"]},
+                           {"type": "R", "link": [leg["distal"], "0"]}]),
     "RPR": Kind(
         space="planar",
         doc="a passive revolute at the base attachment, an actuated prismatic joint along the leg (its length, to "
@@ -178,10 +208,12 @@ KINDS = {
         fields=(LEG_BODIES,), branches=(), meaning="", unit="m", passive=1, sided=False,
         bodies=(Field("cylinder", BODY, "the part on the base joint, its centre from it, its inertia about z"),
                 Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about z")),
-        points=2),
+        points=2,
+        chain=lambda _leg: [{"type": "R"}, {"type": "P", "actuated": True, "axis": ["1", "0"]}]),
     "PRR": Kind(
         space="planar",
-        doc="an actuated slider along axis (its position from the base attachment), a passive revolute on it, a "
+        doc="an actuated prismatic joint (a slider) along axis (its position from the base attachment), a passive "
+            "revolute on it, a "
             "link of length distal to the platform's revolute",
         fields=(Field("distal", LENGTH, "the link, from the slider's joint to the platform joint", required=True),
                 Field("axis", "a direction: a list of 2 expressions", "the slide's direction", required=True),
@@ -191,7 +223,9 @@ KINDS = {
         unit="m", passive=1, sided=True,
         bodies=(Field("slider", POINT_BODY, "the slider, its mass at its joint"),
                 Field("distal", BODY, "the link, its centre from the slider's joint, its inertia about z")),
-        points=3),
+        points=3,
+        chain=lambda leg: [{"type": "P", "actuated": True, "axis": leg["axis"]},
+                           {"type": "R", "link": [leg["distal"], "0"]}]),
     "R_parallelogram": Kind(
         space="spatial",
         doc="an actuated revolute at the base attachment about axis, turning an arm of length arm from the "
@@ -211,7 +245,12 @@ KINDS = {
         bodies=(Field("arm", BODY, "the arm, its centre from the motor's axis, its inertia about that axis"),
                 Field("rod", POINT_BODY, "both rods of the parallelogram: half the mass at the arm's tip, half at "
                       "the platform joint")),
-        points=3),
+        points=3,
+        chain=lambda leg: [{"type": "R", "actuated": True, "axis": leg["axis"],
+                            "link": _times(leg["arm"], leg["zero"])},
+                           {"type": "parallelogram", "axes": [leg["axis"], _cross(leg["zero"], leg["axis"])],
+                            "link": _times(leg["rod"], leg["zero"])},
+                           {"type": "S"}]),
     "UPS": Kind(
         space="spatial",
         doc="a universal joint at the base attachment, an actuated prismatic joint along the leg (its length), a "
@@ -225,7 +264,9 @@ KINDS = {
                       "across the leg"),
                 Field("piston", BODY, "the part on the platform joint, its centre from it, its inertia about an axis "
                       "across the leg")),
-        points=2),
+        points=2,
+        chain=lambda _leg: [{"type": "U", "axes": [["1", "0", "0"], ["0", "1", "0"]]},
+                           {"type": "P", "actuated": True, "axis": ["0", "0", "1"]}, {"type": "S"}]),
 }
 CHAIN = "chain"  # the kind of a leg given as a serial chain of joints, solved by continuation
 CHAIN_DOC = ("a serial chain of joints from the base attachment to the platform's point joint (a revolute in the "
