@@ -19,6 +19,7 @@ import ast
 import math
 import warnings
 from collections.abc import Callable, Collection, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
@@ -31,10 +32,23 @@ FUNCTIONS = ("cos", "sin", "tan", "sqrt", "asin", "acos", "atan")
 CONSTANTS = {"pi": math.pi}
 RESERVED = (*CONSTANTS, *FUNCTIONS, "neg")  # names a parameter may not take
 LIMITS = {"characters": 1000, "nodes": 400, "depth": 40, "exponent": 64.0}
-NUMPY: dict[str, Callable[..., Any]] = {"cos": np.cos, "sin": np.sin, "tan": np.tan, "sqrt": np.sqrt,
-                                        "asin": np.arcsin, "acos": np.arccos, "atan": np.arctan}
-CASADI: dict[str, Callable[..., Any]] = {"cos": ca.cos, "sin": ca.sin, "tan": ca.tan, "sqrt": ca.sqrt,
-                                         "asin": ca.asin, "acos": ca.acos, "atan": ca.atan}
+
+
+@dataclass(frozen=True)
+class Backend:
+    """What :func:`evaluate` builds a tree's value with: the functions of :data:`FUNCTIONS`, a number of the tree
+    as a value, the constants by name, and a check of each operation's value (raising where it must not stand)."""
+
+    functions: Mapping[str, Callable[..., Any]]
+    number: Callable[[int | float], Any] = float
+    constants: Mapping[str, Any] = field(default_factory=lambda: CONSTANTS)
+    check: Callable[[str, list[Any], Any], None] | None = None
+
+
+NUMPY = Backend({"cos": np.cos, "sin": np.sin, "tan": np.tan, "sqrt": np.sqrt, "asin": np.arcsin,
+                 "acos": np.arccos, "atan": np.arctan}, number=np.float64)
+CASADI = Backend({"cos": ca.cos, "sin": ca.sin, "tan": ca.tan, "sqrt": ca.sqrt, "asin": ca.asin, "acos": ca.acos,
+                  "atan": ca.atan})
 
 Tree = int | float | str | list
 
@@ -107,7 +121,7 @@ def _constant(tree: Tree) -> float | None:
         return None
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        value = float(_apply(op, [np.float64(v) for v in values], NUMPY))
+        value = float(_apply(op, [np.float64(v) for v in values], NUMPY.functions))
     if not math.isfinite(value):
         raise ExpressionError(f"a finite real value in every constant part; {text(tree)} has none")
     return value
@@ -123,20 +137,24 @@ def _apply(op: str, values: list[Any], functions: Mapping[str, Callable[..., Any
     return OPERATORS[op](*values) if op in OPERATORS else functions[op](*values)
 
 
-def evaluate(tree: Tree, values: Mapping[str, Any], functions: Mapping[str, Callable[..., Any]] = NUMPY) -> Any:
-    """The value of a tree: its names from ``values`` (or :data:`CONSTANTS`), its functions from ``functions``
-    (numpy's by default; CasADi's for symbols), its numbers numpy's floats with numpy's functions and Python's
-    with others. Numbers give numpy's results, overflow and division by zero included (inf or nan, no
-    warning)."""
+def evaluate(tree: Tree, values: Mapping[str, Any], backend: Backend = NUMPY) -> Any:
+    """The value of a tree, the one evaluator of descriptions, task files and exports: its names from ``values``
+    (or the backend's constants), its numbers and functions the backend's (:data:`NUMPY` by default,
+    :data:`CASADI` for symbols; sympy's in the derivation, :mod:`symbolic.described`), each operation's value
+    checked where the backend checks. With numpy, numbers give numpy's results, overflow and division by zero
+    included (inf or nan, no warning)."""
     if isinstance(tree, int | float):
-        return np.float64(tree) if functions is NUMPY else float(tree)
+        return backend.number(tree)
     if isinstance(tree, str):
-        return values[tree] if tree in values else CONSTANTS[tree]
+        return values[tree] if tree in values else backend.constants[tree]
     op, *operands = tree
-    args = [evaluate(t, values, functions) for t in operands]
+    args = [evaluate(t, values, backend) for t in operands]
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)
-        return _apply(op, args, functions)
+        value = _apply(op, args, backend.functions)
+    if backend.check is not None:
+        backend.check(op, args, value)
+    return value
 
 
 def function(tree: Tree) -> Callable[[Mapping[str, Any]], Any]:

@@ -76,10 +76,10 @@ class Description:
 
 
 def _tool_versions() -> dict[str, str]:
-    """CasADi's version and the digest of the modules that derive a description: symbolic/'s shared ones and
-    symbolic/described/."""
+    """CasADi's version and the digest of the modules that derive a description: symbolic/'s shared ones,
+    symbolic/described/ and the evaluator of its expressions (pkm/expressions.py)."""
     here = ROOT / "symbolic"
-    sources = sorted([*here.glob("*.py"), *(here / "described").glob("*.py")])
+    sources = sorted([*here.glob("*.py"), *(here / "described").glob("*.py"), ROOT / "pkm" / "expressions.py"])
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
     return {"casadi": ca.__version__, "symbolic": digest}
 

@@ -10,38 +10,38 @@ from typing import Any
 
 import sympy as sp
 
+from pkm import expressions
+
 FRAMES = {
     "planar_point": ("x", "y"),
     "planar": ("x", "y", "phi"),
     "spatial_point": ("x", "y", "z"),
     "spatial": ("x", "y", "z", "roll", "pitch", "yaw"),
 }
-FUNCTIONS = {"cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt, "asin": sp.asin, "acos": sp.acos,
-             "atan": sp.atan}
-OPERATORS = {"+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b, "/": lambda a, b: a / b,
-             "**": lambda a, b: a**b, "neg": lambda a: -a}
-
-
 class UndefinedError(ValueError):
     """An expression of the description without a finite value at every design (tan(pi/2), 1/(a - a))."""
 
 
-def expression(tree: Any, names: dict[str, sp.Symbol]) -> sp.Expr:
-    """The sympy expression of one of pkm's expression trees (:mod:`pkm.expressions`: a number, a name, or
-    ``[operator, operand, ...]``), built node by node: nothing of the description is parsed or evaluated as
-    text here."""
-    if isinstance(tree, int):
-        return sp.Integer(tree)
-    if isinstance(tree, float):
-        return sp.Float(tree)
-    if isinstance(tree, str):
-        return sp.pi if tree == "pi" else names[tree]
-    op, *operands = tree
-    values = [expression(t, names) for t in operands]
-    value = (OPERATORS.get(op) or FUNCTIONS[op])(*values)
+def _finite(op: str, values: list[sp.Expr], value: sp.Expr) -> None:
     if value.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise UndefinedError(f"{op}({', '.join(map(str, values))}) has no finite value")
-    return value
+
+
+def _number(number: int | float) -> sp.Expr:
+    return sp.Integer(number) if isinstance(number, int) else sp.Float(number)
+
+
+# pkm's evaluator of expression trees with sympy's numbers and functions, each operation's value checked finite
+SYMPY = expressions.Backend({"cos": sp.cos, "sin": sp.sin, "tan": sp.tan, "sqrt": sp.sqrt, "asin": sp.asin,
+                             "acos": sp.acos, "atan": sp.atan}, number=_number, constants={"pi": sp.pi},
+                            check=_finite)
+
+
+def expression(tree: Any, names: dict[str, sp.Symbol]) -> sp.Expr:
+    """The sympy expression of one of pkm's expression trees (:func:`pkm.expressions.evaluate`: a number, a
+    name, or ``[operator, operand, ...]``), built node by node: nothing of the description is parsed or
+    evaluated as text here."""
+    return expressions.evaluate(tree, names, SYMPY)
 
 
 def platform_rotation(frame: str, pose: tuple[sp.Symbol, ...]) -> sp.Matrix:
