@@ -48,7 +48,7 @@ import numpy as np
 import pkm
 import pkm.batch
 import pkm.compiled
-from bench.run import log, machine, write_json
+from bench.report import log, machine, write_json
 from bench.throughput import DESIGN, INDEX, MODE, SEED, sample_poses, set_threads
 from pkm.compiled.toolchain import Toolchain, find
 from pkm.regions.pipeline import index_pipeline

@@ -73,7 +73,7 @@ def _level(level: str) -> list[dict[str, Any]]:
 
 
 def run(*, log: Any = print) -> dict[str, Any]:
-    from bench.run import machine
+    from bench.report import machine
 
     levels = {}
     for level in LEVELS:

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from bench.run import log, machine, write_json
+from bench.report import log, machine, write_json
 
 ROWS = 20_000
 

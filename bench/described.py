@@ -49,7 +49,7 @@ import numpy as np
 import pkm
 from bench import methods
 from bench.numpy_models import MODELS
-from bench.run import log, machine, write_json
+from bench.report import log, machine, write_json
 from bench.throughput import set_threads
 from pkm import registry
 from pkm.models.described import DESCRIPTIONS

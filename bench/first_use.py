@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from bench.run import log, machine, write_json
+from bench.report import log, machine, write_json
 
 ROOT = Path(__file__).resolve().parent.parent
 

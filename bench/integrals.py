@@ -42,6 +42,7 @@ import numpy as np
 
 import pkm
 import pkm.batch
+from bench.report import machine, write_json
 from pkm import compiled
 from pkm.regions import node_quadrature, quadrature_function
 from pkm.regions.pipeline import pipeline
@@ -175,7 +176,6 @@ def _git(*args: str) -> str:
 
 
 def run(*, quick: bool, log: Callable[[str], None]) -> dict[str, Any]:
-    from bench.run import machine  # here, not at the top: bench.run imports this module
 
     repeats = 5 if quick else 100
     report: dict[str, Any] = {
@@ -267,7 +267,6 @@ def main(argv: list[str] | None = None) -> int:
     report["command"] = "python -m bench.integrals " + " ".join(sys.argv[1:] if argv is None else argv)
     print(markdown(report))
     if args.json:
-        from bench.run import write_json  # here, not at the top: bench.run imports this module
 
         write_json(Path(args.json), report)
     return 1 if any("error" in syn for syn in report["syntheses"]) else 0

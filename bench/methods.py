@@ -43,7 +43,7 @@ import pkm.batch
 import pkm.kinematics
 from bench.gantry import ACCELERATION, SPEED
 from bench.numpy_models import MODELS, ROOTS_PER_POSE, SEEDED
-from bench.run import log, machine, write_json
+from bench.report import log, machine, write_json
 from bench.throughput import set_threads
 
 SEED = 20261125

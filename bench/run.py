@@ -17,55 +17,16 @@ Figures are ratios against baselines measured in the same run; nothing asserts o
 from __future__ import annotations
 
 import argparse
-import datetime
 import importlib.util
-import json
-import os
-import platform
 import sys
 import time
 from pathlib import Path
 from typing import Any
 
-import casadi
-import numpy as np
-
 from bench import dynamics, gantry, integrals, passive_leg, scale_out, throughput, ups_pu
+from bench.report import log, machine, write_json
 
 SYNTHESIS_PROBLEM = "five_bar.max_gci_miw"
-
-
-def log(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
-
-
-def machine() -> dict[str, Any]:
-    """What the figures were measured on."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {
-        "date": datetime.date.today().isoformat(),
-        "cpu": cpu,
-        "cores": os.cpu_count(),
-        "os": platform.platform(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "casadi": casadi.__version__,
-    }
-
-
-def write_json(path: Path, report: dict[str, Any]) -> None:
-    """Write the report as JSON to a temporary file beside ``path``, then rename it: never half a file."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(report, indent=2, default=float) + "\n")
-    tmp.replace(path)
 
 
 def synthesis_bench() -> dict[str, Any]:

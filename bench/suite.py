@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from bench.run import log, machine
+from bench.report import log, machine
 
 ROOT = Path(__file__).resolve().parent.parent
 SLOWEST = 20

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from pkm.parallel import use_scheduler
     from pkm.synthesis import Objective, Problem, SynthesisResult
     from pkm.synthesis.designer import design_problem
-    from pkm.synthesis.pareto import ParetoFront
+    from pkm.synthesis.front import ParetoFront
 
 __all__ = [
     "ComputationError",

@@ -20,72 +20,133 @@ PACKAGE = ROOT / "pkm"
 SPECIFIC = ("models", "reproduce")
 
 
-def _module_name(path: Path) -> str:
-    parts = path.relative_to(ROOT).with_suffix("").parts
+def _module_name(path: Path, root: Path = ROOT) -> str:
+    parts = path.relative_to(root).with_suffix("").parts
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-MODULES = {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
+def modules(root: Path, packages: tuple[str, ...]) -> dict[str, Path]:
+    """The modules of ``packages`` (folders below ``root``) by their dotted names."""
+    return {_module_name(p, root): p for package in packages for p in sorted((root / package).rglob("*.py"))}
 
 
-def _resolve(module: str, node: ast.ImportFrom) -> str:
+MODULES = modules(ROOT, ("pkm",))
+LATE = ("import_module", "_Delegate")  # calls whose first argument, a module's name, is an import done later
+
+
+def _resolve(module: str, node: ast.ImportFrom, known: dict[str, Path]) -> str:
     if node.level == 0:
         return node.module or ""
     base = module.split(".")
-    is_package = MODULES[module].name == "__init__.py"
-    base = base if is_package else base[:-1]
+    base = base if known[module].name == "__init__.py" else base[:-1]
     base = base[: len(base) - (node.level - 1)]
     return ".".join([*base, *([node.module] if node.module else [])])
 
 
-LATE = ("import_module", "_Delegate")  # calls whose first argument, a module's name, is an import done later
+def _named(node: ast.Call, known: dict[str, Path]) -> set[str]:
+    """The modules a late import names: a constant's, or every module below an f-string's constant prefix
+    (``import_module(f"pkm.regions.{name}")``)."""
+    called = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+    if called not in LATE or not node.args:
+        return set()
+    first = node.args[0]
+    if isinstance(first, ast.Constant) and isinstance(first.value, str):
+        return {first.value}
+    if isinstance(first, ast.JoinedStr) and first.values and isinstance(first.values[0], ast.Constant):
+        prefix = first.values[0].value
+        return {m for m in known if m.startswith(prefix)} if prefix.endswith(".") else set()
+    return set()
 
 
-def imports(module: str) -> set[str]:
-    """The pkm modules that ``module`` imports anywhere in its source (not only at the top), by an import
-    statement or by name (``importlib.import_module("pkm.export")``, ``_Delegate("pkm.dynamics")``)."""
-    tree = ast.parse(MODULES[module].read_text())
+def _packages_entered(module: str, target: str) -> set[str]:
+    """The packages an import of ``target`` runs the __init__ of, beside the target: those above it that do
+    not hold ``module`` too (a module's own packages are already being imported)."""
+    parts = target.split(".")
+    above = {".".join(parts[:n]) for n in range(2, len(parts))}
+    return {p for p in above if not (module == p or module.startswith(p + "."))}
+
+
+def imports(module: str, known: dict[str, Path] = MODULES) -> set[str]:
+    """The modules of ``known`` that ``module`` imports anywhere in its source (at the top, in a function, by an
+    import statement or by name: ``importlib.import_module("pkm.export")``, ``_Delegate("pkm.dynamics")``), and
+    the packages whose __init__ such an import runs (pkm.spec for pkm.spec.vocabulary, from outside pkm.spec)."""
+    tree = ast.parse(known[module].read_text())
     out = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.Call) and node.args and isinstance(node.args[0], ast.Constant) and \
-                isinstance(node.args[0].value, str) and node.args[0].value.split(".")[0] == "pkm":
-            called = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
-            if called in LATE:
-                out.add(node.args[0].value)
+        if isinstance(node, ast.Call):
+            out |= _named(node, known)
         elif isinstance(node, ast.Import):
-            out |= {a.name for a in node.names if a.name.split(".")[0] == "pkm"}
+            out |= {a.name for a in node.names}
         elif isinstance(node, ast.ImportFrom):
-            target = _resolve(module, node)
-            if target.split(".")[0] != "pkm":
-                continue
+            target = _resolve(module, node, known)
             for alias in node.names:
                 sub = f"{target}.{alias.name}"
-                out.add(sub if sub in MODULES else target)
-    return {m for m in out if m in MODULES and m != module}
+                out.add(sub if sub in known else target)
+    out |= {p for target in list(out) for p in _packages_entered(module, target)}
+    return {m for m in out if m in known and m != module}
+
+
+def import_graph(known: dict[str, Path]) -> dict[str, set[str]]:
+    return {m: imports(m, known) for m in known}
+
+
+def cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    """An import cycle of ``graph``, or None."""
+    state: dict[str, int] = {}
+
+    def visit(node: str, path: list[str]) -> list[str] | None:
+        state[node] = 1
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == 1:
+                return [*path[path.index(nxt) :], nxt]
+            if nxt not in state:
+                found = visit(nxt, [*path, nxt])
+                if found:
+                    return found
+        state[node] = 2
+        return None
+
+    for module in sorted(graph):
+        if module not in state:
+            found = visit(module, [module])
+            if found:
+                return found
+    return None
 
 
 @pytest.fixture(scope="module")
 def graph() -> dict[str, set[str]]:
     """Each pkm module's pkm imports (parsed where a test reads them, not when the suite collects)."""
-    return {m: imports(m) for m in MODULES}
+    return import_graph(MODULES)
 
 
-def test_import_graph_of_pkm_is_acyclic(graph):
-    state: dict[str, int] = {}
+def test_import_graph_of_pkm_and_bench_is_acyclic():
+    found = cycle(import_graph(modules(ROOT, ("pkm", "bench"))))
+    assert found is None, "import cycle: " + " -> ".join(found or [])
 
-    def visit(node: str, path: list[str]) -> None:
-        state[node] = 1
-        for nxt in sorted(graph[node]):
-            if state.get(nxt) == 1:
-                cycle = [*path[path.index(nxt) :], nxt] if nxt in path else [node, nxt]
-                pytest.fail("import cycle: " + " -> ".join(cycle))
-            if nxt not in state:
-                visit(nxt, [*path, nxt])
-        state[node] = 2
 
-    for module in sorted(graph):
-        if module not in state:
-            visit(module, [module])
+def test_a_cycle_through_a_late_import_or_a_package_is_found(tmp_path):
+    """A cycle that passes through importlib.import_module by name, an f-string's module or a package's
+    __init__ is a cycle of the graph; the same modules without the closing edge are none."""
+    package = tmp_path / "pkg"
+    (package / "sub").mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "sub" / "__init__.py").write_text("from pkg import a\n")
+    (package / "sub" / "leaf.py").write_text("X = 1\n")
+    (package / "b.py").write_text("def f():\n    from pkg.sub.leaf import X\n    return X\n")
+    cases = {
+        "import_module": "import importlib\n\ndef f():\n    return importlib.import_module('pkg.b')\n",
+        "f-string": "from importlib import import_module\n\ndef f(n):\n    return import_module(f'pkg.{n}')\n",
+        "none": "X = 1\n",
+    }
+    for name, text in cases.items():
+        (package / "a.py").write_text(text)
+        found = cycle(import_graph(modules(tmp_path, ("pkg",))))
+        if name == "none":
+            assert found is None
+        else:
+            assert found is not None, name
+            assert {"pkg.a", "pkg.b", "pkg.sub"} <= set(found), (name, found)
 
 
 def test_no_module_imports_the_package_facade(graph):
@@ -202,3 +263,22 @@ def test_registry_resolves_every_name_and_rejects_unknown_ones():
     ):
         with pytest.raises(UnknownNameError, match=f"unknown {kind}"):
             lookup("nothing")
+
+
+MODULE_LINES = 800  # the longest module of pkm
+FUNCTION_LINES = 100  # the longest function of pkm, a paper's run() aside (its steps read in the paper's order)
+
+
+def test_no_module_or_function_of_pkm_is_too_long_to_read():
+    found = []
+    for module, path in MODULES.items():
+        text = path.read_text()
+        if text.count("\n") > MODULE_LINES:
+            found.append(f"{module}: {text.count(chr(10))} lines")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                lines = node.end_lineno - node.lineno + 1
+                paper_run = module.startswith("pkm.reproduce.") and node.name == "run"
+                if lines > FUNCTION_LINES and not paper_run:
+                    found.append(f"{module}.{node.name}: {lines} lines")
+    assert found == []

@@ -15,7 +15,8 @@ import pkm
 from pkm import registry
 from pkm.errors import PkmError, UnknownNameError
 from pkm.synthesis import Objective, Problem, Variable
-from pkm.synthesis.pareto import hypervolume, non_dominated, pareto
+from pkm.synthesis.front import hypervolume, non_dominated
+from pkm.synthesis.pareto import pareto
 
 
 def _analytic() -> Problem:

@@ -397,6 +397,89 @@ MAX_RESOLUTION = 64  # a problem's quadrature resolution at most
 MECHANISM = "a mechanism's name or a description file"
 
 
+def _task(mech: Any, task: str | Any) -> Any:
+    """The region of a task: a region name of the mechanism, a table placing one (:func:`task_region`) or a
+    region."""
+    if isinstance(task, str):
+        with _field("task"):
+            return mech.region(task)
+    if isinstance(task, Mapping):
+        return task_region(mech, task)
+    if isinstance(getattr(task, "name", None), str):
+        return task
+    raise _fail("task", "a region name of the mechanism, a table {shape, centre, size, axis}, {poses} or {file}, or "
+                        "a region", task)
+
+
+def _held(mech: Any, fixed: Mapping[str, float] | None, chosen: Sequence[Any]) -> dict[str, float]:
+    """The parameters held at given values, checked as a design's, none of them a variable."""
+    given = {} if fixed is None else dict(_table(fixed, "fixed", "a table {parameter = value}"))
+    for held_name, value in given.items():
+        _number(value, f"fixed.{held_name}")
+    with _field("fixed"):
+        checked = dict(mech.design(given, partial=True)) if given else {}
+    held = {n: checked[n] for n in given}
+    overlap = set(held) & {v.name for v in chosen}
+    if overlap:
+        raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
+    return held
+
+
+def _rules(mech: Any, derived: Mapping[str, str] | None, taken: Sequence[str]) -> dict[str, Any]:
+    """The derived parameters' rules, in order, each an expression of the design parameters setting one that is
+    neither a variable nor fixed (``taken``)."""
+    rules = {}
+    for target, text in ({} if derived is None else _table(derived, "derived", "a table {parameter = expression}")
+                         ).items():
+        if target not in mech.parameter_names() or target in taken:
+            raise _fail(f"derived.{target}", "a design parameter that is neither a variable nor fixed")
+        rules[target] = _parameter_expression(mech, text, f"derived.{target}")
+    return rules
+
+
+def _constraints(mech: Any, constraints: Sequence[Any], quantity: Any, quantities: dict[str, Quantity], *,
+                 region: Any, task_name: str) -> list[Constraint]:
+    """The stated constraints (what, lower, upper), the quantities they read added to ``quantities``."""
+    stated = []
+    for k, item in enumerate(_list(constraints, "constraints", "a list of (index or expression, lower, upper)")):
+        field = f"constraints[{k}]"
+        if not (isinstance(item, Sequence) and len(item) == 3):
+            raise _fail(field, "a triple (index or expression, lower, upper)", item)
+        what, lower, upper = item
+        if not isinstance(what, str | Mapping):
+            raise _fail(field, "an index's name, an expression of the design parameters or a table {joint}, "
+                               "{joint_range} or {effort}", what)
+        lower, upper = _bound(lower, f"{field}.lower", -math.inf), _bound(upper, f"{field}.upper", math.inf)
+        if not lower <= upper:
+            raise _fail(field, f"lower <= upper; got {lower:g}, {upper:g}")
+        if isinstance(what, Mapping):
+            stated += _physical(mech, what, (lower, upper), field, region=region, quantities=quantities)
+        elif what.isidentifier() and what not in mech.parameter_names():
+            quantities.setdefault(what, quantity(what, field))
+            stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
+                                     lambda t, what=what: t[what], lower, upper))
+        else:
+            rule = _parameter_expression(mech, what, field)
+            stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
+                                     lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
+                                     lower, upper))
+    return stated
+
+
+def _default_margin(singularity_margin: float, quantity: Any, quantities: dict[str, Quantity], task_name: str
+                    ) -> list[Constraint]:
+    """The task held ``singularity_margin`` from singularity (none where it is 0 or a constraint on
+    ``singularity_margin_min`` is stated), its quantity added to ``quantities``."""
+    margin = _number(singularity_margin, "singularity_margin")
+    if not 0 <= margin < 1:
+        raise _fail("singularity_margin", "a number in [0, 1) (0: no margin)", singularity_margin)
+    if margin == 0 or "singularity_margin_min" in quantities:
+        return []
+    quantities["singularity_margin_min"] = quantity("singularity_margin_min", "singularity_margin")
+    return [Constraint(f"singularity_margin_min over {task_name} >= {margin:g} (the default margin)",
+                       lambda t: t["singularity_margin_min"], margin, math.inf)]
+
+
 def design_problem(
     mechanism: Any,
     *,
@@ -442,39 +525,17 @@ def design_problem(
         with _field("mechanism"):
             mechanism = resolve_name(_file_name(mechanism, "mechanism", MECHANISM))
     mech = mechanism
-    if isinstance(task, str):
-        with _field("task"):
-            region = mech.region(task)
-    elif isinstance(task, Mapping):
-        region = task_region(mech, task)
-    elif isinstance(getattr(task, "name", None), str):
-        region = task
-    else:
-        raise _fail("task", "a region name of the mechanism, a table {shape, centre, size, axis}, {poses} or {file}, "
-                            "or a region", task)
+    region = _task(mech, task)
     task_name = task if isinstance(task, str) else region.name
     chosen = _variables(mech, variables)
     if (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
             or not 2 <= resolution <= MAX_RESOLUTION):
         raise _fail("resolution", f"an integer from 2 to {MAX_RESOLUTION}", resolution)
-    given = {} if fixed is None else dict(_table(fixed, "fixed", "a table {parameter = value}"))
-    for held_name, value in given.items():
-        _number(value, f"fixed.{held_name}")
-    with _field("fixed"):
-        checked = dict(mech.design(given, partial=True)) if given else {}
-    held = {n: checked[n] for n in given}
-    overlap = set(held) & {v.name for v in chosen}
-    if overlap:
-        raise _fail("fixed", f"no parameter that is also a variable; {sorted(overlap)[0]} is both")
+    held = _held(mech, fixed, chosen)
     order = [v.name for v in chosen]
     with _field("mode"):
         mode = mech.working_mode(_string(mode, "mode", "a working mode's name") if mode is not None else None).name
-    rules = {}
-    for target, text in ({} if derived is None else _table(derived, "derived", "a table {parameter = expression}")
-                         ).items():
-        if target not in mech.parameter_names() or target in order or target in held:
-            raise _fail(f"derived.{target}", "a design parameter that is neither a variable nor fixed")
-        rules[target] = _parameter_expression(mech, text, f"derived.{target}")
+    rules = _rules(mech, derived, (*order, *held))
 
     def design(values: Sequence[Any]) -> Any:
         given = {**held, **dict(zip(order, values, strict=True))}
@@ -493,36 +554,8 @@ def design_problem(
 
     quantities: dict[str, Quantity] = {}
     goal = _objective(objective, quantity, quantities)
-    stated = []
-    for k, item in enumerate(_list(constraints, "constraints", "a list of (index or expression, lower, upper)")):
-        field = f"constraints[{k}]"
-        if not (isinstance(item, Sequence) and len(item) == 3):
-            raise _fail(field, "a triple (index or expression, lower, upper)", item)
-        what, lower, upper = item
-        if not isinstance(what, str | Mapping):
-            raise _fail(field, "an index's name, an expression of the design parameters or a table {joint}, "
-                               "{joint_range} or {effort}", what)
-        lower, upper = _bound(lower, f"{field}.lower", -math.inf), _bound(upper, f"{field}.upper", math.inf)
-        if not lower <= upper:
-            raise _fail(field, f"lower <= upper; got {lower:g}, {upper:g}")
-        if isinstance(what, Mapping):
-            stated += _physical(mech, what, (lower, upper), field, region=region, quantities=quantities)
-        elif what.isidentifier() and what not in mech.parameter_names():
-            quantities.setdefault(what, quantity(what, field))
-            stated.append(Constraint(f"{lower:g} <= {what} over {task_name} <= {upper:g}",
-                                     lambda t, what=what: t[what], lower, upper))
-        else:
-            rule = _parameter_expression(mech, what, field)
-            stated.append(Constraint(f"{lower:g} <= {what} <= {upper:g}",
-                                     lambda t, rule=rule: rule({n: t[n] for n in mech.parameter_names()}),
-                                     lower, upper))
-    margin = _number(singularity_margin, "singularity_margin")
-    if not 0 <= margin < 1:
-        raise _fail("singularity_margin", "a number in [0, 1) (0: no margin)", singularity_margin)
-    if margin > 0 and "singularity_margin_min" not in quantities:
-        quantities["singularity_margin_min"] = quantity("singularity_margin_min", "singularity_margin")
-        stated.append(Constraint(f"singularity_margin_min over {task_name} >= {margin:g} (the default margin)",
-                                 lambda t: t["singularity_margin_min"], margin, math.inf))
+    stated = _constraints(mech, constraints, quantity, quantities, region=region, task_name=task_name)
+    stated += _default_margin(singularity_margin, quantity, quantities, task_name)
     measured = [n for n, q in quantities.items() if q.index.reduce == "measure"]
     if measured and isinstance(region, Poses):
         raise _fail("task", f"a region with a measure for {measured[0]}; given poses have none")

@@ -594,6 +594,52 @@ def synthesize(
                            options=options, executor=executor, step=step, polish=resolution is None)
 
 
+def _candidates(problem: Problem, model: ProblemModel, good: list[Run], res: int) -> list[tuple[Run, Candidate]]:
+    """Each converged run with its verified candidate, best first; runs that ended at one point (within
+    SAME_POINT of the variables' spans) share one verification."""
+    candidates: list[tuple[Run, Candidate]] = []
+    span = np.array([v.upper - v.lower for v in problem.variables])
+    for run in sorted(good, key=lambda r: model.sign * r.objective):
+        point = np.array(list(run.variables.values()))
+        same = [cand for _, cand in candidates
+                if np.all(np.abs(point - np.array(list(cand.variables.values()))) <= SAME_POINT * span)]
+        cand = same[0] if same else model.candidate(point, run.objective, res)
+        run.verified_objective = cand.verified_objective
+        candidates.append((run, cand))
+    return candidates
+
+
+def _baselines(problem: Problem, model: ProblemModel, *, where: str | Executor | None, settings: Any,
+               resolution: int, baseline_resolution: int | None, step: Callable[..., None]
+               ) -> dict[str, BaselineResult]:
+    """Each baseline's best point, its designs evaluated in chunks at the quadrature ``resolution`` (the one the
+    starts were solved at), calling ``step`` after each baseline."""
+    baselines = {}
+    for base in problem.baselines:
+        t1 = time.perf_counter()
+        n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
+        candidates_at = np.atleast_2d(base.points(n))
+        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], resolution, settings)
+                  for k in range(0, len(candidates_at), BASELINE_CHUNK)]
+        with parallel.executor(where, tasks=len(chunks)) as pool:
+            local = isinstance(pool, parallel.SerialExecutor)
+            evaluate = partial(_points, model) if local else evaluate_points
+            parts = parallel.run_tasks(pool, evaluate, chunks, describe=PointsTask.describe)
+        values = np.concatenate([v for v, _ in parts])
+        feasible = np.concatenate([f for _, f in parts])
+        wall = time.perf_counter() - t1
+        pick = model.best(values, feasible)
+        if len(pick) == 0:
+            # nothing feasible: report the point with the best objective, marked infeasible
+            pick = model.best(values, np.isfinite(values))
+        if len(pick) == 0:
+            raise ComputationError(f"no point of the {base.name} baseline of {problem.name} has an objective")
+        best = model.candidate(candidates_at[pick[0]], values[pick[0]], resolution)
+        baselines[base.name] = BaselineResult(base.name, base.doc, best, wall, len(candidates_at), n)
+        step()
+    return baselines
+
+
 def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: int, baseline_resolution: int | None,
                 options: dict[str, Any], executor: str | Executor | None, step: Callable[..., None],
                 polish: bool) -> SynthesisResult:
@@ -639,15 +685,7 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
             f"IPOPT did not converge from any of {len(runs)} starts of {problem.name}; status {last.status}, "
             f"last iterate {last.variables}, design {cand.design}, objective {last.objective:.6g}", last, cand)
 
-    candidates: list[tuple[Run, Candidate]] = []
-    span = np.array([v.upper - v.lower for v in problem.variables])
-    for run in sorted(good, key=lambda r: model.sign * r.objective):
-        point = np.array(list(run.variables.values()))
-        same = [cand for _, cand in candidates
-                if np.all(np.abs(point - np.array(list(cand.variables.values()))) <= SAME_POINT * span)]
-        cand = same[0] if same else model.candidate(point, run.objective, res)
-        run.verified_objective = cand.verified_objective
-        candidates.append((run, cand))
+    candidates = _candidates(problem, model, good, res)
     if polish and model.extremes:
         candidates, exchanged = _exchanged(model, candidates, res, options)
         runs.extend(exchanged)
@@ -671,30 +709,8 @@ def _synthesize(problem: Problem, model: ProblemModel, *, res: int, n_starts: in
         evaluations += sum(r.evaluations for r in extra)
         opt_time = time.perf_counter() - t0
 
-    baselines = {}
-    for base in problem.baselines:
-        t1 = time.perf_counter()
-        n = baseline_resolution if baseline_resolution is not None and base.follows_resolution else base.resolution
-        candidates_at = np.atleast_2d(base.points(n))
-        chunks = [PointsTask(problem.name, candidates_at[k : k + BASELINE_CHUNK], start_resolution, settings)
-                  for k in range(0, len(candidates_at), BASELINE_CHUNK)]
-        with parallel.executor(where, tasks=len(chunks)) as pool:
-            local = isinstance(pool, parallel.SerialExecutor)
-            evaluate = partial(_points, model) if local else evaluate_points
-            parts = parallel.run_tasks(pool, evaluate, chunks, describe=PointsTask.describe)
-        values = np.concatenate([v for v, _ in parts])
-        feasible = np.concatenate([f for _, f in parts])
-        wall = time.perf_counter() - t1
-        pick = model.best(values, feasible)
-        if len(pick) == 0:
-            # nothing feasible: report the point with the best objective, marked infeasible
-            pick = model.best(values, np.isfinite(values))
-        if len(pick) == 0:
-            raise ComputationError(f"no point of the {base.name} baseline of {problem.name} has an objective")
-        best = model.candidate(candidates_at[pick[0]], values[pick[0]], start_resolution)
-        baselines[base.name] = BaselineResult(base.name, base.doc, best, wall, len(candidates_at), n)
-        step()
-
+    baselines = _baselines(problem, model, where=where, settings=settings, resolution=start_resolution,
+                           baseline_resolution=baseline_resolution, step=step)
     region_points = {
         name: q.region.node_count(res, q.index.reduce) for name, q in problem.quantities.items()
     }
