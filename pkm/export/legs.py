@@ -1,30 +1,21 @@
-"""The structure of a described machine (:mod:`pkm.spec`), leg by leg from its legs' kinds.
+"""The structure of a described machine (:mod:`pkm.spec`), leg by leg, each leg walked as its chain of joints.
 
-Each kind of leg (:data:`pkm.spec.vocabulary.KINDS`) is a chain of joints from its base attachment A to its platform
-attachment C (:mod:`symbolic.described` states their coordinates):
-
-* ``RR``: the actuated revolute at A (the proximal link's angle theta about z), the elbow (phi - theta) and a
-  revolute at C;
-* ``RPR``: a revolute at A (the leg's angle phi), the actuated prismatic joint along the leg (rho) and a
-  revolute at C;
-* ``PRR``: the actuated prismatic joint along the leg's axis from A (s), a revolute at the slider (phi) and a
-  revolute at C;
-* ``R_parallelogram``: the actuated revolute at A about the leg's axis (the arm's theta), then the
-  parallelogram as the chain its two rods make of it: at the arm's tip a revolute about the axis (the plane of
-  the rods turning), a revolute across that plane (the rods swinging in it), the rod, a revolute across the
-  plane that mimics the swing with multiplier -1 (the platform's bar stays parallel to the arm's) and a
-  revolute about the axis at C (the bar turning about its own line);
-* ``UPS``: a universal joint at A (its first axis horizontal and across the leg, its second across both), the
-  actuated prismatic joint along the leg (its length) and a spherical joint at C;
-* ``chain``: its joints as the description gives them (a universal joint's zero at the reference
-  configuration; a parallelogram as the R_parallelogram's, its two turns undone at the rods' end by mimic
-  joints), a body after each, and the platform's revolute (planar) or spherical joint at C.
+Every leg is a chain of joints from its base attachment A to its platform attachment C: a chain leg's as
+described, a named kind's as :data:`pkm.spec.vocabulary.KINDS` states it (RR: an actuated R, an R; RPR: an R, an
+actuated P; PRR: an actuated P, an R; R_parallelogram: an actuated R, a parallelogram; UPS: a U, an actuated P),
+its joint values at the reference configuration from the kind's own (:data:`_VALUES`: an RR's elbow relative to
+its arm, a UPS's universal joint and an R_parallelogram's parallelogram pointed at C). One walk turns each into
+links and joints: an R or a P one joint, a U two revolutes (its zero at the reference configuration), a
+parallelogram the chain its two rods make of it (the rods' plane turning about its first axis, the rods swinging
+about its second, the same two turns undone at the rods' end by mimic joints with multiplier -1, so that the bar
+there keeps the frame of the body before it), and the platform's revolute (planar) or spherical joint at C.
 
 The platform hangs from the first leg whose platform joint is not spherical (its joints, then the other legs'
-in their order); where every leg ends in a spherical joint the platform floats (a free joint). Every other
-leg is cut at its platform joint: a spherical joint as a point contact, any other joint kept on the leg and
-welded to the platform. Bodies are those of the description (masses at their centres, inertias as the
-kinetic energy of :mod:`symbolic.described` has them).
+in their order); where every leg ends in a spherical joint the platform floats (a free joint), and a point pose
+translates the platform on unactuated slides. Every other leg is cut at its platform joint: a spherical joint as
+a point contact, any other joint kept on the leg and welded to the platform. Bodies are those of the description
+(masses at their centres, inertias as the kinetic energy of :mod:`symbolic.described` has them): a chain's after
+each joint, a kind's on the links of its chain (:data:`_PARTS`).
 """
 
 from __future__ import annotations
@@ -36,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from pkm import expressions
+from pkm.errors import ComputationError
 from pkm.export.structure import (
     Effector,
     Inertial,
@@ -52,10 +44,10 @@ from pkm.export.structure import (
     translation_effector,
     unit,
 )
-from pkm.spec.vocabulary import CHAIN_JOINTS, kind_of
+from pkm.spec.vocabulary import CHAIN, CHAIN_JOINTS, kind_of
 
 Z = np.array([0.0, 0.0, 1.0])
-SPHERICAL = ("UPS",)  # kinds whose platform joint is spherical (and chains in space)
+CLOSURE = 1e-9  # [m] a leg's chain ends this close to its platform joint at the reference configuration, relative
 
 
 class _Values:
@@ -102,18 +94,20 @@ def _rotor(values: _Values, bodies: Mapping[str, Any], at: np.ndarray, axis: np.
 
 
 class _Leg:
-    """One leg's links and joints; ``k`` its number, ``q`` its actuated and passive joints' values."""
+    """One leg's links and joints, walked as its chain; ``k`` its number, ``q`` its joints' values (actuated
+    first, then the passive ones in the chain's order)."""
 
     def __init__(self, k: int, leg: Mapping[str, Any], values: _Values, *, ends: tuple[np.ndarray, np.ndarray],
                  q: tuple[float, ...], platform_angle: float) -> None:
         self.k, self.leg, self.values, (self.a, self.c) = k, leg, values, ends
-        self.q, self.turn = q, platform_angle
+        self.turn = platform_angle
         self.bodies = leg.get("bodies")
         self.links: list[Link] = []
         self.joints: list[Joint] = []
         self.platform_parts: list[Inertial] = []
         self.notes: list[str] = []
-        getattr(self, "_" + leg["kind"].lower())()
+        self.q = _VALUES[leg["kind"]](self, q) if leg["kind"] in _VALUES else q
+        self._walk()
 
     def body(self, name: str) -> Mapping[str, Any] | None:
         return None if self.bodies is None else self.bodies.get(name)
@@ -135,96 +129,24 @@ class _Leg:
                 *, doc: str, **extra: Any) -> None:
         self.joints.append(Joint(f"{name}{self.k}", kind, *links, at, axes, f"{doc} of leg {self.k}", **extra))
 
-    def rotor_note(self) -> None:
-        if self.bodies is not None and self.values.scalar(self.bodies.get("rotor", 0)):
-            self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
-                              "joint) has no form in a URDF and is left out")
+    @property
+    def turning_rotor(self) -> bool:
+        """Whether its actuated joint is a revolute with a rotor (a kind's, or the chain joint's)."""
+        actuated = next(j for j in self.leg["joints"] if j["actuated"])
+        rotor = (self.bodies or {}).get("rotor", 0) if self.leg["kind"] != CHAIN else actuated.get("rotor", 0)
+        return actuated["type"] == "R" and bool(self.values.scalar(rotor))
 
-    def _rr(self) -> None:
-        theta, phi = self.q
-        elbow = self.a + self.values.scalar(self.leg["proximal"]) * _e(theta)
-        proximal = self.link("proximal", "the proximal link", [
-            *_bar(self.values, self.body("proximal"), self.a, _e(theta)), *_rotor(self.values, self.bodies or {},
-                                                                                  self.a, Z)])
-        distal = self.link("distal", "the distal link", _bar(self.values, self.body("distal"), elbow, _e(phi)))
-        self.actuated("R", ("base", proximal), self.a, Z, "theta, the proximal link's angle", along=_e(theta))
-        self.passive("elbow", "R", (proximal, distal), elbow, (Z,), doc="the elbow: phi - theta", value=phi - theta,
-                     along=_e(phi))
-        self.passive("platform_joint", "R", (distal, "platform"), self.c, (Z,), doc="the platform's revolute",
-                     value=self.turn - phi)
+    def note_rotor(self) -> None:
+        self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
+                          "joint) has no form in a URDF and is left out")
 
-    def _rpr(self) -> None:
-        phi = self.q[1]
-        cylinder = self.link("cylinder", "the cylinder", _bar(self.values, self.body("cylinder"), self.a, _e(phi)))
-        piston = self.link("piston", "the piston", _bar(self.values, self.body("piston"), self.c, -_e(phi)))
-        self.passive("base_joint", "R", ("base", cylinder), self.a, (Z,), doc="the base revolute: phi", value=phi,
-                     along=_e(phi))
-        self.actuated("P", (cylinder, piston), self.a, _e(phi), "rho, the leg's length")
-        self.passive("platform_joint", "R", (piston, "platform"), self.c, (Z,), doc="the platform's revolute",
-                     value=self.turn - phi)
-        self.rotor_note()
-
-    def _prr(self) -> None:
-        s, phi = self.q
-        u = unit(self.values.point(self.leg["axis"]))
-        joint = self.a + s * u
-        slider = self.link("slider", "the slider", [] if self.body("slider") is None else
-                           [Inertial.point(self.values.scalar(self.body("slider")["mass"]), joint)])
-        distal = self.link("distal", "the distal link", _bar(self.values, self.body("distal"), joint, _e(phi)))
-        self.actuated("P", ("base", slider), joint, u, "s, the slider's travel from A")
-        self.passive("slider_joint", "R", (slider, distal), joint, (Z,), doc="the slider's revolute: phi", value=phi,
-                     along=_e(phi))
-        self.passive("platform_joint", "R", (distal, "platform"), self.c, (Z,), doc="the platform's revolute",
-                     value=self.turn - phi)
-        self.rotor_note()
-
-    def _r_parallelogram(self) -> None:
-        theta = self.q[0]
-        axis, zero = unit(self.values.point(self.leg["axis"])), unit(self.values.point(self.leg["zero"]))
-        along = math.cos(theta) * zero + math.sin(theta) * np.cross(axis, zero)
-        tip = self.a + self.values.scalar(self.leg["arm"]) * along
-        rod = self.body("rod")
-        half = [] if rod is None else [Inertial.point(self.values.scalar(rod["mass"]) / 2, tip)]
-        if rod is not None:
-            self.platform_parts.append(Inertial.point(self.values.scalar(rod["mass"]) / 2, self.c))
-        arm = self.link("arm", "the arm", [*_bar(self.values, self.body("arm"), self.a, along), *half,
-                                           *_rotor(self.values, self.bodies or {}, self.a, axis)])
-        across = unit(np.cross(axis, self.c - tip))
-        plane = self.link("rods_plane", "the plane of the parallelogram's rods, turning about the arm's axis")
-        rods = self.link("rods", "the parallelogram's rods, swinging in their plane (massless: their mass is half at "
-                         "the arm's tip, half at the platform)")
-        bar = self.link("platform_bar", "the parallelogram's bar on the platform's side, parallel to the arm's")
-        self.actuated("R", ("base", arm), self.a, axis, "theta, the arm's angle", along=along)
-        self.passive("rods_plane", "R", (arm, plane), tip, (axis,), doc="the plane of the rods turning about the arm's "
-                     "axis",
-                     along=self.c - tip)
-        self.passive("rods_swing", "R", (plane, rods), tip, (across,), doc="the rods swinging in their plane",
-                     along=self.c - tip)
-        self.passive("bar_swing", "R", (rods, bar), self.c, (across,), doc="the platform's bar kept parallel to the "
-                     "arm's",
-                     mimic=(f"rods_swing{self.k}", -1.0))
-        self.passive("platform_joint", "R", (bar, "platform"), self.c, (axis,), doc="the platform turning about its "
-                     "bar's "
-                     "line")
-
-    def _ups(self) -> None:
-        length = self.q[0]
-        d = unit(self.c - self.a)
-        first = np.cross(Z, d)
-        first = unit(first if np.linalg.norm(first) > 1e-9 else np.array([1.0, 0.0, 0.0]))
-        cylinder = self.link("cylinder", "the cylinder", _bar(self.values, self.body("cylinder"), self.a, d))
-        piston = self.link("piston", "the piston", _bar(self.values, self.body("piston"), self.c, -d))
-        self.passive("universal", "U", ("base", cylinder), self.a, (first, np.cross(d, first)),
-                     doc="the base universal joint", along=d)
-        self.actuated("P", (cylinder, piston), self.a, d, f"its length ({length:.6g} m at the reference)")
-        self.passive("spherical", "S", (piston, "platform"), self.c, (), doc="the platform's spherical joint")
-        self.rotor_note()
-
-    def _chain(self) -> None:
+    def _walk(self) -> None:
+        """The chain's links and joints from A, then the platform's joint at C."""
         planar = len(self.leg["joints"][0]["link"]) == 2
-        rotation = rotation_z(self.values.scalar(self.leg["turn"]))
+        rotation = rotation_z(self.values.scalar(self.leg.get("turn", 0)))
         point, parent = self.a, "base"
         passive = iter(self.q[1:])
+        parts = _PARTS.get(self.leg["kind"])
         for j, joint in enumerate(self.leg["joints"]):
             kind = joint["type"]
             mine = [self.q[0]] if joint["actuated"] else [next(passive) for _ in range(CHAIN_JOINTS[kind])]
@@ -241,9 +163,10 @@ class _Leg:
                     local = unit(self.values.point(text))
                     axes += (rotation @ local,)
                     rotation = rotation @ _about(local, angle)
-            child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}",
-                              self._chain_parts(joint, point, rotation, axes[0]))
             end = point + rotation @ self.values.point(joint["link"])
+            own = parts(self, j, (point, end, axes[0])) if parts else self._chain_parts(joint, point, rotation,
+                                                                                         axes[0])
+            child = self.link(f"body{j + 1}_", f"the body after joint {j + 1}", own)
             along = end - at if np.linalg.norm(end - at) > 1e-12 else None
             if joint["actuated"]:
                 self.actuated(kind, (parent, child), at, axes[0], f"joint {j + 1} of the chain", along=along)
@@ -251,6 +174,10 @@ class _Leg:
                 self.passive(f"joint{j + 1}_", kind, (parent, child), at, axes, doc=f"joint {j + 1} of the chain",
                              value=mine[0] if len(mine) == 1 else 0.0, along=along)
             point, parent = end, child
+        gap = float(np.linalg.norm(point - self.c))
+        if gap > CLOSURE * max(1.0, float(np.abs(self.a).max()), float(np.abs(self.c).max())):
+            raise ComputationError(f"leg {self.k}'s chain ends {gap:.1e} m from its platform joint at the reference "
+                                   "configuration")
         if planar:
             self.passive("platform_joint", "R", (parent, "platform"), self.c, (Z,), doc="the platform's revolute",
                          value=self.turn - math.atan2(rotation[1, 0], rotation[0, 0]))
@@ -259,9 +186,9 @@ class _Leg:
 
     def _parallelogram(self, j: int, joint: Mapping[str, Any], frame: tuple[np.ndarray, np.ndarray],
                        angles: list[float], parent: str) -> tuple[np.ndarray, str]:
-        """A chain's parallelogram as its rods move it: the rods' plane turning about its first axis, the rods
-        swinging about its second, then at their end the same two turns undone by mimic joints (multiplier
-        -1), so that the bar there keeps the frame of the body before it; its end and its last body."""
+        """A parallelogram as its rods move it: the rods' plane turning about its first axis, the rods swinging
+        about its second, then at their end the same two turns undone by mimic joints (multiplier -1), so that
+        the bar there keeps the frame of the body before it; its end and its last body."""
         at, rotation = frame
         first, second = (unit(self.values.point(t)) for t in joint["axes"])
         turned = rotation @ _about(first, angles[0])
@@ -299,9 +226,84 @@ class _Leg:
         if "rotor" in joint and joint["type"] == "R":
             parts += _rotor(self.values, {"rotor": joint["rotor"]}, origin, axis)
         elif "rotor" in joint and self.values.scalar(joint["rotor"]):
-            self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
-                              "joint) has no form in a URDF and is left out")
+            self.note_rotor()
         return parts
+
+
+def _rr_values(_leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
+    """An RR's absolute link angles (theta, phi) as its chain's joints: the arm's, the elbow relative to it."""
+    theta, phi = q
+    return theta, phi - theta
+
+
+def _ups_values(leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
+    """A UPS's length, then its universal joint (about x, then y) pointing its prismatic joint's z at C."""
+    d = unit(leg.c - leg.a)
+    return q[0], math.atan2(-d[1], d[2]), math.asin(float(np.clip(d[0], -1.0, 1.0)))
+
+
+def _parallelogram_values(leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
+    """An R_parallelogram's arm angle, then its parallelogram's turns (about the axis, then about zero x axis in
+    the arm's frame) pointing the rods (along zero) from the arm's tip at C."""
+    theta = q[0]
+    v, u = unit(leg.values.point(leg.leg["axis"])), unit(leg.values.point(leg.leg["zero"]))
+    w = unit(np.cross(u, v))
+    turned = _about(v, theta)
+    tip = leg.a + turned @ (leg.values.scalar(leg.leg["arm"]) * leg.values.point(leg.leg["zero"]))
+    d = turned.T @ unit(leg.c - tip)
+    return theta, math.atan2(-float(d @ w), float(d @ u)), math.asin(float(np.clip(d @ v, -1.0, 1.0)))
+
+
+# a named kind's joint values (actuated first) as its chain's, where they differ
+_VALUES = {"RR": _rr_values, "UPS": _ups_values, "R_parallelogram": _parallelogram_values}
+
+
+Frame = tuple[np.ndarray, np.ndarray, np.ndarray]  # the body's origin after a joint, its link's end, the joint's axis
+
+
+def _rr_parts(leg: _Leg, j: int, frame: Frame) -> list[Inertial]:
+    """An RR's proximal link with its rotor, its distal link."""
+    origin, end, axis = frame
+    name = ("proximal", "distal")[j]
+    rotor = _rotor(leg.values, leg.bodies or {}, origin, axis) if j == 0 else []
+    return [*_bar(leg.values, leg.body(name), origin, end - origin), *rotor]
+
+
+def _legged_parts(leg: _Leg, j: int, _frame: Frame) -> list[Inertial]:
+    """An RPR's or a UPS's cylinder on its base joint and piston on its platform joint, along the leg."""
+    if j == 1 and leg.bodies is not None and leg.values.scalar(leg.bodies.get("rotor", 0)):
+        leg.note_rotor()
+    if j == 0:
+        return _bar(leg.values, leg.body("cylinder"), leg.a, leg.c - leg.a)
+    return _bar(leg.values, leg.body("piston"), leg.c, leg.a - leg.c)
+
+
+def _prr_parts(leg: _Leg, j: int, frame: Frame) -> list[Inertial]:
+    """A PRR's slider, its mass at its joint, and its distal link."""
+    origin, end, _ = frame
+    if j == 1:
+        return _bar(leg.values, leg.body("distal"), origin, end - origin)
+    if leg.bodies is not None and leg.values.scalar(leg.bodies.get("rotor", 0)):
+        leg.note_rotor()
+    slider = leg.body("slider")
+    return [] if slider is None else [Inertial.point(leg.values.scalar(slider["mass"]), origin)]
+
+
+def _parallelogram_parts(leg: _Leg, _j: int, frame: Frame) -> list[Inertial]:
+    """The arm with its rotor and half the rods' mass at its tip; the other half at the platform joint (the
+    parallelogram's rods, the chain's second joint, are massless)."""
+    origin, end, axis = frame
+    rod = leg.body("rod")
+    half = [] if rod is None else [Inertial.point(leg.values.scalar(rod["mass"]) / 2, end)]
+    if rod is not None:
+        leg.platform_parts.append(Inertial.point(leg.values.scalar(rod["mass"]) / 2, leg.c))
+    return [*_bar(leg.values, leg.body("arm"), origin, end - origin), *half,
+            *_rotor(leg.values, leg.bodies or {}, origin, axis)]
+
+
+# a named kind's bodies on the links of its chain (the link after joint j; the parallelogram's rods massless)
+_PARTS = {"RR": _rr_parts, "RPR": _legged_parts, "UPS": _legged_parts, "PRR": _prr_parts,
+          "R_parallelogram": _parallelogram_parts}
 
 
 def _slides(origin: np.ndarray, pose: np.ndarray) -> list[Joint]:
@@ -356,11 +358,8 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
             platform_parts.append(Inertial.principal(mass, centre, moments, rotation))
         else:
             platform_parts.append(Inertial.point(mass, centre))
-    translating = frame == "planar_point" or (frame.endswith("point") and any(leg.leg["kind"] == "chain"
-                                                                              for leg in legs))
-    carrier = None if translating else next((leg for leg in legs if leg.leg["kind"] not in SPHERICAL
-                                             and not (leg.leg["kind"] == "chain" and frame.startswith("spatial"))),
-                                            None)
+    translating = frame.endswith("point")
+    carrier = legs[0] if frame == "planar" else None
     links = [Link("base", "the base: the frame of the pose"),
              Link("platform", "the platform: its frame the pose's at the reference configuration",
                   combined(platform_parts))]
@@ -384,11 +383,14 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
     notes = [
         f"{hung}: a spherical joint becomes a point contact (3d), any other stays on the leg, welded to the platform "
         "(6d).",
-        *(f"{kind} legs: {_KIND_NOTES[kind]}" for kind in kinds),
+        "Every leg is its chain of joints (a kind's as docs/mechanisms.md states it): a universal joint's zero at "
+        "the reference configuration (pkm's two angles of it are offset by their values there), every other joint's "
+        "zero pkm's value there; a parallelogram as its rods move it, its two turns undone at their end by mimic "
+        "joints (multiplier -1).",
+        *(f"{kind} legs: {_KIND_NOTES[kind]}" for kind in kinds if kind in _KIND_NOTES),
         *(note for leg in legs for note in leg.notes),
     ]
-    turning = [leg for leg in legs if leg.leg["kind"] in ("RR", "R_parallelogram") and leg.bodies is not None]
-    if any(values.scalar(leg.bodies.get("rotor", 0)) for leg in turning):
+    if any(leg.turning_rotor for leg in legs):
         notes.append("A rotor's inertia after its reduction is a massless disc about the actuated revolute's axis, "
                      "on the link it turns.")
     if frame.endswith("point"):
@@ -399,18 +401,9 @@ def structure(mech: Any, design: Any, pose: Any, mode: str | None) -> Structure:
 
 
 _KIND_NOTES = {
-    "RR": "the actuated revolute at A, the elbow and the platform's revolute, all about z.",
-    "RPR": "a revolute at A, the actuated prismatic joint along the leg and the platform's revolute.",
-    "PRR": "the actuated prismatic joint along the leg's axis, the slider's revolute and the platform's revolute.",
-    "R_parallelogram": "the actuated arm, then the parallelogram as its rods move it: the rods' plane turning about "
-                       "the arm's axis at its tip, the rods swinging in that plane, the platform's bar kept parallel "
-                       "to the arm's by a mimic joint (multiplier -1) and turning about its own line; its two rods as "
-                       "one massless rod on the parallelogram's centre line (their spacing does not enter the "
+    "R_parallelogram": "its two rods as one massless rod on the parallelogram's centre line, their mass half at the "
+                       "arm's tip and half at the platform, as pkm's model has it (their spacing does not enter the "
                        "kinematics).",
-    "UPS": "the universal joint at A (first axis horizontal and across the leg at the reference configuration), the "
-           "actuated prismatic joint along the leg and the spherical joint at C.",
-    "chain": "its joints as described, a universal joint's zero at the reference configuration (pkm's coordinates "
-             "of it are offset by their values there), a massless body after each, and the platform's point joint.",
 }
 
 

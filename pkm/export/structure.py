@@ -25,7 +25,30 @@ import numpy as np
 
 from pkm.errors import PoseError
 
-KINDS = ("R", "P", "U", "S", "fixed", "free")  # revolute, prismatic, universal, spherical, rigid, floating
+
+@dataclass(frozen=True)
+class AsUrdf:
+    """How a joint of a structure becomes URDF: the URDF type of each of its axes (``limited`` for a joint of one
+    axis with stated limits), the axes themselves where they are not the joint's own, and how a cut of it closes
+    (the closure's contact, 3d or 6d, and whether frame A stays on the joint's axes in the tree or at its origin)."""
+
+    urdf: str
+    limited: str
+    axes: tuple[tuple[float, float, float], ...] | None
+    contact: str
+    kept: bool
+
+
+# the one table of the joint types a structure holds and the URDF joints each becomes
+URDF_JOINTS = {
+    "R": AsUrdf("continuous", "revolute", None, "6d", kept=True),  # revolute
+    "P": AsUrdf("prismatic", "prismatic", None, "6d", kept=True),  # prismatic
+    "U": AsUrdf("continuous", "continuous", None, "6d", kept=True),  # universal: two revolutes
+    "S": AsUrdf("continuous", "continuous", ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)), "3d",
+                kept=False),  # spherical: three revolutes in the tree, a point contact where cut
+    "fixed": AsUrdf("fixed", "fixed", (), "6d", kept=False),  # rigid
+    "free": AsUrdf("floating", "floating", (), "6d", kept=False),  # floating
+}
 PARALLEL = 1e-9  # a hint direction within this sine of a joint's axis is not used to orient its frame
 
 
@@ -320,24 +343,21 @@ class _Builder:
             raise AssertionError(f"joint {joint.name} mimics {joint.mimic[0]}, which is not between it and the base "
                                  "(a parser reads a mimic joint after the joint it mimics)")
         self.path[child] = self.path[parent] | {joint.name}
-        if joint.kind in ("fixed", "free"):
+        kind = URDF_JOINTS[joint.kind]
+        if kind.axes == ():
             frame = placement(np.eye(3), joint.origin)
-            self.attach(joint.name, parent, child, frame, joint.doc,
-                        type="fixed" if joint.kind == "fixed" else "floating")
+            self.attach(joint.name, parent, child, frame, joint.doc, type=kind.urdf)
             return frame
-        axes = joint.axes if joint.kind != "S" else tuple(np.eye(3))
+        axes = joint.axes if kind.axes is None else tuple(np.array(a) for a in kind.axes)
         names = [joint.name] if len(axes) == 1 else [f"{joint.name}_{k + 1}" for k in range(len(axes))]
+        urdf = kind.limited if joint.limits is not None and len(axes) == 1 else kind.urdf
         for k, (name, axis) in enumerate(zip(names, axes, strict=True)):
             last = k == len(axes) - 1
             frame = placement(frame_with_axis(axis, joint.along), joint.origin)
             target = child if last else f"{name}_cross"
-            if joint.kind == "P":
-                kind = "prismatic"
-            else:
-                kind = "revolute" if joint.limits is not None and len(axes) == 1 else "continuous"
             doc = joint.doc if len(axes) == 1 else f"{joint.doc} (axis {k + 1} of {len(axes)})"
             self.attach(name, parent, target, frame, doc,
-                        link_doc=child_doc if last else f"between the axes of {joint.name}", type=kind,
+                        link_doc=child_doc if last else f"between the axes of {joint.name}", type=urdf,
                         axis=np.array([0.0, 0.0, 1.0]),
                         limits=self.limits(joint) if len(axes) == 1 else None, mimic=joint.mimic)
             parent = target
@@ -346,20 +366,18 @@ class _Builder:
     def close(self, joint: Joint) -> None:
         """Cut ``joint``, whose child is already in the tree."""
         a, b = f"{joint.name}_A", f"{joint.name}_B"
-        if joint.kind in ("S", "fixed"):
+        kind = URDF_JOINTS[joint.kind]
+        if kind.kept:
+            frame = self.chain(joint, a, f"closure frame A of {joint.name}, massless, on the side of {joint.parent}")
+            why = (f"the {joint.kind} joint stays in the tree on the side of {joint.parent}, its frame A welded to "
+                   f"frame B on {joint.child}")
+        else:
             frame = placement(np.eye(3), joint.origin)
             self.attach(f"{a}_frame", joint.parent, a, frame, f"closure frame A of {joint.name} on {joint.parent}")
-        else:
-            frame = self.chain(joint, a, f"closure frame A of {joint.name}, massless, on the side of {joint.parent}")
+            why = ("a spherical joint, the origins of frames A and B coincide" if kind.contact == "3d" else
+                   "a rigid attachment, frames A and B coincide")
         self.attach(f"{b}_frame", joint.child, b, frame, f"closure frame B of {joint.name} on {joint.child}")
-        if joint.kind == "S":
-            kind, why = "3d", "a spherical joint, the origins of frames A and B coincide"
-        elif joint.kind == "fixed":
-            kind, why = "6d", "a rigid attachment, frames A and B coincide"
-        else:
-            kind, why = "6d", (f"the {joint.kind} joint stays in the tree on the side of {joint.parent}, its frame A "
-                               f"welded to frame B on {joint.child}")
-        self.closures.append(Closure((a, b), kind, joint.name, f"{joint.doc}: {why}"))
+        self.closures.append(Closure((a, b), kind.contact, joint.name, f"{joint.doc}: {why}"))
 
 
 def cut(structure: Structure, actuators: tuple[str, ...]) -> Tree:
@@ -368,8 +386,8 @@ def cut(structure: Structure, actuators: tuple[str, ...]) -> Tree:
     builder = _Builder(structure)
     builder.add_link(structure.base, np.eye(4), builder.links[structure.base].doc)
     for joint in structure.joints:
-        if joint.kind not in KINDS:
-            raise AssertionError(f"joint {joint.name}: kind {joint.kind!r} is none of {', '.join(KINDS)}")
+        if joint.kind not in URDF_JOINTS:
+            raise AssertionError(f"joint {joint.name}: kind {joint.kind!r} is none of {', '.join(URDF_JOINTS)}")
         if joint.parent not in builder.frames:
             raise AssertionError(f"joint {joint.name}: its parent {joint.parent} is not reached before it")
         if joint.child in builder.frames:
