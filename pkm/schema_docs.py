@@ -50,7 +50,9 @@ def _joint(name: str, joint: vocabulary.JointType) -> list[str]:
     chains = "planar and spatial" if joint.planar else "spatial"
     plural = "" if joint.variables == 1 else "s"
     return [f"#### `{name}`", "", *_paragraph(f"{joint.doc[0].upper()}{joint.doc[1:]}; {joint.variables} joint "
-                                              f"variable{plural}; in {chains} chains."), *_table(joint.fields)]
+                                              f"variable{plural}; in {chains} chains; the body after it in "
+                                              f"{joint.frame}."),
+            *_table(joint.fields)]
 
 
 def _modes() -> list[str]:

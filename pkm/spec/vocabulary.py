@@ -1,7 +1,13 @@
 """The vocabulary of machines described as data: what a description, a leg of each kind and a joint of each type
-hold (each field with what it holds and means), the frames of a pose, and the kinds' branches. :mod:`pkm.spec`
-checks descriptions against these tables and :mod:`pkm.schema_docs` writes docs/mechanisms.md's reference from
-them; :mod:`pkm.export.legs` reads a leg's kind here. It imports nothing that knows a mechanism."""
+hold (each field with what it holds and means), the frames of a pose, the kinds' branches and the chain of joints
+each kind is. :mod:`pkm.spec.schema` checks descriptions against these tables and :mod:`pkm.schema_docs` writes
+docs/mechanisms.md's reference from them; :mod:`pkm.export.legs` reads a leg's kind here. It imports nothing that
+knows a mechanism.
+
+A joint type (:data:`JOINTS`) is the one home of what a joint is: its variables, its fields, the frame of the body
+after it; what a joint of the machine adds beyond its motion (its compliance, its tolerance parameters, its
+collision geometry) is a field of its type here, which the schema then checks, every kind's chain holds and
+docs/mechanisms.md lists."""
 
 from __future__ import annotations
 
@@ -306,13 +312,14 @@ def leg_fields(kind: str) -> tuple[Field, ...]:
 
 @dataclass(frozen=True)
 class JointType:
-    """A type of a chain's joints: what it is, its joint variables, whether a planar chain may hold it and its
-    fields."""
+    """A type of a chain's joints: what it is, its joint variables, whether a planar chain may hold it, its
+    fields and the frame of the body after it."""
 
     doc: str
     variables: int
     planar: bool
     fields: tuple[Field, ...]
+    frame: str
 
 
 JOINT_FIELD = Field("type", "a joint type (Chain joints)", "the joint's type", required=True)
@@ -327,18 +334,22 @@ JOINTS = {
     "R": JointType("a revolute joint, turning about its axis", 1, True, (
         JOINT_FIELD, Field("axis", "a direction: a list of 3 expressions", "in space, the axis it turns about in the "
                            "frame of the body before it, [0, 0, 1] by default; absent in the plane (about z)"),
-        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+        LINK, ACTUATED, JOINT_BODY, ROTOR), "the frame before it turned by its angle about its axis"),
     "P": JointType("a prismatic joint, sliding along its axis", 1, True, (
         JOINT_FIELD, Field("axis", f"a direction: a list of expressions ({EACH})", "the direction it slides along in "
                            "the frame of the body before it", required=True),
-        LINK, ACTUATED, JOINT_BODY, ROTOR)),
+        LINK, ACTUATED, JOINT_BODY, ROTOR), "the frame before it, its origin slid by its value along its axis"),
     "U": JointType("a universal joint, turning about its two axes, the second turned by the first", 2, False,
-                   (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+                   (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY),
+                   "the frame before it turned by its first angle about its first axis, then by its second about its "
+                   "second"),
     "parallelogram": JointType("a parallelogram: its rods (its link) turned like a universal joint's link, the body "
                                "after it keeping the frame of the body before it; its body is its rods", 2, False,
-                               (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY)),
+                               (JOINT_FIELD, AXES, LINK, ACTUATED, JOINT_BODY),
+                               "the frame before it, moved to its link's end (its rods turned as a universal joint's "
+                               "link)"),
     "S": JointType("the platform's spherical joint, passive: last in a spatial chain, which ends there without it "
-                   "too", 0, False, (JOINT_FIELD, ACTUATED)),
+                   "too", 0, False, (JOINT_FIELD, ACTUATED), "the platform's"),
 }
 PLATFORM_JOINT = "S"  # the joint type that only ends a spatial chain
 # the types of a chain's joints with joint variables, and how many each has
