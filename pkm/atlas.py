@@ -33,6 +33,7 @@ from pkm import figures, io, parallel, regions, registry
 from pkm.design_space import DesignSpace
 from pkm.errors import ComputationError, PkmError, UnknownNameError, check_integer
 from pkm.indices import GlobalIndex
+from pkm.kinematics import Branch
 from pkm.mechanism import Mechanism
 from pkm.parallel import ChunkStore, task_key
 from pkm.progress import Progress
@@ -152,7 +153,7 @@ class Atlas:
     mechanism: Mechanism
     index: GlobalIndex
     space: DesignSpace
-    region: str | Any  # a region by name, or one given as it is (a task's)
+    region: regions.RegionLike
     modes: tuple[str, ...]
     u: np.ndarray
     v: np.ndarray
@@ -323,7 +324,7 @@ class AtlasTask(NamedTuple):
 
     mechanism: str
     indices: tuple[str, ...]
-    region: str | Any
+    region: regions.RegionLike
     mode: str
     designs: np.ndarray
     resolution: int
@@ -346,9 +347,9 @@ def _chunk(mech: Mechanism, task: AtlasTask) -> dict[str, np.ndarray]:
                                             singularity_margin=task.margin)
             values, points = np.array(result, dtype=float), np.array([g.points for g in result])
         else:
-            values = regions.parametrised_global(mech, spec, where, task.designs, branch=branch,
-                                                 resolution=task.resolution)
-            points = np.where(np.isfinite(values), where.node_count(task.resolution, spec.reduce), 0)
+            index = regions.RegionIndex(mech, spec, where, branch)
+            values = regions.global_values(index, task.designs, resolution=task.resolution)
+            points = np.where(np.isfinite(values), index.node_count(task.resolution), 0)
         out[f"values_{name}"], out[f"points_{name}"] = values, points
     return out
 
@@ -360,19 +361,21 @@ def atlas_chunk(task: AtlasTask) -> dict[str, np.ndarray]:
     return _chunk(resolve(task.mechanism), task)
 
 
-def region_fraction(mech: Mechanism, where: Any, designs: np.ndarray, branch: Any, resolution: int) -> np.ndarray:
-    """The measure of each design's parametrised region (D,) as a fraction of its workspace box: its
-    ``region_measure`` over the volume of ``mech.workspace_box``; NaN for every design where the region's
-    extent (its quadrature's weights summed, reached or not) is the same at EXTENT_DESIGNS designs spread
-    over them (two or more): a task the designer fixed, not a region the design sizes, which the size check
-    leaves alone. (For the sampled
-    region it is the share of the grid's cells kept, points / pose_resolution^n.)"""
+def region_fraction(
+    mech: Mechanism, where: regions.Region, designs: np.ndarray, *, mode: Branch, resolution: int
+) -> np.ndarray:
+    """The measure of each design's parametrised region (D,) in the working mode ``mode`` as a fraction of its
+    workspace box: its ``region_measure`` over the volume of ``mech.workspace_box``; NaN for every design where
+    the region's extent (its quadrature's weights summed, reached or not) is the same at EXTENT_DESIGNS designs
+    spread over them (two or more): a task the designer fixed, not a region the design sizes, which the size
+    check leaves alone. (For the sampled region it is the share of the grid's cells kept, points /
+    pose_resolution^n.)"""
     spread = designs[np.unique(np.linspace(0, len(designs) - 1, EXTENT_DESIGNS).astype(int))]
     extent = np.array([np.sum(where.quadrature(mech.functions, d, 1)[1]) for d in spread])
     if len(spread) > 1 and np.ptp(extent) <= FIXED * np.abs(extent).max():
         return np.full(len(designs), np.nan)
-    measure = regions.parametrised_global(mech, registry.global_index("region_measure"), where, designs,
-                                          branch=branch, resolution=resolution)
+    measure = regions.global_values(regions.RegionIndex(mech, registry.global_index("region_measure"), where, mode),
+                                    designs, resolution=resolution)
     box = np.array([np.prod(np.diff(mech.workspace_box(d), axis=1)) for d in designs])
     return measure / box
 
@@ -453,7 +456,7 @@ def checked_best(atlas: Atlas, mode: str, designs: np.ndarray, fraction: np.ndar
     )
 
 
-def default_modes(mech: Mechanism, region: str) -> tuple[str, ...]:
+def default_modes(mech: Mechanism, region: regions.RegionLike) -> tuple[str, ...]:
     """The working modes an atlas draws over ``region`` by default: ``mech.distinct_modes[region]`` where
     the mechanism's symmetry makes some modes equal, the modes the region is defined on where it says,
     else all working modes."""
@@ -467,7 +470,7 @@ def compute_sweep(
     *,
     space: DesignSpace,
     modes: str | tuple[str, ...] | list[str] | None = None,
-    region: str = "reachable",
+    region: regions.RegionLike = "reachable",
     resolution: int = 41,
     pose_resolution: int | None = None,
     singularity_margin: float = regions.SINGULARITY_MARGIN,
@@ -489,9 +492,9 @@ def compute_sweep(
         The normalised design space (one of ``mech.design_spaces``); designs are taken at scale 1.
     modes : str or sequence of str, optional
         Working modes (names or paper aliases); by default :func:`default_modes`.
-    region : str
+    region : str or region
         ``"reachable"`` (sampled, masked by ``singularity_margin``) or a parametrised region of the
-        mechanism.
+        mechanism, by name or as a region (a task's).
     resolution : int
         Chart nodes per axis (>= 3); the atlas arrays are (resolution, resolution).
     pose_resolution : int, optional
@@ -629,7 +632,8 @@ def compute_sweep(
             checks=checks, admissible=admissible,
         )
     for mode in modes:
-        share = None if sampled else region_fraction(mech, where, designs, mech.working_mode(mode), pose_resolution)
+        share = None if sampled else region_fraction(mech, where, designs, mode=mech.working_mode(mode),
+                                                     resolution=pose_resolution)
         for atlas in atlases.values():
             fraction = atlas.points[mode][inside] / pose_resolution**mech.n_out if sampled else share
             atlas.checked[mode] = checked_best(atlas, mode, designs, fraction)

@@ -492,11 +492,12 @@ class Mechanism:
             )[0]
         if singularity_margin is not None:
             raise PkmError(f"singularity_margin applies to the sampled region only, not to {region!r}")
+        index = regions.RegionIndex(self, spec, where, branch)
+
         def at(design: np.ndarray) -> tuple[regions.GlobalValue, np.ndarray | None]:
             if resolution is None:
-                return regions.adaptive_value(self, spec, where, design, branch=branch, gradient=gradient)
-            return regions.global_value(self, spec, where, design, branch=branch, resolution=resolution,
-                                        gradient=gradient)
+                return regions.adaptive_value(index, design, gradient=gradient)
+            return regions.value_at(index, design, resolution=resolution, gradient=gradient)
 
         value, grad = at(d)
         if not value.converged:

@@ -18,7 +18,7 @@ from pkm.batch import COMPILED_WORK, interpreted, total
 from pkm.catalogue import integrands
 from pkm.compiled.emit import GROUP_SHARED
 from pkm.indices import epigraph_function
-from pkm.regions import node_quadrature, quadrature_function, quadrature_value
+from pkm.regions import RegionIndex, node_quadrature, quadrature_function, quadrature_value
 from pkm.regions.integrand import region_rows, sum_function
 from pkm.regions.pipeline import pipeline
 from pkm.regions.quadrature import epigraph_margins
@@ -84,7 +84,7 @@ def test_global_indices_have_the_value_gradient_and_hessian_of_the_node_graph(na
     d = ca.MX.sym("d", len(mech.parameter_names()))
     design = mech.design_vector(mech.design())
     results = []
-    for value in (quadrature_value(mech, spec, where, branch, d, resolution=RESOLUTION),
+    for value in (quadrature_value(RegionIndex(mech, spec, where, branch), d, resolution=RESOLUTION),
                   node_graph(mech, spec, where, branch, design=d, resolution=RESOLUTION)):
         gradient, hessian = ca.gradient(value, d), ca.hessian(value, d)[0]
         results.append([np.asarray(v) for v in ca.Function("f", [d], [value, gradient, hessian])(design)])
@@ -107,7 +107,7 @@ def test_epigraph_margins_have_the_values_and_jacobian_of_the_node_graph():
     shapes = tuple((m.size1(), m.size2() // n) for m in matrices)
     margins = epigraph_function(spec.local, shapes, False).map(n)(*matrices, t)  # a margin per row, a node per column
     graph = ca.vec(margins.T)
-    smooth = epigraph_margins(mech, spec, region, branch, design=d, bound=t, resolution=RESOLUTION)
+    smooth = epigraph_margins(RegionIndex(mech, spec, region, branch), design=d, bound=t, resolution=RESOLUTION)
     z = ca.vertcat(d, t)
     point = [mech.design_vector(mech.design()), 1.2]
     got, want = ([np.asarray(v) for v in ca.Function("f", [d, t], [g, ca.jacobian(g, z)])(*point)]
@@ -120,12 +120,12 @@ def test_chosen_epigraph_rows_are_those_rows_of_every_row():
     """An exchange step's rows, evaluated at their nodes alone, with their derivatives."""
     mech = pkm.load("ups_pu")
     spec, region, branch = mech.global_spec("actuator_force_max"), mech.region("task"), mech.working_mode(None)
-    z = np.append(mech.design_vector(mech.design()), 2000.0)
-    kwargs = {"signs": np.array(branch.signs, dtype=float), "z": z, "resolution": RESOLUTION, "order": 2,
+    index = RegionIndex(mech, spec, region, branch)
+    kwargs = {"z": np.append(mech.design_vector(mech.design()), 2000.0), "resolution": RESOLUTION, "order": 2,
               "epigraph": True}
-    every = region_rows(mech, spec.local, region, spec.reduce, **kwargs)
+    every = region_rows(index, **kwargs)
     rows = np.random.default_rng(5).choice(len(every[0]), size=40, replace=False)
-    chosen = region_rows(mech, spec.local, region, spec.reduce, rows=tuple(rows.tolist()), **kwargs)
+    chosen = region_rows(index, rows=tuple(rows.tolist()), **kwargs)
     for a, b in zip(chosen, every, strict=True):
         np.testing.assert_array_equal(a, b[rows])
 

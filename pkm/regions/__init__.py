@@ -1,5 +1,7 @@
 """Regions over which global indices are taken (DESIGN.md section 5).
 
+* :mod:`pkm.regions.region`: what a region offers (:class:`Region`) and a global index over one region in one
+  working mode of one mechanism (:class:`RegionIndex`), what the quadratures take;
 * :mod:`pkm.regions.shapes`: parametrised regions, small shape classes with one protocol (disc,
   rectangle, box, cylinder, a domain between curves, a shape mapped from other coordinates, shapes side
   by side), each
@@ -10,13 +12,22 @@
 * :mod:`pkm.regions.quadrature`: global indices over parametrised regions with exact design gradients.
 
 To add a shape, subclass :class:`PlacedRegion` (a reference rule, the inside test, boundary points)
-or implement the same three methods as :class:`MappedSquare`.
+or follow the :class:`Region` protocol as :class:`MappedSquare` does.
 """
 
 from importlib import import_module
 from typing import Any
 
 from pkm.regions.pipeline import MOTION, Evaluation, evaluate_at, first_order_outputs, index_values, pipeline
+from pkm.regions.region import (
+    ASSEMBLED_WORKSPACE,
+    Piece,
+    Region,
+    RegionIndex,
+    RegionLike,
+    SampledWorkspace,
+    region_name,
+)
 from pkm.regions.shapes import (
     Box,
     Cylinder,
@@ -28,18 +39,16 @@ from pkm.regions.shapes import (
     Rectangle,
     Union,
     grid,
-    region_name,
 )
 from pkm.regions.value import GlobalValue
 
 _LAZY = {
-    "quadrature": ("INDEX_ACCURACY", "QUADRATURE_RESOLUTION", "adaptive_value", "admissible", "epigraph_margins",
-                   "epigraph_point_margins", "epigraph_values", "global_value", "node_quadrature",
-                   "parametrised_global", "quadrature_function", "quadrature_value", "refined_extremes",
-                   "sampled_check"),
+    "quadrature": ("INDEX_ACCURACY", "QUADRATURE_RESOLUTION", "adaptive_value", "admissible", "admits",
+                   "epigraph_margins", "epigraph_point_margins", "epigraph_values", "global_value", "global_values",
+                   "node_quadrature", "node_values", "parametrised_global", "quadrature_function", "quadrature_value",
+                   "refined_extremes", "sampled_check", "sampled_value", "value_and_gradient", "value_at"),
     "trajectory": ("TimeSegment", "TrajectoryRegion", "trajectory_region"),
-    "sampled": ("ASSEMBLED_WORKSPACE", "SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "SampledWorkspace", "check_margin",
-                "sampled_global"),
+    "sampled": ("SAMPLED_RESOLUTION", "SINGULARITY_MARGIN", "check_margin", "sampled_global"),
 }
 
 
@@ -68,15 +77,20 @@ __all__ = [
     "GlobalValue",
     "Mapped",
     "MappedSquare",
+    "Piece",
     "PlacedRegion",
     "Poses",
     "Rectangle",
+    "Region",
+    "RegionIndex",
+    "RegionLike",
     "SampledWorkspace",
     "TimeSegment",
     "TrajectoryRegion",
     "Union",
     "adaptive_value",
     "admissible",
+    "admits",
     "check_margin",
     "epigraph_margins",
     "epigraph_point_margins",
@@ -84,9 +98,11 @@ __all__ = [
     "evaluate_at",
     "first_order_outputs",
     "global_value",
+    "global_values",
     "grid",
     "index_values",
     "node_quadrature",
+    "node_values",
     "parametrised_global",
     "pipeline",
     "quadrature_function",
@@ -95,5 +111,8 @@ __all__ = [
     "region_name",
     "sampled_check",
     "sampled_global",
+    "sampled_value",
     "trajectory_region",
+    "value_and_gradient",
+    "value_at",
 ]

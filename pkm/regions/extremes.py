@@ -21,13 +21,13 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
+import casadi as ca
 import numpy as np
 
 from pkm.batch import evaluate
-from pkm.indices import GlobalIndex
 from pkm.regions.integrand import rows_function
+from pkm.regions.region import Refinable, RegionIndex
 
 REFINE_STARTS = 4  # best nodes refined per design
 REFINE_STEP = 1e-8  # the compass search stops at this step in reference coordinates
@@ -57,19 +57,16 @@ def _starts(scores: np.ndarray, count: int) -> np.ndarray:
     return order[:, : min(count, scores.shape[1])]
 
 
-def refine(
-    mech: Any, spec: GlobalIndex, region: Any, branch: Any, designs: np.ndarray, *, values: np.ndarray,
-    resolution: int,
-) -> Refined:
-    """The extreme (``spec.reduce`` "min" or "max") of the local index over the region for each design
+def refine(index: RegionIndex, designs: np.ndarray, *, values: np.ndarray, resolution: int) -> Refined:
+    """The extreme (the index's reduction, "min" or "max") of the local index over the region for each design
     (D, n_p), refined from the best of its ``values`` (D, n) at the nodes of the extreme rule at
     ``resolution`` (NaN where a node is out of reach)."""
     designs = np.atleast_2d(np.asarray(designs, dtype=float))
-    sign = 1.0 if spec.reduce == "min" else -1.0
+    sign = 1.0 if index.reduce == "min" else -1.0
     defined = np.all(np.isfinite(values), axis=1)
     scores = np.where(np.isfinite(values), sign * values, np.inf)
-    pieces = region.pieces()
-    references = [p.reference(resolution, spec.reduce)[0] for p in pieces]
+    pieces = index.region.pieces()
+    references = [p.reference(resolution, index.reduce)[0] for p in pieces]
     owner = np.concatenate([np.full(len(r), k) for k, r in enumerate(references)])
     offset = np.concatenate([[0], np.cumsum([len(r) for r in references])])
     dimension = references[0].shape[1]
@@ -89,8 +86,8 @@ def refine(
         nodes = starts[rows, cols]
         u = references[k][nodes - offset[k]].copy()
         f = scores[rows, nodes].copy()
-        u, f = _compass(rows_function(mech, spec.local, piece, None, 0)[0], piece, designs[rows],
-                        signs=np.array(branch.signs, dtype=float), sign=sign, u=u, f=f, step=step)
+        u, f = _compass(rows_function(index.mechanism, index.local, piece, None, 0)[0], piece, designs[rows],
+                        signs=index.signs, sign=sign, u=u, f=f, step=step)
         for j, d in enumerate(rows):
             if f[j] < best[d]:
                 best[d], where_piece[d], where_point[d] = f[j], k, u[j]
@@ -98,8 +95,8 @@ def refine(
 
 
 def _compass(
-    fn: Any, piece: Any, designs: np.ndarray, *, signs: np.ndarray, sign: float, u: np.ndarray, f: np.ndarray,
-    step: float,
+    fn: ca.Function, piece: Refinable, designs: np.ndarray, *, signs: np.ndarray, sign: float, u: np.ndarray,
+    f: np.ndarray, step: float,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Compass search from the points u (B, d) with scores f (B,) for the designs (B, n_p), ``fn`` the
     local index at the nodes (:func:`pkm.regions.integrand.rows_function`) with the working mode's ``signs``."""
@@ -123,7 +120,7 @@ def _compass(
     return u, f
 
 
-def _padded(fn: Any, u: np.ndarray, signs: np.ndarray, designs: np.ndarray) -> np.ndarray:
+def _padded(fn: ca.Function, u: np.ndarray, signs: np.ndarray, designs: np.ndarray) -> np.ndarray:
     """The local index of ``fn`` over a batch padded to a power of two (where the interpreter evaluates,
     a few mapped functions serve every search)."""
     n = len(u)
@@ -133,13 +130,11 @@ def _padded(fn: Any, u: np.ndarray, signs: np.ndarray, designs: np.ndarray) -> n
     return value[:n, 0, 0]
 
 
-def refined_gradient(
-    mech: Any, spec: GlobalIndex, region: Any, design: np.ndarray, *, branch: Any, refined: Refined
-) -> np.ndarray:
+def refined_gradient(index: RegionIndex, design: np.ndarray, *, refined: Refined) -> np.ndarray:
     """The gradient (n_p,) in the design of the refined extreme of one design (the first of ``refined``)."""
-    piece = region.pieces()[int(refined.piece[0])]
-    fn, active = rows_function(mech, spec.local, piece, None, 1)
-    _, jacobian = evaluate(fn, refined.point[0], np.array(branch.signs, dtype=float), design)
+    piece = index.region.pieces()[int(refined.piece[0])]
+    fn, active = rows_function(index.mechanism, index.local, piece, None, 1)
+    _, jacobian = evaluate(fn, refined.point[0], index.signs, design)
     grad = np.zeros(len(design))
     grad[list(active)] = jacobian[0, 0]
     return grad

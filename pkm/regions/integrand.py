@@ -41,7 +41,8 @@ import numpy as np
 from pkm.batch import evaluate, total
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, epigraph_function
-from pkm.regions.pipeline import pipeline
+from pkm.regions.pipeline import PipelineModel, pipeline
+from pkm.regions.region import Array, Piece, RegionIndex
 
 COMPONENTS = {"mean": ("e f", "e"), "std": ("e f", "e f^2", "e"), "measure": ("e valid",), "integral": ("e f",),
               "rms": ("e f", "e")}
@@ -50,7 +51,7 @@ SUMMED = tuple(COMPONENTS)
 Derivatives = tuple[np.ndarray, np.ndarray | None, np.ndarray | None]
 
 
-def _name(mech: Any, local: LocalIndex, what: str, order: int) -> str:
+def _name(mech: PipelineModel, local: LocalIndex, what: str, order: int) -> str:
     return f"{mech.name}_{local.name}_{what}_{order}"
 
 
@@ -86,13 +87,13 @@ def _with_derivatives(
     return ca.Function(name, list(inputs.values()), outputs, list(inputs), out_names), active
 
 
-def _symbols(mech: Any, piece: Any) -> tuple[ca.SX, ca.SX, ca.SX]:
+def _symbols(mech: PipelineModel, piece: Piece) -> tuple[ca.SX, ca.SX, ca.SX]:
     ik = mech.functions["inverse_kinematics"]
     return (ca.SX.sym("u", piece.dimension), ca.SX.sym("mode", ik.numel_in(1)), ca.SX.sym("design", ik.numel_in(2)))
 
 
-def fused(mech: Any, locals_: tuple[LocalIndex, ...], piece: Any, *, design: ca.SX, u: ca.SX, mode: ca.SX,
-          **options: Any) -> list[ca.SX]:
+def fused(mech: PipelineModel, locals_: tuple[LocalIndex, ...], piece: Piece, *, design: ca.SX, u: ca.SX, mode: ca.SX,
+          **options: bool) -> list[ca.SX]:
     """The outputs of :func:`pkm.regions.pipeline.pipeline` (reached where the mechanism assembles) at the
     piece's reference point u, with the piece's motion there where an index reads it."""
     fn = pipeline(mech, locals_, assembled=True, **options)
@@ -108,7 +109,7 @@ def fused(mech: Any, locals_: tuple[LocalIndex, ...], piece: Any, *, design: ca.
 
 @lru_cache(maxsize=512)
 def sum_function(
-    mech: Any, local: LocalIndex, piece: Any, reduce: str, order: int, *, smooth: bool = False
+    mech: PipelineModel, local: LocalIndex, piece: Piece, reduce: str, order: int, *, smooth: bool = False
 ) -> tuple[ca.Function, tuple[int, ...]]:
     """SX ``(u, w, mode, design) -> (value, jacobian, hessian)`` of the integrand w c(u, d) of the
     reduction ``reduce`` (module docstring) up to ``order``, and the design entries it depends on; with
@@ -126,7 +127,7 @@ def sum_function(
 
 @lru_cache(maxsize=512)
 def rows_function(
-    mech: Any, local: LocalIndex, piece: Any, epigraph: str | None, order: int
+    mech: PipelineModel, local: LocalIndex, piece: Piece, epigraph: str | None, order: int
 ) -> tuple[ca.Function, tuple[int, ...]]:
     """SX ``(u, mode, design) -> (value, jacobian, hessian)`` of the local index at a node and whether the
     node is reached (1 or 0), or with
@@ -157,7 +158,7 @@ def _unpack(lower: np.ndarray, active: tuple[int, ...], size: int) -> np.ndarray
 
 
 @lru_cache(maxsize=256)
-def reference(piece: Any, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
+def reference(piece: Piece, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:
     """A region piece's reference nodes (n, d) and weights (n,) for a reduction's rule, computed once (read
     only): a solver asks for them at every evaluation."""
     nodes, weights = piece.reference(resolution, reduce)
@@ -167,20 +168,19 @@ def reference(piece: Any, resolution: int, reduce: str) -> tuple[np.ndarray, np.
 
 
 def region_sums(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, design: np.ndarray,
-    resolution: int, order: int, smooth: bool = False,
+    index: RegionIndex, *, design: np.ndarray, resolution: int, order: int, smooth: bool = False
 ) -> Derivatives:
-    """The sums S (k,) of the reduction ``reduce`` over the region's nodes for one design (n_p,), with
+    """The sums S (k,) of the index's reduction over the region's nodes for one design (n_p,), with
     their Jacobian (k, n_p) and Hessians (k, n_p, n_p) up to ``order`` (with ``smooth``, of the local
     index's smooth stand-in, :func:`sum_function`)."""
-    k, p = len(COMPONENTS[reduce]), len(design)
+    k, p = len(COMPONENTS[index.reduce]), len(design)
     sums = np.zeros(k)
     jacobian = np.zeros((k, p)) if order >= 1 else None
     hessian = np.zeros((k, p, p)) if order >= 2 else None
-    for piece in region.pieces():
-        nodes, weights = reference(piece, resolution, reduce)
-        fn, active = sum_function(mech, local, piece, reduce, order, smooth=smooth)
-        out = total(fn, nodes, weights[:, None], signs, design)
+    for piece in index.region.pieces():
+        nodes, weights = reference(piece, resolution, index.reduce)
+        fn, active = sum_function(index.mechanism, index.local, piece, index.reduce, order, smooth=smooth)
+        out = total(fn, nodes, weights[:, None], index.signs, design)
         sums += out[0][:, 0]
         if order >= 1:
             jacobian[:, list(active)] += out[1]
@@ -190,14 +190,15 @@ def region_sums(
 
 
 def region_rows(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, z: np.ndarray,
-    resolution: int, order: int, epigraph: bool, rows: Sequence[int] | None = None,
+    index: RegionIndex, *, z: np.ndarray, resolution: int, order: int, epigraph: bool,
+    rows: Sequence[int] | None = None,
 ) -> Derivatives:
-    """At every node of the region's rule for ``reduce``, in node order: the local index and then whether
-    the node is reached (2n values), or with ``epigraph`` the epigraph margins (n values, z = (design,
+    """At every node of the region's rule for the index's reduction, in node order: the local index and then
+    whether the node is reached (2n values), or with ``epigraph`` the epigraph margins (n values, z = (design,
     t)); with the Jacobian (values, len(z)) and the Hessians (values, len(z), len(z)) up to ``order``.
     With ``rows``, only those values, evaluated at their nodes alone."""
-    pieces = [(piece, reference(piece, resolution, reduce)[0]) for piece in region.pieces()]
+    mech, local, reduce, signs = index.mechanism, index.local, index.reduce, index.signs
+    pieces = [(piece, reference(piece, resolution, reduce)[0]) for piece in index.region.pieces()]
     count = sum(len(nodes) for _, nodes in pieces)
     m = rows_function(mech, local, pieces[0][0], reduce if epigraph else None, 0)[0].numel_out(0)
     wanted = np.arange(m * count) if rows is None else np.asarray(rows, dtype=int)
@@ -230,22 +231,21 @@ def region_rows(
 
 
 def point_rows(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, z: np.ndarray,
-    points: Sequence[tuple[int, tuple[float, ...]]], order: int,
+    index: RegionIndex, *, z: np.ndarray, points: Sequence[tuple[int, tuple[float, ...]]], order: int
 ) -> Derivatives:
     """The epigraph margins (z = (design, t)) at given points of the region, each a piece's index and a
     reference point (the reference domain does not depend on the design): every output of the first
     point, then of the second, and so on; with the Jacobian and the Hessians in z up to ``order``."""
-    pieces = region.pieces()
+    pieces = index.region.pieces()
     owner = np.array([k for k, _ in points], dtype=int)
     at = np.array([u for _, u in points], dtype=float)
     values: list[np.ndarray] = [np.empty(0)] * len(points)
     jacobians: list[np.ndarray] = [np.empty(0)] * len(points)
     hessians: list[np.ndarray] = [np.empty(0)] * len(points)
     for k in np.unique(owner):
-        fn, active = rows_function(mech, local, pieces[k], reduce, order)
+        fn, active = rows_function(index.mechanism, index.local, pieces[k], index.reduce, order)
         mine = np.flatnonzero(owner == k)
-        out = evaluate(fn, at[mine], signs, z[:-1], z[-1:])
+        out = evaluate(fn, at[mine], index.signs, z[:-1], z[-1:])
         for j, row in enumerate(mine):
             values[row] = out[0][j, :, 0]
             if order >= 1:
@@ -258,6 +258,20 @@ def point_rows(
             np.concatenate(hessians) if order >= 2 else None)
 
 
+def point_values(
+    index: RegionIndex, design: np.ndarray, points: Sequence[tuple[int, tuple[float, ...]]]
+) -> np.ndarray:
+    """The local index (n,) at given points of the region for one design (n_p,), each a piece's index and a
+    reference point: NaN where a point is out of reach."""
+    pieces = index.region.pieces()
+    values = []
+    for k, u in points:
+        fn = rows_function(index.mechanism, index.local, pieces[k], None, 0)[0]
+        value, reached = np.asarray(fn(np.array(u), index.signs, design)).ravel()
+        values.append(value if reached > 0 else np.nan)
+    return np.array(values)
+
+
 BATCH_ROWS = 1 << 16  # rows (nodes times designs) per evaluation of a batch of designs
 
 
@@ -265,37 +279,32 @@ def _design_batches(designs: np.ndarray, nodes: int) -> list[np.ndarray]:
     return np.array_split(designs, -(-len(designs) * nodes // BATCH_ROWS)) if len(designs) else []
 
 
-def batch_sums(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, designs: np.ndarray, resolution: int
-) -> np.ndarray:
-    """The sums (D, k) of the reduction ``reduce`` over the region's nodes for each of the designs (D, n_p):
+def batch_sums(index: RegionIndex, *, designs: np.ndarray, resolution: int) -> np.ndarray:
+    """The sums (D, k) of the index's reduction over the region's nodes for each of the designs (D, n_p):
     the nodes of each design are one group of the summing kernel (one design is shared by the nodes)."""
     if len(designs) == 1:
-        return region_sums(mech, local, region, reduce, signs=signs, design=designs[0], resolution=resolution,
-                           order=0)[0][None]
-    sums = np.zeros((len(designs), len(COMPONENTS[reduce])))
-    for piece in region.pieces():
-        nodes, weights = reference(piece, resolution, reduce)
-        fn, _ = sum_function(mech, local, piece, reduce, 0)
+        return region_sums(index, design=designs[0], resolution=resolution, order=0)[0][None]
+    sums = np.zeros((len(designs), len(COMPONENTS[index.reduce])))
+    for piece in index.region.pieces():
+        nodes, weights = reference(piece, resolution, index.reduce)
+        fn, _ = sum_function(index.mechanism, index.local, piece, index.reduce, 0)
         parts = []
         for batch in _design_batches(designs, len(nodes)):
-            (value,) = total(fn, np.tile(nodes, (len(batch), 1)), np.tile(weights, len(batch))[:, None], signs,
-                             np.repeat(batch, len(nodes), axis=0), group=len(nodes))
+            (value,) = total(fn, np.tile(nodes, (len(batch), 1)), np.tile(weights, len(batch))[:, None],
+                             index.signs, np.repeat(batch, len(nodes), axis=0), group=len(nodes))
             parts.append(value[:, :, 0])
         sums += np.concatenate(parts)
     return sums
 
 
-def batch_rows(
-    mech: Any, local: LocalIndex, region: Any, reduce: str, *, signs: np.ndarray, designs: np.ndarray, resolution: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """The local index (D, n) at the nodes of the region's rule for ``reduce`` and whether each is reached
-    (D, n), for each of the designs (D, n_p)."""
+def batch_rows(index: RegionIndex, *, designs: np.ndarray, resolution: int) -> tuple[np.ndarray, np.ndarray]:
+    """The local index (D, n) at the nodes of the region's rule for the index's reduction and whether each is
+    reached (D, n), for each of the designs (D, n_p)."""
     values, reached = [], []
-    for piece in region.pieces():
-        nodes, _ = reference(piece, resolution, reduce)
-        fn, _ = rows_function(mech, local, piece, None, 0)
-        parts = [evaluate(fn, np.tile(nodes, (len(batch), 1)), signs, np.repeat(batch, len(nodes), axis=0))[0]
+    for piece in index.region.pieces():
+        nodes, _ = reference(piece, resolution, index.reduce)
+        fn, _ = rows_function(index.mechanism, index.local, piece, None, 0)
+        parts = [evaluate(fn, np.tile(nodes, (len(batch), 1)), index.signs, np.repeat(batch, len(nodes), axis=0))[0]
                  .reshape(len(batch), len(nodes), 2) for batch in _design_batches(designs, len(nodes))]
         out = np.concatenate(parts)
         values.append(out[:, :, 0])
@@ -303,7 +312,7 @@ def batch_rows(
     return np.concatenate(values, axis=1), np.concatenate(reached, axis=1)
 
 
-def reduce_sums(sums: Any, reduce: str) -> Any:
+def reduce_sums(sums: Array, reduce: str) -> Array:
     """A global index from the sums of its reduction's components (module docstring): CasADi, or numpy
     arrays (k, ...)."""
     if reduce == "mean":

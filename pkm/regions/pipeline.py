@@ -33,10 +33,10 @@ subexpressions merged, as the inverse dynamics repeats the kinematics.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any, Protocol
+from typing import Protocol
 
 import casadi as ca
 import numpy as np
@@ -44,7 +44,7 @@ import numpy as np
 from pkm.batch import REACH_TOLERANCE, evaluate_finite
 from pkm.errors import PkmError
 from pkm.indices import LocalIndex, local_function
-from pkm.kinematics import ASSEMBLED, closed, from_pose, limited_reach, nan_unless
+from pkm.kinematics import ASSEMBLED, FunctionTable, closed, from_pose, limited_reach, nan_unless
 
 ANGLE = "rad"
 MOTION = "motion"  # the source of the local indices that read the pose's velocity and acceleration
@@ -60,14 +60,19 @@ TRANSFORMS: dict[str, tuple[str, str]] = {
 
 
 class PipelineModel(Protocol):
+    """What the fused pipeline, the regions and their indices read of a mechanism (a :class:`pkm.Mechanism`):
+    its generated functions and coordinates, and where its pose mixes metres and radians the characteristic
+    length, a function of the design by parameter name (CasADi). A mechanism with stated limits also names
+    their function in ``limits`` (:func:`pkm.kinematics.within_limits`)."""
+
     name: str
     n_act: int
     n_out: int
-    functions: Any
+    functions: FunctionTable
     pose_units: tuple[str, ...]
     actuator_units: tuple[str, ...]
 
-    characteristic_length: Any
+    characteristic_length: Callable[[Mapping[str, ca.SX]], ca.SX] | None
 
     def parameter_names(self) -> tuple[str, ...]: ...
 

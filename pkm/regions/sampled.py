@@ -9,15 +9,16 @@ index from the grid of every other cell along each axis to the full grid.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
+from typing import Protocol
 
 import numpy as np
 
 from pkm.errors import PkmError, check_real
 from pkm.indices import GlobalIndex, reduce_samples
 from pkm.indices.local import INVERSE_CONDITION_F
-from pkm.regions.pipeline import evaluate_at
+from pkm.kinematics import Branch
+from pkm.regions.pipeline import PipelineModel, evaluate_at
+from pkm.regions.region import REACHABLE_WORKSPACE, SampledWorkspace
 from pkm.regions.shapes import check_nodes, check_resolution, grid
 from pkm.regions.value import GlobalValue
 
@@ -27,20 +28,11 @@ DESIGNS_PER_BATCH = 32
 CONDITION = INVERSE_CONDITION_F
 
 
-@dataclass(frozen=True)
-class SampledWorkspace:
-    """The reachable workspace of a working mode, sampled on a grid over ``mech.workspace_box``: the poses
-    it reaches within the mechanism's stated limits, or with ``assembled`` the poses where it assembles
-    whatever those limits (:func:`pkm.kinematics.within_limits`)."""
+class SampledModel(PipelineModel, Protocol):
+    """What the sampled workspace reads of a mechanism beside the pipeline's: the box its grid covers."""
 
-    name: str = "reachable"
-    doc: str = "the working mode's reachable workspace, sampled on a grid with a mask"
-    assembled: bool = False
-
-
-ASSEMBLED_WORKSPACE = SampledWorkspace(
-    "assembled", "the working mode's assembled configurations whatever the stated limits (strokes, joint ranges, "
-    "interference), sampled on a grid with a mask", assembled=True)
+    def workspace_box(self, design: np.ndarray) -> np.ndarray:
+        """Bounding box ((lo, hi) per pose coordinate) of the reachable workspace, shape (n_out, 2)."""
 
 
 def check_margin(singularity_margin: float) -> float:
@@ -57,7 +49,7 @@ def coarse_mask(resolution: int, dimension: int) -> np.ndarray:
 
 
 def sample_values(
-    mech: Any, spec: GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float,
+    mech: PipelineModel, spec: GlobalIndex, x: np.ndarray, d: np.ndarray, *, signs: np.ndarray, margin: float,
     assembled: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The local index of ``spec`` at poses x (N, n) of designs d, and the mask of the poses kept:
@@ -72,7 +64,7 @@ def sample_values(
     return value, keep
 
 
-def per_design(mech: Any, spec: GlobalIndex, design: np.ndarray) -> float:
+def per_design(mech: PipelineModel, spec: GlobalIndex, design: np.ndarray) -> float:
     """The size an index's reduction is divided by (its ``per`` function of the design), else 1."""
     if spec.per is None:
         return 1.0
@@ -80,15 +72,15 @@ def per_design(mech: Any, spec: GlobalIndex, design: np.ndarray) -> float:
 
 
 def sampled_global(
-    mech: Any,
+    mech: SampledModel,
     spec: GlobalIndex,
     designs: np.ndarray,
-    branch: Any,
+    branch: Branch,
     *,
     resolution: int | None = None,
     singularity_margin: float = SINGULARITY_MARGIN,
     progress: Callable[[int], object] | None = None,
-    region: SampledWorkspace = SampledWorkspace(),
+    region: SampledWorkspace = REACHABLE_WORKSPACE,
 ) -> list[GlobalValue]:
     """Global index over the sampled workspace ``region`` (the reachable one by default) of each design
     (D, n_p), vectorised."""

@@ -39,13 +39,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
 
 import casadi as ca
 import numpy as np
+from numpy.typing import ArrayLike
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError, check_integer
+from pkm.regions.region import Array, Functions, Piece, Region
 
 RIM_INSET = 1e-9  # of the span between the curves (a MappedSquare) or of the radius (a disc), for rim nodes
 CURVE_SAMPLES = 512  # abscissae at which the curves of a MappedSquare are sampled for its bounding box
@@ -56,11 +57,6 @@ MAX_SAMPLES = 50_000_000  # cells of a sampled grid
 
 
 MAX_NODES = 1 << 24  # poses or nodes one evaluation of a global index may take (a few hundred MB of values)
-
-
-def region_name(region: str | Any) -> str:
-    """A region's name: a region given by name is its name, one given as a region (a task's) its ``name``."""
-    return getattr(region, "name", region)
 
 
 def check_resolution(resolution: int, minimum: int) -> int:
@@ -187,7 +183,7 @@ def grid(box: np.ndarray, resolution: int) -> tuple[np.ndarray, float]:
     return np.stack([m.ravel() for m in mesh], axis=1), cell
 
 
-def _numeric(design: Any) -> bool:
+def _numeric(design: Array) -> bool:
     return not isinstance(design, ca.MX | ca.SX | ca.DM)
 
 
@@ -208,11 +204,11 @@ class PlacedRegion:
 
     dimension = 2
 
-    def at(self, centre: Any, size: Any) -> PlacedRegion:
+    def at(self, centre: ArrayLike, size: ArrayLike) -> PlacedRegion:
         """The same shape fixed at ``centre`` with ``size`` instead of following the design."""
         return replace(self, fixed=(tuple(np.ravel(centre).tolist()), tuple(np.ravel(size).tolist())))
 
-    def placement(self, functions: Any, design: Any) -> tuple[Any, Any]:
+    def placement(self, functions: Functions, design: Array) -> tuple[Array, Array]:
         """(centre, size) for a design: CasADi column vectors (DM for a numeric design)."""
         if self.fixed is not None:
             return ca.DM(self.fixed[0]), ca.DM(self.fixed[1])
@@ -221,7 +217,7 @@ class PlacedRegion:
         centre, size = functions[self.function](ca.DM(design) if _numeric(design) else design)
         return centre, size
 
-    def scale(self, size: Any) -> Any:
+    def scale(self, size: Array) -> Array:
         """Half-extent of the region along each pose axis (a d x 1 CasADi vector)."""
         return size
 
@@ -238,15 +234,15 @@ class PlacedRegion:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return len(self.reference(check_resolution(resolution, 1), reduce)[1])
 
-    def pieces(self) -> tuple[Any, ...]:
+    def pieces(self) -> tuple[Piece, ...]:
         return (self,)
 
-    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+    def to_pose(self, functions: Functions, design: Array, u: Array) -> Array:
         """The pose (d x 1) at the reference point u (d x 1, CasADi)."""
         centre, size = self.placement(functions, design)
         return centre + self.scale(size) * u
 
-    def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+    def element(self, functions: Functions, design: Array, u: Array) -> Array:  # noqa: ARG002
         """The measure element at the reference point u: the product of the half extents, the same at
         every u."""
         _, size = self.placement(functions, design)
@@ -256,7 +252,7 @@ class PlacedRegion:
         """Reference points (n, d) moved onto the closed reference domain [-1, 1]^d."""
         return np.clip(u, -1.0, 1.0)
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):
         nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
         centre, size = self.placement(functions, design)
         scale = self.scale(size)
@@ -266,7 +262,9 @@ class PlacedRegion:
             return _as_numpy(ca.DM(points), ca.DM(w))
         return points, w
 
-    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+    def sample(
+        self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"
+    ) -> tuple[np.ndarray, float]:
         resolution = check_resolution(resolution, 2)
         centre, size = (np.asarray(a, dtype=float).ravel() for a in self.placement(functions, np.asarray(design)))
         scale = np.asarray(self.scale(ca.DM(size)), dtype=float).ravel()
@@ -278,7 +276,7 @@ class PlacedRegion:
         return points, cell
 
 
-def _product(scale: Any) -> Any:
+def _product(scale: Array) -> Array:
     out = scale[0]
     for k in range(1, scale.numel()):
         out = out * scale[k]
@@ -423,10 +421,10 @@ class MappedSquare:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return len(self.reference(check_resolution(resolution, 1), reduce)[1])
 
-    def pieces(self) -> tuple[Any, ...]:
+    def pieces(self) -> tuple[Piece, ...]:
         return (self,)
 
-    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+    def to_pose(self, functions: Functions, design: Array, u: Array) -> Array:
         """The pose (2 x 1) at the point u (2 x 1, CasADi) of the unit square, as :meth:`quadrature`
         maps its nodes."""
         lo, hi = functions[self.bounds](design)
@@ -435,7 +433,7 @@ class MappedSquare:
         lower, upper = functions[self.curves](a, design)
         return ca.vertcat(a, lower + (upper - lower) * v)
 
-    def element(self, functions: Any, design: Any, u: Any) -> Any:
+    def element(self, functions: Functions, design: Array, u: Array) -> Array:
         """The area element at the point u of the unit square, as :meth:`quadrature` weighs its nodes."""
         lo, hi = functions[self.bounds](design)
         lower, upper = functions[self.curves](lo + (hi - lo) * u[0], design)
@@ -446,7 +444,7 @@ class MappedSquare:
         """Points (n, 2) moved onto the closed unit square."""
         return np.clip(u, 0.0, 1.0)
 
-    def _map(self, functions: Any, design: Any, nodes: np.ndarray):
+    def _map(self, functions: Functions, design: Array, nodes: np.ndarray):
         lo, hi = functions[self.bounds](design)
         u = ca.DM(nodes[:, 0]).T
         v = ca.DM(np.clip(1 - (1 - nodes[:, 1]) ** self.grading, RIM_INSET, 1 - RIM_INSET)).T
@@ -456,7 +454,7 @@ class MappedSquare:
         b = lower + (upper - lower) * v
         return ca.vertcat(a, b), (hi - lo) * (upper - lower) * slope
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):
         nodes, weights = self.reference(check_resolution(resolution, 1), reduce)
         numeric = _numeric(design)
         points, element = self._map(functions, ca.DM(design) if numeric else design, nodes)
@@ -465,7 +463,9 @@ class MappedSquare:
             return _as_numpy(ca.DM(points), ca.DM(w))
         return points, w
 
-    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean") -> tuple[np.ndarray, float]:
+    def sample(
+        self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"
+    ) -> tuple[np.ndarray, float]:
         resolution = check_resolution(resolution, 2)
         d = np.asarray(design, dtype=float)
         lo, hi = (float(v) for v in functions[self.bounds](d))
@@ -491,7 +491,7 @@ class Mapped:
 
     name: str
     doc: str
-    inner: PlacedRegion | MappedSquare | Union
+    inner: Region
     to_pose: str
     element: str | None = None
     guard: str | None = None
@@ -504,10 +504,10 @@ class Mapped:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return self.inner.node_count(resolution, reduce)
 
-    def pieces(self) -> tuple[Any, ...]:
+    def pieces(self) -> tuple[Piece, ...]:
         return tuple(MappedPiece(p, self.to_pose, self.element) for p in self.inner.pieces())
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):
         numeric = _numeric(design)
         d = ca.DM(design) if numeric else design
         points, weights = self.inner.quadrature(functions, d, resolution, reduce)
@@ -519,7 +519,7 @@ class Mapped:
         return mapped, weights
 
     def sample(
-        self, functions: Any, design: Any, resolution: int, reduce: str = "mean"
+        self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"
     ) -> tuple[np.ndarray, float | np.ndarray]:
         """The inner shape's samples mapped to the pose, with the cell measure of each (scaled by the
         area element where there is one)."""
@@ -537,7 +537,7 @@ class MappedPiece:
     """A piece of a :class:`Mapped` region: the inner piece's reference points carried into the pose by
     the generated function ``map_to_pose`` ((y, design) -> x), with the region's ``map_element``."""
 
-    inner: Any
+    inner: Piece
     map_to_pose: str
     map_element: str | None = None
 
@@ -551,10 +551,10 @@ class MappedPiece:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return self.inner.node_count(resolution, reduce)
 
-    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:
+    def to_pose(self, functions: Functions, design: Array, u: Array) -> Array:
         return functions[self.map_to_pose](self.inner.to_pose(functions, design, u), design)
 
-    def element(self, functions: Any, design: Any, u: Any) -> Any:
+    def element(self, functions: Functions, design: Array, u: Array) -> Array:
         inner = self.inner.element(functions, design, u)
         if self.map_element is None:
             return inner
@@ -571,7 +571,7 @@ class Union:
 
     name: str
     doc: str
-    parts: tuple[Any, ...]
+    parts: tuple[Region, ...]
     guard: str | None = None
 
     @property
@@ -581,17 +581,17 @@ class Union:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return sum(p.node_count(resolution, reduce) for p in self.parts)
 
-    def pieces(self) -> tuple[Any, ...]:
+    def pieces(self) -> tuple[Piece, ...]:
         return tuple(piece for part in self.parts for piece in part.pieces())
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):
         rules = [p.quadrature(functions, design, resolution, reduce) for p in self.parts]
         if _numeric(design):
             return np.concatenate([r[0] for r in rules]), np.concatenate([r[1] for r in rules])
         return ca.horzcat(*(r[0] for r in rules)), ca.horzcat(*(r[1] for r in rules))
 
     def sample(
-        self, functions: Any, design: Any, resolution: int, reduce: str = "mean"
+        self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"
     ) -> tuple[np.ndarray, np.ndarray]:
         """Every part's samples, with the cell measure of each point."""
         samples = [p.sample(functions, design, resolution, reduce) for p in self.parts]
@@ -621,26 +621,26 @@ class Poses:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:  # noqa: ARG002
         return len(self.poses)
 
-    def pieces(self) -> tuple[Any, ...]:
+    def pieces(self) -> tuple[Piece, ...]:
         return (self,)
 
     def reference(self, resolution: int, reduce: str) -> tuple[np.ndarray, np.ndarray]:  # noqa: ARG002
         points = np.array(self.poses, dtype=float)
         return points, np.full(len(points), 1.0 / len(points))
 
-    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+    def to_pose(self, functions: Functions, design: Array, u: Array) -> Array:  # noqa: ARG002
         return u
 
-    def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+    def element(self, functions: Functions, design: Array, u: Array) -> Array:  # noqa: ARG002
         return ca.SX(1.0) if isinstance(design, ca.SX) else ca.DM(1.0)
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):  # noqa: ARG002
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):  # noqa: ARG002
         points, weights = self.reference(resolution, reduce)
         if _numeric(design):
             return points, weights
         return ca.DM(points.T), ca.DM(weights).T
 
-    def sample(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"  # noqa: ARG002
+    def sample(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"  # noqa: ARG002
                ) -> tuple[np.ndarray, float]:
         points, weights = self.reference(resolution, reduce)
         return points, float(weights[0])

@@ -21,7 +21,6 @@ import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -29,6 +28,7 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.dynamics.trajectories import Trajectory
 from pkm.errors import PkmError
+from pkm.regions.region import Array, Functions
 from pkm.regions.shapes import EXTREMES, check_resolution, gauss_legendre
 
 SWITCH_GAP = 1e-12  # [s] switch times closer than this to a piece's end cut no piece of their own
@@ -70,23 +70,23 @@ class TimeSegment:
     def node_count(self, resolution: int, reduce: str = "mean") -> int:
         return len(self.reference(resolution, reduce)[1])
 
-    def time(self, u: Any) -> Any:
+    def time(self, u: Array) -> Array:
         """The move's time at the reference time u (CasADi or numpy)."""
         return self.start + (self.end - self.start) * (u + 1) / 2
 
-    def _motion(self, u: Any) -> list[Any]:
+    def _motion(self, u: Array) -> list[Array]:
         """x, x_dot and x_ddot at the reference time u: the limits from inside the piece at its ends."""
         return _motion_function(self.move).call([self.time(u[0]), u[0] < 0])
 
-    def to_pose(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+    def to_pose(self, functions: Functions, design: Array, u: Array) -> Array:  # noqa: ARG002
         return self._motion(u)[0]
 
-    def motion(self, u: Any) -> Any:
+    def motion(self, u: Array) -> Array:
         """(x_dot, x_ddot) at the reference time u, one column (2 n_out x 1)."""
         _, x_dot, x_ddot = self._motion(u)
         return ca.vertcat(x_dot, x_ddot)
 
-    def element(self, functions: Any, design: Any, u: Any) -> Any:  # noqa: ARG002
+    def element(self, functions: Functions, design: Array, u: Array) -> Array:  # noqa: ARG002
         return ca.SX((self.end - self.start) / 2)
 
     def project(self, u: np.ndarray) -> np.ndarray:
@@ -144,7 +144,7 @@ class TrajectoryRegion:
             parts.append((times, x, w * (piece.end - piece.start) / 2))
         return tuple(np.concatenate([p[k] for p in parts]) for k in range(3))
 
-    def quadrature(self, functions: Any, design: Any, resolution: int, reduce: str = "mean"):  # noqa: ARG002
+    def quadrature(self, functions: Functions, design: Array, resolution: int, reduce: str = "mean"):  # noqa: ARG002
         """The poses (n, n_out) at the nodes and their time weights (n,) [s], numerically (fixed in time)."""
         _, poses, weights = self.nodes(resolution, reduce)
         if isinstance(design, ca.MX | ca.SX):

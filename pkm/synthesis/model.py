@@ -9,7 +9,6 @@ same model in batches.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -17,16 +16,17 @@ import numpy as np
 from pkm.batch import evaluate
 from pkm.errors import PkmError
 from pkm.regions import (
+    RegionIndex,
     epigraph_margins,
     epigraph_point_margins,
     epigraph_values,
-    node_quadrature,
-    parametrised_global,
+    global_values,
+    node_values,
     quadrature_value,
     refined_extremes,
-    sampled_check,
+    sampled_value,
 )
-from pkm.regions.integrand import rows_function
+from pkm.regions.integrand import point_values
 from pkm.synthesis.problem import Problem, Terms
 
 TIGHT = 1e-5  # relative gap between an extreme's variable and its quantity at a converged optimum
@@ -72,12 +72,15 @@ class Candidate:
 
 
 class ProblemModel:
-    """The problem's objective and constraints in the variables, numeric and symbolic."""
+    """The problem's objective and constraints in the variables, numeric and symbolic. ``indices`` holds each
+    quantity of the problem by name as the global index over its region in the problem's working mode."""
 
     def __init__(self, problem: Problem) -> None:
         self.problem = problem
         self.mech = problem.mechanism
         self.branch = self.mech.working_mode(problem.mode)
+        self.indices = {name: RegionIndex(self.mech, q.index, q.region, self.branch)
+                        for name, q in problem.quantities.items()}
         self._functions: dict[int, ca.Function] = {}
         self._with_values: ca.Function | None = None
         self._design: ca.Function | None = None
@@ -94,29 +97,26 @@ class ProblemModel:
         """+1 to minimise the objective, -1 to maximise it."""
         return 1.0 if self.problem.objective.sense == "min" else -1.0
 
-    def design(self, w: Any) -> Any:
+    def design(self, w: ca.MX) -> ca.MX:
         """The design vector of the variables (a CasADi column)."""
         return self.problem.design([w[k] for k in range(w.numel())])
 
-    def terms(self, w: Any, design: Any, quantities: dict[str, Any]) -> Terms:
+    def terms(self, w: ca.MX, design: ca.MX, quantities: dict[str, ca.MX]) -> Terms:
         names = self.mech.parameter_names()
         values = {n: design[k] for k, n in enumerate(names)}
         values.update({v.name: w[k] for k, v in enumerate(self.problem.variables)})
         values.update(quantities)
         return Terms(values, self.mech.functions, design)
 
-    def expressions(self, w: Any, quantities: dict[str, Any]) -> tuple[Any, Any]:
+    def expressions(self, w: ca.MX, quantities: dict[str, ca.MX]) -> tuple[ca.MX, ca.MX]:
         """The objective and the constraint column at w with the given quantity values."""
         design = self.design(w)
         terms = self.terms(w, design, quantities)
         g = ca.vertcat(*[c.expression(terms) for c in self.problem.constraints])
         return self.problem.objective.expression(terms), g
 
-    def quantities(self, design: Any, resolution: int) -> dict[str, Any]:
-        return {
-            name: quadrature_value(self.mech, q.index, q.region, self.branch, design, resolution=resolution)
-            for name, q in self.problem.quantities.items()
-        }
+    def quantities(self, design: ca.MX, resolution: int) -> dict[str, ca.MX]:
+        return {name: quadrature_value(index, design, resolution=resolution) for name, index in self.indices.items()}
 
     def function(self, resolution: int) -> ca.Function:
         """w -> (objective, g, *quantities) with the quadratures at ``resolution``."""
@@ -174,7 +174,7 @@ class ProblemModel:
         bounded by the local index at every node (t <= the index for a minimum, t >= it for a
         maximum), exact where the objective and constraints push t towards the extreme (a minimum
         maximised or bounded below, a maximum minimised or bounded above)."""
-        return tuple(n for n, q in self.problem.quantities.items() if q.index.reduce in ("min", "max"))
+        return tuple(name for name, index in self.indices.items() if index.reduce in ("min", "max"))
 
     def nlp(
         self, resolution: int, held: dict[str, tuple[int, ...]] | None = None, points: Points | None = None
@@ -199,12 +199,11 @@ class ProblemModel:
         f, g = self.expressions(w, {**values, **t})
         rows, lower, upper = [g], [lower], [upper]
         for name, bound in t.items():
-            quantity = prob.quantities[name]
-            margins = [epigraph_margins(self.mech, quantity.index, quantity.region, self.branch, design=design,
-                                        bound=bound, resolution=resolution, rows=None if held is None else held[name])]
+            index = self.indices[name]
+            margins = [epigraph_margins(index, design=design, bound=bound, resolution=resolution,
+                                        rows=None if held is None else held[name])]
             if points is not None and points[name]:
-                margins.append(epigraph_point_margins(self.mech, quantity.index, quantity.region, self.branch,
-                                                      design=design, bound=bound, points=points[name]))
+                margins.append(epigraph_point_margins(index, design=design, bound=bound, points=points[name]))
             for block in margins:
                 rows.append(ca.vec(block))
                 lower.append(np.zeros(block.numel()))
@@ -218,23 +217,9 @@ class ProblemModel:
         design = np.asarray(self.problem.design(list(point)), dtype=float).ravel()
         out = {}
         for name in self.extremes:
-            quantity = self.problem.quantities[name]
-            refined = refined_extremes(self.mech, quantity.index, quantity.region, self.branch, design[None],
-                                       resolution=resolution)
+            refined = refined_extremes(self.indices[name], design[None], resolution=resolution)
             out[name] = ((int(refined.piece[0]), tuple(float(u) for u in refined.point[0])),)
         return out
-
-    def _point_values(self, design: np.ndarray, name: str, points: tuple[tuple[int, tuple[float, ...]], ...]
-                      ) -> np.ndarray:
-        """The local index of extreme ``name`` at the given points of its region (NaN where out of reach)."""
-        quantity = self.problem.quantities[name]
-        pieces = quantity.region.pieces()
-        values = []
-        for k, u in points:
-            fn = rows_function(self.mech, quantity.index.local, pieces[k], None, 0)[0]
-            value, reached = np.asarray(fn(np.array(u), np.array(self.branch.signs, dtype=float), design)).ravel()
-            values.append(value if reached > 0 else np.nan)
-        return np.array(values)
 
     def scale(self, x: np.ndarray) -> np.ndarray:
         """The scales p of the extremes' variables at a point x = (w, t for each extreme) of the NLP: the
@@ -247,8 +232,7 @@ class ProblemModel:
         w, bounds = x[: len(self.problem.variables)], x[len(self.problem.variables):]
         design = np.asarray(self.problem.design(list(w)), dtype=float).ravel()
         return {
-            name: epigraph_values(self.mech, self.problem.quantities[name].index, self.problem.quantities[name].region,
-                                  self.branch, design=design, bound=float(t), resolution=resolution)
+            name: epigraph_values(self.indices[name], design=design, bound=float(t), resolution=resolution)
             for name, t in zip(self.extremes, bounds, strict=True)
         }
 
@@ -269,8 +253,7 @@ class ProblemModel:
         out, grown = {}, rows is None
         tol = self.problem.feasibility_tolerance
         for name, margin in margins.items():
-            quantity = self.problem.quantities[name]
-            count = quantity.region.node_count(resolution, quantity.index.reduce)
+            count = self.indices[name].node_count(resolution)
             per = margin.reshape(-1, count)
             held = np.zeros(per.shape, dtype=bool)
             least = np.argsort(np.where(np.isnan(per), np.inf, per), axis=1, kind="stable")[:, :EXCHANGE_ROWS]
@@ -300,8 +283,9 @@ class ProblemModel:
             design = np.asarray(self.problem.design(list(w)), dtype=float).ravel()
             for name in self.extremes:
                 if points[name]:
-                    extreme = np.nanmin if self.problem.quantities[name].index.reduce == "min" else np.nanmax
-                    named[name] = float(extreme([named[name], *self._point_values(design, name, points[name])]))
+                    index = self.indices[name]
+                    extreme = np.nanmin if index.reduce == "min" else np.nanmax
+                    named[name] = float(extreme([named[name], *point_values(index, design, points[name])]))
         if all(abs(t - named[name]) <= TIGHT * max(1.0, abs(named[name]))
                for name, t in zip(self.extremes, bounds, strict=True)):
             return True
@@ -318,7 +302,7 @@ class ProblemModel:
         starts = []
         for name in self.extremes:
             value = named[name]
-            inside = -1.0 if self.problem.quantities[name].index.reduce == "min" else 1.0
+            inside = -1.0 if self.indices[name].reduce == "min" else 1.0
             starts.append(value + inside * EPIGRAPH_SLACK * max(abs(value), 1.0))
         return [*point, *starts]
 
@@ -327,10 +311,7 @@ class ProblemModel:
         each region extreme refined between the nodes (:mod:`pkm.regions.extremes`)."""
         named = self._quantities_at(point, resolution)
         for name in self.extremes:
-            quantity = self.problem.quantities[name]
-            named[name] = float(parametrised_global(
-                self.mech, quantity.index, quantity.region, design[None], branch=self.branch, resolution=resolution
-            )[0])
+            named[name] = float(global_values(self.indices[name], design[None], resolution=resolution)[0])
         return self._expressions_with(point, named)
 
     def constraint_values(self, g: np.ndarray) -> list[ConstraintValue]:
@@ -357,10 +338,8 @@ class ProblemModel:
         # as many grid cells as a 2-D check in every dimension: (16 resolution)^2 in all
         cells = min((SAMPLED_FACTOR * resolution) ** 2, SAMPLED_LIMIT)
         per_axis = max(2, round(cells ** (1 / self.mech.n_out)))
-        for name, quantity in self.problem.quantities.items():
-            value = sampled_check(
-                self.mech, quantity.index, quantity.region, design, branch=self.branch, resolution=per_axis
-            )
+        for name, index in self.indices.items():
+            value = sampled_value(index, design, resolution=per_axis)
             sampled[name] = float(value)
             points.append(value.points)
         sampled_objective = self._expressions_with(point, sampled)[0]
@@ -387,10 +366,7 @@ class ProblemModel:
             w = ca.MX.sym("w", len(self.problem.variables))
             self._design = ca.Function("design", [w], [self.design(w)])
         designs = evaluate(self._design, points)[0][:, :, 0]
-        return {
-            name: node_quadrature(self.mech, q.index, q.region, designs, branch=self.branch, resolution=resolution)
-            for name, q in self.problem.quantities.items()
-        }
+        return {name: node_values(index, designs, resolution=resolution) for name, index in self.indices.items()}
 
     def _quantities_at(self, point: np.ndarray, resolution: int) -> dict[str, float]:
         """Each quantity at one point of the variables (:meth:`quantity_values`)."""
