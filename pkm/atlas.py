@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import asdict, dataclass, field
-from functools import partial
+from functools import cached_property, partial
 from importlib.metadata import version as installed_version
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -464,6 +464,196 @@ def default_modes(mech: Mechanism, region: regions.RegionLike) -> tuple[str, ...
     return tuple(mech.distinct_modes.get(region, defined or mech.modes))
 
 
+@dataclass(frozen=True)
+class Sweep:
+    """What a sweep computes, its options checked (:func:`compute_sweep`): the ``indices`` over the chart of
+    ``space`` at ``resolution`` nodes per axis in each of the working ``modes``, over ``region`` (as given: a
+    name, or a region) resolved as ``where``, at ``pose_resolution``; ``margin`` is the singularity margin of a
+    sampled region (None for a parametrised one)."""
+
+    mechanism: Mechanism
+    indices: tuple[GlobalIndex, ...]
+    space: DesignSpace
+    modes: tuple[str, ...]
+    region: regions.RegionLike
+    where: regions.Region | regions.SampledWorkspace
+    resolution: int
+    pose_resolution: int
+    margin: float | None
+    checks: Checks
+
+    @property
+    def sampled(self) -> bool:
+        return isinstance(self.where, regions.SampledWorkspace)
+
+    @cached_property
+    def reference(self) -> str | None:
+        """The mechanism as a worker finds it (:func:`pkm.registry.reference`); None: in this process only."""
+        return registry.reference(self.mechanism)
+
+    def nodes(self, index: GlobalIndex) -> int:
+        """The poses (a sampled region) or quadrature nodes of one design's region for ``index``."""
+        if self.sampled:
+            return self.pose_resolution**self.mechanism.n_out
+        return self.where.node_count(self.pose_resolution, index.reduce)
+
+
+def _sweep(
+    mech: Mechanism, indices: tuple[GlobalIndex, ...], *, space: DesignSpace,
+    modes: str | tuple[str, ...] | list[str] | None, region: regions.RegionLike,
+    resolution: int, pose_resolution: int | None, singularity_margin: float, checks: Checks | None,
+) -> Sweep:
+    """The options of :func:`compute_sweep` checked, as a :class:`Sweep`."""
+    where = mech.region(region)
+    indices = tuple(indices)
+    if not indices or len({i.name for i in indices}) != len(indices):
+        raise PkmError(f"indices = {[i.name for i in indices]} violates: at least one global index, none repeated")
+    for index in indices:
+        mech.global_spec(index.name)
+    if modes is None:
+        modes = default_modes(mech, region)
+    elif isinstance(modes, str):
+        modes = (modes,)
+    modes = tuple(mech.working_mode(m).name for m in modes)
+    if not modes or len(set(modes)) != len(modes):
+        raise PkmError(f"modes = {modes} violates: at least one working mode, none repeated")
+    defined = getattr(where, "modes", None)
+    if defined and not set(modes) <= set(defined):
+        raise PkmError(f"region {region} is defined on working mode {', '.join(defined)} only, not on "
+                       f"{', '.join(m for m in modes if m not in defined)}")
+    resolution = check_integer("resolution", resolution, 3, MAX_CHART)
+    sampled = isinstance(where, regions.SampledWorkspace)
+    if pose_resolution is None:
+        pose_resolution = regions.SAMPLED_RESOLUTION if sampled else regions.QUADRATURE_RESOLUTION
+    pose_resolution = check_integer("pose_resolution", pose_resolution, 2 if sampled else 1, MAX_RESOLUTION)
+    if sampled:
+        regions.check_margin(singularity_margin)
+    checks = Checks() if checks is None else checks
+    if not isinstance(checks, Checks):
+        raise PkmError(f"checks = {checks!r} violates: a pkm.atlas.Checks")
+    return Sweep(mech, indices, space, modes, region, where, resolution, pose_resolution,
+                 float(singularity_margin) if sampled else None, checks)
+
+
+class Chart(NamedTuple):
+    """A design space's chart grid: its axes u (n,) and v (n,), the nodes inside the space (n, n), their
+    designs (D, n_p, row-major) and the nodes whose design meets the space's requirements (n, n)."""
+
+    u: np.ndarray
+    v: np.ndarray
+    inside: np.ndarray
+    designs: np.ndarray
+    admissible: np.ndarray
+
+
+def _chart(sweep: Sweep) -> Chart:
+    mech, space = sweep.mechanism, sweep.space
+    u, v, inside = space.chart_grid(sweep.resolution)
+    U, V = np.meshgrid(u, v, indexing="ij")
+    coordinates = space.from_chart(U[inside], V[inside])
+    designs = space.designs(mech.parameters, coordinates)
+    admissible = np.zeros(inside.shape, dtype=bool)
+    admissible[inside] = space.admissible(mech.functions, coordinates, designs)[0]
+    return Chart(u, v, inside, designs, admissible)
+
+
+def _tasks(sweep: Sweep, designs: np.ndarray, chunk: int) -> list[AtlasTask]:
+    """The sweep's designs in chunks of ``chunk`` per working mode, each chunk a task of every index."""
+    names = tuple(index.name for index in sweep.indices)
+    tasks = [
+        AtlasTask(sweep.reference or sweep.mechanism.name, names, sweep.region, mode, designs[k : k + chunk],
+                  sweep.pose_resolution, sweep.margin)
+        for mode in sweep.modes
+        for k in range(0, len(designs), chunk)
+    ]
+    if not tasks:
+        raise PkmError(f"the {sweep.space.name} chart at resolution {sweep.resolution} has no design inside the space")
+    return tasks
+
+
+def _results(
+    sweep: Sweep, tasks: list[AtlasTask], *, progress: Callable[[int, int], object] | bool | None,
+    executor: str | Executor | None, store: Path | None,
+) -> list[dict[str, np.ndarray]]:
+    """Every task's values (:func:`_chunk`): those ``store`` holds loaded, the others computed on ``executor``
+    and stored as each finishes with its mode and rows (:func:`compute_sweep` says how); ``progress`` told of
+    the design-modes done."""
+    mech = sweep.mechanism
+    saved = ChunkStore(store) if store is not None and sweep.reference is not None else None
+    stamp = (installed_version("pkm"), mech.functions.source_hash) if saved is not None else ()
+    starts = dict.fromkeys(sweep.modes, 0)
+    offsets = []
+    for task in tasks:
+        offsets.append(starts[task.mode])
+        starts[task.mode] += len(task.designs)
+    keys = [task_key(*stamp, *task) for task in tasks]
+    results: list[dict[str, np.ndarray] | None] = [None] * len(tasks)
+    if saved is not None:
+        results = [saved.load(key) for key in keys]
+    missing = [k for k, r in enumerate(results) if r is None]
+
+    def finished(k: int, result: dict[str, np.ndarray]) -> None:
+        task = tasks[missing[k]]
+        if saved is not None:
+            meta = {"mode": np.array(task.mode), "start": np.array(offsets[missing[k]]),
+                    "count": np.array(len(task.designs))}
+            saved.save(keys[missing[k]], {**result, **meta})
+        step(len(task.designs))
+
+    total = sum(len(task.designs) for task in tasks)
+    bar = Progress(total, f"atlas {mech.name}", enabled=None if progress is None else False)
+    done = [0]
+
+    def step(n: int) -> None:
+        done[0] += n
+        bar.advance(n)
+        if callable(progress):
+            progress(done[0], total)
+
+    work = total * sum(sweep.nodes(index) for index in sweep.indices)
+    kind = executor if sweep.reference is not None else "serial"
+    with bar, parallel.executor(kind, work=work, tasks=len(missing)) as pool:
+        step(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
+        fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk
+        computed = parallel.run_tasks(
+            pool, fn, [tasks[k] for k in missing], describe=AtlasTask.describe, done=finished,
+        )
+    for k, result in zip(missing, computed, strict=True):
+        results[k] = result
+    return results
+
+
+def _atlases(
+    sweep: Sweep, chart: Chart, tasks: list[AtlasTask], results: list[dict[str, np.ndarray]]
+) -> dict[str, Atlas]:
+    """An :class:`Atlas` per index from the tasks' values, with the best design of each mode checked
+    (:func:`checked_best`)."""
+    mech, inside, designs = sweep.mechanism, chart.inside, chart.designs
+    atlases = {}
+    for index in sweep.indices:
+        values, points = {}, {}
+        for mode in sweep.modes:
+            rows = [r for task, r in zip(tasks, results, strict=True) if task.mode == mode]
+            values[mode] = np.full(inside.shape, np.nan)
+            points[mode] = np.zeros(inside.shape, dtype=int)
+            values[mode][inside] = np.concatenate([r[f"values_{index.name}"] for r in rows])
+            points[mode][inside] = np.concatenate([r[f"points_{index.name}"] for r in rows])
+        atlases[index.name] = Atlas(
+            mechanism=mech, index=index, space=sweep.space, region=sweep.region, modes=sweep.modes, u=chart.u,
+            v=chart.v, inside=inside, values=values, points=points, resolution=sweep.resolution,
+            pose_resolution=sweep.pose_resolution, singularity_margin=sweep.margin, wall_time=0.0,
+            evaluations=len(designs) * sweep.nodes(index) * len(sweep.modes), checks=sweep.checks,
+            admissible=chart.admissible,
+        )
+    for mode in sweep.modes:
+        share = None if sweep.sampled else region_fraction(mech, sweep.where, designs, mode=mech.working_mode(mode),
+                                                           resolution=sweep.pose_resolution)
+        for atlas in atlases.values():
+            fraction = atlas.points[mode][inside] / sweep.pose_resolution**mech.n_out if sweep.sampled else share
+            atlas.checked[mode] = checked_best(atlas, mode, designs, fraction)
+    return atlases
+
+
 def compute_sweep(
     mech: Mechanism,
     indices: tuple[GlobalIndex, ...],
@@ -528,115 +718,14 @@ def compute_sweep(
     dict
         An :class:`Atlas` per index name.
     """
-    where = mech.region(region)
-    indices = tuple(indices)
-    if not indices or len({i.name for i in indices}) != len(indices):
-        raise PkmError(f"indices = {[i.name for i in indices]} violates: at least one global index, none repeated")
-    for index in indices:
-        mech.global_spec(index.name)
-    if modes is None:
-        modes = default_modes(mech, region)
-    elif isinstance(modes, str):
-        modes = (modes,)
-    modes = tuple(mech.working_mode(m).name for m in modes)
-    if not modes or len(set(modes)) != len(modes):
-        raise PkmError(f"modes = {modes} violates: at least one working mode, none repeated")
-    defined = getattr(where, "modes", None)
-    if defined and not set(modes) <= set(defined):
-        raise PkmError(f"region {region} is defined on working mode {', '.join(defined)} only, not on "
-                       f"{', '.join(m for m in modes if m not in defined)}")
-    resolution = check_integer("resolution", resolution, 3, MAX_CHART)
-    sampled = isinstance(where, regions.SampledWorkspace)
-    if pose_resolution is None:
-        pose_resolution = regions.SAMPLED_RESOLUTION if sampled else regions.QUADRATURE_RESOLUTION
-    pose_resolution = check_integer("pose_resolution", pose_resolution, 2 if sampled else 1, MAX_RESOLUTION)
-    if sampled:
-        regions.check_margin(singularity_margin)
-
+    sweep = _sweep(mech, indices, space=space, modes=modes, region=region, resolution=resolution,
+                   pose_resolution=pose_resolution, singularity_margin=singularity_margin, checks=checks)
     chunk = check_integer("chunk", chunk, 1)
-    checks = Checks() if checks is None else checks
-    if not isinstance(checks, Checks):
-        raise PkmError(f"checks = {checks!r} violates: a pkm.atlas.Checks")
     start = time.perf_counter()
-    u, v, inside = space.chart_grid(resolution)
-    U, V = np.meshgrid(u, v, indexing="ij")
-    designs = space.designs(mech.parameters, space.from_chart(U[inside], V[inside]))
-    admissible = np.zeros(inside.shape, dtype=bool)
-    admissible[inside] = space.admissible(mech.functions, space.from_chart(U[inside], V[inside]), designs)[0]
-    per_design = {
-        i.name: pose_resolution**mech.n_out if sampled else where.node_count(pose_resolution, i.reduce) for i in indices
-    }
-    margin = float(singularity_margin) if sampled else None
-    names = tuple(index.name for index in indices)
-    named = registry.reference(mech)
-    tasks = [
-        AtlasTask(named or mech.name, names, region, mode, designs[k : k + chunk], pose_resolution, margin)
-        for mode in modes
-        for k in range(0, len(designs), chunk)
-    ]
-    if not tasks:
-        raise PkmError(f"the {space.name} chart at resolution {resolution} has no design inside the space")
-    saved = ChunkStore(store) if store is not None and named is not None else None
-    stamp = (installed_version("pkm"), mech.functions.source_hash) if saved is not None else ()
-    starts = dict.fromkeys(modes, 0)
-    offsets = []
-    for task in tasks:
-        offsets.append(starts[task.mode])
-        starts[task.mode] += len(task.designs)
-    keys = [task_key(*stamp, *task) for task in tasks]
-    results: list[dict[str, np.ndarray] | None] = [None] * len(tasks)
-    if saved is not None:
-        results = [saved.load(key) for key in keys]
-    missing = [k for k, r in enumerate(results) if r is None]
-
-    def finished(k: int, result: dict[str, np.ndarray]) -> None:
-        task = tasks[missing[k]]
-        if saved is not None:
-            meta = {"mode": np.array(task.mode), "start": np.array(offsets[missing[k]]),
-                    "count": np.array(len(task.designs))}
-            saved.save(keys[missing[k]], {**result, **meta})
-        step(len(task.designs))
-
-    total = sum(len(task.designs) for task in tasks)
-    bar = Progress(total, f"atlas {mech.name}", enabled=None if progress is None else False)
-    done = [0]
-
-    def step(n: int) -> None:
-        done[0] += n
-        bar.advance(n)
-        if callable(progress):
-            progress(done[0], total)
-
-    work = len(designs) * sum(per_design.values()) * len(modes)
-    with bar, parallel.executor(executor if named is not None else "serial", work=work, tasks=len(missing)) as pool:
-        step(sum(len(task.designs) for task, result in zip(tasks, results, strict=True) if result is not None))
-        fn = partial(_chunk, mech) if isinstance(pool, parallel.SerialExecutor) else atlas_chunk
-        computed = parallel.run_tasks(
-            pool, fn, [tasks[k] for k in missing], describe=AtlasTask.describe, done=finished,
-        )
-    for k, result in zip(missing, computed, strict=True):
-        results[k] = result
-    atlases = {}
-    for index in indices:
-        values, points = {}, {}
-        for mode in modes:
-            rows = [r for task, r in zip(tasks, results, strict=True) if task.mode == mode]
-            values[mode] = np.full(inside.shape, np.nan)
-            points[mode] = np.zeros(inside.shape, dtype=int)
-            values[mode][inside] = np.concatenate([r[f"values_{index.name}"] for r in rows])
-            points[mode][inside] = np.concatenate([r[f"points_{index.name}"] for r in rows])
-        atlases[index.name] = Atlas(
-            mechanism=mech, index=index, space=space, region=region, modes=modes, u=u, v=v, inside=inside,
-            values=values, points=points, resolution=resolution, pose_resolution=pose_resolution,
-            singularity_margin=margin, wall_time=0.0, evaluations=len(designs) * per_design[index.name] * len(modes),
-            checks=checks, admissible=admissible,
-        )
-    for mode in modes:
-        share = None if sampled else region_fraction(mech, where, designs, mode=mech.working_mode(mode),
-                                                     resolution=pose_resolution)
-        for atlas in atlases.values():
-            fraction = atlas.points[mode][inside] / pose_resolution**mech.n_out if sampled else share
-            atlas.checked[mode] = checked_best(atlas, mode, designs, fraction)
+    chart = _chart(sweep)
+    tasks = _tasks(sweep, chart.designs, chunk)
+    results = _results(sweep, tasks, progress=progress, executor=executor, store=store)
+    atlases = _atlases(sweep, chart, tasks, results)
     wall = time.perf_counter() - start
     for atlas in atlases.values():
         atlas.wall_time = wall
