@@ -17,9 +17,10 @@ from helpers import rpr3_text
 
 import pkm
 from pkm.cli import main
-from pkm.errors import SingularityError, SingularityWarning
+from pkm.errors import PkmError, SingularityError, SingularityWarning
 from pkm.export import export_urdf
 from pkm.indices.local import SINGULAR, SINGULAR_NEAR, hadamard_ratio
+from pkm.models.described import DESCRIPTIONS
 
 # a 3-RPR whose platform pattern is in line with the base's: at phi = 0 the three legs' lines meet at the
 # centre, a type II singularity over the whole plane phi = 0
@@ -109,7 +110,7 @@ def test_the_designers_page_states_the_singular_threshold():
     text = " ".join((Path(__file__).parent.parent / "docs" / "designer.md").read_text().split())
     assert f"A pose with a margin below {SINGULAR:g} (`pkm.indices.local.SINGULAR`) is singular" in text
     assert f"naming a pose of the region within {SINGULAR_NEAR:g} of a singularity" in text
-    from pkm.synthesis.designer import SINGULARITY_MARGIN
+    from pkm.synthesis.problem import SINGULARITY_MARGIN
 
     assert f"`singularity_margin_min >= {SINGULARITY_MARGIN:g}` over the task by default" in text
 
@@ -196,10 +197,13 @@ def test_a_design_over_a_singular_region_is_held_off_it_by_the_default_margin(tm
     held = pkm.synthesize(problem(), progress=False, starts=2)
     (default,) = held.optimum.constraints
     assert default.name == "singularity_margin_min over task >= 0.01 (the default margin)"
+    assert "singularity margin held at 0.01 over task (the default margin)" in str(held).splitlines()
+    assert held.to_dict()["margin"] == "singularity margin held at 0.01 over task (the default margin)"
     assert default.value == pytest.approx(0.01, abs=1e-6)
     assert default.active
     assert held.variables["alpha"] > 0.1
     assert problem(singularity_margin=0).constraints == ()
+    assert str(problem(singularity_margin=0).margin) == "singularity margin off over task (as asked)"
     with pytest.raises(SynthesisError) as failed:
         pkm.synthesize(problem(singularity_margin=0), progress=False, starts=2)
     assert failed.value.result.variables["alpha"] < held.variables["alpha"]
@@ -248,3 +252,30 @@ def test_show_and_the_explorer_mark_a_singular_pose(tmp_path, capsys, rpr3_file)
     answer = explorer.handle("linkage", {"pose": "0,0,0", "plane": "x,y"})
     assert answer["singular"] == ["type II"]
     assert explorer.handle("linkage", {"pose": "0,0,0.3", "plane": "x,y"})["singular"] == []
+
+
+def test_every_registered_problem_states_its_margin_and_holds_one_when_asked():
+    """A paper's problem holds no singularity margin as the paper states it, and says why; a described
+    machine's holds the default; every one holds a margin when asked (``configure(singularity_margin=...)``,
+    ``pkm synth --set``), which the tasks of its worker processes carry."""
+    from pkm import registry
+    from pkm.synthesis.driver import _settings
+    from pkm.synthesis.problem import MARGIN, SINGULARITY_MARGIN
+
+    for name, problem in registry.problems().items():
+        assert problem.margin is not None, name
+        paper = name.split(".")[0] not in DESCRIPTIONS
+        assert problem.margin.value == (0.0 if paper else SINGULARITY_MARGIN), name
+        assert (MARGIN in problem.quantities) == (not paper), name
+        assert problem.margin.why.startswith("as " if paper else "the default margin"), name
+    asked = registry.problem("ups_pu.min_size_force_task").configure(singularity_margin=0.02, task_tilt=0.4)
+    assert asked.values["task_tilt"] == 0.4
+    assert asked.quantities[MARGIN].region is asked.quantities["force"].region
+    held = [c for c in asked.constraints if c.name.startswith(MARGIN)]
+    assert [(c.lower, c.name) for c in held] == [(0.02, "singularity_margin_min over task >= 0.02 (as asked)")]
+    assert asked.hessian == "limited-memory"
+    rebuilt = registry.problem(asked.name).configure(**json.loads(_settings(asked)))
+    assert rebuilt.margin.value == 0.02
+    assert rebuilt.values["task_tilt"] == 0.4
+    with pytest.raises(PkmError, match=r"singularity_margin violates: 0 <= singularity_margin < 1"):
+        registry.problem("five_bar.max_gci_miw").configure(singularity_margin=1.5)

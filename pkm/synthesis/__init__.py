@@ -8,6 +8,7 @@ from pkm.synthesis.model import Candidate, ProblemModel
 from pkm.synthesis.problem import (
     Baseline,
     Constraint,
+    Margin,
     Objective,
     Problem,
     Quantity,
@@ -24,6 +25,7 @@ __all__ = [
     "Candidate",
     "Constraint",
     "InfeasibleError",
+    "Margin",
     "Objective",
     "Problem",
     "ProblemModel",

@@ -34,12 +34,21 @@ from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.regions import Box, Cylinder, Disc, Poses, Rectangle, TrajectoryRegion, trajectory_region
 from pkm.spec.machine import resolve_name
-from pkm.synthesis.problem import Baseline, Constraint, Objective, Problem, Quantity, Variable
+from pkm.synthesis.problem import (
+    MARGIN,
+    SINGULARITY_MARGIN,
+    Baseline,
+    Constraint,
+    Margin,
+    Objective,
+    Problem,
+    Quantity,
+    Variable,
+)
 
 MONTE_CARLO_SEED = 0
 MAX_BOUND = 1e15  # the largest magnitude of a constraint's bound or an objective's weight (SI): IPOPT takes
 # a bound beyond 1e19 for none, and one near 1e308 overflows in its restoration phase, which then never ends
-SINGULARITY_MARGIN = 0.01  # the least singularity margin a task holds by default (singularity_margin_min)
 MAX_BASELINE_POINTS = 1_000_000  # designs a baseline evaluates at most: a grid's nodes, Monte Carlo's samples
 NAME = re.compile(r"[A-Za-z][A-Za-z0-9]*(?:_[A-Za-z0-9]+)*")  # CasADi's function names, which pkm's follow
 DOTTED = re.compile(rf"{NAME.pattern}(?:\.{NAME.pattern})*")  # a problem's: its dots become underscores
@@ -466,20 +475,6 @@ def _constraints(mech: Any, constraints: Sequence[Any], quantity: Any, quantitie
     return stated
 
 
-def _default_margin(singularity_margin: float, quantity: Any, quantities: dict[str, Quantity], task_name: str
-                    ) -> list[Constraint]:
-    """The task held ``singularity_margin`` from singularity (none where it is 0 or a constraint on
-    ``singularity_margin_min`` is stated), its quantity added to ``quantities``."""
-    margin = _number(singularity_margin, "singularity_margin")
-    if not 0 <= margin < 1:
-        raise _fail("singularity_margin", "a number in [0, 1) (0: no margin)", singularity_margin)
-    if margin == 0 or "singularity_margin_min" in quantities:
-        return []
-    quantities["singularity_margin_min"] = quantity("singularity_margin_min", "singularity_margin")
-    return [Constraint(f"singularity_margin_min over {task_name} >= {margin:g} (the default margin)",
-                       lambda t: t["singularity_margin_min"], margin, math.inf)]
-
-
 def design_problem(
     mechanism: Any,
     *,
@@ -555,7 +550,9 @@ def design_problem(
     quantities: dict[str, Quantity] = {}
     goal = _objective(objective, quantity, quantities)
     stated = _constraints(mech, constraints, quantity, quantities, region=region, task_name=task_name)
-    stated += _default_margin(singularity_margin, quantity, quantities, task_name)
+    margin = _number(singularity_margin, "singularity_margin")
+    if not 0 <= margin < 1:
+        raise _fail("singularity_margin", "a number in [0, 1) (0: no margin)", singularity_margin)
     measured = [n for n, q in quantities.items() if q.index.reduce == "measure"]
     if measured and isinstance(region, Poses):
         raise _fail("task", f"a region with a measure for {measured[0]}; given poses have none")
@@ -576,6 +573,11 @@ def design_problem(
         hessian="limited-memory" if any(q.index.reduce in ("min", "max") for q in quantities.values()) else "exact",
         notes={"task": task_name, "fixed": held},
     )
+    if MARGIN in quantities:
+        problem = replace(problem, margin=Margin(None, f"its constraint on {MARGIN}", region))
+    else:
+        problem = problem.holding(margin, "the default margin" if margin == SINGULARITY_MARGIN else "as asked",
+                                  region=region)
     return replace(problem, baselines=(_baseline(problem, baseline),))
 
 

@@ -97,6 +97,7 @@ class SynthesisResult:
     mode: str = ""
     regions: dict[str, str] = field(default_factory=dict)
     objective_unit: str = ""
+    margin: str = ""  # the singularity margin the problem holds over its task, stated
 
     @property
     def design(self) -> dict[str, float]:
@@ -133,7 +134,7 @@ class SynthesisResult:
             f"{self.problem}: {self.status} after {self.iterations} iterations; {self.sense}imum objective "
             f"{o.objective:.6g}, verified {o.verified_objective:.6g} (accuracy {self.accuracy:.1e})"
             f"{'' if o.feasible else ' (infeasible)'} at {variables}; design {design}",
-            *constraint_lines(o.constraints)])
+            *([self.margin] if self.margin else []), *constraint_lines(o.constraints)])
 
     def to_dict(self) -> dict[str, Any]:
         first = next(iter(self.baselines.values()), None)
@@ -162,6 +163,7 @@ class SynthesisResult:
             "mode": self.mode,
             "regions": self.regions,
             "objective_unit": self.objective_unit,
+            "margin": self.margin,
         }
 
 
@@ -277,8 +279,10 @@ def _solver(name: str, settings: str, resolution: int, options: str) -> tuple[An
 
 
 def _settings(problem: Problem) -> str:
-    """The problem's settings as JSON, which a task carries."""
-    return json.dumps(dict(problem.values), sort_keys=True)
+    """The problem's settings as JSON, which a task carries, with the singularity margin it was asked to hold."""
+    margin = {} if problem.margin is None or not problem.margin.value else {
+        "singularity_margin": problem.margin.value}
+    return json.dumps({**problem.values, **margin}, sort_keys=True)
 
 
 def _where(problem: Problem) -> dict[str, Any]:
@@ -286,7 +290,8 @@ def _where(problem: Problem) -> dict[str, Any]:
     unit (its quantity's where it is one quantity, else the objective's statement)."""
     m, quantity = problem.mechanism, problem.objective.quantity
     unit = m.index_unit(problem.quantities[quantity].index) if quantity is not None else problem.objective.doc
-    return {"mode": m.working_mode(problem.mode).name, "objective_unit": unit,
+    margin = "singularity margin not stated by the problem" if problem.margin is None else str(problem.margin)
+    return {"mode": m.working_mode(problem.mode).name, "objective_unit": unit, "margin": margin,
             "regions": {name: q.region.name for name, q in problem.quantities.items()}}
 
 

@@ -14,13 +14,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from pkm.errors import PkmError, UnknownNameError, check_real
 from pkm.indices import GlobalIndex
+from pkm.indices.local import SINGULARITY
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,27 @@ class Quantity:
 
     index: GlobalIndex
     region: Any
+
+
+MARGIN = "singularity_margin_min"  # the quantity of the singularity margin a problem holds over its task
+SINGULARITY_MARGIN = 0.01  # the least singularity margin a task holds by default
+
+
+@dataclass(frozen=True)
+class Margin:
+    """The singularity margin a problem holds over its task, the region ``region``: the least of the type I and
+    type II margins over it at least ``value`` (0: none), and why, which its results state."""
+
+    value: float | None  # None: the problem's own constraint on singularity_margin_min states it
+    why: str
+    region: Any
+
+    def __str__(self) -> str:
+        if self.value is None:
+            return f"singularity margin over {self.region.name} as {self.why} states it"
+        if self.value > 0:
+            return f"singularity margin held at {self.value:g} over {self.region.name} ({self.why})"
+        return f"singularity margin off over {self.region.name} ({self.why})"
 
 
 class Terms(Mapping[str, Any]):
@@ -188,17 +210,47 @@ class Problem:
     values: Mapping[str, float] = field(default_factory=dict)
     build: Callable[[Mapping[str, float]], Problem] | None = None
     secondaries: Mapping[str, Objective | Quantity] = field(default_factory=dict)
+    margin: Margin | None = None  # the singularity margin it holds over its task; None where it states none
 
     def configure(self, **values: object) -> Problem:
-        """The same problem with some settings at other values (the others as they are here)."""
+        """The same problem with some settings at other values (the others as they are here); every problem
+        takes ``singularity_margin`` (:meth:`holding`)."""
         known = {s.name: s for s in self.settings}
+        margin = values.pop("singularity_margin", None)
         for name in values:
             if name not in known:
-                raise UnknownNameError(f"setting of {self.name}", name, list(known) or ["none"])
-        if not values:
-            return self
+                raise UnknownNameError(f"setting of {self.name}", name, [*known, "singularity_margin"])
         checked = {name: known[name].check(value) for name, value in values.items()}
-        return self.build({**self.values, **checked})
+        problem = self.build({**self.values, **checked}) if checked else self
+        if margin is None:
+            return problem
+        value = check_real("singularity_margin", margin, "0 <= singularity_margin < 1")
+        if not 0 <= value < 1:
+            raise PkmError(f"singularity_margin violates: 0 <= singularity_margin < 1; got {value:g}")
+        return problem.holding(value, "as asked")
+
+    def holding(self, value: float, why: str, region: Any = None) -> Problem:
+        """The problem holding its task ``value`` from singularity: the constraint ``singularity_margin_min >=
+        value`` over ``region`` (its task's, stated or the objective's quantity's, by default) in place of any it
+        held, none at 0; ``why`` its reason, which its results state."""
+        if region is None and self.margin is not None:
+            region = self.margin.region
+        if region is None:
+            quantity = self.quantities.get(self.objective.quantity or "")
+            if quantity is None:
+                raise PkmError(f"problem {self.name}: a singularity margin needs a region (its objective is not "
+                               "one quantity)")
+            region = quantity.region
+        quantities = {k: v for k, v in self.quantities.items() if k != MARGIN}
+        constraints = tuple(c for c in self.constraints if not c.name.startswith(MARGIN))
+        if value > 0:
+            quantities[MARGIN] = Quantity(GlobalIndex(MARGIN, SINGULARITY, f"the region minimum of "
+                                                      f"{SINGULARITY.name} ({SINGULARITY.doc})", "min", "max"), region)
+            constraints += (Constraint(f"{MARGIN} over {region.name} >= {value:g} ({why})", lambda t: t[MARGIN],
+                                       value, math.inf),)
+        hessian = "limited-memory" if value > 0 else self.hessian  # a region minimum's epigraph holds every node
+        return replace(self, quantities=quantities, constraints=constraints, hessian=hessian,
+                       margin=Margin(value, why, region))
 
     @property
     def variable_names(self) -> tuple[str, ...]:

@@ -9,7 +9,7 @@ from dataclasses import replace
 from pkm import registry
 from pkm.design_space import DesignSpace
 from pkm.models.five_bar.spaces import MIN_LENGTH, MIN_RADIUS
-from pkm.synthesis import Objective, Problem, Quantity, Variable, requirement_constraints
+from pkm.synthesis import Margin, Objective, Problem, Quantity, Variable, requirement_constraints
 
 
 def _chart_problem(
@@ -41,6 +41,8 @@ def _chart_problem(
         mode="out_out",
         hessian=hessian,
         notes={"space": space.name, "min_length": MIN_LENGTH, "min_radius": MIN_RADIUS},
+        margin=Margin(0.0, "as the papers state the problem: the MIW's rim reaches the working mode's "
+                      "singular boundary, where every margin is 0", quantity.region),
         secondaries={"miw_radius": Objective(lambda t: t.call("maximum_inscribed_circle", "radius"), "max",
                                              f"radius of the maximum inscribed circle [{space.name} unit length]")},
     )

@@ -15,7 +15,7 @@ from dataclasses import replace
 
 from pkm import registry
 from pkm.models.passive_leg import nam2006
-from pkm.synthesis import Objective, Problem, Quantity, Variable, requirement_constraints
+from pkm.synthesis import Margin, Objective, Problem, Quantity, Variable, requirement_constraints
 
 GRID = 61  # the baseline's chart nodes per axis
 
@@ -56,6 +56,8 @@ def _max_composed() -> Problem:
         screening_resolution=5,
         starts=3,
         notes={"reading": reading.name, "extremes_grid": nam2006.EXTREMES_GRID},
+        margin=Margin(0.0, "as Nam and Park state the problem: r >= R keeps folded legs (type 1) out of the "
+                      "region, and the indices are undefined where it holds a type-2 singularity", region),
     )
     return replace(problem, baselines=(problem.grid_baseline(GRID, "the best node of a 61 x 61 grid over the "
                                                                    "design space (Nam Figs. 4-7)"),))

@@ -31,7 +31,7 @@ from pkm.models.slider_gantry.wu2008 import (
     two_step_angles,
     two_step_points,
 )
-from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Variable
+from pkm.synthesis import Baseline, Constraint, Margin, Objective, Problem, Quantity, Variable
 
 WIDTH, HEIGHT = 0.5, 0.4  # Wu's task rectangle [m], centred at the height of Table 3's move
 CENTRE_Y = TABLE3_MOVE["start"][1]
@@ -109,6 +109,8 @@ def _min_kappa_d_task() -> Problem:
             "theta_s": THETA_S, "theta_l": THETA_L, "max_stroke": MAX_STROKE,
             "max_frame_width": MAX_FRAME_WIDTH, "min_k_av": MIN_K_AV, "move": TABLE3_MOVE,
         },
+        margin=Margin(0.0, "as Wu states the problem: its angle margins theta_s <= |theta_i| <= theta_l, "
+                      "constraints here, are its singularity margins", task),
     )
     baselines = (
         problem.grid_baseline(61),

@@ -30,7 +30,7 @@ from pkm import registry
 from pkm.design import stack_design
 from pkm.indices import GlobalIndex, LocalIndex
 from pkm.models.ups_pu.workspace import MARGINS, tilt_to_angles
-from pkm.synthesis import Baseline, Constraint, Objective, Problem, Quantity, Setting, Variable
+from pkm.synthesis import Baseline, Constraint, Margin, Objective, Problem, Quantity, Setting, Variable
 
 DEG = math.pi / 180
 STROKE_RATIO = 1.8  # l_max / l_min (eq. 10 with the equality of step 5)
@@ -144,6 +144,8 @@ def _prescribed_workspace(values: Mapping[str, float] = DEFAULTS) -> Problem:
         hessian="limited-memory",
         max_iter=100,
         notes={"stroke_ratio": STROKE_RATIO, "table1": TABLE1},
+        margin=Margin(0.0, "as Zhao states the problem: section 5's constraints and joint limits bound its "
+                      "workspace", task),
         settings=SETTINGS,
         values=dict(values),
         build=_prescribed_workspace,
