@@ -339,6 +339,23 @@ def test_progress_bar_draws_on_a_terminal_only():
     assert "2/4" in terminal.getvalue()
 
 
+def test_each_module_of_the_commands_package_is_a_listed_command_and_the_parallel_ones_take_a_scheduler():
+    import pkgutil
+
+    from pkm.cli import build_parser, commands
+
+    names = [command.__name__.rpartition(".")[2] for command in commands.COMMANDS]
+    assert sorted(names) == sorted(m.name for m in pkgutil.iter_modules(commands.__path__))
+    parsers = build_parser()._subparsers._group_actions[0].choices
+    assert list(parsers) == names
+    for name, command in zip(names, commands.COMMANDS, strict=True):
+        assert parsers[name].description == command.HELP
+        assert parsers[name].get_default("func") is command.run
+        options = {o for action in parsers[name]._actions for o in action.option_strings}
+        assert ("--scheduler" in options) is command.PARALLEL, name
+        assert "--json" in options
+
+
 def test_every_option_has_help_with_its_default_and_reproduce_lists_every_paper(capsys):
     from pkm import registry
     from pkm.cli import build_parser

@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import pkm.cli
 import pkm.reproduce
-from pkm.cli import main
+from pkm.cli import grid, main
+from pkm.cli.commands import synth
 
 KEPT = re.compile(r"^pkm: could not write (?P<path>.+) \((?P<reason>[^()]+)\); the result is kept in (?P<kept>\S+)$")
 
@@ -110,7 +110,7 @@ def kept_folder(err: str, command: str, temporary: Path, out: Path, reason: str)
 @pytest.mark.parametrize("code", [errno.EACCES, errno.ENOSPC])
 def test_synth_keeps_its_record_when_out_fails_after_the_synthesis(code, out, temporary, refuse, monkeypatch,
                                                                    capsys):
-    after(monkeypatch, pkm.cli, "synthesize", lambda: refuse(out, code))
+    after(monkeypatch, synth, "synthesize", lambda: refuse(out, code))
     args = ["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1", "--out", str(out), "--json"]
     assert main(args) == 1
     captured = capsys.readouterr()
@@ -127,7 +127,7 @@ def test_a_result_neither_out_nor_the_temporary_folder_takes_is_one_line_exit_1(
         refuse(out, errno.ENOSPC)
         refuse(temporary, errno.ENOSPC)
 
-    after(monkeypatch, pkm.cli, "synthesize", full)
+    after(monkeypatch, synth, "synthesize", full)
     assert main(["synth", "five_bar.max_gci_miw", "--resolution", "2", "--starts", "1", "--out", str(out)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
@@ -136,7 +136,7 @@ def test_a_result_neither_out_nor_the_temporary_folder_takes_is_one_line_exit_1(
 
 
 def test_atlas_keeps_its_npz_and_figure_when_out_turns_read_only(out, temporary, refuse, monkeypatch, capsys):
-    after(monkeypatch, pkm.cli, "_sweep", lambda: refuse(out, errno.EACCES))
+    after(monkeypatch, grid, "atlases", lambda: refuse(out, errno.EACCES))
     assert main(["atlas", "five_bar", "gci", "--resolution", "5", "--executor", "serial", "--out", str(out),
                  "--json"]) == 1
     captured = capsys.readouterr()
@@ -153,7 +153,7 @@ def test_atlas_keeps_its_npz_and_figure_when_out_turns_read_only(out, temporary,
 
 
 def test_sweep_keeps_its_listing_with_its_chunks_on_a_full_disk(out, temporary, refuse, monkeypatch, capsys):
-    after(monkeypatch, pkm.cli, "_sweep", lambda: refuse(out, errno.ENOSPC))
+    after(monkeypatch, grid, "atlases", lambda: refuse(out, errno.ENOSPC))
     assert main(["sweep", "five_bar", "--indices", "gci", "--resolution", "5", "--executor", "serial",
                  "--out", str(out), "--json"]) == 1
     captured = capsys.readouterr()

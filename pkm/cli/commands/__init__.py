@@ -1,0 +1,23 @@
+"""The commands of ``pkm``, in the order ``pkm --help`` lists them. A command is a module of this package
+that holds ``HELP`` (its one-line description), ``PARALLEL`` (whether its work may go to a Dask scheduler),
+``options(parser)`` (its options, beside ``--json`` which every command takes) and ``run(args)``; a new
+command is its module and its name here."""
+
+from pkm.cli.commands import (
+    atlas,
+    build,
+    compare,
+    design,
+    eval,
+    explore,
+    export,
+    index,
+    list,
+    pareto,
+    reproduce,
+    show,
+    sweep,
+    synth,
+)
+
+COMMANDS = (list, build, eval, index, atlas, sweep, synth, pareto, show, compare, explore, design, export, reproduce)
