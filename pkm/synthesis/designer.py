@@ -475,6 +475,14 @@ def _constraints(mech: Any, constraints: Sequence[Any], quantity: Any, quantitie
     return stated
 
 
+def _holding(problem: Problem, margin: float, region: Any) -> Problem:
+    """The problem holding its task ``margin`` from singularity, unless a constraint of its own on
+    singularity_margin_min states the margin."""
+    if MARGIN in problem.quantities:
+        return replace(problem, margin=Margin(None, f"its constraint on {MARGIN}", region))
+    return problem.holding(margin, "the default margin" if margin == SINGULARITY_MARGIN else "as asked", region)
+
+
 def design_problem(
     mechanism: Any,
     *,
@@ -573,11 +581,7 @@ def design_problem(
         hessian="limited-memory" if any(q.index.reduce in ("min", "max") for q in quantities.values()) else "exact",
         notes={"task": task_name, "fixed": held},
     )
-    if MARGIN in quantities:
-        problem = replace(problem, margin=Margin(None, f"its constraint on {MARGIN}", region))
-    else:
-        problem = problem.holding(margin, "the default margin" if margin == SINGULARITY_MARGIN else "as asked",
-                                  region=region)
+    problem = _holding(problem, margin, region)
     return replace(problem, baselines=(_baseline(problem, baseline),))
 
 
