@@ -146,8 +146,13 @@ def executor(kind: str | Executor | None = None, *, work: int = 0, tasks: int = 
     try:
         yield pool
     except BaseException:
-        # an interrupt or a termination of this process ends its workers too, not only their queued tasks
-        # (concurrent.futures has no public call for it before Python 3.14)
+        # an interrupt or a termination of this process ends its workers too, not only their queued tasks, and
+        # the tasks still buffered for them are dropped, not flushed into the pipe of workers that are gone (the
+        # pool's manager thread, which exit joins, would wait on that flush forever); concurrent.futures has no
+        # public call for either before Python 3.14
+        queue = getattr(pool, "_call_queue", None)
+        if queue is not None:
+            queue.cancel_join_thread()
         for process in list((getattr(pool, "_processes", None) or {}).values()):
             process.terminate()
         pool.shutdown(wait=False, cancel_futures=True)
