@@ -120,6 +120,29 @@ def test_the_3rrr_of_chains_is_the_3rrr_in_every_mode(machines, solver):
                                    rtol=1e-10, atol=1e-10)
 
 
+def test_the_3rrr_of_chains_names_each_assembly_as_the_3rrr_does(machines):
+    """An assembly mode's name (each leg's elbow side, the type-II determinant's sign, the rank) is the same
+    configuration for the RR legs and for their chains: the chains' side, the sign of their closure's Jacobian
+    in their joints, is the RR leg's sin(phi - theta). At the actuated joints of poses in two working modes,
+    every assembly either machine finds is the same pose under the same name."""
+    m, rrr3 = machines["rrr3", "closed"], pkm.load(str(DESCRIPTIONS["rrr3"]))
+    assert m.assemblies == rrr3.assemblies
+    turns = np.pi / 2 + 2 * np.pi * np.arange(3) / 3
+    x = np.random.default_rng(12).uniform([-0.2, -0.2, -0.4], [0.2, 0.2, 0.4], size=(40, 3))
+    found = 0
+    for mode in ("left_left_left", "right_left_right"):
+        theirs = rrr3.inverse_kinematics(x, mode=mode)
+        reached = np.isfinite(theirs).all(axis=1)
+        for name in rrr3.assemblies:
+            mine = m.forward_kinematics(theirs[reached] - turns, assembly=name)
+            want = rrr3.forward_kinematics(theirs[reached], assembly=name)
+            np.testing.assert_array_equal(np.isfinite(mine).all(axis=1), np.isfinite(want).all(axis=1))
+            both = np.isfinite(want).all(axis=1)
+            np.testing.assert_allclose(_wrapped(mine[both] - want[both]), 0, atol=1e-9)
+            found += int(both.sum())
+    assert found > 40
+
+
 @pytest.mark.parametrize("solver", SOLVERS)
 def test_the_chains_gci_and_its_design_gradient_are_the_closed_forms(machines, solver):
     """Through the Newton steps the design gradient is the implicit function's: over a fixed disc the GCI
