@@ -558,6 +558,7 @@ class Mechanism:
     natural_frequencies = _Delegate("pkm.dynamics")
     simulate = _Delegate("pkm.dynamics")
     export_urdf = _Delegate("pkm.export")
+    every_assembly = _Delegate("pkm.assemblies")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

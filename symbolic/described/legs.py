@@ -81,6 +81,8 @@ class Leg:
     # joint variable (spatial) and its angle (planar)
     reach_names: tuple[str, ...] = ()  # what each reach margin bounds, where it is not the leg's reach alone
     stated: tuple[tuple[str, sp.Expr], ...] = ()  # limits of its joints beside its reach (a cone), named
+    circle: tuple[sp.Matrix, sp.Expr] | None = None  # of a planar leg: its actuated joint given, the circle
+    # (centre in the base frame, radius) on which its platform joint lies
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> Leg:
@@ -93,14 +95,15 @@ def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> Leg:
     ik = {theta: angle, phi: sp.atan2(c[1] - elbow[1], c[0] - elbow[0])}
     return Leg(h, theta, [phi], ik, [(l1 + l2) ** 2 - dist2, dist2 - (l1 - l2) ** 2], sigma,
                side=sp.sin(phi - theta), joints=(a + l1 * direction(theta),),
-               reach_names=("reach outer", "reach inner"))
+               reach_names=("reach outer", "reach inner"), circle=(a + l1 * direction(theta), l2))
 
 
 def _rpr(k: int, a: sp.Matrix, c: sp.Matrix) -> Leg:
     rho, phi = sp.symbols(f"rho{k + 1} phi{k + 1}", real=True)
     d = c - a
     h = list(a + rho * direction(phi) - c)
-    return Leg(h, rho, [phi], {rho: sp.sqrt(d.dot(d)), phi: sp.atan2(d[1], d[0])}, [d.dot(d)], None)
+    return Leg(h, rho, [phi], {rho: sp.sqrt(d.dot(d)), phi: sp.atan2(d[1], d[0])}, [d.dot(d)], None,
+               circle=(a, rho))
 
 
 def _prr(k: int, a: sp.Matrix, c: sp.Matrix, axis: sp.Matrix, length: sp.Expr) -> Leg:
@@ -113,7 +116,7 @@ def _prr(k: int, a: sp.Matrix, c: sp.Matrix, axis: sp.Matrix, length: sp.Expr) -
     h = list(a + s * u + length * direction(phi) - c)
     ik = {s: slide, phi: sp.atan2(c[1] - joint[1], c[0] - joint[0])}
     return Leg(h, s, [phi], ik, [length**2 - across**2], sigma, side=-(sp.cos(phi) * u[0] + sp.sin(phi) * u[1]),
-                joints=(a + s * u,))
+               joints=(a + s * u,), circle=(a + s * u, length))
 
 
 def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) -> Leg:
@@ -196,19 +199,37 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     side = sp.Matrix(h).jacobian(variables).det()
     passive = [v for v in variables if v is not actuated]
     closed = None if leg.get("newton") else _closed_chain(leg["joints"], frame.T * (c - a), vector)
+    circle = _chain_circle(leg["joints"], a, points, variables, vector) if planar else None
     if closed is None:
         first = [sp.Float(v) for v in seeds[0]]
         blend = first if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * sp.Float(m)
                                              for p, m in zip(first, seeds[-1], strict=True)]
         return Leg(h, actuated, passive, dict(zip(variables, blend, strict=True)), [], sigma, side=side,
-                    joints=tuple(points[:-1]), end=point, frames=tuple(frames))
+                   joints=tuple(points[:-1]), end=point, frames=tuple(frames), circle=circle)
     solution, reach, signs = closed
     chosen = [_nearest_candidate(solution, signs, seed, angles, start) for seed in seeds]
     values = {s: chosen[0][i] if sigma is None else (1 + sigma) / 2 * chosen[0][i] + (1 - sigma) / 2 * chosen[-1][i]
               for i, s in enumerate(signs)}
     ik = {v: e.subs(values) for v, e in zip(variables, solution, strict=True)}
     return Leg(h, actuated, passive, ik, [m.subs(values) for m in reach], sigma, side=side,
-                joints=tuple(points[:-1]), frames=tuple(frames))
+               joints=tuple(points[:-1]), frames=tuple(frames), circle=circle)
+
+
+def _chain_circle(joints: list[dict[str, Any]], a: sp.Matrix, points: list[sp.Matrix], variables: list[sp.Symbol],
+                  vector: Any) -> tuple[sp.Matrix, sp.Expr] | None:
+    """A planar two-joint chain's circle, where it has one: an actuated R or P, then a passive R (the circle
+    about the R, its link the radius); or a passive R without a link, then an actuated P without one (the
+    circle about A, the P's value the radius). None for any other chain."""
+    if len(joints) != 2:
+        return None
+    first, second = joints
+    if first["actuated"] and second["type"] == "R":
+        link = vector(second["link"])
+        return points[0], sp.sqrt(link.dot(link))
+    no_links = all(e.is_zero for j in joints for e in vector(j["link"]))
+    if first["type"] == "R" and second["actuated"] and second["type"] == "P" and no_links:
+        return a, variables[1]
+    return None
 
 
 def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: list[float], angles: list[bool],

@@ -36,6 +36,23 @@ def _add_chain(spec: ModuleSpec, k: int, leg: Leg, ends: tuple[sp.Matrix, sp.Mat
              f"The attachments of chain leg {k + 1} at a pose.")
 
 
+def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *, actuated: Port, design: Port
+                 ) -> None:
+    """``platform_circles(q_a, design) -> (centres, radii)``: the circle on which each leg's platform joint lies,
+    its actuated joint given, and ``platform_points(design) -> points``: each leg's platform joint in the
+    platform frame; the complete forward kinematics of a planar machine whose every leg has one
+    (:mod:`pkm.assemblies`)."""
+    centres = sp.Matrix.vstack(*(leg.circle[0].T for leg in legs))
+    spec.add("platform_circles", (actuated, design),
+             (Output("centres", centres, "each leg's circle's centre, one row each, in the base frame [m]"),
+              Output("radii", sp.Matrix([leg.circle[1] for leg in legs]), "each leg's circle's radius [m]")),
+             "The circle on which each leg's platform joint lies, its actuated joint given.")
+    spec.add("platform_points", (design,),
+             (Output("points", sp.Matrix.vstack(*(c.T for c in platform)), "each leg's platform joint in the "
+                     "platform frame, one row each [m]"),),
+             "Each leg's platform joint in the platform frame.")
+
+
 def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
     """``region_<name>(design) -> (centre, size)`` and, where the region spans other coordinates than the
     pose's own in order, ``region_<name>_pose(y, design) -> x`` (the others at the home pose's values)."""
@@ -154,6 +171,9 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  "The side of each two-branched leg's passive joints at a configuration.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
+    if frame in ("planar", "planar_point") and all(leg.circle is not None for leg in legs):
+        _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
+                     design=design_port)
     margins = [m for leg in legs for m in leg.margins]
     spec.add("workspace_margins", (joints, pose_port, design_port),
              (Output("margins", sp.Matrix(margins), "each leg's reach margins and its actuated joint's range, >= 0 "

@@ -11,6 +11,7 @@ from pkm.cli.commands import (
     eval,
     explore,
     export,
+    fk,
     index,
     list,
     pareto,
@@ -20,4 +21,5 @@ from pkm.cli.commands import (
     synth,
 )
 
-COMMANDS = (list, build, eval, index, atlas, sweep, synth, pareto, show, compare, explore, design, export, reproduce)
+COMMANDS = (list, build, eval, fk, index, atlas, sweep, synth, pareto, show, compare, explore, design, export,
+            reproduce)

@@ -1,0 +1,215 @@
+"""Every real assembly of a mechanism at its actuated joints, none lost to naming: the complete forward
+kinematics.
+
+A planar machine whose every leg, its actuated joint given, puts its platform joint on a circle (an RR's elbow
+with its distal link, an RPR's base joint with its length, a PRR's slider with its link, a two-joint chain of
+those shapes: the derived ``platform_circles``) assembles where the platform's joints c_i (``platform_points``,
+in its frame) lie on the circles (B_i, r_i):
+
+    g_i(x, y, phi) = |P + R(phi) c_i - B_i|^2 - r_i^2 = 0,   P = (x, y).
+
+In the plane (three legs), g_2 - g_1 and g_3 - g_1 are linear in P: P = N(phi) / D(phi) by Cramer's rule, and
+g_1 at that P, times D^2, is a trigonometric polynomial of degree 3 in phi (Gosselin, Sefrioui and Richard 1994,
+the 3-RPR's sextic). It is found exactly from 8 samples (a discrete Fourier transform: its harmonics above the
+third vanish); z^3 f is a polynomial of degree 6 in z = e^(i phi), whose roots on the unit circle are the real
+platform angles (the companion matrix's eigenvalues, batched). Each is taken back to P, polished by Newton's
+method on the three g_i and kept where it closes them; at most 6. With a point pose (two legs), P is where
+two circles meet: at most 2.
+
+A mechanism with a closed form or a univariate polynomial of its own (:class:`pkm.kinematics.ClosedForm`,
+:class:`pkm.kinematics.PolynomialRoots`) has every assembly among its named ones; the others (seeded Newton
+continuation) are refused by name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.errors import PkmError
+from pkm.kinematics import ClosedForm, PolynomialRoots, as_batch
+
+SAMPLES = 8  # samples of the degree-3 trigonometric polynomial (its harmonics 0 to 3, and 4 to check)
+ON_CIRCLE = 1e-6  # a root of the sextic this close to |z| = 1 is a real platform angle
+NEWTON_STEPS = 4  # polishing steps on the circles' equations
+CLOSURE = 1e-9  # [m] a polished assembly closes every circle to this, relative to the machine's size
+SAME = 1e-7  # two assemblies this close (pose, relative to the machine's size; angle in rad) are one
+
+
+@dataclass(frozen=True)
+class Assemblies:
+    """Every real assembly at each of N sets of actuated joints: ``poses`` (N, S, n_out), NaN beyond each
+    row's ``counts``; ``residuals`` (N, S) the largest closure error of each [m]; ``bound`` the most there
+    can be (the polynomial's degree); ``failed`` (N,) the real roots that did not close (reported, not
+    dropped); ``method`` how they were found."""
+
+    poses: np.ndarray
+    residuals: np.ndarray
+    counts: np.ndarray
+    bound: int
+    failed: np.ndarray
+    method: str
+
+
+def every_assembly(mech: Any, q_a: Any, design: Any = None) -> Assemblies:
+    """Every real assembly of ``mech`` at the actuated joints ``q_a`` (n_act,) or (N, n_act) (module
+    docstring)."""
+    qa, _ = as_batch(q_a, mech.n_act, "actuated joints")
+    d = mech.design_vector(design)
+    if "platform_circles" in mech.functions:
+        (centres, radii) = evaluate(mech.functions["platform_circles"], qa, d)
+        (points,) = evaluate(mech.functions["platform_points"], d)
+        scale = max(1.0, float(np.nanmax(np.abs(centres))), float(np.nanmax(np.abs(radii))))
+        if mech.n_out == 2:
+            return _two_circles(centres[:, :, :2], radii[:, :, 0], points[0], scale)
+        return _three_circles(centres, radii[:, :, 0], points[0], scale)
+    if isinstance(mech.forward, ClosedForm | PolynomialRoots):
+        return _named(mech, qa, d)
+    raise PkmError(f"mechanism {mech.name} violates: a mechanism whose complete forward kinematics pkm knows (a "
+                   "closed form or a polynomial of its own, or planar legs that each put the platform on a "
+                   "circle); its forward_kinematics finds the assemblies its seeds reach, not necessarily all")
+
+
+def _named(mech: Any, qa: np.ndarray, design: np.ndarray) -> Assemblies:
+    """Every assembly mode's pose, where it closes (a closed form's or a polynomial's modes name them all), its
+    residual the largest of the loop closure h(q, x) at its joints."""
+    poses, residuals = [], []
+    for mode in mech.assembly_modes:
+        x = mech.forward_kinematics(qa, design, assembly=mode.name)
+        q = mech.forward_kinematics(qa, design, assembly=mode.name, passive=True)
+        (h, *_) = evaluate(mech.functions["constraint"], q, x, design)
+        poses.append(x)
+        residuals.append(np.max(np.abs(h[:, :, 0]), axis=1))
+    closed = np.all(np.isfinite(np.stack(poses, axis=1)), axis=2)
+    order = np.argsort(~closed, axis=1, kind="stable")
+    poses = np.take_along_axis(np.stack(poses, axis=1), order[:, :, None], axis=1)
+    residuals = np.take_along_axis(np.stack(residuals, axis=1), order, axis=1)
+    return Assemblies(poses, residuals, closed.sum(axis=1), len(mech.assembly_modes), np.zeros(len(qa), int),
+                      f"{type(mech.forward).__name__}: every assembly mode")
+
+
+def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
+    """P where P + c_1 and P + c_2 lie on their circles: the circles about B_i - c_i meet in 0, 1 or 2
+    points."""
+    b = centres - points[None, :, :]
+    d = b[:, 1] - b[:, 0]
+    gap = np.linalg.norm(d, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        along = (radii[:, 0] ** 2 - radii[:, 1] ** 2 + gap**2) / (2 * gap)
+        across = np.sqrt(radii[:, 0] ** 2 - along**2)
+        u = d / gap[:, None]
+    normal = np.stack([-u[:, 1], u[:, 0]], axis=1)
+    foot = b[:, 0] + along[:, None] * u
+    poses = np.stack([foot + across[:, None] * normal, foot - across[:, None] * normal], axis=1)
+    tangent = np.abs(across) <= SAME * scale
+    poses[tangent, 1] = np.nan
+    residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
+    poses[~(residuals <= CLOSURE * scale)] = np.nan
+    residuals[~(residuals <= CLOSURE * scale)] = np.nan
+    closed = np.all(np.isfinite(poses), axis=2)
+    return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
+                      "two circles' intersection")
+
+
+def _point_residual(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:
+    return np.max(np.abs(np.linalg.norm(p[:, None, :] + points[None] - centres, axis=2) - radii), axis=1)
+
+
+def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """At platform angles phi (N, M): f = |N|^2 + 2 D N.w_1 + D^2 (|w_1|^2 - r_1^2), N (N, M, 2), D (N, M) and
+    w_i = R(phi) c_i - B_i (N, M, 3, 2)."""
+    cos, sin = np.cos(phi)[..., None], np.sin(phi)[..., None]
+    turned = np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
+    w = turned - centres[:, None, :, :]
+    power = np.sum(w**2, axis=-1) - radii[:, None, :] ** 2
+    m = 2 * (w[..., 1:, :] - w[..., :1, :])
+    rhs = -(power[..., 1:] - power[..., :1])
+    det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
+    num = np.stack([m[..., 1, 1] * rhs[..., 0] - m[..., 0, 1] * rhs[..., 1],
+                    m[..., 0, 0] * rhs[..., 1] - m[..., 1, 0] * rhs[..., 0]], axis=-1)
+    f = np.sum(num**2, axis=-1) + 2 * det * np.sum(num * w[..., 0, :], axis=-1) + det**2 * power[..., 0]
+    return f, num, det, w
+
+
+def _roots(coefficients: np.ndarray) -> np.ndarray:
+    """The roots (N, 6) of the polynomials c_0 + c_1 z + ... + c_6 z^6 (N, 7), NaN where the degree drops."""
+    out = np.full((len(coefficients), 6), np.nan + 0j)
+    lead = coefficients[:, 6]
+    full = np.abs(lead) > 1e-13 * np.max(np.abs(coefficients), axis=1)
+    if full.any():
+        companion = np.zeros((int(full.sum()), 6, 6), dtype=complex)
+        companion[:, 1:, :-1] = np.eye(5)
+        companion[:, :, -1] = -coefficients[full, :6] / lead[full, None]
+        out[full] = np.linalg.eigvals(companion)
+    for row in np.flatnonzero(~full):
+        found = np.roots(np.trim_zeros(coefficients[row, ::-1], "f"))
+        out[row, : len(found)] = found
+    return out
+
+
+def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
+    """Every (x, y, phi) that puts each platform joint on its circle (module docstring)."""
+    n = len(centres)
+    samples = 2 * np.pi * np.arange(SAMPLES) / SAMPLES
+    f, *_ = _terms(np.broadcast_to(samples, (n, SAMPLES)), centres, radii, points)
+    harmonics = np.fft.fft(f, axis=1) / SAMPLES
+    coefficients = harmonics[:, [k % SAMPLES for k in range(-3, 4)]]  # of z^0 .. z^6 in z^3 f
+    z = _roots(coefficients)
+    real = np.abs(np.abs(z) - 1) <= ON_CIRCLE
+    phi = np.where(real, np.angle(z), np.nan)
+    _, num, det, _ = _terms(phi, centres, radii, points)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
+    for _ in range(NEWTON_STEPS):
+        x = _newton_step(x, centres, radii, points)
+    residual = _residual(x, centres, radii, points)
+    closed = residual <= CLOSURE * scale
+    poses, residuals = _distinct(np.where(closed[..., None], x, np.nan), np.where(closed, residual, np.nan), scale)
+    counts = np.sum(np.isfinite(residuals), axis=1)
+    return Assemblies(poses, residuals, counts, 6, np.sum(real & ~closed, axis=1),
+                      "the sextic in the platform angle (Gosselin-Sefrioui-Richard), its roots polished")
+
+
+def _circle_terms(x: np.ndarray, centres: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The platform joints' offsets from their circles' centres (N, S, 3, 2) and their derivative in phi."""
+    cos, sin = np.cos(x[..., 2])[..., None], np.sin(x[..., 2])[..., None]
+    turned = np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
+    offset = x[..., None, :2] + turned - centres[:, None, :, :]
+    return offset, np.stack([-turned[..., 1], turned[..., 0]], axis=-1)
+
+
+def _residual(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:
+    offset, _ = _circle_terms(x, centres, points)
+    return np.max(np.abs(np.linalg.norm(offset, axis=-1) - radii[:, None, :]), axis=-1)
+
+
+def _newton_step(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """One Newton step on g_i = |offset_i|^2 - r_i^2 in (x, y, phi); a singular step leaves the row."""
+    offset, turning = _circle_terms(x, centres, points)
+    g = np.sum(offset**2, axis=-1) - radii[:, None, :] ** 2
+    jacobian = 2 * np.concatenate([offset, np.sum(offset * turning, axis=-1, keepdims=True)], axis=-1)
+    finite = np.all(np.isfinite(jacobian), axis=(-2, -1)) & (np.abs(np.linalg.det(
+        np.where(np.isfinite(jacobian), jacobian, 0.0))) > 0)
+    step = np.zeros_like(x)
+    step[finite] = np.linalg.solve(jacobian[finite], g[finite][..., None])[..., 0]
+    return x - step
+
+
+def _distinct(poses: np.ndarray, residuals: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's assemblies once (a double root found twice is one: an assembly equal to an earlier one of its
+    row is dropped), in the order of the platform angle, the closed first; NaN beyond them."""
+    poses = poses.copy()
+    poses[..., 2] = np.angle(np.exp(1j * poses[..., 2]))
+    near = np.all(np.abs(poses[:, :, None, :2] - poses[:, None, :, :2]) <= SAME * scale, axis=-1) & (
+        np.abs(np.angle(np.exp(1j * (poses[:, :, None, 2] - poses[:, None, :, 2])))) <= SAME)
+    earlier = np.tril(np.ones(near.shape[1:], dtype=bool), -1)
+    repeated = np.any(near & earlier, axis=2)
+    poses[repeated] = np.nan
+    residuals = np.where(repeated, np.nan, residuals)
+    key = np.where(np.isfinite(residuals), poses[..., 2], np.inf)
+    order = np.argsort(key, axis=1, kind="stable")
+    return np.take_along_axis(poses, order[..., None], axis=1), np.take_along_axis(residuals, order, axis=1)

@@ -1,0 +1,81 @@
+"""``pkm fk``: every real assembly at given actuated joints (:mod:`pkm.assemblies`)."""
+
+from __future__ import annotations
+
+import argparse
+import reprlib
+from typing import Any
+
+import numpy as np
+
+from pkm.cli.arguments import design_option, listed, units_option
+from pkm.cli.common import emit, given_design, given_units, load_mechanism, unit_text
+from pkm.errors import PkmError
+from pkm.mechanism import Mechanism
+from pkm.units import Units
+
+HELP = "every real assembly at given actuated joints, each with its closure residual and singularity margin"
+PARALLEL = False
+SAME_JOINTS = 1e-8  # a working mode whose inverse kinematics gives the joints back to this is the assembly's
+
+
+def options(p: argparse.ArgumentParser) -> None:
+    """The mechanism, the actuated joints, the design."""
+    listed(p, "mechanism", key="mechanism")
+    p.add_argument("--joints", required=True, help="the actuated joints, comma-separated, in the actuators' units "
+                                                   "(no default); e.g. 0.7,0.8,0.9")
+    design_option(p)
+    units_option(p)
+
+
+def _joints(m: Mechanism, text: str, units: Units) -> np.ndarray:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise PkmError(f"--joints {reprlib.repr(text)} violates: {m.n_act} numbers, comma-separated") from None
+    if len(values) != m.n_act or not np.all(np.isfinite(values)):
+        raise PkmError(f"--joints violates: {m.n_act} finite numbers ({', '.join(m.actuator_names)}); got "
+                       f"{len(values)}")
+    return units.to_si(np.array(values), m.actuator_units)
+
+
+def _mode(m: Mechanism, pose: np.ndarray, q_a: np.ndarray, design: Any) -> str | None:
+    """The working mode whose inverse kinematics gives ``q_a`` back at ``pose``, if one does."""
+    angles = np.array([u == "rad" for u in m.actuator_units])
+    for mode in m.modes:
+        gap = m.inverse_kinematics(pose, design, mode=mode, limits=False) - q_a
+        gap[angles] = np.angle(np.exp(1j * gap[angles]))
+        if np.all(np.abs(gap) <= SAME_JOINTS * max(1.0, float(np.abs(q_a).max()))):
+            return mode
+    return None
+
+
+def run(args: argparse.Namespace) -> None:
+    """Every assembly's pose, closure residual, working mode and singularity margins."""
+    m = load_mechanism(args.mechanism)
+    units = given_units(args)
+    d = given_design(m, args.design, units)
+    q_a = _joints(m, args.joints, units)
+    found = m.every_assembly(q_a, d)
+    rows = []
+    for pose, residual in zip(found.poses[0, : found.counts[0]], found.residuals[0, : found.counts[0]],
+                              strict=True):
+        mode = _mode(m, pose, q_a, d)
+        margins = {name: None if mode is None else float(m.local_index(name, pose, d, mode=mode))
+                   for name in ("singularity_margin_type1", "singularity_margin_type2")}
+        rows.append({"pose": dict(zip(m.pose_names, units.from_si(pose, m.pose_units).tolist(), strict=True)),
+                     "residual": float(residual), "mode": mode, **margins})
+    pose_units = {n: units.convert(u)[1] for n, u in zip(m.pose_names, m.pose_units, strict=True)}
+    data = {"mechanism": m.name, "joints": dict(zip(m.actuator_names, units.from_si(q_a, m.actuator_units).tolist(),
+                                                    strict=True)),
+            "units": pose_units, "count": int(found.counts[0]), "bound": found.bound,
+            "failed": int(found.failed[0]), "method": found.method, "assemblies": rows}
+    lines = [f"{m.name}: {data['count']} real assemblies (at most {found.bound}; {found.method})"
+             + (f"; {data['failed']} real roots did not close" if data["failed"] else "")]
+    for k, row in enumerate(rows, 1):
+        pose = ", ".join(f"{n} = {v:.8g}{unit_text(pose_units[n])}" for n, v in row["pose"].items())
+        where = "in no working mode" if row["mode"] is None else (
+            f"working mode {row['mode']}, singularity margins type I {row['singularity_margin_type1']:.3g}, type II "
+            f"{row['singularity_margin_type2']:.3g}")
+        lines.append(f"  {k}: {pose}; closure residual {row['residual']:.1e} m; {where}")
+    emit(args, data, "\n".join(lines))

@@ -1,0 +1,196 @@
+"""Every real assembly (issue 39, the planar machines): the sextic in the platform angle finds each assembly of
+a planar machine whose legs put its platform joints on circles, none lost to naming. Anchors: ALIAS's 3-RPR
+(exactly its two assemblies), a 3-RPR pose with six, the hand-derived five-bar's closed form on the five-bar of
+RR legs; for random poses of the described 3-RRR and a 3-PRR every assembly closes, the inverse kinematics
+gives the joints back in one of the working modes, and an independent solve (least squares on the inverse
+kinematics from many starts, every working mode; a dense scan of the platform angle) finds no other."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+from helpers import FIVE_BAR_OF_RR_LEGS, PRR3
+from scipy.optimize import least_squares
+
+import pkm
+from pkm.errors import PkmError, SingularityWarning
+from pkm.models.described import DESCRIPTIONS
+
+
+def _rpr3(name: str, base: list, platform: list, home: list) -> dict:
+    return {"name": name, "doc": "a planar 3-RPR, its joints listed", "frame": "planar", "home": home,
+            "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
+            "legs": {"kind": "RPR", "count": 3, "base": [[f"{x} * s", f"{y} * s"] for x, y in base],
+                     "platform": [[f"{x} * s", f"{y} * s"] for x, y in platform]}}
+
+
+# ALIAS-C++'s example: base joints (0,0), (10,0), (3,10); platform points (0,0), (4,0), (2,2)
+ALIAS = _rpr3("alias_3rpr", [(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)], [5, 5, 0])
+# a 3-RPR (unit scale) and leg lengths at which it has six real assemblies
+SIX = _rpr3("six_3rpr", [(0.068, -0.918), (0.072, 0.26), (-0.823, -0.039)],
+            [(0.531, -0.525), (-0.545, -0.476), (0.218, 0.472)], [0, 0, 0])
+SIX_LENGTHS = [1.317, 1.0585, 0.9095]
+
+
+def _load(raw: dict) -> pkm.Mechanism:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        return pkm.load(raw)
+
+
+def _wrapped(a: np.ndarray) -> np.ndarray:
+    return np.angle(np.exp(1j * a))
+
+
+def _independent(m: pkm.Mechanism, q_a: np.ndarray, box: np.ndarray, starts: int, seed: int) -> list[np.ndarray]:
+    """The poses where some working mode's inverse kinematics gives ``q_a``: least squares from random starts
+    in ``box`` (2, n) for each mode, the distinct converged ones."""
+    rng = np.random.default_rng(seed)
+    found: list[np.ndarray] = []
+    angles = np.array([u == "rad" for u in m.actuator_units])
+    for mode in m.modes:
+        def residual(x, mode=mode):
+            q = m.inverse_kinematics(x, mode=mode)
+            if not np.all(np.isfinite(q)):
+                return np.full(len(q_a), 10.0)
+            gap = q - q_a
+            gap[angles] = _wrapped(gap[angles])
+            return gap
+
+        for start in rng.uniform(box[0], box[1], size=(starts, len(box[0]))):
+            fit = least_squares(residual, start, xtol=1e-14, ftol=1e-14, gtol=1e-14)
+            x = fit.x.copy()
+            if m.n_out == 3:
+                x[2] = _wrapped(x[2])
+            if np.max(np.abs(fit.fun)) < 1e-9 and not any(np.allclose(x, y, atol=1e-6) for y in found):
+                found.append(x)
+    return found
+
+
+SCAN = 200_001  # platform angles of the dense scan
+
+
+def _scanned(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
+    """The platform angles of a planar machine's assemblies by a dense scan: at each angle the platform's
+    position from the differences of the circles' equations (a 2 x 2 solve), the first equation there times
+    the solve's determinant squared, its sign changes refined by bisection; in order."""
+    centres, radii = (np.asarray(v, dtype=float) for v in m.functions["platform_circles"](q_a, design))
+    points = np.asarray(m.functions["platform_points"](design), dtype=float)
+    radii = radii.ravel()
+
+    def first(phi: np.ndarray) -> np.ndarray:
+        rotation = np.stack([np.cos(phi), -np.sin(phi), np.sin(phi), np.cos(phi)], axis=-1).reshape(-1, 2, 2)
+        w = np.einsum("nij,kj->nki", rotation, points) - centres
+        power = np.sum(w**2, axis=2) - radii**2
+        system = 2 * (w[:, 1:] - w[:, :1])
+        det = np.linalg.det(system)
+        position = np.linalg.solve(system, -(power[:, 1:] - power[:, :1])[..., None])[..., 0]
+        return (np.sum(position**2, axis=1) + 2 * np.sum(position * w[:, 0], axis=1) + power[:, 0]) * det**2
+
+    phi = np.linspace(-np.pi, np.pi, SCAN)
+    values = first(phi)
+    lo, hi = phi[:-1][np.sign(values[:-1]) * np.sign(values[1:]) < 0], phi[1:][np.sign(values[:-1]) * np.sign(
+        values[1:]) < 0]
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        left = np.sign(first(lo)) * np.sign(first(mid)) <= 0
+        lo, hi = np.where(left, lo, mid), np.where(left, mid, hi)
+    return np.sort((lo + hi) / 2)
+
+
+def _poses(a, row: int = 0) -> np.ndarray:
+    return a.poses[row, : a.counts[row]]
+
+
+def test_alias_3rpr_has_exactly_its_two_assemblies():
+    a = _load(ALIAS).every_assembly(np.sqrt([50.0, 26.0, 25.0]))
+    assert a.counts.tolist() == [2]
+    assert a.bound == 6
+    assert a.failed.tolist() == [0]
+    np.testing.assert_allclose(_poses(a), [[3.369707132, 6.216516219, -0.8067834380], [5, 5, 0]], atol=1e-9)
+    assert np.nanmax(a.residuals) < 1e-12
+
+
+def test_a_3rpr_pose_with_six_assemblies_has_all_six():
+    m = _load(SIX)
+    a = m.every_assembly(SIX_LENGTHS)
+    assert a.counts.tolist() == [6]
+    independent = _independent(m, np.array(SIX_LENGTHS), np.array([[-2, -2, -np.pi], [2, 2, np.pi]]), 60, 1)
+    assert len(independent) == 6
+    for x in independent:
+        assert np.min(np.max(np.abs(np.c_[_poses(a)[:, :2] - x[:2], _wrapped(_poses(a)[:, 2] - x[2])]), axis=1)) < 1e-7
+
+
+@pytest.mark.parametrize("source", ["rrr3", "prr3"])
+def test_every_assembly_closes_gives_the_joints_back_and_none_is_missed(source):
+    """At 20 random poses of random working modes: the pose the joints came from is among the assemblies, each
+    assembly's inverse kinematics gives the joints back in some working mode (FK then IK), and a dense scan of
+    the platform angle finds the same angles, none missed."""
+    m = pkm.load(str(DESCRIPTIONS["rrr3"])) if source == "rrr3" else _load(PRR3)
+    rng = np.random.default_rng(21)
+    x = rng.uniform([-0.25, -0.25, -0.5], [0.25, 0.25, 0.5], size=(60, 3))
+    modes = [m.modes[k] for k in rng.integers(len(m.modes), size=60)]
+    q = np.array([m.inverse_kinematics(p, mode=mode) for p, mode in zip(x, modes, strict=True)])
+    keep = np.flatnonzero(np.isfinite(q).all(axis=1))[:20]
+    assert len(keep) == 20
+    a = m.every_assembly(q[keep])
+    angles = np.array([u == "rad" for u in m.actuator_units])
+    for row, k in enumerate(keep):
+        found = _poses(a, row)
+        assert np.min(np.max(np.abs(np.c_[found[:, :2] - x[k, :2], _wrapped(found[:, 2] - x[k, 2])]), axis=1)) < 1e-8
+        assert np.nanmax(a.residuals[row]) < 1e-10
+        for pose in found:
+            back = np.array([m.inverse_kinematics(pose, mode=mode) for mode in m.modes])
+            gap = back - q[k]
+            gap[:, angles] = _wrapped(gap[:, angles])
+            assert np.nanmin(np.max(np.abs(gap), axis=1)) < 1e-8
+    design = m.design().vector()
+    for row, k in enumerate(keep):
+        angles = _scanned(m, q[k], design)
+        np.testing.assert_allclose(np.sort(_poses(a, row)[:, 2]), angles, atol=1e-7)
+
+
+def test_the_five_bar_of_rr_legs_has_the_hand_derived_five_bars_assemblies():
+    described = _load(copy.deepcopy(FIVE_BAR_OF_RR_LEGS))
+    hand = pkm.load("five_bar")
+    rng = np.random.default_rng(4)
+    q = rng.uniform(-math.pi, math.pi, size=(200, 2))
+    mine, theirs = described.every_assembly(q), hand.every_assembly(q, hand.design())
+    assert mine.bound == theirs.bound == 2
+    np.testing.assert_array_equal(mine.counts, theirs.counts)
+    assert 20 < mine.counts.sum() < 400
+    for row in np.flatnonzero(mine.counts):
+        a, b = _poses(mine, row), _poses(theirs, row)
+        assert np.max(np.min(np.linalg.norm(a[:, None] - b[None], axis=2), axis=1)) < 1e-10
+
+
+def test_a_machine_whose_forward_kinematics_is_seeded_is_refused_by_name():
+    with pytest.raises(PkmError, match=r"mechanism delta violates: a mechanism whose complete forward kinematics"):
+        pkm.load("delta").every_assembly([0.1, 0.2, 0.3])
+
+
+def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
+    from pkm.cli import main
+
+    assert main(["fk", "five_bar", "--joints", "1.5,1.2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["count"], data["bound"], data["failed"]) == (2, 2, 0)
+    hand = pkm.load("five_bar")
+    for row in data["assemblies"]:
+        assert row["residual"] < 1e-12
+        pose = [row["pose"][n] for n in hand.pose_names]
+        np.testing.assert_allclose(hand.inverse_kinematics(pose, mode=row["mode"]), [1.5, 1.2], atol=1e-10)
+        assert 0 < row["singularity_margin_type1"] <= 1
+        assert 0 < row["singularity_margin_type2"] <= 1
+    assert main(["fk", "five_bar", "--joints", "86,69", "--units", "mm,deg"]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("five_bar: 2 real assemblies (at most 2")
+    assert " mm, y = " in text
+    assert main(["fk", "five_bar", "--joints", "1,x"]) == 2
+    assert "--joints '1,x' violates: 2 numbers, comma-separated" in capsys.readouterr().err
+    assert main(["fk", "delta", "--joints", "0.1,0.2,0.3"]) == 2
