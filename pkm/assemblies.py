@@ -16,6 +16,12 @@ platform angles (the companion matrix's eigenvalues, batched). Each is taken bac
 method on the three g_i and kept where it closes them; at most 6. With a point pose (two legs), P is where
 two circles meet: at most 2.
 
+With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
+the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
+inputs as exact numbers, its complex roots isolated (``acb_poly.roots``), a root's ball that meets the real line
+proved real by a sign change of the polynomial across it, and a ball that does not, proved complex; a row
+whose roots cannot be isolated (a double root: two assemblies meeting at a singularity) is not certified.
+
 A mechanism with a closed form or a univariate polynomial of its own (:class:`pkm.kinematics.ClosedForm`,
 :class:`pkm.kinematics.PolynomialRoots`) has every assembly among its named ones; the others (seeded Newton
 continuation) are refused by name.
@@ -23,7 +29,7 @@ continuation) are refused by name.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -52,11 +58,12 @@ class Assemblies:
     bound: int
     failed: np.ndarray
     method: str
+    certified: np.ndarray | None = None  # (N,) whether the count equals the certified count (with ``certify``)
 
 
-def every_assembly(mech: Any, q_a: Any, design: Any = None) -> Assemblies:
-    """Every real assembly of ``mech`` at the actuated joints ``q_a`` (n_act,) or (N, n_act) (module
-    docstring)."""
+def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False) -> Assemblies:
+    """Every real assembly of ``mech`` at the actuated joints ``q_a`` (n_act,) or (N, n_act); with ``certify``
+    each row's count checked against a certified count of the real roots (module docstring)."""
     qa, _ = as_batch(q_a, mech.n_act, "actuated joints")
     d = mech.design_vector(design)
     if "platform_circles" in mech.functions:
@@ -65,7 +72,12 @@ def every_assembly(mech: Any, q_a: Any, design: Any = None) -> Assemblies:
         scale = max(1.0, float(np.nanmax(np.abs(centres))), float(np.nanmax(np.abs(radii))))
         if mech.n_out == 2:
             return _two_circles(centres[:, :, :2], radii[:, :, 0], points[0], scale)
-        return _three_circles(centres, radii[:, :, 0], points[0], scale)
+        found = _three_circles(centres, radii[:, :, 0], points[0], scale)
+        if not certify:
+            return found
+        counts = [real_roots(c, r, points[0]) for c, r in zip(centres, radii[:, :, 0], strict=True)]
+        return replace(found, certified=np.array([n is not None and n == k for n, k in zip(
+            counts, found.counts, strict=True)]))
     if isinstance(mech.forward, ClosedForm | PolynomialRoots):
         return _named(mech, qa, d)
     raise PkmError(f"mechanism {mech.name} violates: a mechanism whose complete forward kinematics pkm knows (a "
@@ -213,3 +225,70 @@ def _distinct(poses: np.ndarray, residuals: np.ndarray, scale: float) -> tuple[n
     key = np.where(np.isfinite(residuals), poses[..., 2], np.inf)
     order = np.argsort(key, axis=1, kind="stable")
     return np.take_along_axis(poses, order[..., None], axis=1), np.take_along_axis(residuals, order, axis=1)
+
+
+CERTIFY_BITS = (128, 256, 512)  # the precisions the certified count tries in turn
+INTERPOLATION = tuple(range(-3, 4))  # the t = tan(phi / 2) the sextic is interpolated through
+
+
+def real_roots(centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> int | None:
+    """The certified number of real platform angles at which three platform joints ``points`` (3, 2) lie on the
+    circles (``centres`` (3, 2), ``radii`` (3,)), the inputs taken as exact numbers: the real roots of
+    (1 + t^2)^3 f(phi(t)) and phi = pi where its degree drops (module docstring); None where they cannot be
+    certified at CERTIFY_BITS."""
+    try:
+        import flint
+    except ImportError:
+        raise PkmError("certify violates: python-flint installed (pip install python-flint), whose ball "
+                       "arithmetic certifies the count") from None
+    previous = flint.ctx.prec
+    try:
+        for bits in CERTIFY_BITS:
+            flint.ctx.prec = bits
+            count = _certified(flint, centres, radii, points)
+            if count is not None:
+                return count
+        return None
+    finally:
+        flint.ctx.prec = previous
+
+
+def _sextic_at(flint: Any, t: Any, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> Any:
+    """(1 + t^2)^3 f at t in ball arithmetic: cos and sin of phi(t) rational in t, f by Cramer's rule."""
+    arb = flint.arb
+    cos, sin = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
+    w = [(cos * arb(float(c[0])) - sin * arb(float(c[1])) - arb(float(b[0])),
+          sin * arb(float(c[0])) + cos * arb(float(c[1])) - arb(float(b[1]))) for c, b in zip(points, centres,
+                                                                                              strict=True)]
+    power = [u * u + v * v - arb(float(r)) ** 2 for (u, v), r in zip(w, radii, strict=True)]
+    m = [[2 * (w[k][0] - w[0][0]), 2 * (w[k][1] - w[0][1])] for k in (1, 2)]
+    rhs = [-(power[k] - power[0]) for k in (1, 2)]
+    det = m[0][0] * m[1][1] - m[0][1] * m[1][0]
+    nx, ny = m[1][1] * rhs[0] - m[0][1] * rhs[1], m[0][0] * rhs[1] - m[1][0] * rhs[0]
+    f = nx * nx + ny * ny + 2 * det * (nx * w[0][0] + ny * w[0][1]) + det * det * power[0]
+    return f * (1 + t * t) ** 3
+
+
+def _certified(flint: Any, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> int | None:
+    ts = [flint.arb(t) for t in INTERPOLATION]
+    values = [_sextic_at(flint, t, centres, radii, points) for t in ts]
+    poly = flint.arb_poly.interpolate(ts, values)
+    coefficients = poly.coeffs()
+    lead = coefficients[6] if len(coefficients) > 6 else flint.arb(0)
+    if 0 in lead:
+        return None  # phi = pi a root, or the sextic's degree not certain
+    try:
+        roots = flint.acb_poly(coefficients).roots()
+    except ValueError:
+        return None  # a double root (assemblies meeting at a singularity) or too little precision
+    count = 0
+    for root in roots:
+        if 0 not in root.imag:
+            continue
+        lo, hi = root.real.lower(), root.real.upper()
+        at_lo, at_hi = poly(lo), poly(hi)
+        if at_lo * at_hi < 0:
+            count += 1
+        else:
+            return None
+    return count

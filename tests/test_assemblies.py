@@ -108,8 +108,9 @@ def _poses(a, row: int = 0) -> np.ndarray:
 
 
 def test_alias_3rpr_has_exactly_its_two_assemblies():
-    a = _load(ALIAS).every_assembly(np.sqrt([50.0, 26.0, 25.0]))
+    a = _load(ALIAS).every_assembly(np.sqrt([50.0, 26.0, 25.0]), certify=True)
     assert a.counts.tolist() == [2]
+    assert a.certified.tolist() == [True]
     assert a.bound == 6
     assert a.failed.tolist() == [0]
     np.testing.assert_allclose(_poses(a), [[3.369707132, 6.216516219, -0.8067834380], [5, 5, 0]], atol=1e-9)
@@ -118,8 +119,9 @@ def test_alias_3rpr_has_exactly_its_two_assemblies():
 
 def test_a_3rpr_pose_with_six_assemblies_has_all_six():
     m = _load(SIX)
-    a = m.every_assembly(SIX_LENGTHS)
+    a = m.every_assembly(SIX_LENGTHS, certify=True)
     assert a.counts.tolist() == [6]
+    assert a.certified.tolist() == [True]
     independent = _independent(m, np.array(SIX_LENGTHS), np.array([[-2, -2, -np.pi], [2, 2, np.pi]]), 60, 1)
     assert len(independent) == 6
     for x in independent:
@@ -138,7 +140,8 @@ def test_every_assembly_closes_gives_the_joints_back_and_none_is_missed(source):
     q = np.array([m.inverse_kinematics(p, mode=mode) for p, mode in zip(x, modes, strict=True)])
     keep = np.flatnonzero(np.isfinite(q).all(axis=1))[:20]
     assert len(keep) == 20
-    a = m.every_assembly(q[keep])
+    a = m.every_assembly(q[keep], certify=True)
+    assert a.certified.all()
     angles = np.array([u == "rad" for u in m.actuator_units])
     for row, k in enumerate(keep):
         found = _poses(a, row)
@@ -191,6 +194,22 @@ def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
     text = capsys.readouterr().out
     assert text.startswith("five_bar: 2 real assemblies (at most 2")
     assert " mm, y = " in text
+    assert main(["fk", str(DESCRIPTIONS["rrr3"]), "--joints=-0.48915,1.442464,3.545811", "--certify",
+                 "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["count"], data["certified"]) == (2, True)
     assert main(["fk", "five_bar", "--joints", "1,x"]) == 2
     assert "--joints '1,x' violates: 2 numbers, comma-separated" in capsys.readouterr().err
     assert main(["fk", "delta", "--joints", "0.1,0.2,0.3"]) == 2
+
+
+def test_a_double_root_at_a_singularity_is_not_certified():
+    """The in-line 3-RPR (its platform a scaled copy of its base) is type II singular over phi = 0: at its home
+    pose two assemblies meet there, the sextic's root is double, and the count is not certified (rather than
+    certified wrong); a pose off the singular plane is."""
+    rpr3 = _rpr3("inline_3rpr", [(0, 1), (-0.866, -0.5), (0.866, -0.5)], [(0, 0.4), (-0.3464, -0.2), (0.3464, -0.2)],
+                 [0, 0, 0])
+    m = _load(rpr3)
+    q = m.inverse_kinematics([[0.0, 0.0, 0.0], [0.05, 0.02, 0.3]])
+    a = m.every_assembly(q, certify=True)
+    assert a.certified.tolist() == [False, True]

@@ -24,6 +24,8 @@ def options(p: argparse.ArgumentParser) -> None:
     listed(p, "mechanism", key="mechanism")
     p.add_argument("--joints", required=True, help="the actuated joints, comma-separated, in the actuators' units "
                                                    "(no default); e.g. 0.7,0.8,0.9")
+    p.add_argument("--certify", action="store_true", help="check the count against a certified count of the real "
+                                                        "roots (python-flint's ball arithmetic; default: off)")
     design_option(p)
     units_option(p)
 
@@ -56,7 +58,7 @@ def run(args: argparse.Namespace) -> None:
     units = given_units(args)
     d = given_design(m, args.design, units)
     q_a = _joints(m, args.joints, units)
-    found = m.every_assembly(q_a, d)
+    found = m.every_assembly(q_a, d, certify=args.certify)
     rows = []
     for pose, residual in zip(found.poses[0, : found.counts[0]], found.residuals[0, : found.counts[0]],
                               strict=True):
@@ -69,9 +71,12 @@ def run(args: argparse.Namespace) -> None:
     data = {"mechanism": m.name, "joints": dict(zip(m.actuator_names, units.from_si(q_a, m.actuator_units).tolist(),
                                                     strict=True)),
             "units": pose_units, "count": int(found.counts[0]), "bound": found.bound,
-            "failed": int(found.failed[0]), "method": found.method, "assemblies": rows}
+            "failed": int(found.failed[0]), "method": found.method, "assemblies": rows,
+            "certified": None if found.certified is None else bool(found.certified[0])}
     lines = [f"{m.name}: {data['count']} real assemblies (at most {found.bound}; {found.method})"
-             + (f"; {data['failed']} real roots did not close" if data["failed"] else "")]
+             + (f"; {data['failed']} real roots did not close" if data["failed"] else "")
+             + ("" if data["certified"] is None else "; the count certified" if data["certified"] else
+                "; the count NOT certified (a double root: assemblies meeting at a singularity)")]
     for k, row in enumerate(rows, 1):
         pose = ", ".join(f"{n} = {v:.8g}{unit_text(pose_units[n])}" for n, v in row["pose"].items())
         where = "in no working mode" if row["mode"] is None else (
