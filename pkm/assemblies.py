@@ -48,9 +48,10 @@ SAME = 1e-7  # two assemblies this close (pose, relative to the machine's size; 
 @dataclass(frozen=True)
 class Assemblies:
     """Every real assembly at each of N sets of actuated joints: ``poses`` (N, S, n_out), NaN beyond each
-    row's ``counts``; ``residuals`` (N, S) the largest closure error of each [m]; ``bound`` the most there
-    can be (the polynomial's degree); ``failed`` (N,) the real roots that did not close (reported, not
-    dropped); ``method`` how they were found."""
+    row's ``counts`` (followed along a path, NaN where a column's assembly does not exist); ``residuals`` (N,
+    S) the largest closure error of each [m]; ``bound`` the most there can be (the polynomial's degree);
+    ``failed`` (N,) the real roots that did not close (reported, not dropped); ``method`` how they were
+    found."""
 
     poses: np.ndarray
     residuals: np.ndarray
@@ -61,9 +62,17 @@ class Assemblies:
     certified: np.ndarray | None = None  # (N,) whether the count equals the certified count (with ``certify``)
 
 
-def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False) -> Assemblies:
+def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False, follow: bool = False
+                   ) -> Assemblies:
     """Every real assembly of ``mech`` at the actuated joints ``q_a`` (n_act,) or (N, n_act); with ``certify``
-    each row's count checked against a certified count of the real roots (module docstring)."""
+    each row's count checked against a certified count of the real roots (module docstring); with ``follow``
+    the rows are a path of the joints and each column of ``poses`` follows one configuration along it
+    (:func:`followed`)."""
+    found = _every_assembly(mech, q_a, design, certify=certify)
+    return followed(found, mech) if follow else found
+
+
+def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assemblies:
     qa, _ = as_batch(q_a, mech.n_act, "actuated joints")
     d = mech.design_vector(design)
     if "platform_circles" in mech.functions:
@@ -292,3 +301,37 @@ def _certified(flint: Any, centres: np.ndarray, radii: np.ndarray, points: np.nd
         else:
             return None
     return count
+
+
+def followed(found: Assemblies, mech: Any) -> Assemblies:
+    """The assemblies of a path of actuated joints (consecutive rows) in columns that each follow one
+    configuration: each row's assemblies go to the columns whose configurations, continued along their last
+    step, are nearest (nearest pairs first; angles wrapped), one born where assemblies meet at a singularity
+    to a column free there; so that column k names one assembly along the path, not a rank."""
+    angles = np.array([u == "rad" for u in mech.pose_units])
+    poses, residuals = found.poses.copy(), found.residuals.copy()
+    for row in range(1, len(poses)):
+        before, now = poses[row - 1], found.poses[row]
+        if row > 1:  # each column's next configuration predicted along its last step, where it has one
+            step = poses[row - 1] - poses[row - 2]
+            step[:, angles] = np.angle(np.exp(1j * step[:, angles]))
+            before = np.where(np.isfinite(step), before + step, before)
+        gap = now[:, None, :] - before[None, :, :]
+        gap[..., angles] = np.angle(np.exp(1j * gap[..., angles]))
+        distance = np.linalg.norm(gap, axis=-1)
+        distance[~np.isfinite(distance)] = np.inf
+        placed = np.full(len(now), -1)
+        free = np.ones(len(now), dtype=bool)
+        for flat in np.argsort(distance, axis=None):
+            i, j = divmod(int(flat), len(now))
+            if np.isfinite(distance[i, j]) and placed[i] < 0 and free[j]:
+                placed[i], free[j] = j, False
+        for i in np.flatnonzero((placed < 0) & np.all(np.isfinite(now), axis=1)):
+            j = int(np.flatnonzero(free)[0])
+            placed[i], free[j] = j, False
+        poses[row] = np.nan
+        residuals[row] = np.nan
+        for i, j in enumerate(placed):
+            if j >= 0:
+                poses[row, j], residuals[row, j] = now[i], found.residuals[row, i]
+    return replace(found, poses=poses, residuals=residuals, method=found.method + ", followed along the path")

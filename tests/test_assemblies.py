@@ -213,3 +213,26 @@ def test_a_double_root_at_a_singularity_is_not_certified():
     q = m.inverse_kinematics([[0.0, 0.0, 0.0], [0.05, 0.02, 0.3]])
     a = m.every_assembly(q, certify=True)
     assert a.certified.tolist() == [False, True]
+
+
+def test_along_a_path_of_the_joints_each_column_follows_one_assembly():
+    """The 3-RRR's joints along a closed path of poses (one working mode, 400 steps) where the machine has 2, 4
+    and 6 assemblies in turn: followed, the column that holds the first pose holds every pose of the path, and
+    every column moves by small steps; sorted by the platform angle instead, the path's pose changes columns."""
+    m = pkm.load(str(DESCRIPTIONS["rrr3"]))
+    t = np.linspace(0, 2 * np.pi, 400)
+    x = np.c_[0.25 * np.cos(t), 0.2 * np.sin(t), 1.2 * np.sin(2 * t)]
+    q = m.inverse_kinematics(x, mode="left_left_left")
+    assert np.isfinite(q).all()
+    a = m.every_assembly(q, follow=True)
+    first = np.flatnonzero(np.all(np.abs(a.poses[0] - x[0]) < 1e-8, axis=1))
+    assert len(first) == 1
+    np.testing.assert_allclose(a.poses[:, first[0]], x, atol=1e-8)
+    steps = np.abs(np.diff(a.poses, axis=0))
+    steps[..., 2] = np.abs(_wrapped(np.diff(a.poses[..., 2], axis=0)))
+    assert np.nanmax(steps) < 0.2
+    ranked = m.every_assembly(q)
+    assert set(ranked.counts.tolist()) == {2, 4, 6}
+    gaps = np.nanmax(np.abs(ranked.poses - x[:, None, :]), axis=2, initial=0.0, where=np.isfinite(ranked.poses))
+    column = np.argmin(np.where(np.isfinite(ranked.poses).all(axis=2), gaps, np.inf), axis=1)
+    assert len(set(column.tolist())) > 1
