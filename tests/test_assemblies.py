@@ -177,6 +177,21 @@ def test_a_machine_whose_forward_kinematics_is_seeded_is_refused_by_name():
         pkm.load("delta").every_assembly([0.1, 0.2, 0.3])
 
 
+def test_pkm_fk_out_writes_the_json_and_each_assemblys_linkage_drawn(tmp_path, capsys):
+    from PIL import Image
+
+    from pkm.cli import main
+
+    out = tmp_path / "fk"
+    assert main(["fk", str(DESCRIPTIONS["rrr3"]), "--joints=-0.48915,1.442464,3.545811", "--out", str(out)]) == 0
+    assert "wrote " in capsys.readouterr().out
+    data = json.loads((out / "fk.json").read_text())
+    assert data["count"] == 2
+    assert sorted(p.name for p in out.iterdir()) == ["fk.json", "fk.png", "fk.svg"]
+    width, height = Image.open(out / "fk.png").size
+    assert width > height > 100
+
+
 def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
     from pkm.cli import main
 

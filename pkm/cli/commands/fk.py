@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import argparse
 import reprlib
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from pkm import io
 from pkm.cli.arguments import design_option, listed, units_option
 from pkm.cli.common import emit, given_design, given_units, load_mechanism, unit_text
 from pkm.errors import PkmError
@@ -26,6 +28,8 @@ def options(p: argparse.ArgumentParser) -> None:
                                                    "(no default); e.g. 0.7,0.8,0.9")
     p.add_argument("--certify", action="store_true", help="check the count against a certified count of the real "
                                                         "roots (python-flint's ball arithmetic; default: off)")
+    p.add_argument("--out", help="folder for fk.json and fk.png, fk.svg: each assembly's linkage drawn (default: "
+                                 "none); e.g. assemblies")
     design_option(p)
     units_option(p)
 
@@ -83,4 +87,42 @@ def run(args: argparse.Namespace) -> None:
             f"working mode {row['mode']}, singularity margins type I {row['singularity_margin_type1']:.3g}, type II "
             f"{row['singularity_margin_type2']:.3g}")
         lines.append(f"  {k}: {pose}; closure residual {row['residual']:.1e} m; {where}")
-    emit(args, data, "\n".join(lines))
+    text = "\n".join(lines)
+    if args.out:
+        poses = found.poses[0, : found.counts[0]]
+        drawn = [(pose, row) for pose, row in zip(poses, rows, strict=True)]
+
+        def write(folder: Path) -> list[Path]:
+            from pkm.figures import save
+
+            out = [io.write_text(folder / "fk.json", io.to_json(data))]
+            fig = _figure(m, d, drawn)
+            return out + [save(fig, folder / f"fk.{suffix}", dpi=150) for suffix in ("png", "svg")]
+
+        text += "\nwrote " + ", ".join(str(path) for path in io.write_result(Path(args.out), write))
+    emit(args, data, text)
+
+
+def _figure(m: Mechanism, design: Any, drawn: list[tuple[np.ndarray, dict[str, Any]]]) -> Any:
+    """One panel per assembly: each leg's joints joined from the base, the platform's joints joined, in the
+    plane of the first two pose coordinates."""
+    from matplotlib.ticker import MaxNLocator
+
+    from pkm.figures import figure
+
+    fig = figure(3.2 * max(len(drawn), 1), 3.4)
+    for k, (pose, row) in enumerate(drawn, 1):
+        ax = fig.add_subplot(1, max(len(drawn), 1), k)
+        legs = m.linkage(pose, design, mode=row["mode"]) if row["mode"] is not None else []
+        for points in legs:
+            ax.plot(points[:, 0], points[:, 1], "o-", color="C0", lw=1.5, ms=3)
+        ends = np.array([points[-1, :2] for points in legs]) if legs else np.zeros((0, 2))
+        if len(ends) > 2:
+            ax.fill(ends[:, 0], ends[:, 1], color="C1", alpha=0.4)
+        ax.set_aspect("equal")
+        ax.set_title(f"assembly {k}: {row['mode'] or 'no working mode'}", fontsize=8)
+        ax.set_xlabel(f"{m.pose_names[0]} [{m.pose_units[0]}]", fontsize=8)
+        ax.set_ylabel(f"{m.pose_names[1]} [{m.pose_units[1]}]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.xaxis.set_major_locator(MaxNLocator(4))
+    return fig
