@@ -9,12 +9,13 @@ in its frame) lie on the circles (B_i, r_i):
     g_i(x, y, phi) = |P + R(phi) c_i - B_i|^2 - r_i^2 = 0,   P = (x, y).
 
 In the plane (three legs), g_2 - g_1 and g_3 - g_1 are linear in P: P = N(phi) / D(phi) by Cramer's rule, and
-g_1 at that P, times D^2, is a trigonometric polynomial of degree 3 in phi (Gosselin, Sefrioui and Richard 1994,
-the 3-RPR's sextic). It is found exactly from 8 samples (a discrete Fourier transform: its harmonics above the
-third vanish); z^3 f is a polynomial of degree 6 in z = e^(i phi), whose roots on the unit circle are the real
-platform angles (the companion matrix's eigenvalues, batched). Each is taken back to P, polished by Newton's
-method on the three g_i and kept where it closes them; at most 6. With a point pose (two legs), P is where
-two circles meet: at most 2.
+g_1 at that P, times D^2, is a trigonometric polynomial f of degree 3 in phi (Gosselin, Sefrioui and Richard
+1994, the 3-RPR's sextic). It is found exactly from 8 samples (a discrete Fourier transform: its harmonics above
+the third vanish) and turned into the real sextic (1 + t^2)^3 f in t = tan(phi / 2) (:data:`HALF_ANGLE`), whose
+real roots (the real companion matrices' eigenvalues, batched, the rows in blocks on :data:`pkm.batch.THREADS`
+threads) are the real platform angles; phi = pi, where the sextic's degree drops, is tried where it does. Each is
+taken back to P, polished by Newton's method on the three g_i and kept where it closes them; at most 6. With a
+point pose (two legs), P is where two circles meet: at most 2.
 
 With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
 the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
@@ -29,18 +30,21 @@ continuation) are refused by name.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
+from pkm import batch
 from pkm.batch import evaluate
 from pkm.errors import PkmError
 from pkm.kinematics import ClosedForm, PolynomialRoots, as_batch
 
 SAMPLES = 8  # samples of the degree-3 trigonometric polynomial (its harmonics 0 to 3, and 4 to check)
-ON_CIRCLE = 1e-6  # a root of the sextic this close to |z| = 1 is a real platform angle
-NEWTON_STEPS = 4  # polishing steps on the circles' equations
+ON_CIRCLE = 1e-6  # a root t of the sextic whose imaginary part is this small (relative) is a real angle
+NEWTON_STEPS = 2  # polishing steps on the circles' equations (from the sextic's roots, quadratic at once)
+BLOCK_ROWS = 4096  # rows per thread at least
 CLOSURE = 1e-9  # [m] a polished assembly closes every circle to this, relative to the machine's size
 SAME = 1e-7  # two assemblies this close (pose, relative to the machine's size; angle in rad) are one
 
@@ -156,32 +160,64 @@ def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.n
     return f, num, det, w
 
 
+def _half_angle_matrix() -> np.ndarray:
+    """T (7, 7) with T @ a the coefficients (t^0 .. t^6) of (1 + t^2)^3 f for f = sum a_k e^(i k phi), k = -3..3:
+    e^(i k phi) (1 + t^2)^3 = (1 + i t)^(3 + k) (1 - i t)^(3 - k) at t = tan(phi / 2)."""
+    columns = []
+    for k in range(-3, 4):
+        product = np.polynomial.polynomial.polymul(np.polynomial.polynomial.polypow([1, 1j], 3 + k),
+                                                   np.polynomial.polynomial.polypow([1, -1j], 3 - k))
+        columns.append(np.pad(product, (0, 7 - len(product))))
+    return np.array(columns).T
+
+
+HALF_ANGLE = _half_angle_matrix()
+
+
 def _roots(coefficients: np.ndarray) -> np.ndarray:
-    """The roots (N, 6) of the polynomials c_0 + c_1 z + ... + c_6 z^6 (N, 7), NaN where the degree drops."""
+    """The real roots t (N, 6) of the real polynomials c_0 + c_1 t + ... + c_6 t^6 (N, 7), NaN for the others;
+    where the degree drops (a root at t = infinity: phi = pi), pi's t, a large number, stands in its place."""
     out = np.full((len(coefficients), 6), np.nan + 0j)
     lead = coefficients[:, 6]
     full = np.abs(lead) > 1e-13 * np.max(np.abs(coefficients), axis=1)
     if full.any():
-        companion = np.zeros((int(full.sum()), 6, 6), dtype=complex)
+        companion = np.zeros((int(full.sum()), 6, 6))
         companion[:, 1:, :-1] = np.eye(5)
         companion[:, :, -1] = -coefficients[full, :6] / lead[full, None]
         out[full] = np.linalg.eigvals(companion)
     for row in np.flatnonzero(~full):
         found = np.roots(np.trim_zeros(coefficients[row, ::-1], "f"))
         out[row, : len(found)] = found
-    return out
+        out[row, len(found)] = np.tan(np.pi / 2 * (1 - 1e-12))
+    real = np.abs(out.imag) <= ON_CIRCLE * (1 + np.abs(out.real))
+    return np.where(real, out.real, np.nan)
 
 
 def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
-    """Every (x, y, phi) that puts each platform joint on its circle (module docstring)."""
+    """Every (x, y, phi) that puts each platform joint on its circle (module docstring), the rows in blocks on
+    :data:`pkm.batch.THREADS` threads where there are BLOCK_ROWS of them at least (numpy's loops and LAPACK
+    release Python's lock)."""
+    blocks = min(batch.THREADS, max(1, len(centres) // BLOCK_ROWS))
+    if blocks == 1:
+        return _three_circles_block(centres, radii, points, scale)
+    edges = np.linspace(0, len(centres), blocks + 1).astype(int)
+    with ThreadPoolExecutor(blocks) as pool:
+        parts = list(pool.map(lambda k: _three_circles_block(centres[edges[k]:edges[k + 1]],
+                                                             radii[edges[k]:edges[k + 1]], points, scale),
+                              range(blocks)))
+    return Assemblies(*(np.concatenate([getattr(part, name) for part in parts]) for name in
+                        ("poses", "residuals", "counts")), parts[0].bound,
+                      np.concatenate([part.failed for part in parts]), parts[0].method)
+
+
+def _three_circles_block(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
     n = len(centres)
     samples = 2 * np.pi * np.arange(SAMPLES) / SAMPLES
     f, *_ = _terms(np.broadcast_to(samples, (n, SAMPLES)), centres, radii, points)
     harmonics = np.fft.fft(f, axis=1) / SAMPLES
-    coefficients = harmonics[:, [k % SAMPLES for k in range(-3, 4)]]  # of z^0 .. z^6 in z^3 f
-    z = _roots(coefficients)
-    real = np.abs(np.abs(z) - 1) <= ON_CIRCLE
-    phi = np.where(real, np.angle(z), np.nan)
+    coefficients = (harmonics[:, [k % SAMPLES for k in range(-3, 4)]] @ HALF_ANGLE.T).real  # of t^0 .. t^6
+    phi = 2 * np.arctan(_roots(coefficients))
+    real = np.isfinite(phi)
     _, num, det, _ = _terms(phi, centres, radii, points)
     with np.errstate(divide="ignore", invalid="ignore"):
         x = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
