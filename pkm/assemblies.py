@@ -47,6 +47,7 @@ NEWTON_STEPS = 2  # polishing steps on the circles' equations (from the sextic's
 BLOCK_ROWS = 4096  # rows per thread at least
 CLOSURE = 1e-9  # [m] a polished assembly closes every circle to this, relative to the machine's size
 SAME = 1e-7  # two assemblies this close (pose, relative to the machine's size; angle in rad) are one
+PARALLEL = 1e-6  # the sine of the angle below which the two lines of the circles' differences are parallel
 
 
 @dataclass(frozen=True)
@@ -82,20 +83,31 @@ def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assem
     if "platform_circles" in mech.functions:
         (centres, radii) = evaluate(mech.functions["platform_circles"], qa, d)
         (points,) = evaluate(mech.functions["platform_points"], d)
-        scale = max(1.0, float(np.nanmax(np.abs(centres))), float(np.nanmax(np.abs(radii))))
+        radii = np.abs(radii[:, :, 0])  # a signed length (a prismatic joint's) spans the same circle
+        scale = np.maximum.reduce([np.max(np.abs(centres), axis=(1, 2)), np.max(radii, axis=1),
+                                   np.full(len(qa), np.max(np.abs(points)))])
+        scale = np.where(scale > 0, scale, 1.0)
         if mech.n_out == 2:
-            return _two_circles(centres[:, :, :2], radii[:, :, 0], points[0], scale)
-        found = _three_circles(centres, radii[:, :, 0], points[0], scale)
+            _refuse_certify(certify, mech)
+            return _two_circles(centres[:, :, :2], radii, points[0], scale)
+        found = _three_circles(centres, radii, points[0], scale)
         if not certify:
             return found
-        counts = [real_roots(c, r, points[0]) for c, r in zip(centres, radii[:, :, 0], strict=True)]
+        counts = [real_roots(c, r, points[0]) for c, r in zip(centres, radii, strict=True)]
         return replace(found, certified=np.array([n is not None and n == k for n, k in zip(
             counts, found.counts, strict=True)]))
     if isinstance(mech.forward, ClosedForm | PolynomialRoots):
+        _refuse_certify(certify, mech)
         return _named(mech, qa, d)
     raise PkmError(f"mechanism {mech.name} violates: a mechanism whose complete forward kinematics pkm knows (a "
                    "closed form or a polynomial of its own, or planar legs that each put the platform on a "
                    "circle); its forward_kinematics finds the assemblies its seeds reach, not necessarily all")
+
+
+def _refuse_certify(certify: bool, mech: Any) -> None:
+    if certify:
+        raise PkmError(f"certify violates: a planar machine of three legs on circles, whose sextic's real roots are "
+                       f"counted in ball arithmetic; {mech.name}'s assemblies come from another method")
 
 
 def _named(mech: Any, qa: np.ndarray, design: np.ndarray) -> Assemblies:
@@ -108,15 +120,16 @@ def _named(mech: Any, qa: np.ndarray, design: np.ndarray) -> Assemblies:
         (h, *_) = evaluate(mech.functions["constraint"], q, x, design)
         poses.append(x)
         residuals.append(np.max(np.abs(h[:, :, 0]), axis=1))
-    closed = np.all(np.isfinite(np.stack(poses, axis=1)), axis=2)
-    order = np.argsort(~closed, axis=1, kind="stable")
-    poses = np.take_along_axis(np.stack(poses, axis=1), order[:, :, None], axis=1)
-    residuals = np.take_along_axis(np.stack(residuals, axis=1), order, axis=1)
-    return Assemblies(poses, residuals, closed.sum(axis=1), len(mech.assembly_modes), np.zeros(len(qa), int),
-                      f"{type(mech.forward).__name__}: every assembly mode")
+    poses, residuals = np.stack(poses, axis=1), np.stack(residuals, axis=1)
+    residuals[~np.all(np.isfinite(poses), axis=2)] = np.nan
+    angles = np.array([u == "rad" for u in mech.pose_units])
+    scale = np.maximum(np.nanmax(np.abs(np.where(angles, np.nan, poses)), axis=(1, 2), initial=0.0), 1e-300)
+    poses, residuals = _distinct(poses, residuals, scale, angles)
+    return Assemblies(poses, residuals, np.sum(np.isfinite(residuals), axis=1), len(mech.assembly_modes),
+                      np.zeros(len(qa), int), f"{type(mech.forward).__name__}: every assembly mode")
 
 
-def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
+def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
     """P where P + c_1 and P + c_2 lie on their circles: the circles about B_i - c_i meet in 0, 1 or 2
     points."""
     b = centres - points[None, :, :]
@@ -124,7 +137,8 @@ def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
     gap = np.linalg.norm(d, axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         along = (radii[:, 0] ** 2 - radii[:, 1] ** 2 + gap**2) / (2 * gap)
-        across = np.sqrt(radii[:, 0] ** 2 - along**2)
+        height = radii[:, 0] ** 2 - along**2
+        across = np.sqrt(np.where((height < 0) & (height >= -(SAME * scale) ** 2), 0.0, height))  # tangent
         u = d / gap[:, None]
     normal = np.stack([-u[:, 1], u[:, 0]], axis=1)
     foot = b[:, 0] + along[:, None] * u
@@ -132,8 +146,9 @@ def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
     tangent = np.abs(across) <= SAME * scale
     poses[tangent, 1] = np.nan
     residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
-    poses[~(residuals <= CLOSURE * scale)] = np.nan
-    residuals[~(residuals <= CLOSURE * scale)] = np.nan
+    open_ = ~(residuals <= CLOSURE * scale[:, None])
+    poses[open_] = np.nan
+    residuals[open_] = np.nan
     closed = np.all(np.isfinite(poses), axis=2)
     return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
                       "two circles' intersection")
@@ -186,14 +201,14 @@ def _roots(coefficients: np.ndarray) -> np.ndarray:
         companion[:, :, -1] = -coefficients[full, :6] / lead[full, None]
         out[full] = np.linalg.eigvals(companion)
     for row in np.flatnonzero(~full):
-        found = np.roots(np.trim_zeros(coefficients[row, ::-1], "f"))
+        found = np.roots(np.trim_zeros(coefficients[row, 5::-1], "f"))
         out[row, : len(found)] = found
         out[row, len(found)] = np.tan(np.pi / 2 * (1 - 1e-12))
     real = np.abs(out.imag) <= ON_CIRCLE * (1 + np.abs(out.real))
     return np.where(real, out.real, np.nan)
 
 
-def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
+def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
     """Every (x, y, phi) that puts each platform joint on its circle (module docstring), the rows in blocks on
     :data:`pkm.batch.THREADS` threads where there are BLOCK_ROWS of them at least (numpy's loops and LAPACK
     release Python's lock)."""
@@ -203,32 +218,74 @@ def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, s
     edges = np.linspace(0, len(centres), blocks + 1).astype(int)
     with ThreadPoolExecutor(blocks) as pool:
         parts = list(pool.map(lambda k: _three_circles_block(centres[edges[k]:edges[k + 1]],
-                                                             radii[edges[k]:edges[k + 1]], points, scale),
-                              range(blocks)))
+                                                             radii[edges[k]:edges[k + 1]], points,
+                                                             scale[edges[k]:edges[k + 1]]), range(blocks)))
     return Assemblies(*(np.concatenate([getattr(part, name) for part in parts]) for name in
                         ("poses", "residuals", "counts")), parts[0].bound,
                       np.concatenate([part.failed for part in parts]), parts[0].method)
 
 
-def _three_circles_block(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: float) -> Assemblies:
+def _three_circles_block(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray
+                         ) -> Assemblies:
     n = len(centres)
     samples = 2 * np.pi * np.arange(SAMPLES) / SAMPLES
     f, *_ = _terms(np.broadcast_to(samples, (n, SAMPLES)), centres, radii, points)
     harmonics = np.fft.fft(f, axis=1) / SAMPLES
     coefficients = (harmonics[:, [k % SAMPLES for k in range(-3, 4)]] @ HALF_ANGLE.T).real  # of t^0 .. t^6
-    phi = 2 * np.arctan(_roots(coefficients))
-    real = np.isfinite(phi)
-    _, num, det, _ = _terms(phi, centres, radii, points)
     with np.errstate(divide="ignore", invalid="ignore"):
-        x = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
+        phi = 2 * np.arctan(_roots(coefficients))
+        first, second = _positions(phi, centres, radii, points)
+        poses, residuals, closed = _polished(first, centres, radii, points, scale)
+        mirrored = np.flatnonzero(np.any(np.isfinite(second[..., 0]), axis=1))
+        if len(mirrored):  # rows with two assemblies at one angle: both candidates of each such root
+            both = np.concatenate([first[mirrored], second[mirrored]], axis=1)
+            more, more_residuals, more_closed = _polished(both, centres[mirrored], radii[mirrored], points,
+                                                          scale[mirrored])
+            poses[mirrored], residuals[mirrored] = more[:, :6], more_residuals[:, :6]
+            closed[mirrored] = np.any(more_closed.reshape(len(mirrored), 2, -1), axis=1)
+    failed = np.sum(np.isfinite(phi) & ~closed, axis=1)
+    return Assemblies(poses, residuals, np.sum(np.isfinite(residuals), axis=1), 6, failed,
+                      "the sextic in the platform angle (Gosselin-Sefrioui-Richard), its roots polished")
+
+
+def _polished(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Candidate poses (N, S, 3) polished by Newton's method; the distinct closed ones and their residuals, and
+    which candidates closed."""
     for _ in range(NEWTON_STEPS):
         x = _newton_step(x, centres, radii, points)
     residual = _residual(x, centres, radii, points)
-    closed = residual <= CLOSURE * scale
-    poses, residuals = _distinct(np.where(closed[..., None], x, np.nan), np.where(closed, residual, np.nan), scale)
-    counts = np.sum(np.isfinite(residuals), axis=1)
-    return Assemblies(poses, residuals, counts, 6, np.sum(real & ~closed, axis=1),
-                      "the sextic in the platform angle (Gosselin-Sefrioui-Richard), its roots polished")
+    closed = residual <= CLOSURE * scale[:, None]
+    poses, residuals = _distinct(np.where(closed[..., None], x, np.nan), np.where(closed, residual, np.nan), scale,
+                                 ANGLE)
+    return poses, residuals, closed
+
+
+def _positions(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate poses (N, 6, 3) for the platform angles phi (N, 6): the position by Cramer's rule, and NaN; where
+    the two differences' lines are nearly parallel (D(phi) near 0: two mirror assemblies at one angle), the two
+    points where the better of the two lines meets the first circle instead."""
+    _, num, det, w = _terms(phi, centres, radii, points)
+    m = 2 * (w[..., 1:, :] - w[..., :1, :])
+    lengths = np.linalg.norm(m, axis=-1)
+    parallel = np.abs(det) <= PARALLEL * np.prod(lengths, axis=-1)
+    first = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
+    second = np.full_like(first, np.nan)
+    if parallel.any():
+        w, m, lengths = w[parallel], m[parallel], lengths[parallel]
+        r = np.broadcast_to(radii[:, None, :], (*parallel.shape, 3))[parallel]
+        rhs = -(np.sum(w[:, 1:] ** 2, axis=-1) - r[:, 1:] ** 2 - (np.sum(w[:, :1] ** 2, axis=-1) - r[:, :1] ** 2))
+        best = np.argmax(lengths, axis=-1)
+        n = m[np.arange(len(m)), best]
+        d = rhs[np.arange(len(m)), best]
+        norm2 = np.sum(n**2, axis=-1)
+        foot = -w[:, 0] + ((d + np.sum(n * w[:, 0], axis=-1)) / norm2)[:, None] * n
+        half = np.sqrt(np.maximum(r[:, 0] ** 2 - np.sum((foot + w[:, 0]) ** 2, axis=-1), 0.0) / norm2)
+        across = np.stack([-n[:, 1], n[:, 0]], axis=-1) * half[:, None]
+        first[parallel, :2], second[parallel, :2] = foot + across, foot - across
+        second[parallel, 2] = phi[parallel]
+    return first, second
 
 
 def _circle_terms(x: np.ndarray, centres: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -256,18 +313,25 @@ def _newton_step(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: 
     return x - step
 
 
-def _distinct(poses: np.ndarray, residuals: np.ndarray, scale: float) -> tuple[np.ndarray, np.ndarray]:
-    """Each row's assemblies once (a double root found twice is one: an assembly equal to an earlier one of its
-    row is dropped), in the order of the platform angle, the closed first; NaN beyond them."""
+ANGLE = np.array([False, False, True])  # which coordinates of a planar pose are angles
+
+
+def _distinct(poses: np.ndarray, residuals: np.ndarray, scale: np.ndarray, angles: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Each row's assemblies once (a double root found twice is one: an assembly within SAME of an earlier one
+    of its row, its lengths relative to the row's ``scale``, its angles wrapped, is dropped), the closed first in
+    the order of the last coordinate; NaN beyond them."""
     poses = poses.copy()
-    poses[..., 2] = np.angle(np.exp(1j * poses[..., 2]))
-    near = np.all(np.abs(poses[:, :, None, :2] - poses[:, None, :, :2]) <= SAME * scale, axis=-1) & (
-        np.abs(np.angle(np.exp(1j * (poses[:, :, None, 2] - poses[:, None, :, 2])))) <= SAME)
+    poses[..., angles] = np.angle(np.exp(1j * poses[..., angles]))
+    gap = np.abs(poses[:, :, None, :] - poses[:, None, :, :])
+    gap[..., angles] = np.abs(np.angle(np.exp(1j * gap[..., angles])))
+    tolerance = np.where(angles, SAME, SAME * scale[:, None, None, None])
+    near = np.all(gap <= tolerance, axis=-1)
     earlier = np.tril(np.ones(near.shape[1:], dtype=bool), -1)
     repeated = np.any(near & earlier, axis=2)
     poses[repeated] = np.nan
     residuals = np.where(repeated, np.nan, residuals)
-    key = np.where(np.isfinite(residuals), poses[..., 2], np.inf)
+    key = np.where(np.isfinite(residuals), poses[..., -1], np.inf)
     order = np.argsort(key, axis=1, kind="stable")
     return np.take_along_axis(poses, order[..., None], axis=1), np.take_along_axis(residuals, order, axis=1)
 

@@ -215,6 +215,8 @@ def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
     assert (data["count"], data["certified"]) == (2, True)
     assert main(["fk", "five_bar", "--joints", "1,x"]) == 2
     assert "--joints '1,x' violates: 2 numbers, comma-separated" in capsys.readouterr().err
+    assert main(["fk", "five_bar", "--joints", "1,nan"]) == 2
+    assert "--joints violates: finite numbers; theta2 = nan" in capsys.readouterr().err
     assert main(["fk", "delta", "--joints", "0.1,0.2,0.3"]) == 2
 
 
@@ -251,3 +253,44 @@ def test_along_a_path_of_the_joints_each_column_follows_one_assembly():
     gaps = np.nanmax(np.abs(ranked.poses - x[:, None, :]), axis=2, initial=0.0, where=np.isfinite(ranked.poses))
     column = np.argmin(np.where(np.isfinite(ranked.poses).all(axis=2), gaps, np.inf), axis=1)
     assert len(set(column.tolist())) > 1
+
+
+POINT_RPR2 = {"name": "point_rpr2", "doc": "two RPR legs meeting at the platform's point", "frame": "planar_point",
+              "home": [1, 1],
+              "parameters": [{"name": "s", "default": 1.0, "lower": 0.001, "upper": 10, "unit": "m", "doc": "scale"}],
+              "legs": {"kind": "RPR", "count": 2, "base": [[0, 0], ["2 * s", 0]], "platform": [[0, 0], [0, 0]]}}
+
+
+def test_the_degenerate_cases_keep_every_assembly():
+    """An angle at pi, where the sextic's degree drops; two mirror assemblies at one angle, where the two lines
+    of the circles' differences are parallel; tangent circles; a negative prismatic length; a tiny machine
+    beside a large one in one batch; certify asked where it does not apply."""
+    alias = _load(ALIAS)
+    for gap in (1e-10, 1e-12, 0.0):
+        q = alias.inverse_kinematics([5.0, 5.0, np.pi - gap])
+        found = _poses(alias.every_assembly(q))
+        assert np.min(np.max(np.abs(np.c_[found[:, :2] - 5.0, _wrapped(found[:, 2] - np.pi + gap)]), axis=1)) < 1e-8
+    # the centres B_i - R(phi) c_i on one line at phi = 0.3: P and its mirror in that line assemble at that angle
+    c = np.array([[0.3, -0.2], [-0.25, -0.1], [0.05, 0.35]])
+    rotation = np.array([[np.cos(0.3), -np.sin(0.3)], [np.sin(0.3), np.cos(0.3)]])
+    centres = np.array([[-1.0, -0.4], [0.2, 0.1], [-1.0 + 1.7 * 1.2, -0.4 + 1.7 * 0.5]])
+    base = centres + c @ rotation.T
+    raw = _rpr3("mirror_3rpr", [tuple(b) for b in base.round(12)], [tuple(p) for p in c], [0.1, 0.6, 0.3])
+    m = _load(raw)
+    pose = np.array([0.1, 0.6, 0.3])
+    direction = (centres[1] - centres[0]) / np.linalg.norm(centres[1] - centres[0])
+    foot = centres[0] + np.dot(pose[:2] - centres[0], direction) * direction
+    mirror = np.r_[2 * foot - pose[:2], 0.3]
+    q = m.inverse_kinematics(pose)
+    a = m.every_assembly(q, certify=True)
+    for want in (pose, mirror):
+        assert np.min(np.max(np.abs(_poses(a) - want), axis=1)) < 1e-8
+    assert a.failed.tolist() == [0]
+    two = _load(POINT_RPR2)
+    assert two.every_assembly([1.0, 1.0]).counts.tolist() == [1]
+    np.testing.assert_allclose(_poses(two.every_assembly([-1.0, 1.0])), [[1.0, 0.0]], atol=1e-9)
+    tiny = two.every_assembly([[1e-3, 1e-3 * np.sqrt(4 + 1e-8)], [1.0, 1.0]], {"s": 1e-3 / 2 * 2})
+    alone = two.every_assembly([1e-3, 1e-3 * np.sqrt(4 + 1e-8)], {"s": 1e-3})
+    assert tiny.counts[0] == alone.counts[0] == 2
+    with pytest.raises(PkmError, match=r"certify violates: a planar machine of three legs on circles"):
+        pkm.load("five_bar").every_assembly([1.5, 1.2], certify=True)

@@ -277,5 +277,7 @@ def test_every_registered_problem_states_its_margin_and_holds_one_when_asked():
     rebuilt = registry.problem(asked.name).configure(**json.loads(_settings(asked)))
     assert rebuilt.margin.value == 0.02
     assert rebuilt.values["task_tilt"] == 0.4
+    again = asked.configure(task_tilt=0.3)
+    assert (again.margin.value, again.values["task_tilt"]) == (0.02, 0.3)
     with pytest.raises(PkmError, match=r"singularity_margin violates: 0 <= singularity_margin < 1"):
         registry.problem("five_bar.max_gci_miw").configure(singularity_margin=1.5)

@@ -223,7 +223,8 @@ class Problem:
         checked = {name: known[name].check(value) for name, value in values.items()}
         problem = self.build({**self.values, **checked}) if checked else self
         if margin is None:
-            return problem
+            held = self.margin is not None and self.margin.value and problem.margin != self.margin
+            return problem.holding(self.margin.value, self.margin.why) if held else problem
         value = check_real("singularity_margin", margin, "0 <= singularity_margin < 1")
         if not 0 <= value < 1:
             raise PkmError(f"singularity_margin violates: 0 <= singularity_margin < 1; got {value:g}")

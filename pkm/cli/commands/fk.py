@@ -39,9 +39,11 @@ def _joints(m: Mechanism, text: str, units: Units) -> np.ndarray:
         values = [float(v) for v in text.split(",")]
     except ValueError:
         raise PkmError(f"--joints {reprlib.repr(text)} violates: {m.n_act} numbers, comma-separated") from None
-    if len(values) != m.n_act or not np.all(np.isfinite(values)):
-        raise PkmError(f"--joints violates: {m.n_act} finite numbers ({', '.join(m.actuator_names)}); got "
-                       f"{len(values)}")
+    if len(values) != m.n_act:
+        raise PkmError(f"--joints violates: {m.n_act} numbers ({', '.join(m.actuator_names)}); got {len(values)}")
+    infinite = [f"{n} = {v}" for n, v in zip(m.actuator_names, values, strict=True) if not np.isfinite(v)]
+    if infinite:
+        raise PkmError(f"--joints violates: finite numbers; {', '.join(infinite)}")
     return units.to_si(np.array(values), m.actuator_units)
 
 
