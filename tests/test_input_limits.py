@@ -36,6 +36,7 @@ def _error_line(capfd: pytest.CaptureFixture[str]) -> str:
 # the least each command that takes --out needs besides it to get past its options
 OUT_COMMANDS = {
     "eval": ["eval", "five_bar", "--pose", "0.1,1.5"],
+    "fk": ["fk", "five_bar", "--joints", "1.5,1.2"],
     "index": ["index", "five_bar", "gci"],
     "atlas": ["atlas", "five_bar", "gci"],
     "sweep": ["sweep", "five_bar", "--indices", "gci"],
