@@ -1,7 +1,8 @@
 """Ctrl-C that CasADi catches: it stops an IPOPT solve or a graph operation, reports
 KeyboardInterruptException (or loses the interrupt in a callback) and carries on. Inside
 :func:`interruptible` the interrupt is remembered; :func:`check_interrupted` raises it at the next safe
-point (between tasks, before a staged output is committed), and the block's end at the latest.
+point (between tasks, before a staged output is committed), and the block's end at the latest, also where
+the block ends in an error the interrupt caused (a solve that failed because it was stopped).
 """
 
 from __future__ import annotations
@@ -31,6 +32,11 @@ def interruptible() -> Iterator[None]:
     signal.signal(signal.SIGINT, handler)
     try:
         yield
+    except Exception:
+        # an error after a caught interrupt is the interrupt's (IPOPT stopped by it, a graph operation that
+        # reported it as its own error): the block ends as interrupted
+        if not _INTERRUPTS:
+            raise
     finally:
         signal.signal(signal.SIGINT, previous)
         interrupted = bool(_INTERRUPTS)

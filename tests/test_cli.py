@@ -441,7 +441,7 @@ def test_an_interrupted_reproduction_leaves_its_folder_as_it_was(tmp_path):
     run = _reproduction_under_way(out)
     run.send_signal(signal.SIGINT)
     _, err = run.communicate(timeout=60)
-    assert run.returncode == 130
+    assert run.returncode == 130, err
     assert err.strip().splitlines() == ["pkm: interrupted"]
     assert sorted(p.name for p in out.iterdir()) == ["nam2006"]
     assert sorted(p.name for p in (out / "nam2006").iterdir()) == ["notes.txt"]
@@ -523,10 +523,12 @@ def _swallowed_interrupt(check) -> None:
 
 def test_an_interrupt_caught_below_still_ends_the_block():
     """CasADi catches Ctrl-C inside an IPOPT solve or a graph operation and carries on: pkm remembers it,
-    raises it at the next task or staged output, and at the end of the block at the latest."""
+    raises it at the next task or staged output, and at the end of the block at the latest, also where the
+    block fails because the interrupt stopped a solve; a failure without an interrupt stays that failure."""
     import signal
 
-    from pkm.interrupts import check_interrupted
+    from pkm.errors import ComputationError
+    from pkm.interrupts import check_interrupted, interruptible
 
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
@@ -535,6 +537,14 @@ def test_an_interrupt_caught_below_still_ends_the_block():
         with pytest.raises(KeyboardInterrupt):
             _swallowed_interrupt(lambda: None)
         check_interrupted()  # forgotten once the block has raised it
+
+        def failed() -> None:  # the solve the interrupt stopped fails: the interrupt, not the failure, ends the run
+            raise ComputationError("IPOPT: User_Requested_Stop")
+
+        with pytest.raises(KeyboardInterrupt):
+            _swallowed_interrupt(failed)
+        with pytest.raises(ComputationError, match="no interrupt"), interruptible():
+            raise ComputationError("no interrupt")
     finally:
         signal.signal(signal.SIGINT, previous)
 
