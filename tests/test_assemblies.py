@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
-from helpers import FIVE_BAR_OF_RR_LEGS, PRR3
+from helpers import FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS, PRR3
 from scipy.optimize import least_squares
 
 import pkm
@@ -294,3 +294,23 @@ def test_the_degenerate_cases_keep_every_assembly():
     assert tiny.counts[0] == alone.counts[0] == 2
     with pytest.raises(PkmError, match=r"certify violates: a planar machine of three legs on circles"):
         pkm.load("five_bar").every_assembly([1.5, 1.2], certify=True)
+
+
+def test_chains_of_both_circle_shapes_have_their_kinds_assemblies():
+    """A two-joint chain puts its platform joint on a circle in two shapes: an actuated joint then a passive R
+    (the five-bar of chains: its assemblies are the five-bar of RR legs'), and a passive R then an actuated P
+    without links (the 3-RPR of chains: ALIAS's two)."""
+    chains = _load(copy.deepcopy(FIVE_BAR_OF_CHAINS))
+    legs = _load(copy.deepcopy(FIVE_BAR_OF_RR_LEGS))
+    q = np.random.default_rng(6).uniform(-math.pi, math.pi, size=(100, 2))
+    mine, theirs = chains.every_assembly(q), legs.every_assembly(q)
+    np.testing.assert_array_equal(mine.counts, theirs.counts)
+    assert mine.counts.sum() > 10
+    np.testing.assert_allclose(np.nan_to_num(mine.poses, nan=9.0), np.nan_to_num(theirs.poses, nan=9.0), atol=1e-10)
+    rp = copy.deepcopy(ALIAS)
+    rp["name"] = "alias_rp_chains"
+    rp["legs"] = {**{k: v for k, v in rp["legs"].items() if k != "kind"}, "kind": "chain",
+                  "joints": [{"type": "R"}, {"type": "P", "axis": [1, 0], "actuated": True}],
+                  "branches": {"single": [0.0, 5.0]}}
+    a = _load(rp).every_assembly(np.sqrt([50.0, 26.0, 25.0]))
+    np.testing.assert_allclose(_poses(a), [[3.369707132, 6.216516219, -0.8067834380], [5, 5, 0]], atol=1e-9)
