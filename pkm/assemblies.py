@@ -1,5 +1,5 @@
 """Every real assembly of a mechanism at its actuated joints, none lost to naming: the complete forward
-kinematics.
+kinematics (issue 39; the spatial machines with a pose of six coordinates are refused, their homotopy not there).
 
 A planar machine whose every leg, its actuated joint given, puts its platform joint on a circle (an RR's elbow
 with its distal link, an RPR's base joint with its length, a PRR's slider with its link, a two-joint chain of
@@ -15,7 +15,9 @@ the third vanish) and turned into the real sextic (1 + t^2)^3 f in t = tan(phi /
 real roots (the real companion matrices' eigenvalues, batched, the rows in blocks on :data:`pkm.batch.THREADS`
 threads) are the real platform angles; phi = pi, where the sextic's degree drops, is tried where it does. Each is
 taken back to P, polished by Newton's method on the three g_i and kept where it closes them; at most 6. With a
-point pose (two legs), P is where two circles meet: at most 2.
+point pose in the plane (two legs), P is where two circles meet: at most 2; with a point pose in space whose
+legs each put it on a sphere (an R_parallelogram's elbow with its rods, a UPS's base joint with its length, a
+two-joint chain of those shapes: the Delta), where three spheres meet: at most 2.
 
 With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
 the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
@@ -90,6 +92,9 @@ def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assem
         if mech.n_out == 2:
             _refuse_certify(certify, mech)
             return _two_circles(centres[:, :, :2], radii, points[0], scale)
+        if centres.shape[2] == 3:
+            _refuse_certify(certify, mech)
+            return _three_spheres(centres, radii, points[0], scale)
         found = _three_circles(centres, radii, points[0], scale)
         if not certify:
             return found
@@ -152,6 +157,36 @@ def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
     closed = np.all(np.isfinite(poses), axis=2)
     return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
                       "two circles' intersection")
+
+
+def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+    """P where each P + c_i lies on its sphere (a point pose in space): the spheres about B_i - c_i meet in 0, 1
+    or 2 points (trilateration in the frame of the three centres); none counted where the centres are on one
+    line (a continuum or none)."""
+    b = centres - points[None, :, :]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d = np.linalg.norm(b[:, 1] - b[:, 0], axis=1)
+        ex = (b[:, 1] - b[:, 0]) / d[:, None]
+        i = np.sum(ex * (b[:, 2] - b[:, 0]), axis=1)
+        side = b[:, 2] - b[:, 0] - i[:, None] * ex
+        j = np.linalg.norm(side, axis=1)
+        ey = side / j[:, None]
+        ez = np.cross(ex, ey)
+        x = (radii[:, 0] ** 2 - radii[:, 1] ** 2 + d**2) / (2 * d)
+        y = (radii[:, 0] ** 2 - radii[:, 2] ** 2 + i**2 + j**2 - 2 * i * x) / (2 * j)
+        height = radii[:, 0] ** 2 - x**2 - y**2
+        z = np.sqrt(np.where((height < 0) & (height >= -(SAME * scale) ** 2), 0.0, height))
+    foot = b[:, 0] + x[:, None] * ex + y[:, None] * ey
+    poses = np.stack([foot + z[:, None] * ez, foot - z[:, None] * ez], axis=1)
+    poses[np.abs(z) <= SAME * scale, 1] = np.nan
+    poses[j <= SAME * scale] = np.nan
+    residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
+    open_ = ~(residuals <= CLOSURE * scale[:, None])
+    poses[open_] = np.nan
+    residuals[open_] = np.nan
+    closed = np.all(np.isfinite(poses), axis=2)
+    return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
+                      "three spheres' intersection")
 
 
 def _point_residual(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:

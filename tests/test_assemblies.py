@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
-from helpers import FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS, PRR3
+from helpers import FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS, PRR3, delta_of_chains
 from scipy.optimize import least_squares
 
 import pkm
@@ -173,8 +173,35 @@ def test_the_five_bar_of_rr_legs_has_the_hand_derived_five_bars_assemblies():
 
 
 def test_a_machine_whose_forward_kinematics_is_seeded_is_refused_by_name():
-    with pytest.raises(PkmError, match=r"mechanism delta violates: a mechanism whose complete forward kinematics"):
-        pkm.load("delta").every_assembly([0.1, 0.2, 0.3])
+    with pytest.raises(PkmError, match=r"mechanism stewart violates: a mechanism whose complete forward kinematics"):
+        pkm.load("stewart").every_assembly([0.8] * 6)
+
+
+def test_the_delta_has_its_two_assemblies_where_three_spheres_meet():
+    """Each Delta leg puts the platform's joint on the sphere about its elbow (the rods' length its radius):
+    its assemblies are where the three spheres meet, both that its named assembly modes find where they close,
+    and the Delta of chains (an actuated R, then a parallelogram) has the same; each gives every leg's joint
+    back on one of its branches."""
+    delta = pkm.load("delta")
+    chains = _load(delta_of_chains())
+    design = {p.name: delta.design()[p.name] for p in chains.parameters}
+    x = np.random.default_rng(8).uniform([-0.3, -0.3, -0.8], [0.3, 0.3, -0.2], size=(300, 3))
+    q = delta.inverse_kinematics(x, mode="elbow_out")
+    q = q[np.isfinite(q).all(axis=1)]
+    assert len(q) > 100
+    a = delta.every_assembly(q)
+    assert a.bound == 2
+    named = np.stack([delta.forward_kinematics(q, assembly=name) for name in delta.assemblies], axis=1)
+    for row in range(len(q)):
+        found = _poses(a, row)
+        for pose in named[row][np.isfinite(named[row]).all(axis=1)]:
+            assert np.min(np.max(np.abs(found - pose), axis=1)) < 1e-9
+        for pose in found:  # each leg's joint back on one of its two branches
+            back = np.array([delta.inverse_kinematics(pose, mode=mode, limits=False) for mode in delta.modes])
+            assert np.max(np.nanmin(np.abs(_wrapped(back - q[row])), axis=0)) < 1e-9
+    theirs = chains.every_assembly(q, design)
+    np.testing.assert_array_equal(theirs.counts, a.counts)
+    np.testing.assert_allclose(np.nan_to_num(theirs.poses, nan=9.0), np.nan_to_num(a.poses, nan=9.0), atol=1e-10)
 
 
 def test_pkm_fk_out_writes_the_json_and_each_assemblys_linkage_drawn(tmp_path, capsys):
@@ -217,7 +244,7 @@ def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
     assert "--joints '1,x' violates: 2 numbers, comma-separated" in capsys.readouterr().err
     assert main(["fk", "five_bar", "--joints", "1,nan"]) == 2
     assert "--joints violates: finite numbers; theta2 = nan" in capsys.readouterr().err
-    assert main(["fk", "delta", "--joints", "0.1,0.2,0.3"]) == 2
+    assert main(["fk", "stewart", "--joints", "0.8,0.8,0.8,0.8,0.8,0.8"]) == 2
 
 
 def test_a_double_root_at_a_singularity_is_not_certified():

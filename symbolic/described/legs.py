@@ -81,8 +81,8 @@ class Leg:
     # joint variable (spatial) and its angle (planar)
     reach_names: tuple[str, ...] = ()  # what each reach margin bounds, where it is not the leg's reach alone
     stated: tuple[tuple[str, sp.Expr], ...] = ()  # limits of its joints beside its reach (a cone), named
-    circle: tuple[sp.Matrix, sp.Expr] | None = None  # of a planar leg: its actuated joint given, the circle
-    # (centre in the base frame, radius) on which its platform joint lies
+    circle: tuple[sp.Matrix, sp.Expr] | None = None  # its actuated joint given, the circle (in the plane) or the
+    # sphere (in space) on which its platform joint lies: centre in the base frame, radius
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> Leg:
@@ -129,7 +129,7 @@ def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) ->
     big_k = (d.dot(d) + arm**2 - rod**2) / (2 * arm)
     angle = sp.atan2(q, p) + sigma * sp.acos(big_k / sp.sqrt(p**2 + q**2))
     h = [(c - tip).dot(c - tip) - rod**2]
-    return Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma, joints=(tip,))
+    return Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma, joints=(tip,), circle=(tip, rod))
 
 
 def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr | None) -> Leg:
@@ -140,7 +140,8 @@ def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr 
         normal = rotation[:, 2]
         stated = (("cone at the base", d[2] - sp.cos(cone) * sp.sqrt(d.dot(d))),
                   ("cone at the platform", d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))))
-    return Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None, stated=stated)
+    return Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None, stated=stated,
+               circle=(a, length))
 
 
 def _axis_rotation(axis: sp.Matrix, angle: sp.Expr) -> sp.Matrix:
@@ -199,7 +200,7 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     side = sp.Matrix(h).jacobian(variables).det()
     passive = [v for v in variables if v is not actuated]
     closed = None if leg.get("newton") else _closed_chain(leg["joints"], frame.T * (c - a), vector)
-    circle = _chain_circle(leg["joints"], a, points, variables, vector) if planar else None
+    circle = _chain_circle(leg["joints"], a, points, actuated, vector=vector, planar=planar)
     if closed is None:
         first = [sp.Float(v) for v in seeds[0]]
         blend = first if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * sp.Float(m)
@@ -215,20 +216,22 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
                joints=tuple(points[:-1]), frames=tuple(frames), circle=circle)
 
 
-def _chain_circle(joints: list[dict[str, Any]], a: sp.Matrix, points: list[sp.Matrix], variables: list[sp.Symbol],
-                  vector: Any) -> tuple[sp.Matrix, sp.Expr] | None:
-    """A planar two-joint chain's circle, where it has one: an actuated R or P, then a passive R (the circle
-    about the R, its link the radius); or a passive R without a link, then an actuated P without one (the
-    circle about A, the P's value the radius). None for any other chain."""
+def _chain_circle(joints: list[dict[str, Any]], a: sp.Matrix, points: list[sp.Matrix], actuated: sp.Symbol, *,
+                  vector: Any, planar: bool) -> tuple[sp.Matrix, sp.Expr] | None:
+    """A two-joint chain's circle (in the plane) or sphere (in space), where it has one: an actuated R or P,
+    then a pointing joint (a passive R in the plane; a U or a parallelogram in space; about it, its link the
+    radius); or a pointing joint without a link, then an actuated P without one (about A, the P's value the
+    radius). None for any other chain."""
     if len(joints) != 2:
         return None
     first, second = joints
-    if first["actuated"] and second["type"] == "R":
+    pointing = ("R",) if planar else ("U", "parallelogram")
+    if first["actuated"] and second["type"] in pointing:
         link = vector(second["link"])
         return points[0], sp.sqrt(link.dot(link))
     no_links = all(e.is_zero for j in joints for e in vector(j["link"]))
-    if first["type"] == "R" and second["actuated"] and second["type"] == "P" and no_links:
-        return a, variables[1]
+    if first["type"] in pointing and second["actuated"] and second["type"] == "P" and no_links:
+        return a, actuated
     return None
 
 

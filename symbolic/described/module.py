@@ -38,10 +38,10 @@ def _add_chain(spec: ModuleSpec, k: int, leg: Leg, ends: tuple[sp.Matrix, sp.Mat
 
 def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *, actuated: Port, design: Port
                  ) -> None:
-    """``platform_circles(q_a, design) -> (centres, radii)``: the circle on which each leg's platform joint lies,
-    its actuated joint given, and ``platform_points(design) -> points``: each leg's platform joint in the
-    platform frame; the complete forward kinematics of a planar machine whose every leg has one
-    (:mod:`pkm.assemblies`)."""
+    """``platform_circles(q_a, design) -> (centres, radii)``: the circle (in the plane) or sphere (in space) on
+    which each leg's platform joint lies, its actuated joint given, and ``platform_points(design) -> points``:
+    each leg's platform joint in the platform frame; the complete forward kinematics of a machine whose every
+    leg has one (:mod:`pkm.assemblies`)."""
     centres = sp.Matrix.vstack(*(leg.circle[0].T for leg in legs))
     spec.add("platform_circles", (actuated, design),
              (Output("centres", centres, "each leg's circle's centre, one row each, in the base frame [m]"),
@@ -171,7 +171,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  "The side of each two-branched leg's passive joints at a configuration.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
-    if frame in ("planar", "planar_point") and all(leg.circle is not None for leg in legs):
+    if frame in ("planar", "planar_point", "spatial_point") and all(leg.circle is not None for leg in legs):
         _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
                      design=design_port)
     margins = [m for leg in legs for m in leg.margins]
