@@ -17,7 +17,7 @@ threads) are the real platform angles; phi = pi, where the sextic's degree drops
 taken back to P, polished by Newton's method on the three g_i and kept where it closes them; at most 6. With a
 point pose in the plane (two legs), P is where two circles meet: at most 2; with a point pose in space whose
 legs each put it on a sphere (an R_parallelogram's elbow with its rods, a UPS's base joint with its length, a
-two-joint chain of those shapes: the Delta), where three spheres meet: at most 2.
+two-joint chain of those shapes), where three spheres meet: at most 2.
 
 With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
 the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
