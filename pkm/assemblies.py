@@ -150,13 +150,7 @@ def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
     poses = np.stack([foot + across[:, None] * normal, foot - across[:, None] * normal], axis=1)
     tangent = np.abs(across) <= SAME * scale
     poses[tangent, 1] = np.nan
-    residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
-    open_ = ~(residuals <= CLOSURE * scale[:, None])
-    poses[open_] = np.nan
-    residuals[open_] = np.nan
-    closed = np.all(np.isfinite(poses), axis=2)
-    return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
-                      "two circles' intersection")
+    return _closing(poses, centres, radii, points, scale, method="two circles' intersection")
 
 
 def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
@@ -180,13 +174,19 @@ def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, s
     poses = np.stack([foot + z[:, None] * ez, foot - z[:, None] * ez], axis=1)
     poses[np.abs(z) <= SAME * scale, 1] = np.nan
     poses[j <= SAME * scale] = np.nan
+    return _closing(poses, centres, radii, points, scale, method="three spheres' intersection")
+
+
+def _closing(poses: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray, *,
+             method: str) -> Assemblies:
+    """A point pose's two candidates (N, 2, dim) kept where they close every leg to CLOSURE of the row's
+    size."""
     residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
     open_ = ~(residuals <= CLOSURE * scale[:, None])
     poses[open_] = np.nan
     residuals[open_] = np.nan
     closed = np.all(np.isfinite(poses), axis=2)
-    return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int),
-                      "three spheres' intersection")
+    return Assemblies(poses, residuals, closed.sum(axis=1), 2, np.zeros(len(poses), int), method)
 
 
 def _point_residual(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:

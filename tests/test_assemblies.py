@@ -72,7 +72,7 @@ def _independent(m: pkm.Mechanism, q_a: np.ndarray, box: np.ndarray, starts: int
     return found
 
 
-SCAN = 200_001  # platform angles of the dense scan
+SCAN = 40_001  # platform angles of the dense scan
 
 
 def _scanned(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
@@ -96,7 +96,7 @@ def _scanned(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarra
     values = first(phi)
     lo, hi = phi[:-1][np.sign(values[:-1]) * np.sign(values[1:]) < 0], phi[1:][np.sign(values[:-1]) * np.sign(
         values[1:]) < 0]
-    for _ in range(60):
+    for _ in range(45):
         mid = (lo + hi) / 2
         left = np.sign(first(lo)) * np.sign(first(mid)) <= 0
         lo, hi = np.where(left, lo, mid), np.where(left, mid, hi)
