@@ -176,3 +176,21 @@ def test_a_field_the_reference_lists_as_required_is_refused_where_missing_naming
         missing = f"{where}.{field}" if where else field
         with pytest.raises(DescriptionError, match=re.escape(f"description field {missing} violates")):
             describe(_changed(name, k, lambda table, field=field: table.pop(field)))
+
+
+def test_an_arms_axis_and_zero_are_unit_and_perpendicular():
+    """An R_parallelogram's arm turns from zero towards axis x zero at its length: a longer axis or a zero not
+    across it is refused naming the field (it failed at the home pose with a closure residual)."""
+    import tomllib
+
+    from pkm.models.described import DESCRIPTIONS
+
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    for axis, zero, field, condition in (([0, 2, 0], [1, 0, 0], "axis", "a unit direction"),
+                                         ([0, 1, 0], [1, 0.1, 0], "zero", "a unit direction"),
+                                         ([0, 1, 0], [0.8, 0.6, 0], "zero", "perpendicular to axis")):
+        raw["legs"]["axis"], raw["legs"]["zero"] = axis, zero
+        with pytest.raises(DescriptionError, match=rf"legs \(leg 1\)\.{field} violates: {condition}"):
+            describe(raw)
+    raw["legs"]["axis"], raw["legs"]["zero"] = [0, 1, 0], [1, 0, 0]
+    assert describe(raw).data["legs"][0]["axis"] == [0, 1, 0]

@@ -576,10 +576,25 @@ def _within_a_turn(field: str, name: str, angle: float) -> None:
                            f"degrees? ({angle:g} deg = {math.radians(angle):.6g} rad)")
 
 
+FRAME_TOLERANCE = 1e-9  # an arm's axis and zero direction are unit and perpendicular to this
+
+
+def _check_frame(where: str, axis: list[float], zero: list[float]) -> None:
+    """An arm's axis and its angle's zero direction unit and perpendicular at the default design (its tip
+    turns from zero towards axis x zero at the arm's length)."""
+    for name, direction in (("axis", axis), ("zero", zero)):
+        if abs(math.hypot(*direction) - 1) > FRAME_TOLERANCE:
+            raise _fail(f"{where}.{name}", f"a unit direction at the default design; its length is "
+                                           f"{math.hypot(*direction):.6g}: divide it by that")
+    if abs(sum(a * z for a, z in zip(axis, zero, strict=True))) > FRAME_TOLERANCE:
+        raise _fail(f"{where}.zero", f"perpendicular to axis at the default design; axis . zero = "
+                                     f"{sum(a * z for a, z in zip(axis, zero, strict=True)):.6g}")
+
+
 def _check_values(data: Mapping[str, Any]) -> None:
     """At the default design, every expression has a finite value, the legs' lengths are positive, their
-    directions do not vanish, a range's lower end lies below its upper, the regions' sizes are positive and
-    every validity condition holds."""
+    directions do not vanish (an arm's axis and zero direction are unit and perpendicular), a range's lower end
+    lies below its upper, the regions' sizes are positive and every validity condition holds."""
     design = {p["name"]: p["default"] for p in data["parameters"]}
 
     def value(field: str, tree: Any) -> float:
@@ -622,6 +637,9 @@ def _check_values(data: Mapping[str, Any]) -> None:
                     if not any(vector):
                         raise _fail(f"{at}.{name}" + (f"[{d}]" if name == "axes" else ""),
                                     "a direction (not zero) at the default design")
+        if leg["kind"] == "R_parallelogram":
+            _check_frame(where, [value(f"{where}.axis", c) for c in leg["axis"]],
+                         [value(f"{where}.zero", c) for c in leg["zero"]])
     for k, region in enumerate(data["regions"]):
         for j, size in enumerate(region["size"]):
             if not value(f"regions[{k}].size[{j}]", size) > 0:

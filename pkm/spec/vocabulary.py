@@ -239,10 +239,11 @@ KINDS = {
             "arm's tip to the platform joint",
         fields=(Field("arm", LENGTH, "the arm, from the motor's axis to the rods' joints", required=True),
                 Field("rod", LENGTH, "the parallelogram's rods", required=True),
-                Field("axis", "tangent, or a direction: a list of 3 expressions", "the motor's axis; tangent to the "
-                      "base's circle by default, given with zero where the base is not a pattern"),
-                Field("zero", "radial, or a direction: a list of 3 expressions", "the arm's direction at its angle "
-                      "0; radial to the base's circle by default"),
+                Field("axis", "tangent, or a unit direction: a list of 3 expressions",
+                      "the motor's axis; tangent to the base's circle by default, given with zero where the base is "
+                      "not a pattern"),
+                Field("zero", "radial, or a unit direction across axis: a list of 3 expressions",
+                      "the arm's direction at its angle 0; radial to the base's circle by default"),
                 LEG_BODIES),
         branches=("ccw", "cw"),
         meaning="the arm turned counter-clockwise or clockwise about its axis from the plane of the axis and the "
