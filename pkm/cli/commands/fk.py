@@ -106,8 +106,8 @@ def run(args: argparse.Namespace) -> None:
 
 
 def _figure(m: Mechanism, design: Any, drawn: list[tuple[np.ndarray, dict[str, Any]]]) -> Any:
-    """One panel per assembly: each leg's joints joined from the base, the platform's joints joined, in the
-    plane of the first two pose coordinates."""
+    """One panel per assembly: each leg's joints joined from the base, the platform's joints joined; in the
+    plane of the linkage, or seen from the side (across the first and the third coordinate) in space."""
     from matplotlib.ticker import MaxNLocator
 
     from pkm.figures import figure
@@ -116,15 +116,17 @@ def _figure(m: Mechanism, design: Any, drawn: list[tuple[np.ndarray, dict[str, A
     for k, (pose, row) in enumerate(drawn, 1):
         ax = fig.add_subplot(1, max(len(drawn), 1), k)
         legs = m.linkage(pose, design, mode=row["mode"]) if row["mode"] is not None else []
+        across = (0, 2) if legs and legs[0].shape[1] == 3 else (0, 1)
         for points in legs:
-            ax.plot(points[:, 0], points[:, 1], "o-", color="C0", lw=1.5, ms=3)
-        ends = np.array([points[-1, :2] for points in legs]) if legs else np.zeros((0, 2))
+            ax.plot(points[:, across[0]], points[:, across[1]], "o-", color="C0", lw=1.5, ms=3)
+        ends = np.array([points[-1, list(across)] for points in legs]) if legs else np.zeros((0, 2))
         if len(ends) > 2:
             ax.fill(ends[:, 0], ends[:, 1], color="C1", alpha=0.4)
         ax.set_aspect("equal")
         ax.set_title(f"assembly {k}: {row['mode'] or 'no working mode'}", fontsize=8)
-        ax.set_xlabel(f"{m.pose_names[0]} [{m.pose_units[0]}]", fontsize=8)
-        ax.set_ylabel(f"{m.pose_names[1]} [{m.pose_units[1]}]", fontsize=8)
+        names = ("x", "z") if across == (0, 2) else m.pose_names[:2]
+        ax.set_xlabel(f"{names[0]} [m]", fontsize=8)
+        ax.set_ylabel(f"{names[1]} [m]", fontsize=8)
         ax.tick_params(labelsize=7)
         ax.xaxis.set_major_locator(MaxNLocator(4))
     return fig
