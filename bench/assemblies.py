@@ -51,7 +51,7 @@ def _one_at_a_time(m: Any, q: np.ndarray) -> np.ndarray:
         harmonics = np.fft.fft(f[0]) / assemblies.SAMPLES
         z = np.roots(harmonics[[j % assemblies.SAMPLES for j in range(3, -4, -1)]])
         phi = np.angle(z[np.abs(np.abs(z) - 1) <= assemblies.ON_CIRCLE])[None]
-        _, num, det, _ = assemblies._terms(phi, centres, radii[:, :, 0], points[0])
+        _, num, det, *_ = assemblies._terms(phi, centres, radii[:, :, 0], points[0])
         x = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
         for _ in range(assemblies.NEWTON_STEPS):
             x = assemblies._newton_step(x, centres, radii[:, :, 0], points[0])

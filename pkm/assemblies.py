@@ -193,13 +193,17 @@ def _point_residual(p: np.ndarray, centres: np.ndarray, radii: np.ndarray, point
     return np.max(np.abs(np.linalg.norm(p[:, None, :] + points[None] - centres, axis=2) - radii), axis=1)
 
 
-def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray
-           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """At platform angles phi (N, M): f = |N|^2 + 2 D N.w_1 + D^2 (|w_1|^2 - r_1^2), N (N, M, 2), D (N, M) and
-    w_i = R(phi) c_i - B_i (N, M, 3, 2)."""
+def _turned(phi: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """The platform joints (k, 2) turned by the platform angles phi (...): (..., k, 2)."""
     cos, sin = np.cos(phi)[..., None], np.sin(phi)[..., None]
-    turned = np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
-    w = turned - centres[:, None, :, :]
+    return np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
+
+
+def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
+    """At platform angles phi (N, M): f = |N|^2 + 2 D N.w_1 + D^2 (|w_1|^2 - r_1^2), N (N, M, 2), D (N, M),
+    w_i = R(phi) c_i - B_i (N, M, 3, 2), and the linear system m P = rhs of the circles' differences (its rows
+    (N, M, 2, 2), its right side (N, M, 2)) whose solution by Cramer's rule is N / D."""
+    w = _turned(phi, points) - centres[:, None, :, :]
     power = np.sum(w**2, axis=-1) - radii[:, None, :] ** 2
     m = 2 * (w[..., 1:, :] - w[..., :1, :])
     rhs = -(power[..., 1:] - power[..., :1])
@@ -207,7 +211,7 @@ def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.n
     num = np.stack([m[..., 1, 1] * rhs[..., 0] - m[..., 0, 1] * rhs[..., 1],
                     m[..., 0, 0] * rhs[..., 1] - m[..., 1, 0] * rhs[..., 0]], axis=-1)
     f = np.sum(num**2, axis=-1) + 2 * det * np.sum(num * w[..., 0, :], axis=-1) + det**2 * power[..., 0]
-    return f, num, det, w
+    return f, num, det, w, m, rhs
 
 
 def _half_angle_matrix() -> np.ndarray:
@@ -301,16 +305,14 @@ def _positions(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: 
     """Candidate poses (N, 6, 3) for the platform angles phi (N, 6): the position by Cramer's rule, and NaN; where
     the two differences' lines are nearly parallel (D(phi) near 0: two mirror assemblies at one angle), the two
     points where the better of the two lines meets the first circle instead."""
-    _, num, det, w = _terms(phi, centres, radii, points)
-    m = 2 * (w[..., 1:, :] - w[..., :1, :])
+    _, num, det, w, m, rhs = _terms(phi, centres, radii, points)
     lengths = np.linalg.norm(m, axis=-1)
     parallel = np.abs(det) <= PARALLEL * np.prod(lengths, axis=-1)
     first = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
     second = np.full_like(first, np.nan)
     if parallel.any():
-        w, m, lengths = w[parallel], m[parallel], lengths[parallel]
+        w, m, rhs, lengths = w[parallel], m[parallel], rhs[parallel], lengths[parallel]
         r = np.broadcast_to(radii[:, None, :], (*parallel.shape, 3))[parallel]
-        rhs = -(np.sum(w[:, 1:] ** 2, axis=-1) - r[:, 1:] ** 2 - (np.sum(w[:, :1] ** 2, axis=-1) - r[:, :1] ** 2))
         best = np.argmax(lengths, axis=-1)
         n = m[np.arange(len(m)), best]
         d = rhs[np.arange(len(m)), best]
@@ -325,8 +327,7 @@ def _positions(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: 
 
 def _circle_terms(x: np.ndarray, centres: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The platform joints' offsets from their circles' centres (N, S, 3, 2) and their derivative in phi."""
-    cos, sin = np.cos(x[..., 2])[..., None], np.sin(x[..., 2])[..., None]
-    turned = np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
+    turned = _turned(x[..., 2], points)
     offset = x[..., None, :2] + turned - centres[:, None, :, :]
     return offset, np.stack([-turned[..., 1], turned[..., 0]], axis=-1)
 

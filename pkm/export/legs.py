@@ -130,18 +130,25 @@ class _Leg:
         self.joints.append(Joint(f"{name}{self.k}", kind, *links, at, axes, f"{doc} of leg {self.k}", **extra))
 
     @property
-    def turning_rotor(self) -> bool:
-        """Whether its actuated joint is a revolute with a rotor (a kind's, or the chain joint's)."""
-        actuated = next(j for j in self.leg["joints"] if j["actuated"])
-        rotor = (self.bodies or {}).get("rotor", 0) if self.leg["kind"] != CHAIN else actuated.get("rotor", 0)
-        return actuated["type"] == "R" and bool(self.values.scalar(rotor))
+    def actuated_joint(self) -> Mapping[str, Any]:
+        return next(j for j in self.leg["joints"] if j["actuated"])
 
-    def note_rotor(self) -> None:
-        self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
-                          "joint) has no form in a URDF and is left out")
+    @property
+    def rotor(self) -> float:
+        """Its actuated joint's rotor (a kind's in its bodies, a chain's on the joint); 0 without one."""
+        table = (self.bodies or {}) if self.leg["kind"] != CHAIN else self.actuated_joint
+        return float(self.values.scalar(table.get("rotor", 0)))
+
+    @property
+    def turning_rotor(self) -> bool:
+        """Whether its actuated joint is a revolute with a rotor."""
+        return self.actuated_joint["type"] == "R" and bool(self.rotor)
 
     def _walk(self) -> None:
         """The chain's links and joints from A, then the platform's joint at C."""
+        if self.actuated_joint["type"] == "P" and self.rotor:
+            self.notes.append(f"leg {self.k}: the rotor on its actuated prismatic joint (a reflected mass along the "
+                              "joint) has no form in a URDF and is left out")
         planar = len(self.leg["joints"][0]["link"]) == 2
         rotation = rotation_z(self.values.scalar(self.leg.get("turn", 0)))
         point, parent = self.a, "base"
@@ -225,8 +232,6 @@ class _Leg:
                 parts.append(Inertial.principal(mass, centre, moments, rotation))
         if "rotor" in joint and joint["type"] == "R":
             parts += _rotor(self.values, {"rotor": joint["rotor"]}, origin, axis)
-        elif "rotor" in joint and self.values.scalar(joint["rotor"]):
-            self.note_rotor()
         return parts
 
 
@@ -271,8 +276,6 @@ def _rr_parts(leg: _Leg, j: int, frame: Frame) -> list[Inertial]:
 
 def _legged_parts(leg: _Leg, j: int, _frame: Frame) -> list[Inertial]:
     """An RPR's or a UPS's cylinder on its base joint and piston on its platform joint, along the leg."""
-    if j == 1 and leg.bodies is not None and leg.values.scalar(leg.bodies.get("rotor", 0)):
-        leg.note_rotor()
     if j == 0:
         return _bar(leg.values, leg.body("cylinder"), leg.a, leg.c - leg.a)
     return _bar(leg.values, leg.body("piston"), leg.c, leg.a - leg.c)
@@ -283,8 +286,6 @@ def _prr_parts(leg: _Leg, j: int, frame: Frame) -> list[Inertial]:
     origin, end, _ = frame
     if j == 1:
         return _bar(leg.values, leg.body("distal"), origin, end - origin)
-    if leg.bodies is not None and leg.values.scalar(leg.bodies.get("rotor", 0)):
-        leg.note_rotor()
     slider = leg.body("slider")
     return [] if slider is None else [Inertial.point(leg.values.scalar(slider["mass"]), origin)]
 

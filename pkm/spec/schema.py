@@ -583,12 +583,13 @@ def _check_frame(where: str, axis: list[float], zero: list[float]) -> None:
     """An arm's axis and its angle's zero direction unit and perpendicular at the default design (its tip
     turns from zero towards axis x zero at the arm's length)."""
     for name, direction in (("axis", axis), ("zero", zero)):
-        if abs(math.hypot(*direction) - 1) > FRAME_TOLERANCE:
-            raise _fail(f"{where}.{name}", f"a unit direction at the default design; its length is "
-                                           f"{math.hypot(*direction):.6g}: divide it by that")
-    if abs(sum(a * z for a, z in zip(axis, zero, strict=True))) > FRAME_TOLERANCE:
-        raise _fail(f"{where}.zero", f"perpendicular to axis at the default design; axis . zero = "
-                                     f"{sum(a * z for a, z in zip(axis, zero, strict=True)):.6g}")
+        length = math.hypot(*direction)
+        if abs(length - 1) > FRAME_TOLERANCE:
+            raise _fail(f"{where}.{name}", f"a unit direction at the default design; its length is {length:.6g}: "
+                                           "divide it by that")
+    dot = sum(a * z for a, z in zip(axis, zero, strict=True))
+    if abs(dot) > FRAME_TOLERANCE:
+        raise _fail(f"{where}.zero", f"perpendicular to axis at the default design; axis . zero = {dot:.6g}")
 
 
 def _check_values(data: Mapping[str, Any]) -> None:
