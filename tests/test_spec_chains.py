@@ -12,6 +12,7 @@ import os
 import re
 import shutil
 import tomllib
+import zlib
 
 import numpy as np
 import pytest
@@ -288,8 +289,9 @@ def _parameters(**values: float) -> list[dict]:
 
 
 def _circles(frame: str, home: list, joints: list, branches: dict, **values: float) -> dict:
-    """Three chain legs on the circles R (base) and r (platform)."""
-    return {"name": f"chains_{abs(hash(str(joints))) % 10**8}", "frame": frame, "home": home,
+    """Three chain legs on the circles R (base) and r (platform), named by their joints: the same name in every
+    process (``hash`` of a string changes with PYTHONHASHSEED, so that each run derived all four again)."""
+    return {"name": f"chains_{zlib.crc32(str(joints).encode()) % 10**8}", "frame": frame, "home": home,
             "parameters": _parameters(**values),
             "legs": {"kind": "chain", "count": 3, "base": {"circle": "R", "start": "pi/2"},
                      "platform": {"circle": "r", "start": "pi/2"}, "joints": joints, "branches": branches}}
