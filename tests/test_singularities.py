@@ -69,6 +69,45 @@ def test_the_margins_vanish_at_the_five_bars_stretched_leg_and_the_in_line_3rpr(
     assert rpr3.singular_types(poses) == [["type II"], ["type II"], []]
 
 
+def _delta_type1_by_hand(delta, pose, design=None):
+    """The product over the Delta's legs of |cos| of the angle between the arm's tangent (its axis across the
+    arm) and the rods, from the drawn joints' points: zero where a leg's arm and rods lie in line."""
+    axes = [np.array([-math.sin(t), math.cos(t), 0.0]) for t in 2 * math.pi * np.arange(3) / 3]
+    product = 1.0
+    for (base, tip, end), axis in zip(delta.linkage(pose, design), axes, strict=True):
+        arm, rods = tip - base, end - tip
+        assert np.linalg.norm(arm) == pytest.approx(0.25, rel=1e-12)
+        assert np.linalg.norm(rods) == pytest.approx(0.6, rel=1e-12)
+        product *= abs(np.cross(axis, arm) @ rods) / (np.linalg.norm(arm) * np.linalg.norm(rods))
+    return product
+
+
+def test_the_deltas_type1_margin_is_the_angle_of_its_arms_and_rods_and_vanishes_where_a_leg_stretches():
+    """The Delta's legs carry their parallelograms' two angles as passive joints, so its type I margin is
+    the angle of each arm's tangent to its rods (it was 1 everywhere but exactly at the singularity, when the
+    closure eliminated the rods' directions): the same as by hand at random poses, and falling to zero as
+    the platform goes down to where every leg stretches (its rods in line with its arm)."""
+    delta = pkm.load("delta")
+    rng = np.random.default_rng(7)
+    poses = np.column_stack([rng.uniform(-0.15, 0.15, (20, 2)), rng.uniform(-0.6, -0.35, 20)])
+    margins = delta.local_index("singularity_margin_type1", poses)
+    assert np.all((margins > 0.01) & (margins < 1))
+    assert margins.std() > 0.01
+    for pose, margin in zip(poses, margins, strict=True):
+        assert margin == pytest.approx(_delta_type1_by_hand(delta, pose), rel=1e-9)
+    # the platform's joints outside the arms': every arm stretches within its range
+    wide = delta.design({"R": 0.05, "r": 0.2}, partial=True)
+    stretched = math.sqrt((0.25 + 0.6) ** 2 - (0.2 - 0.05) ** 2)  # below the centre, every leg in line
+    toward = []
+    for short in (1e-1, 1e-2, 1e-4, 1e-8):
+        pose = np.array([0.0, 0.0, -stretched * (1 - short)])
+        toward.append(delta.local_index("singularity_margin_type1", pose, wide))
+        assert toward[-1] == pytest.approx(_delta_type1_by_hand(delta, pose, wide), rel=1e-6, abs=1e-12)
+    assert toward == sorted(toward, reverse=True)
+    assert toward[-1] < SINGULAR
+    assert delta.singular_types(pose, wide) == [["type I"]]
+
+
 def test_a_description_singular_at_home_is_warned_at_load_naming_its_margin(rpr3_file):
     text = RPR3.replace('name = "rpr3_in_line"', 'name = "rpr3_warned"')
     with pytest.warns(SingularityWarning, match=r"description rpr3_warned: its home pose \[0\.0, 0\.0, 0\.0\] is "

@@ -1,10 +1,10 @@
 """The structure of a described machine (:mod:`pkm.spec`), leg by leg, each leg walked as its chain of joints.
 
-Every leg is a chain of joints from its base attachment A to its platform attachment C: a chain leg's as
-described, a named kind's as :data:`pkm.spec.vocabulary.KINDS` states it (RR: an actuated R, an R; RPR: an R, an
-actuated P; PRR: an actuated P, an R; R_parallelogram: an actuated R, a parallelogram; UPS: a U, an actuated P),
-its joint values at the reference configuration from the kind's own (:data:`_VALUES`: an RR's elbow relative to
-its arm, a UPS's universal joint and an R_parallelogram's parallelogram pointed at C). One walk turns each into
+Every leg is a chain of joints from its base attachment A to its platform attachment C: a chain leg's as described,
+a named kind's as :data:`pkm.spec.vocabulary.KINDS` states it (RR: an actuated R, an R; RPR: an R, an actuated P;
+PRR: an actuated P, an R; R_parallelogram: an actuated R, a parallelogram; UPS: a U, an actuated P), its joint
+values at the reference configuration from the kind's own where they differ from the chain's (:data:`_VALUES`: an
+RR's elbow and an R_parallelogram's rods relative to its arm, a UPS's universal joint). One walk turns each into
 links and joints: an R or a P one joint, a U two revolutes (its zero at the reference configuration), a
 parallelogram the chain its two rods make of it (the rods' plane turning about its first axis, the rods swinging
 about its second, the same two turns undone at the rods' end by mimic joints with multiplier -1, so that the bar
@@ -247,16 +247,11 @@ def _ups_values(leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
     return q[0], math.atan2(-d[1], d[2]), math.asin(float(np.clip(d[0], -1.0, 1.0)))
 
 
-def _parallelogram_values(leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
-    """An R_parallelogram's arm angle, then its parallelogram's turns (about the axis, then about zero x axis in
-    the arm's frame) pointing the rods (along zero) from the arm's tip at C."""
-    theta = q[0]
-    v, u = unit(leg.values.point(leg.leg["axis"])), unit(leg.values.point(leg.leg["zero"]))
-    w = unit(np.cross(u, v))
-    turned = _about(v, theta)
-    tip = leg.a + turned @ (leg.values.scalar(leg.leg["arm"]) * leg.values.point(leg.leg["zero"]))
-    d = turned.T @ unit(leg.c - tip)
-    return theta, math.atan2(-float(d @ w), float(d @ u)), math.asin(float(np.clip(d @ v, -1.0, 1.0)))
+def _parallelogram_values(_leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
+    """An R_parallelogram's arm angle, then its parallelogram's turns in the arm's frame: the rods' absolute
+    angle about the axis less the arm's, and their turn about zero x axis."""
+    theta, alpha, beta = q
+    return theta, alpha - theta, beta
 
 
 # a named kind's joint values (actuated first) as its chain's, where they differ

@@ -248,7 +248,7 @@ KINDS = {
         branches=("ccw", "cw"),
         meaning="the arm turned counter-clockwise or clockwise about its axis from the plane of the axis and the "
                 "platform joint",
-        unit="rad", passive=0, sided=False,
+        unit="rad", passive=2, sided=False,
         bodies=(Field("arm", BODY, "the arm, its centre from the motor's axis, its inertia about that axis"),
                 Field("rod", POINT_BODY, "both rods of the parallelogram: half the mass at the arm's tip, half at "
                       "the platform joint")),

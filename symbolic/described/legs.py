@@ -120,16 +120,24 @@ def _prr(k: int, a: sp.Matrix, c: sp.Matrix, axis: sp.Matrix, length: sp.Expr) -
 
 
 def _r_parallelogram(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any]) -> Leg:
+    """The arm turned by theta about the axis from zero, and the parallelogram's rods turned from zero by beta
+    about zero x axis, then by alpha about the axis: alpha absolute, like an RR's distal angle (the chain's
+    parallelogram turns by alpha - theta in the arm's frame); beta within +-pi/2 (the rods never turn
+    over)."""
     axis, zero, arm, rod = leg["axis"], leg["zero"], leg["arm"], leg["rod"]
-    theta, sigma = sp.symbols(f"theta{k + 1} sigma{k + 1}", real=True)
+    theta, alpha, beta, sigma = sp.symbols(f"theta{k + 1} alpha{k + 1} beta{k + 1} sigma{k + 1}", real=True)
     w = axis.cross(zero)
     tip = a + arm * (sp.cos(theta) * zero + sp.sin(theta) * w)
+    rods = sp.cos(beta) * (sp.cos(alpha) * zero + sp.sin(alpha) * w) + sp.sin(beta) * axis
+    h = list(tip + rod * rods - c)
     d = c - a
     p, q = d.dot(zero), d.dot(w)
     big_k = (d.dot(d) + arm**2 - rod**2) / (2 * arm)
     angle = sp.atan2(q, p) + sigma * sp.acos(big_k / sp.sqrt(p**2 + q**2))
-    h = [(c - tip).dot(c - tip) - rod**2]
-    return Leg(h, theta, [], {theta: angle}, [p**2 + q**2 - big_k**2], sigma, joints=(tip,), circle=(tip, rod))
+    reached = d - arm * (sp.cos(angle) * zero + sp.sin(angle) * w)
+    ik = {theta: angle, alpha: sp.atan2(reached.dot(w), reached.dot(zero)),
+          beta: sp.atan2(reached.dot(axis), sp.sqrt(reached.dot(zero) ** 2 + reached.dot(w) ** 2))}
+    return Leg(h, theta, [alpha, beta], ik, [p**2 + q**2 - big_k**2], sigma, joints=(tip,), circle=(tip, rod))
 
 
 def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr | None) -> Leg:
