@@ -125,11 +125,13 @@ class Seeded:
     """A described machine's forward kinematics in numpy (module docstring): its loop h(z, q) = 0 in z =
     (passive joints, pose), as pkm's description states it (symbolic/described), ``n_out`` pose
     coordinates, ``periodic`` whether the actuated joints are angles, ``angles`` the angles of z (wrapped into
-    [-pi, pi) as pkm gives them)."""
+    [-pi, pi) as pkm gives them), ``unknowns`` the last columns of pkm's z that its loop solves for where it
+    eliminates passive joints that pkm keeps (None: all of them)."""
 
     n_out: int = 3
     periodic: bool = True
     angles: tuple[int, ...] = ()
+    unknowns: int | None = None
 
     @staticmethod
     def loop(z: np.ndarray, q: np.ndarray, d: Design) -> tuple[np.ndarray, np.ndarray]:
@@ -149,6 +151,7 @@ class Seeded:
         try continued by :func:`continued_newton`, kept where it closes (pkm's ROOT_TOLERANCE) with the
         signature of its seed, repeats dropped."""
         q0, z0 = seeds
+        z0 = z0 if cls.unknowns is None else z0[:, -cls.unknowns:]
         tries = min(NearestSeeds.tries, len(q0))
         order, gap = _nearest(q, q0, np.full(q.shape[1], cls.periodic), min(CANDIDATES * tries, len(q0)))
         order, gap = _spread(z0, order, gap, tries)
@@ -549,6 +552,7 @@ class Delta(Seeded):
     """
 
     dynamic_index = "dynamic_dexterity"
+    unknowns = 3  # the pose: its loop eliminates the parallelograms' angles
     GRAVITY = 9.81  # [m/s^2] delta.toml's gravity (0, 0, -9.81)
 
     @staticmethod
