@@ -433,7 +433,9 @@ def _polished(problem: Problem, second: Objective, points: list[FrontPoint], opt
     """The front's optimal points solved again at their epsilons, each from itself, at doubled resolutions
     until both objectives of every point change by at most ACCURACY (relative above 1) from the optimiser's
     quadrature to the verification's, or POLISH_LIMIT: one resolution for the whole front, so that neighbours
-    and their trade-off rates compare. A point whose run fails or ends infeasible keeps its last good one."""
+    and their trade-off rates compare; an end kept as its anchor (where IPOPT ends elsewhere no better, :func:`_end`)
+    is evaluated again at each resolution, not solved. A point whose run fails or ends infeasible keeps its last
+    good one."""
     resolution = min((p.resolution for p in points if p.status == "optimal"), default=POLISH_LIMIT)
     while 2 * resolution <= POLISH_LIMIT:
         good = [k for k, p in enumerate(points) if p.status == "optimal"]
@@ -442,8 +444,12 @@ def _polished(problem: Problem, second: Objective, points: list[FrontPoint], opt
             break
         resolution *= 2
         for k in good:
-            again = _point(problem, second, points[k].epsilon, [np.array(list(points[k].variables.values()))],
-                           res=resolution, options=options)
+            at = np.array(list(points[k].variables.values()))
+            if points[k].ipopt_status == "anchor":  # an end IPOPT does not improve on: evaluated again
+                again = _evaluated(ProblemModel(_with_epsilon(problem, second, points[k].epsilon)),
+                                   points[k].epsilon, at, resolution, "anchor")
+            else:
+                again = _point(problem, second, points[k].epsilon, [at], res=resolution, options=options)
             again.iterations += points[k].iterations
             again.evaluations += points[k].evaluations
             if again.status == "optimal":
