@@ -1,5 +1,5 @@
 """Every real assembly of a mechanism at its actuated joints, none lost to naming: the complete forward
-kinematics (issue 39; the spatial machines with a pose of six coordinates are refused, their homotopy not there).
+kinematics (issue 39).
 
 A planar machine whose every leg, its actuated joint given, puts its platform joint on a circle (an RR's elbow
 with its distal link, an RPR's base joint with its length, a PRR's slider with its link, a two-joint chain of
@@ -17,7 +17,9 @@ threads) are the real platform angles; phi = pi, where the sextic's degree drops
 taken back to P, polished by Newton's method on the three g_i and kept where it closes them; at most 6. With a
 point pose in the plane (two legs), P is where two circles meet: at most 2; with a point pose in space whose
 legs each put it on a sphere (an R_parallelogram's elbow with its rods, a UPS's base joint with its length, a
-two-joint chain of those shapes), where three spheres meet: at most 2.
+two-joint chain of those shapes), where three spheres meet: at most 2. With a pose of six coordinates and six such
+legs (each a sphere about the base), the real ends of a parameter homotopy's 40 paths (:mod:`pkm.homotopy`): at most
+40, a path that did not arrive reported in ``failed``.
 
 With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
 the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
@@ -38,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from pkm import batch
+from pkm import batch, homotopy
 from pkm.batch import evaluate
 from pkm.errors import PkmError
 from pkm.kinematics import ClosedForm, PolynomialRoots, as_batch
@@ -56,9 +58,9 @@ PARALLEL = 1e-6  # the sine of the angle below which the two lines of the circle
 class Assemblies:
     """Every real assembly at each of N sets of actuated joints: ``poses`` (N, S, n_out), NaN beyond each
     row's ``counts`` (followed along a path, NaN where a column's assembly does not exist); ``residuals`` (N,
-    S) the largest closure error of each [m]; ``bound`` the most there can be (the polynomial's degree);
-    ``failed`` (N,) the real roots that did not close (reported, not dropped); ``method`` how they were
-    found."""
+    S) the largest closure error of each [m]; ``bound`` the most there can be (the polynomial's degree, the
+    homotopy's paths); ``failed`` (N,) the candidates that did not give an assembly (reported, not dropped), as
+    ``failures`` says; ``method`` how they were found."""
 
     poses: np.ndarray
     residuals: np.ndarray
@@ -67,6 +69,7 @@ class Assemblies:
     failed: np.ndarray
     method: str
     certified: np.ndarray | None = None  # (N,) whether the count equals the certified count (with ``certify``)
+    failures: str = "real roots did not close"
 
 
 def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False, follow: bool = False
@@ -92,6 +95,9 @@ def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assem
         if mech.n_out == 2:
             _refuse_certify(certify, mech)
             return _two_circles(centres[:, :, :2], radii, points[0], scale)
+        if centres.shape[2] == 3 and mech.n_out == 6:
+            _refuse_certify(certify, mech)
+            return _six_spheres(centres, radii, points[0], scale)
         if centres.shape[2] == 3:
             _refuse_certify(certify, mech)
             return _three_spheres(centres, radii, points[0], scale)
@@ -175,6 +181,29 @@ def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, s
     poses[np.abs(z) <= SAME * scale, 1] = np.nan
     poses[j <= SAME * scale] = np.nan
     return _closing(poses, centres, radii, points, scale, method="three spheres' intersection")
+
+
+SPATIAL_ANGLES = np.array([False, False, False, True, True, True])  # which coordinates of a spatial pose are angles
+
+
+def _six_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+    """The poses (x, y, z, roll, pitch, yaw; R = Rz(yaw) Ry(pitch) Rx(roll), pitch within +-pi/2) where each of
+    the platform's six joints lies on its sphere: the real ends of the parameter homotopy's 40 paths
+    (:mod:`pkm.homotopy`), kept where they close every sphere to CLOSURE of the row's size; the paths that did
+    not arrive counted in ``failed``."""
+    n = len(centres)
+    z, arrived = homotopy.solve(centres, np.broadcast_to(points, (n, 6, 3)), radii**2)
+    rotation, t, real = homotopy.real_poses(z, arrived)
+    residuals = homotopy.pose_residual(rotation, t, centres[:, None], points, radii[:, None])
+    closed = real & (residuals <= CLOSURE * scale[:, None])
+    angles = np.stack([np.arctan2(rotation[..., 2, 1], rotation[..., 2, 2]),
+                       np.arcsin(np.clip(-rotation[..., 2, 0], -1.0, 1.0)),
+                       np.arctan2(rotation[..., 1, 0], rotation[..., 0, 0])], axis=-1)
+    poses = np.where(closed[..., None], np.concatenate([t, angles], axis=-1), np.nan)
+    poses, residuals = _distinct(poses, np.where(closed, residuals, np.nan), scale, SPATIAL_ANGLES)
+    return Assemblies(poses, residuals, np.sum(np.isfinite(residuals), axis=1), homotopy.PATHS,
+                      np.sum(~arrived, axis=1), "a parameter homotopy in Study's coordinates, 40 paths",
+                      failures="paths did not arrive (their ends at infinity or at a singular point)")
 
 
 def _closing(poses: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray, *,

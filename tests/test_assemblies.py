@@ -1,9 +1,9 @@
-"""Every real assembly (issue 39, the planar machines): the sextic in the platform angle finds each assembly of
-a planar machine whose legs put its platform joints on circles, none lost to naming. Anchors: ALIAS's 3-RPR
-(exactly its two assemblies), a 3-RPR pose with six, the hand-derived five-bar's closed form on the five-bar of
-RR legs; for random poses of the described 3-RRR and a 3-PRR every assembly closes, the inverse kinematics
-gives the joints back in one of the working modes, and an independent solve (least squares on the inverse
-kinematics from many starts, every working mode; a dense scan of the platform angle) finds no other."""
+"""Every real assembly (issue 39): the sextic in the platform angle finds each assembly of a planar machine whose legs
+put its platform joints on circles, none lost to naming. Anchors: ALIAS's 3-RPR (exactly its two assemblies), a
+3-RPR pose with six, the hand-derived five-bar's closed form on the five-bar of RR legs, Dietmaier's 6-6 platform
+with 40 (the parameter homotopy); for random poses of the described 3-RRR and a 3-PRR every assembly closes, the
+inverse kinematics gives the joints back in one of the working modes, and an independent solve (least squares on the
+inverse kinematics from many starts, every working mode; a dense scan of the platform angle) finds no other."""
 
 from __future__ import annotations
 
@@ -172,9 +172,75 @@ def test_the_five_bar_of_rr_legs_has_the_hand_derived_five_bars_assemblies():
         assert np.max(np.min(np.linalg.norm(a[:, None] - b[None], axis=2), axis=1)) < 1e-10
 
 
-def test_a_machine_whose_forward_kinematics_is_seeded_is_refused_by_name():
-    with pytest.raises(PkmError, match=r"mechanism stewart violates: a mechanism whose complete forward kinematics"):
-        pkm.load("stewart").every_assembly([0.8] * 6)
+# Dietmaier's 6-6 geometry with 40 real assemblies (ARK 1998), as tabulated in martyushev/fkSGP (MIT): base
+# joints, platform joints, leg lengths, and one of its poses
+DIETMAIER_BASE = [[0, 0, 0], [1.107915, 0, 0], [0.549094, 0.756063, 0], [0.735077, -0.223935, 0.525991],
+                  [0.514188, -0.526063, -0.368418], [0.590473, 0.094733, -0.205018]]
+DIETMAIER_PLATFORM = [[0, 0, 0], [0.542805, 0, 0], [0.956919, -0.528915, 0], [0.665885, -0.353482, 1.402538],
+                      [0.478359, 1.158742, 0.107672], [-0.137087, -0.235121, 0.353913]]
+DIETMAIER_LENGTHS = [1, 0.645275, 1.086284, 1.503439, 1.281933, 0.771071]
+DIETMAIER_ROTATION = [[-0.040450357031281, -0.932229494397471, 0.359599691867884],
+                      [0.983337493748685, 0.026695523074364, 0.179818582009314],
+                      [-0.177231887661606, 0.360881585597300, 0.915616371179918]]
+DIETMAIER_TRANSLATION = [0.955868038233880, -0.046995628998516, -0.290013283037649]
+
+
+def _pose(rotation, translation) -> np.ndarray:
+    """(x, y, z, roll, pitch, yaw) with R = Rz(yaw) Ry(pitch) Rx(roll), as the spatial frame states it."""
+    r = np.asarray(rotation)
+    return np.array([*translation, math.atan2(r[2, 1], r[2, 2]), math.asin(-r[2, 0]), math.atan2(r[1, 0], r[0, 0])])
+
+
+def test_dietmaiers_stewart_gough_platform_has_all_40_real_assemblies():
+    """Every one of the 40 paths arrives at a real assembly that closes every leg, the tabulated pose among
+    them; the inverse kinematics gives the legs' lengths back at each."""
+    raw = {"name": "dietmaier", "doc": "Dietmaier's 6-6 platform", "frame": "spatial",
+           "home": _pose(DIETMAIER_ROTATION, DIETMAIER_TRANSLATION).tolist(),
+           "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
+           "legs": {"kind": "UPS", "count": 6, "base": [[f"{v} * s" for v in b] for b in DIETMAIER_BASE],
+                    "platform": [[f"{v} * s" for v in c] for c in DIETMAIER_PLATFORM]}}
+    m = _load(raw)
+    lengths = np.array(DIETMAIER_LENGTHS)
+    found = m.every_assembly(lengths)
+    assert found.bound == 40
+    assert found.failed.tolist() == [0]
+    assert found.counts.tolist() == [40]
+    assert np.nanmax(found.residuals) < 1e-10
+    poses = found.poses[0]
+    gap = np.abs(poses - _pose(DIETMAIER_ROTATION, DIETMAIER_TRANSLATION))
+    gap[:, 3:] = np.abs(_wrapped(gap[:, 3:]))
+    assert np.min(np.max(gap, axis=1)) < 1e-9
+    assert np.max(np.abs(m.inverse_kinematics(poses) - lengths)) < 1e-9
+
+
+def test_the_stewart_platforms_assemblies_close_give_the_joints_back_and_come_in_an_even_number():
+    """At random poses of the shipped 6-UPS (its joints in pairs on two circles: a special geometry, whose paths
+    that do not arrive are as many at every pose, their ends not finite there), the real assemblies (an even
+    number: the other finite solutions are complex conjugate pairs) close every leg, the pose the joints came
+    from is among them, and the inverse kinematics gives the joints back at each within the machine's limits."""
+    m = pkm.load("stewart")
+    rng = np.random.default_rng(11)
+    poses = np.column_stack([rng.uniform(-0.1, 0.1, (20, 2)), rng.uniform(0.9, 1.1, 20),
+                             rng.uniform(-0.2, 0.2, (20, 3))])
+    q = m.inverse_kinematics(poses)
+    inside = np.all(np.isfinite(q), axis=1)
+    assert inside.sum() >= 10
+    poses, q = poses[inside], q[inside]
+    found = m.every_assembly(q)
+    assert np.all(found.failed == found.failed[0])
+    assert found.failed[0] % 2 == 0
+    assert np.all(found.counts % 2 == 0)
+    assert np.all(found.counts >= 2)
+    for row, pose in enumerate(poses):
+        closed = found.poses[row, : found.counts[row]]
+        assert np.max(found.residuals[row, : found.counts[row]]) < 1e-10
+        gap = np.abs(closed - pose)
+        gap[:, 3:] = np.abs(_wrapped(gap[:, 3:]))
+        assert np.min(np.max(gap, axis=1)) < 1e-9
+        back = m.inverse_kinematics(closed)  # NaN beyond the legs' strokes and the joints' cones
+        reached = np.all(np.isfinite(back), axis=1)
+        assert reached.any()
+        assert np.max(np.abs(back[reached] - q[row])) < 1e-9
 
 
 def test_the_delta_has_its_two_assemblies_where_three_spheres_meet():
@@ -244,7 +310,11 @@ def test_pkm_fk_lists_every_assembly_with_its_residual_mode_and_margins(capsys):
     assert "--joints '1,x' violates: 2 numbers, comma-separated" in capsys.readouterr().err
     assert main(["fk", "five_bar", "--joints", "1,nan"]) == 2
     assert "--joints violates: finite numbers; theta2 = nan" in capsys.readouterr().err
-    assert main(["fk", "stewart", "--joints", "0.8,0.8,0.8,0.8,0.8,0.8"]) == 2
+    assert main(["fk", "stewart", "--joints", "0.8,0.8,0.8,0.8,0.8,0.8", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["bound"], data["count"] % 2) == (40, 0)
+    assert data["count"] >= 2
+    assert max(row["residual"] for row in data["assemblies"]) < 1e-10
 
 
 def test_a_double_root_at_a_singularity_is_not_certified():

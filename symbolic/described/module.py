@@ -171,7 +171,7 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  "The side of each two-branched leg's passive joints at a configuration.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
-    if frame in ("planar", "planar_point", "spatial_point") and all(leg.circle is not None for leg in legs):
+    if all(leg.circle is not None for leg in legs) and (frame != "spatial" or len(legs) == 6):
         _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
                      design=design_port)
     margins = [m for leg in legs for m in leg.margins]

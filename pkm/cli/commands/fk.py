@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> None:
             "failed": int(found.failed[0]), "method": found.method, "assemblies": rows,
             "certified": None if found.certified is None else bool(found.certified[0])}
     lines = [f"{m.name}: {data['count']} real assemblies (at most {found.bound}; {found.method})"
-             + (f"; {data['failed']} real roots did not close" if data["failed"] else "")
+             + (f"; {data['failed']} {found.failures}" if data["failed"] else "")
              + ("" if data["certified"] is None else "; the count certified" if data["certified"] else
                 "; the count NOT certified (a double root: assemblies meeting at a singularity)")]
     for k, row in enumerate(rows, 1):
