@@ -17,9 +17,10 @@ solutions tracked around loops of random complex instances until 40 are known; S
 in the kernel cache (its folder ``homotopy``). Every instance is then reached from it by the straight parameter path
 p(s) = (1 - s) p_start + s p (complex start: the path misses the instances with fewer solutions with probability
 one), each of the 40 paths tracked by a predictor-corrector (a Runge-Kutta step of dz/ds = -F_z^-1 F_s, Newton's
-corrections, the step halved where they do not converge and grown where they do), all paths of all instances at once
-in numpy (batches of small complex solves; not yet a compiled graph). Each path ends at a solution, or is reported
-failed (it met a singular point or ran out of steps), never dropped.
+corrections, the step halved where they do not converge and grown where they do; a path that did not arrive tracked
+again with steps of at most RETRY_STEP), all paths of all instances at once in numpy (batches of small complex
+solves; not yet a compiled graph). Each path ends at a solution, or is reported failed (it met a singular point or
+ran out of steps), never dropped.
 
 F_i is quadratic in the parameters along the path, so dF_i/ds is exact in closed form from the parameters'
 change (:func:`_terms`).
@@ -28,10 +29,12 @@ change (:func:`_terms`).
 from __future__ import annotations
 
 import hashlib
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
+from pkm.batch import THREADS
 from pkm.compiled.cache import location
 from pkm.io import atomic_write
 
@@ -41,6 +44,8 @@ VERSION = 1  # of the start instance's file in the cache
 MAX_STEPS = 400  # predictor-corrector steps per path at most
 FIRST_STEP = 0.05  # of s
 MAX_STEP = 0.25  # of s
+RETRY_STEP = 0.01  # of s: the largest step of a path tracked again where it did not arrive
+GROWTH = 1.25  # the step's factor after a step whose corrections converged (halved where they did not)
 LEAST_STEP = 1e-7  # a path whose step falls below this has met a singular point: failed
 CORRECTIONS = 3  # Newton corrections after each predictor step
 CONVERGED = 1e-9  # a correction this small (relative to |z|) closes a step
@@ -126,15 +131,15 @@ def _corrected(z: np.ndarray, start: tuple[np.ndarray, ...], change: tuple[np.nd
     return z, size <= CONVERGED
 
 
-def track(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndarray, ...], c: np.ndarray
-          ) -> tuple[np.ndarray, np.ndarray]:
+def track(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndarray, ...], c: np.ndarray, *,
+          largest: float = MAX_STEP) -> tuple[np.ndarray, np.ndarray]:
     """Paths from the Study points z (R, 8) at s = 0 to s = 1, each along p(s) = (1 - s) start + s target of its
     row (a (R, 6, 3), b (R, 6, 3), radii2 (R, 6) each): the end points, and whether each path arrived (its last
-    corrections converged at s = 1). Only the paths still going are stepped."""
+    corrections converged at s = 1), each step at most ``largest``. Only the paths still going are stepped."""
     z = z.astype(complex)
     start = tuple(p.astype(complex) for p in start)
     change = tuple(t - p for p, t in zip(start, target, strict=True))
-    s, step = np.zeros(len(z)), np.full(len(z), FIRST_STEP)
+    s, step = np.zeros(len(z)), np.full(len(z), min(FIRST_STEP, largest))
     rows = np.arange(len(z))
     with np.errstate(all="ignore"):
         for _ in range(MAX_STEPS):
@@ -151,7 +156,7 @@ def track(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndarray
             new, ok = _corrected(np.where(np.isfinite(guess), guess, zr), p0, dp, sr + h, c, steps=CORRECTIONS)
             ok &= np.all(np.isfinite(new), axis=-1)
             z[rows[ok]], s[rows[ok]] = new[ok], sr[ok] + h[ok]
-            step[rows] = np.where(ok, np.minimum(2 * step[rows], MAX_STEP), step[rows] / 2)
+            step[rows] = np.where(ok, np.minimum(GROWTH * step[rows], largest), step[rows] / 2)
             rows = rows[(s[rows] < 1) & (step[rows] >= LEAST_STEP)]
         z, arrived = _corrected(z, start, change, np.ones(len(z)), c, steps=END_STEPS)
     return z, arrived & (s >= 1) & np.all(np.isfinite(z), axis=-1)
@@ -218,13 +223,28 @@ def _union(known: np.ndarray, found: np.ndarray) -> np.ndarray:
 
 def solve(a: np.ndarray, b: np.ndarray, radii2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every solution (N, 40, 8) of the instances (a (N, 6, 3), b (N, 6, 3), radii2 (N, 6)), real or complex, each
-    path's end and whether it arrived (N, 40)."""
+    path's end and whether it arrived (N, 40); the instances in blocks on :data:`pkm.batch.THREADS` threads
+    (numpy's loops and LAPACK release the interpreter's lock)."""
     start, c, z = _start()
-    n = len(a)
-    each = lambda p: np.repeat(p[:, None], PATHS, axis=1).reshape(n * PATHS, *p.shape[1:])  # noqa: E731
-    ends, arrived = track(np.tile(z, (n, 1)), tuple(np.broadcast_to(p, (n * PATHS, *p.shape)) for p in start),
-                          (each(a), each(b), each(radii2)), c)
-    return ends.reshape(n, PATHS, 8), arrived.reshape(n, PATHS)
+    blocks = np.array_split(np.arange(len(a)), min(THREADS, len(a))) if len(a) else []
+
+    def block(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        n = len(rows)
+        each = lambda p: np.repeat(p[rows, None], PATHS, axis=1).reshape(n * PATHS, *p.shape[1:])  # noqa: E731
+        begin = tuple(np.broadcast_to(p, (n * PATHS, *p.shape)) for p in start)
+        target = (each(a), each(b), each(radii2))
+        ends, arrived = track(np.tile(z, (n, 1)), begin, target, c)
+        again = np.flatnonzero(~arrived)
+        if len(again):
+            ends[again], arrived[again] = track(np.tile(z, (n, 1))[again], tuple(p[again] for p in begin),
+                                                tuple(p[again] for p in target), c, largest=RETRY_STEP)
+        return ends.reshape(n, PATHS, 8), arrived.reshape(n, PATHS)
+
+    with ThreadPoolExecutor(max(1, len(blocks))) as pool:
+        parts = list(pool.map(block, blocks))
+    if not parts:
+        return np.zeros((0, PATHS, 8), complex), np.zeros((0, PATHS), bool)
+    return np.concatenate([e for e, _ in parts]), np.concatenate([r for _, r in parts])
 
 
 def real_poses(z: np.ndarray, arrived: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
