@@ -1,9 +1,11 @@
 """A design card: one design of a mechanism shown and tabulated (``pkm show``).
 
 Per working mode, a workspace map of a local index over a plane of the pose (:mod:`pkm.workspace_map`) with
-the singularity curves, a region's nodes and the linkage drawn at a pose where the mechanism can draw it; a
+the singularity curves, a region's nodes and the linkage drawn at a pose where the mechanism can draw it; every
+assembly at the actuated joints of that pose in the first mode (:mod:`pkm.drawn_assemblies`), one panel each; a
 table of the design's parameters with units and of its global indices over the region, each with its unit,
-resolution and accuracy. Written as report.json, report.md and one PNG and SVG per mode."""
+resolution and accuracy. Written as report.json, report.md, one PNG and SVG per mode and assemblies.png and .svg
+(where pkm can list the mechanism's assemblies and the pose is in reach)."""
 
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from pkm import io, registry
+from pkm.drawn_assemblies import AssembliesAtPose, assemblies_at_pose, assemblies_figure
 from pkm.errors import PkmError
 from pkm.regions import region_name
 from pkm.units import Units, placement_in, placement_text
@@ -37,6 +40,7 @@ class Card:
     placement: dict[str, Any] | None = None
     units: Units = field(default_factory=Units)  # every number of the card's files in them
     singular: dict[str, list[str]] = field(default_factory=dict)  # the singularities the pose is at, per mode
+    assemblies: AssembliesAtPose | None = None  # every assembly at the pose's actuated joints in the first mode
 
     def to_dict(self) -> dict[str, Any]:
         m, units = self.mechanism, self.units
@@ -51,9 +55,12 @@ class Card:
             "singular": self.singular,
             "maps": {mode: s.metadata(units) for mode, s in self.maps.items()},
             "global_indices": self.indices,
+            "assemblies": None if self.assemblies is None else self.assemblies.summary(m, units),
         }
 
-    def markdown(self, figures: Mapping[str, str]) -> str:
+    def markdown(self, figures: Mapping[str, str], assemblies: str | None = None) -> str:
+        """The card as Markdown: its tables, the maps ``figures`` (file name per mode) and the assemblies' figure
+        ``assemblies`` (a file name, None where none was drawn)."""
         m, units = self.mechanism, self.units
         lines = [f"# {m.name}: design card", "", m.doc, "", "## Design", "", "| parameter | value | unit | meaning |",
                  "|---|---|---|---|"]
@@ -73,20 +80,30 @@ class Card:
         lines += ["", "## Workspace", ""]
         for mode, name in figures.items():
             lines += [f"![{m.name} {mode}]({name})", ""]
+        if self.assemblies is not None:
+            lines += ["## Assemblies", "", self.assemblies.text() + ".", ""]
+            lines += [f"![{m.name} assemblies]({assemblies})", ""] if assemblies else []
         return "\n".join(lines)
 
     def write(self, folder: Path) -> list[Path]:
-        """report.json, report.md and the maps (PNG and SVG) in ``folder``."""
+        """report.json, report.md, the maps and the assemblies' figure (PNG and SVG) in ``folder``."""
+        from pkm.figures import save
+
         folder.mkdir(parents=True, exist_ok=True)
-        written, figures = [], {}
+        written, figures, assemblies = [], {}, None
         for mode, s in self.maps.items():
             linkage = self.mechanism.linkage(self.pose, self.design, mode=mode)
             for suffix in ("png", "svg"):
                 name = f"workspace_{mode}.{suffix}"
                 written.append(s.plot(folder / name, linkage=linkage, units=self.units))
             figures[mode] = f"workspace_{mode}.png"
+        if self.assemblies is not None and len(self.assemblies.poses):
+            fig = assemblies_figure(self.mechanism, self.design, self.assemblies.poses, self.assemblies.modes)
+            written += [save(fig, folder / f"assemblies.{suffix}", dpi=150) for suffix in ("png", "svg")]
+            assemblies = "assemblies.png"
         written.append(io.atomic_write(folder / "report.json", lambda p: p.write_text(io.to_json(self.to_dict()))))
-        written.append(io.atomic_write(folder / "report.md", lambda p: p.write_text(self.markdown(figures))))
+        text = self.markdown(figures, assemblies)
+        written.append(io.atomic_write(folder / "report.md", lambda p: p.write_text(text)))
         return written
 
 
@@ -128,7 +145,8 @@ def design_card(
     other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
     ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
     offers (or ``indices``) over ``region`` (its first parametrised region by default, or a region given as it
-    is: a task file's, :func:`pkm.synthesis.designer.task_of`). The maps' options are
+    is: a task file's, :func:`pkm.synthesis.designer.task_of`), and every assembly at the actuated joints of the
+    linkage's pose in the first of ``modes`` (:func:`pkm.drawn_assemblies.assemblies_at_pose`). The maps' options are
     checked before anything is computed (:func:`pkm.workspace_map.check_plane`). With ``units``, every number of
     the card's files (its table, its report and its figures' axes) is in them (:class:`pkm.units.Units`)."""
     units = units or Units()
@@ -151,6 +169,7 @@ def design_card(
             [first.held.get(n, float(np.mean(first.u if n == axes[0] else first.v))) for n in names])
     pose = np.asarray(pose, dtype=float)
     singular = {mode: mech.singular_types(pose[None], design, mode=mode)[0] for mode in chosen}
+    assemblies = assemblies_at_pose(mech, pose, design, mode=chosen[0])
     rows = []
     for name in indices or [i for i in mech.global_indices() if i not in SLOW]:
         for mode in chosen:
@@ -164,7 +183,7 @@ def design_card(
     if placement is not None:
         placement = placement_in(mech, where, placement, units)
     return Card(mech, design, region_name(where), maps, pose, rows, placement, units,
-                {mode: types for mode, types in singular.items() if types})
+                {mode: types for mode, types in singular.items() if types}, assemblies)
 
 
 @dataclass

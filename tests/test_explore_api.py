@@ -180,6 +180,26 @@ def test_the_linkage_answers_the_actuators_and_says_when_there_is_no_drawing(ser
     assert away["projected"] is None
 
 
+def test_the_linkage_answer_carries_every_assembly_at_its_joints(server, five_bar):
+    """The five-bar's two assemblies at the joints of the pose: each one's linkage is the five-bar's in its mode at
+    its pose, the pose's own among them as ``current``; out of reach, none."""
+    data = get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,1.2")
+    every = data["assemblies"]
+    found = five_bar.every_assembly(list(data["actuators"].values()), DESIGN)
+    assert (every["count"], every["bound"], every["failed"], every["reason"]) == (2, 2, 0, None)
+    assert len(every["legs"]) == len(every["projected"]) == len(every["assemblies"]) == found.counts[0] == 2
+    for row, legs, projected, pose in zip(every["assemblies"], every["legs"], every["projected"], found.poses[0],
+                                          strict=True):
+        assert list(row["pose"].values()) == pytest.approx(pose.tolist())
+        np.testing.assert_allclose(np.array(legs), np.array(five_bar.linkage(pose, DESIGN, mode=row["mode"])))
+        assert [leg[-1] for leg in projected] == [pytest.approx(pose.tolist())] * 2
+    current = every["assemblies"][every["current"]]
+    assert (list(current["pose"].values()), current["mode"]) == (pytest.approx([0.1, 1.2]), MODE)
+    other = every["assemblies"][1 - every["current"]]["pose"]
+    assert abs(other["x"] - 0.1) + abs(other["y"] - 1.2) > 0.1
+    assert get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,9")["assemblies"] is None
+
+
 def test_a_pose_out_of_reach_is_said_out_of_reach_and_has_no_linkage(server):
     away = get(server, "linkage", design=DESIGN_TEXT, mode=MODE, pose="0.1,9")
     assert away["reason"] == f"pose x = 0.1, y = 9 is out of reach in mode {MODE}"

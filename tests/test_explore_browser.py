@@ -225,6 +225,9 @@ def test_a_pose_out_of_reach_under_the_pointer_says_so_and_gaps_show_no_value(pa
     tooltip = _hover(page, "map", shown["u"][reached[1]], shown["v"][reached[0]])
     assert re.search(rf"{shown['index']} [0-9.e-]+$", tooltip), tooltip
     page.wait_for_function("!document.getElementById('map-note').textContent.includes('out of reach')")
+    page.wait_for_function("document.getElementById('map-note').textContent.includes('2 real assemblies at these "
+                           "joints')")
+    assert "other assemblies at these joints" in page.inner_text("#map-note")
     atlas = page.evaluate("window.pkmExplore.atlas")
     assert atlas["designs"][0][0] is None
     assert _hover(page, "atlas", atlas["u"][0], atlas["v"][0]).endswith("outside the design space")

@@ -1,16 +1,21 @@
 """pkm show: a design card writes every file it promises (a PNG and an SVG per working mode, report.json and
 report.md), its table holds the global indices the API gives, a described machine's linkage closes at the
-drawn pose, and the MIC a region placement returns is inside the workspace and touches its boundary."""
+drawn pose, every assembly at that pose's actuated joints is counted and drawn (or said not listed), and the MIC a
+region placement returns is inside the workspace and touches its boundary."""
 
 from __future__ import annotations
 
+import copy
 import json
 
 import numpy as np
 import pytest
+from helpers import FIVE_BAR_OF_CHAINS
 
 import pkm
+from pkm import figures
 from pkm.cli import main
+from pkm.cli.commands import show
 
 
 def test_a_card_writes_its_maps_and_reports_and_tabulates_the_apis_indices(tmp_path, capsys):
@@ -40,6 +45,80 @@ def test_the_linkage_drawn_closes_on_the_platform_at_the_pose():
         np.testing.assert_allclose(np.linalg.norm(leg[2] - leg[1]), d["L_b"], rtol=1e-12)
         np.testing.assert_allclose(np.linalg.norm(leg[2, :2] - pose[:2]), d["r"], rtol=1e-12)
     assert pkm.load("five_bar").linkage([0.0, 9.0]) == []
+
+
+def _saved(monkeypatch) -> dict:
+    """The figures ``pkm.figures.save`` is given, by file name."""
+    saved, save = {}, figures.save
+
+    def collect(fig, path, *, dpi):
+        saved[path.name] = fig
+        return save(fig, path, dpi=dpi)
+
+    monkeypatch.setattr(figures, "save", collect)
+    return saved
+
+
+@pytest.mark.parametrize(("name", "mode", "count"), [("five_bar", "out_in", 2), ("rrr3", "left_left_left", 2)])
+def test_show_counts_and_draws_every_assembly_at_the_linkages_joints(name, mode, count, tmp_path, capsys,
+                                                                     monkeypatch):
+    """One panel per assembly at the actuated joints of the card's pose in its mode, each panel the assembly's
+    linkage (every leg's points as drawn), the count and the bound in the text, the JSON and the report."""
+    saved = _saved(monkeypatch)
+    folder = tmp_path / "card"
+    args = ["show", name, "--mode", mode, "--resolution", "11", "--out", str(folder)]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert main([*args, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)["assemblies"]
+    m = pkm.load(name)
+    pose = np.array(list(json.loads((folder / "report.json").read_text())["pose"].values()))
+    joints = m.inverse_kinematics(pose, mode=mode)
+    found = m.every_assembly(joints)
+    assert (data["count"], data["bound"], data["failed"], data["mode"]) == (count, found.bound, 0, mode)
+    assert (data["failures"], data["method"]) == (found.failures, found.method)
+    assert list(data["joints"].values()) == pytest.approx(joints.tolist())
+    line = f"{count} real assemblies at the joints of the linkage's pose (mode {mode}; at most {found.bound}; "
+    assert line in text
+    assert line in (folder / "report.md").read_text()
+    assert "![" + name + " assemblies](assemblies.png)" in (folder / "report.md").read_text()
+    for suffix in ("png", "svg"):
+        assert (folder / f"assemblies.{suffix}").stat().st_size > 0
+    panels = saved["assemblies.png"].axes
+    assert len(panels) == count == found.counts[0]
+    for k, (ax, row, at) in enumerate(zip(panels, data["assemblies"], found.poses[0, :count], strict=True), 1):
+        assert ax.get_title() == f"assembly {k}: {row['mode']}"
+        assert list(row["pose"].values()) == pytest.approx(at.tolist())
+        legs = m.linkage(at, mode=row["mode"])
+        drawn = [np.asarray(line.get_xydata()) for line in ax.get_lines()]
+        assert len(drawn) == len(legs)
+        for points, leg in zip(drawn, legs, strict=True):
+            np.testing.assert_allclose(points, leg[:, :2], atol=1e-12)
+        np.testing.assert_allclose(m.inverse_kinematics(at, mode=row["mode"]), joints, atol=1e-9)
+
+
+def test_show_says_in_one_line_where_pkm_cannot_list_the_assemblies(tmp_path, capsys, monkeypatch):
+    """A planar point machine whose actuated revolutes each point a passive slider (the point on a line, not a
+    circle): every_assembly refuses it, show says so in one line and draws no assemblies' figure."""
+    raw = copy.deepcopy(FIVE_BAR_OF_CHAINS)
+    raw.update(name="five_bar_of_sliders", doc="two actuated revolutes at the base ends, each pointing a slider",
+               home=[0, 1.0])
+    for leg, branches in zip(raw["legs"], ({"out": [1.0, 1.2]}, {"out": [2.1, 1.2]}), strict=True):
+        leg["joints"] = [{"type": "R", "actuated": True}, {"type": "P", "axis": [1, 0]}]
+        leg["branches"] = branches
+    m = pkm.load(raw)
+    monkeypatch.setattr(show, "load_mechanism", lambda _name: m)
+    folder = tmp_path / "card"
+    assert main(["show", "sliders", "--resolution", "11", "--out", str(folder)]) == 0
+    lines = [t for t in capsys.readouterr().out.splitlines() if "assembl" in t]
+    assert lines == [f"every assembly at the joints of the linkage's pose (mode single): not listed (mechanism "
+                     f"{m.name} violates: a mechanism whose complete forward kinematics pkm knows (a closed form or a "
+                     "polynomial of its own, or planar legs that each put the platform on a circle); its "
+                     "forward_kinematics finds the assemblies its seeds reach, not necessarily all)"]
+    assert not list(folder.glob("assemblies.*"))
+    data = json.loads((folder / "report.json").read_text())["assemblies"]
+    assert (data["count"], data["assemblies"]) == (None, [])
+    assert data["reason"].startswith(f"not listed (mechanism {m.name} violates")
 
 
 def test_the_mic_is_inside_the_workspace_and_touches_its_boundary():

@@ -32,6 +32,7 @@ from pkm.atlas import compute_atlas, default_modes
 from pkm.card import design_card, region_centre
 from pkm.design import Design, parse_design
 from pkm.design_space import DesignSpace, parameter_plane, parse_axes
+from pkm.drawn_assemblies import assemblies_at_pose
 from pkm.errors import PkmError, check_integer
 from pkm.mechanism import Mechanism
 from pkm.regions.shapes import PlacedRegion
@@ -554,6 +555,7 @@ class Explorer:
             reachable = bool(np.all(np.isfinite(q)))
             legs = mech.linkage(pose, design, mode=mode) if reachable else []
             singular = mech.singular_types(pose[None], design, mode=mode)[0] if reachable else []
+            every = assemblies_at_pose(mech, pose, design, mode=mode) if reachable else None
         columns = plane_columns(plane, legs)
         named = dict(zip(mech.pose_names, pose.tolist(), strict=True))
         if not reachable:
@@ -574,6 +576,9 @@ class Explorer:
             "legs": legs,
             "plane": list(plane),
             "projected": None if columns is None else [leg[:, columns] for leg in legs],
+            "assemblies": None if every is None else {
+                **every.summary(mech), "legs": every.legs,
+                "projected": None if columns is None else [[leg[:, columns] for leg in drawn] for drawn in every.legs]},
         }
 
 

@@ -23,8 +23,8 @@ from pkm.design import parse_design
 from pkm.errors import PkmError
 from pkm.units import placement_text
 
-HELP = ("a design card: workspace maps per working mode with singularity curves, the region and the linkage, and a "
-        "table of parameters and global indices")
+HELP = ("a design card: workspace maps per working mode with singularity curves, the region and the linkage, every "
+        "assembly at the linkage's actuated joints, and a table of parameters and global indices")
 PARALLEL = False
 
 
@@ -39,8 +39,8 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
     map_resolution(p, default=81, suggested=121)
-    p.add_argument("--out", required=True, help="folder for report.json, report.md and the maps (no default); "
-                                                "e.g. card")
+    p.add_argument("--out", required=True, help="folder for report.json, report.md, the maps and "
+                                                "assemblies.png, .svg (no default); e.g. card")
     units_option(p)
 
 
@@ -67,6 +67,8 @@ def run(args: argparse.Namespace) -> None:
         lines.append(f"region {card.region}: {placement_text(card.placement)}")
     lines += [f"SINGULAR: the linkage's pose {numbers(data['pose'].values())} is a {' and '.join(types)} "
               f"singularity in mode {mode}" for mode, types in card.singular.items()]
+    if card.assemblies is not None:
+        lines.append(card.assemblies.text())
     lines += [f"{r['index']} ({r['mode']}) = {r['value']:.6g}{unit_text(r['unit'])} (resolution {r['resolution']}, "
               f"accuracy {r['accuracy']:.1e})" for r in card.indices]
     lines.append(f"wrote {len(written)} files to {io.kept_path(folder)}")

@@ -133,6 +133,12 @@
     return { type: "scatter", mode: "lines", x, y, hoverinfo: "skip", showlegend: true };
   }
 
+  // a linkage as curves: each leg from its base joint, then the platform's joints joined
+  function outline(legs) {
+    const ends = legs.map((leg) => leg[leg.length - 1]);
+    return [...legs, [...ends, ends[0]]];
+  }
+
   function nearest(values, x) {
     let best = 0;
     values.forEach((value, k) => { if (Math.abs(value - x) < Math.abs(values[best] - x)) best = k; });
@@ -452,6 +458,16 @@
         marker: { color: "white", size: 4, line: { color: "black", width: 0.5 } } });
     }
     const link = state.linkage;
+    const every = link && link.mode === m.mode && link.assemblies;
+    if (every && every.projected) {
+      // the other assemblies at the same actuated joints, faint behind the one at the pose
+      const others = every.projected.filter((legs, k) => k !== every.current && legs.length);
+      const lines = others.flatMap((legs) => outline(legs));
+      if (lines.length) {
+        traces.push({ ...polyline(lines), name: "other assemblies at these joints", legendgroup: "assemblies",
+          line: { color: "#111", width: 1.5, dash: "dot" }, opacity: 0.45 });
+      }
+    }
     if (link && link.projected && link.projected.length && link.mode === m.mode) {
       link.projected.forEach((leg, k) => traces.push({ type: "scatter", mode: "lines+markers", hoverinfo: "skip",
         x: leg.map((p) => p[0]), y: leg.map((p) => p[1]), name: "linkage", showlegend: k === 0, legendgroup: "linkage",
@@ -486,6 +502,11 @@
     const notes = [`${m.index}${unit(m.unit)} over ${m.u.length} x ${m.v.length} poses`];
     if (link && link.reason) notes.push(link.reason);
     if (link && link.reachable) notes.push(`pose ${Object.values(link.pose).map(fmt).join(", ")}`);
+    if (link && link.assemblies && link.assemblies.count !== null) {
+      const every = link.assemblies;
+      const failed = every.failed ? ` (${every.failed} ${every.failures})` : "";
+      notes.push(`${every.count} real assemblies at these joints${failed}`);
+    }
     if (link && link.singular && link.singular.length) {
       notes.push(`SINGULAR (${link.singular.join(" and ")}): the indices there are their limits`);
     }
