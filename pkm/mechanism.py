@@ -559,6 +559,8 @@ class Mechanism:
     simulate = _Delegate("pkm.dynamics")
     export_urdf = _Delegate("pkm.export")
     every_assembly = _Delegate("pkm.assemblies")
+    stiffness = _Delegate("pkm.stiffness")
+    deflection = _Delegate("pkm.stiffness")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

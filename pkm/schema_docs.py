@@ -139,6 +139,20 @@ def section() -> str:
         *_paragraph("A body (the platform's, a leg kind's in `bodies`, a chain joint's `body`); a body without "
                     "extent holds its mass alone:"),
         *_table(vocabulary.BODY_FIELDS),
+        "### Elastic elements",
+        "",
+        *_paragraph("A leg's `elastic` table (every leg's where one leg has it): its links as Euler-Bernoulli beams "
+                    "clamped at their joints (the beams: each non-zero link after a "
+                    f"{', '.join(vocabulary.BEAM_JOINTS)} joint, a parallelogram's rods two beams side by side), its "
+                    "drive as a spring in its actuated joint, its passive joints free; the stiffness they give "
+                    "(`m.stiffness`, `m.deflection`) is docs/stiffness.md's. Materials by name (E, G [Pa], density "
+                    "[kg/m^3]): " + "; ".join(f"`{k}` ({e:.3g}, {g:.3g}, {rho:g})"
+                                              for k, (e, g, rho) in vocabulary.MATERIALS.items()) + "."),
+        *_table(vocabulary.ELASTIC_FIELDS),
+        "#### Beams",
+        "",
+        *_paragraph("Each table of `beams`:"),
+        *_table(vocabulary.BEAM_FIELDS),
         "### Regions",
         "",
         *_table(vocabulary.REGION_FIELDS),

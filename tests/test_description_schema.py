@@ -24,6 +24,7 @@ BODY = {"mass": 1.0, "centre": 0.2, "inertia": 0.01}
 PLANAR_BODY = {"mass": 0.5, "centre": [0.1, 0], "inertia": 0.002}
 SPATIAL_BODY = {"mass": 0.5, "centre": [0.1, 0, 0], "inertia": [1e-3, 1e-3, 2e-3]}
 RR_BODIES = {"rotor": 1e-4, "proximal": BODY, "distal": BODY}
+ELASTIC = {"material": "steel", "section": {"shape": "tube", "d": 0.02, "t": 0.002}, "drive": "1e4"}
 EXAMPLES = {
     "elbows": {
         "name": "elbows", "doc": "a planar 3-RR, every field of the description", "frame": "planar",
@@ -34,23 +35,26 @@ EXAMPLES = {
                      "centre": [0, 0, 0], "size": [0.1, 0.2], "axis": "phi"}],
         "legs": [
             {"kind": "RR", "count": 2, "base": {"circle": "R", "start": "pi/2", "pairs": "pi/6"},
-             "platform": [["r", 0], [0, "r"]], "proximal": "l", "distal": "l", "range": [-3, 3], "bodies": RR_BODIES},
+             "platform": [["r", 0], [0, "r"]], "proximal": "l", "distal": "l", "range": [-3, 3], "bodies": RR_BODIES,
+             "elastic": ELASTIC},
             {"kind": "RR", "base": [[0, "-R"]], "platform": {"circle": "r", "start": "-pi/2"}, "proximal": "l",
-             "distal": "l", "bodies": RR_BODIES},
+             "distal": "l", "bodies": RR_BODIES, "elastic": ELASTIC},
         ],
     },
     "sliders": {
         "name": "sliders", "frame": "planar", "home": [0, 0, 0], "parameters": PARAMETERS,
         "legs": [
             {"kind": "RPR", "count": 1, "base": [["R", 0]], "platform": [["r", 0]], "range": [0.1, 2],
-             "bodies": {"rotor": 0.1, "cylinder": BODY, "piston": BODY}},
+             "bodies": {"rotor": 0.1, "cylinder": BODY, "piston": BODY}, "elastic": ELASTIC},
             {"kind": "PRR", "count": 1, "base": [[0, "-R"]], "platform": [[0, "-r"]], "distal": "l", "axis": [1, 0],
-             "range": [-1, 1], "bodies": {"rotor": 0.1, "slider": {"mass": 1.0}, "distal": BODY}},
+             "range": [-1, 1], "bodies": {"rotor": 0.1, "slider": {"mass": 1.0}, "distal": BODY},
+             "elastic": {**ELASTIC, "beams": [{"material": {"E": "7e10", "G": "2.6e10", "density": 2700},
+                                               "section": {"shape": "rect_tube", "b": 0.02, "h": 0.03, "t": 0.002}}]}},
             {"kind": "chain", "base": [[0, "R"]], "platform": [[0, "r"]], "turn": [0], "range": [-1, 1],
              "newton": True, "branches": {"left": [0.0, 0.0], "right": [0.0, 3.0]},
              "joints": [{"type": "P", "axis": [1, 0], "link": [0, 0], "actuated": True, "body": PLANAR_BODY,
                          "rotor": 0.1},
-                        {"type": "R", "link": [0, "-l"], "body": PLANAR_BODY}]},
+                        {"type": "R", "link": [0, "-l"], "body": PLANAR_BODY}], "elastic": ELASTIC},
         ],
     },
     "arms": {
@@ -58,16 +62,16 @@ EXAMPLES = {
         "legs": [
             {"kind": "R_parallelogram", "count": 1, "base": [["R", 0, 0]], "platform": [["r", 0, 0]], "arm": "l",
              "rod": "2*l", "axis": [0, 1, 0], "zero": [1, 0, 0], "range": [-1, 1],
-             "bodies": {"rotor": 1e-4, "arm": BODY, "rod": {"mass": 0.1}}},
+             "bodies": {"rotor": 1e-4, "arm": BODY, "rod": {"mass": 0.1}}, "elastic": ELASTIC},
             {"kind": "UPS", "count": 1, "base": [[0, "R", 0]], "platform": [[0, "r", 0]], "cone": "pi/4",
              "range": [0.1, 2],
-             "bodies": {"rotor": 0.1, "cylinder": BODY, "piston": BODY}},
+             "bodies": {"rotor": 0.1, "cylinder": BODY, "piston": BODY}, "elastic": ELASTIC},
             {"kind": "chain", "base": [["-R", 0, 0]], "platform": [["-r", 0, 0]], "branches": {"up": [0, 0, 0]},
              "joints": [{"type": "R", "axis": [0, 1, 0], "link": ["l", 0, 0], "actuated": True,
                          "body": SPATIAL_BODY, "rotor": 1e-4},
                         {"type": "U", "axes": [[0, 1, 0], [1, 0, 0]], "link": [0, 0, "2*l"], "actuated": False,
                          "body": SPATIAL_BODY},
-                        {"type": "S", "actuated": False}]},
+                        {"type": "S", "actuated": False}], "elastic": ELASTIC},
         ],
     },
     "rods": {
@@ -76,7 +80,7 @@ EXAMPLES = {
                  "branches": {"down": [0, 0, 0]},
                  "joints": [{"type": "P", "axis": [0, 0, 1], "actuated": True},
                             {"type": "parallelogram", "axes": [[0, 1, 0], [1, 0, 0]], "link": [0, 0, "-2*l"],
-                             "actuated": False, "body": {"mass": 0.2}}]},
+                             "actuated": False, "body": {"mass": 0.2}}], "elastic": ELASTIC},
     },
 }
 LEG_KINDS, LEGS = "Leg kinds", ("Legs", None)
@@ -123,6 +127,10 @@ def _tables(raw: dict) -> Iterator[tuple[tuple[str, str | None], str, dict]]:
             for name, body in leg["bodies"].items():
                 if isinstance(body, dict):
                     yield ("Bodies", None), f"{where}.bodies.{name}", body
+        if "elastic" in leg:
+            yield ("Elastic elements", None), f"{where}.elastic", leg["elastic"]
+            for b, beam in enumerate(leg["elastic"].get("beams", [])):
+                yield ("Elastic elements", "Beams"), f"{where}.elastic.beams[{b}]", beam
         for j, joint in enumerate(leg.get("joints", [])):
             yield ("Chain joints", f"`{joint['type']}`"), f"{where}.joints[{j}]", joint
             if "body" in joint:
@@ -171,7 +179,7 @@ def test_a_field_the_reference_does_not_list_is_refused_naming_it(name, headings
 @pytest.mark.parametrize(("name", "headings", "where", "k"), _spots())
 def test_a_field_the_reference_lists_as_required_is_refused_where_missing_naming_it(name, headings, where, k):
     required = [f for f, needed in _reference()[headings].items() if needed]
-    assert required or headings[1].endswith("bodies")
+    assert required or headings[1].endswith(("bodies", "Beams"))
     for field in required:
         missing = f"{where}.{field}" if where else field
         with pytest.raises(DescriptionError, match=re.escape(f"description field {missing} violates")):

@@ -44,6 +44,7 @@ from pkm.spec.compose import (
 )
 from pkm.spec.schema import ROOT, SUFFIX, Description, DescriptionError, describe, read
 from pkm.spec.seeds import Seeds
+from pkm.spec.stiffness import composed_stiffness
 from pkm.spec.vocabulary import (
     FRAMES,
     RANKS,
@@ -109,6 +110,8 @@ class DescribedFunctions(FunctionTable):
         if limited(self.description.data):
             functions.update(within_limits(functions, LIMITS))
         self._limit_names = tuple(getattr(module, "LIMITS", ()))
+        if "elastic" in functions:
+            functions["stiffness"] = composed_stiffness(self.description, functions)
         if "mass_matrix" in functions:
             functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
             functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"],

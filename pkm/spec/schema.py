@@ -24,18 +24,21 @@ import casadi as ca
 from pkm import expressions, io
 from pkm.errors import PkmError
 from pkm.spec.vocabulary import (
+    BEAM_FIELDS,
     BODY_FIELDS,
     CHAIN,
     CHAIN_JOINTS,
     CONDITION_FIELDS,
     CONE,
     DESCRIPTION_FIELDS,
+    ELASTIC_FIELDS,
     FRAMES,
     IDENTIFIER,
     IDENTIFIER_PATTERN,
     JOINTS,
     KINDS,
     LENGTH,
+    MATERIALS,
     NAME_LENGTH,
     PARAMETER_FIELDS,
     PATTERN_FIELDS,
@@ -43,9 +46,11 @@ from pkm.spec.vocabulary import (
     POINT_BODY,
     REGION_FIELDS,
     ROTOR,
+    SECTIONS,
     SHAPES,
     TEXT_LENGTH,
     Field,
+    beams,
     kind_of,
     leg_fields,
 )
@@ -77,9 +82,11 @@ class Description:
 
 def _tool_versions() -> dict[str, str]:
     """CasADi's version and the digest of the modules that derive a description: symbolic/'s shared ones,
-    symbolic/described/ and the evaluator of its expressions (pkm/expressions.py)."""
+    symbolic/described/, the evaluator of its expressions (pkm/expressions.py) and the vocabulary it reads
+    (pkm/spec/vocabulary.py)."""
     here = ROOT / "symbolic"
-    sources = sorted([*here.glob("*.py"), *(here / "described").glob("*.py"), ROOT / "pkm" / "expressions.py"])
+    sources = sorted([*here.glob("*.py"), *(here / "described").glob("*.py"), ROOT / "pkm" / "expressions.py",
+                      ROOT / "pkm" / "spec" / "vocabulary.py"])
     digest = hashlib.sha256(b"".join(p.read_bytes() for p in sources)).hexdigest()
     return {"casadi": ca.__version__, "symbolic": digest}
 
@@ -288,7 +295,16 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 leg["zero"] = [["cos", a], ["sin", a], 0] if table.get("zero", "radial") == "radial" else \
                     _vector(table["zero"], 3, f"{where}.zero", names)
             leg["joints"] = _kind_chain(leg, where, dim, names)
+            if "elastic" in table:
+                leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
             legs.append(leg)
+    elastic = ["elastic" in leg for leg in legs]
+    if any(elastic) and not all(elastic):
+        raise _fail("legs.elastic", f"given on every leg where it is on one; leg {elastic.index(False) + 1} has none")
+    for k, leg in enumerate(legs):
+        if "elastic" in leg and leg["elastic"]["drive"] is None and not leg["elastic"]["beams"]:
+            raise _fail("legs.elastic", f"a drive or a beam on every leg; leg {k + 1} has neither and would be "
+                                        "rigid")
     return legs
 
 
@@ -443,8 +459,64 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
             if not isinstance(bounds, list) or len(bounds) != 2:
                 raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
             leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
+        if "elastic" in table:
+            leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
         legs.append(leg)
     return legs
+
+
+def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> dict[str, Any]:
+    """A leg's elastic elements: its material ({E, G, density} trees), section ({shape, its dimensions}), drive
+    stiffness (or None: rigid) and per beam its material and section, each the leg's where not given."""
+    if not isinstance(raw, Mapping):
+        raise _fail(where, "a table {material, section, drive, beams}")
+    _check_fields(raw, ELASTIC_FIELDS, where, "a leg's elastic elements")
+    spatial = len(leg["joints"][0]["link"]) == 3
+    material = _material(raw["material"], f"{where}.material", names)
+    section = _section(raw["section"], f"{where}.section", names, spatial=spatial)
+    given = raw.get("beams", [])
+    count = len(beams(leg))
+    if not isinstance(given, list) or len(given) > count:
+        raise _fail(f"{where}.beams", f"a list of at most {count} tables {{material, section}}, one per beam of the "
+                                      "leg in order")
+    per_beam = []
+    for b in range(count):
+        table = given[b] if b < len(given) else {}
+        field = f"{where}.beams[{b}]"
+        if not isinstance(table, Mapping):
+            raise _fail(field, "a table {material, section}")
+        _check_fields(table, BEAM_FIELDS, field, "a beam")
+        per_beam.append({"material": _material(table["material"], f"{field}.material", names)
+                         if "material" in table else material,
+                         "section": _section(table["section"], f"{field}.section", names, spatial=spatial)
+                         if "section" in table else section})
+    drive = _expression(f"{where}.drive", raw["drive"], names) if "drive" in raw else None
+    return {"beams": per_beam, "drive": drive}
+
+
+def _material(raw: Any, where: str, names: set[str]) -> dict[str, expressions.Tree]:
+    if isinstance(raw, str):
+        if raw not in MATERIALS:
+            raise _fail(where, f"one of {', '.join(MATERIALS)}, or a table {{E, G, density}}; got {reprlib.repr(raw)}")
+        return dict(zip(("E", "G", "density"), MATERIALS[raw], strict=True))
+    if not isinstance(raw, Mapping) or set(raw) != {"E", "G", "density"}:
+        raise _fail(where, f"one of {', '.join(MATERIALS)}, or a table {{E, G, density}}")
+    return {k: _expression(f"{where}.{k}", raw[k], names) for k in ("E", "G", "density")}
+
+
+def _section(raw: Any, where: str, names: set[str], *, spatial: bool) -> dict[str, Any]:
+    if not isinstance(raw, Mapping) or raw.get("shape") not in SECTIONS:
+        raise _fail(f"{where}.shape", f"one of {', '.join(SECTIONS)}")
+    shape = raw["shape"]
+    dimensions = SECTIONS[shape]
+    if set(raw) != {"shape", *dimensions}:
+        raise _fail(where, f"a {shape} section's shape and dimensions {', '.join(dimensions)}")
+    out = {"shape": shape, **{k: _expression(f"{where}.{k}", raw[k], names) for k in dimensions}}
+    pair = {"rect_tube": ("b", "h"), "given": ("I_y", "I_z")}.get(shape)
+    if spatial and pair and out[pair[0]] != out[pair[1]]:
+        raise _fail(where, f"in space a section whose bending does not depend on its orientation: {pair[0]} the "
+                           f"same as {pair[1]}")
+    return out
 
 
 def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dict[str, Any]]:
@@ -554,7 +626,7 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     return Description(data)
 
 
-NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton")  # a normalised leg's fields of other data
+NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
 # a leg's lengths and angles that must be positive
 POSITIVE = tuple(dict.fromkeys(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)))
 DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which must not vanish
@@ -562,11 +634,29 @@ DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which 
 
 def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
     """Every expression of a normalised leg (or a part of one) with its field, its other data left out."""
+    if value is None:
+        return []
     if isinstance(value, Mapping):
         return [t for k, v in value.items() if k not in NOT_EXPRESSIONS for t in _trees(v, f"{field}.{k}")]
     if isinstance(value, list) and not expressions.is_operation(value):
         return [t for j, v in enumerate(value) for t in _trees(v, f"{field}[{j}]")]
     return [(field, value)]
+
+
+def _check_elastic(elastic: Mapping[str, Any], where: str, value: Any) -> None:
+    """Every number of a leg's elastic elements positive at the default design, a tube's wall within its
+    section."""
+    for field, tree in _trees(elastic, where):
+        if not value(field, tree) > 0:
+            raise _fail(field, "a positive value at the default design")
+    for b, beam in enumerate(elastic["beams"]):
+        section = beam["section"]
+        if "t" in section:
+            sides = [value(f"{where}.beams[{b}].section.{k}", section[k]) for k in ("d", "b", "h") if k in section]
+            wall = value(f"{where}.beams[{b}].section.t", section["t"])
+            if not 2 * wall < min(sides):
+                raise _fail(f"{where}.beams[{b}].section.t", f"a wall thinner than half the section ({min(sides):g} "
+                                                              f"m); got {wall:g} m")
 
 
 def _within_a_turn(field: str, name: str, angle: float) -> None:
@@ -626,6 +716,8 @@ def _check_values(data: Mapping[str, Any]) -> None:
         for name in POSITIVE:
             if name in leg and not value(f"{where}.{name}", leg[name]) > 0:
                 raise _fail(f"{where}.{name}", "a positive value at the default design")
+        if "elastic" in leg:
+            _check_elastic(leg["elastic"], f"{where}.elastic", value)
         if "range" in leg and not value(f"{where}.range[0]", leg["range"][0]) < value(f"{where}.range[1]",
                                                                                       leg["range"][1]):
             raise _fail(f"{where}.range", "lower < upper at the default design")

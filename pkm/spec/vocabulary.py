@@ -117,6 +117,37 @@ ROTOR = Field("rotor", "an expression [kg m^2, kg on a prismatic joint]", "the a
               "after the reduction, or a reflected mass on a prismatic joint; 0 by default")
 LEG_BODIES = Field("bodies", "a table {rotor, the kind's bodies} (Bodies)", "the leg's rotor and bodies, each "
                    "optional; where a description gives a body, every leg has bodies")
+MATERIALS = {  # a material by name: Young's modulus E [Pa], shear modulus G [Pa], density [kg/m^3]
+    "steel": (210e9, 81e9, 7850.0),
+    "aluminium": (70e9, 26e9, 2700.0),
+    "titanium": (114e9, 44e9, 4430.0),
+    "carbon_fibre": (135e9, 5e9, 1600.0),
+}
+SECTIONS = {  # a beam's section by shape: its dimensions [m]
+    "round": ("d",),  # solid, diameter d
+    "tube": ("d", "t"),  # round tube, outer diameter d, wall t
+    "rect_tube": ("b", "h", "t"),  # rectangular tube, width b (along y), height h (along z), wall t
+    "given": ("A", "I_y", "I_z", "J"),  # area [m^2], second moments about y and z and torsion constant [m^4]
+}
+ELASTIC_FIELDS = (
+    Field("material", f"one of {', '.join(MATERIALS)}, or a table {{E, G, density}} of expressions [Pa, Pa, "
+          "kg/m^3]", "the beams' material", required=True),
+    Field("section", f"a table {{shape, its dimensions}}: shape one of {', '.join(SECTIONS)} ("
+          + "; ".join(f"{k}: {', '.join(v)}" for k, v in SECTIONS.items()) + ") of expressions [m, m^2, m^4]",
+          "each beam's section: in the plane I_z bends it in the plane; in space its two second moments equal",
+          required=True),
+    Field("drive", "an expression [N m/rad, N/m on a prismatic joint], positive", "the actuated joint's "
+          "stiffness (the drive and its transmission); rigid where absent"),
+    Field("beams", "a list of tables {material, section}", "each beam of the leg in order from the base (its links "
+          "after a revolute, a universal joint or a parallelogram, whose rods count twice), each field optional: "
+          "where given, it replaces the leg's"),
+)
+BEAM_FIELDS = (Field("material", ELASTIC_FIELDS[0].holds, "the beam's material; the leg's by default"),
+               Field("section", ELASTIC_FIELDS[1].holds, "the beam's section; the leg's by default"))
+ELASTIC = Field("elastic", "a table {material, section, drive, beams} (Elastic elements)", "the leg's elastic "
+                "elements: its links as Euler-Bernoulli beams clamped at their joints, its drive as a spring; where "
+                "one leg has them every leg does")
+BEAM_JOINTS = ("R", "U", "parallelogram")  # a chain joint whose non-zero link is a beam
 SHAPES = {"disc": (2, 1, "its radius"), "rectangle": (2, 2, "its half extents"), "box": (3, 3, "its half extents"),
           "cylinder": (3, 2, "its radius and half length")}  # a region's dimension, its size's entries, their meaning
 REGION_FIELDS = (
@@ -303,6 +334,7 @@ LEG_FIELDS = (
     Field("range", "a list [lower, upper] of expressions [the actuated joint's unit]", "the actuated joint's stated "
           "range (a stroke, an arm's sweep): outside it a pose is out of reach; a revolute's within a turn, spanning "
           "at most one"),
+    ELASTIC,
 )
 
 
@@ -376,3 +408,15 @@ def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
     if leg["kind"] != CHAIN:
         return (True,) * KINDS[leg["kind"]].passive
     return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
+
+
+def beams(leg: Mapping[str, Any]) -> list[int]:
+    """The chain joints (indices) of a normalised leg whose link is a beam: a non-zero link after a revolute, a
+    universal joint or a parallelogram (a prismatic joint's link moves with its slide: not a beam)."""
+    return [j for j, joint in enumerate(leg["joints"]) if joint["type"] in BEAM_JOINTS
+            and any(not (isinstance(c, int | float) and c == 0) for c in joint.get("link", []))]
+
+
+def rods(leg: Mapping[str, Any], j: int) -> int:
+    """How many parallel beams chain joint j's link is: a parallelogram's two rods, else one."""
+    return 2 if leg["joints"][j]["type"] == "parallelogram" else 1

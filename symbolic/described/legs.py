@@ -83,6 +83,8 @@ class Leg:
     stated: tuple[tuple[str, sp.Expr], ...] = ()  # limits of its joints beside its reach (a cone), named
     circle: tuple[sp.Matrix, sp.Expr] | None = None  # its actuated joint given, the circle (in the plane) or the
     # sphere (in space) on which its platform joint lies: centre in the base frame, radius
+    h_c: sp.Matrix | None = None  # the closure's derivative in the platform joint's point c, where the closure is
+    # not the chain's end less c (whose derivative is -I)
 
 
 def _rr(k: int, a: sp.Matrix, c: sp.Matrix, l1: sp.Expr, l2: sp.Expr) -> Leg:
@@ -149,7 +151,7 @@ def _ups(k: int, a: sp.Matrix, c: sp.Matrix, rotation: sp.Matrix, cone: sp.Expr 
         stated = (("cone at the base", d[2] - sp.cos(cone) * sp.sqrt(d.dot(d))),
                   ("cone at the platform", d.dot(normal) - sp.cos(cone) * sp.sqrt(d.dot(d))))
     return Leg([d.dot(d) - length**2], length, [], {length: sp.sqrt(d.dot(d))}, [d.dot(d)], None, stated=stated,
-               circle=(a, length))
+               circle=(a, length), h_c=2 * d.T)
 
 
 def _axis_rotation(axis: sp.Matrix, angle: sp.Expr) -> sp.Matrix:

@@ -10,9 +10,11 @@ from typing import Any
 
 import sympy as sp
 
+from pkm.spec.vocabulary import beams, rods
 from symbolic import codegen
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.described.bodies import Kinetic, chain_bodies, leg_bodies, mass_matrix, platform_bodies
+from symbolic.described.elastic import BEAM_TERMS, beam_terms
 from symbolic.described.legs import FRAMES, Leg, UndefinedError, derive_leg, expression, platform_rotation
 from symbolic.kinematics import InverseKinematics, add_kinematics
 from symbolic.loops import LoopClosure
@@ -51,6 +53,33 @@ def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *
              (Output("points", sp.Matrix.vstack(*(c.T for c in platform)), "each leg's platform joint in the "
                      "platform frame, one row each [m]"),),
              "Each leg's platform joint in the platform frame.")
+
+
+def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[Leg], *, joints: Port, pose: Port,
+                 design: Port, vector: Any, scalar: Any) -> None:
+    """``elastic(design) -> (drives, beams)``: each leg's drive compliance (0 where rigid) and each beam's
+    compliance terms (:data:`symbolic.described.elastic.BEAM_TERMS`, legs in order, each leg's beams from the
+    base); and ``leg_ends(q, x, design) -> H_c``: each leg's closure's derivative in its platform joint's point,
+    the legs' rows stacked."""
+    dim = vector(described[0]["base"]).rows
+    drives, terms = [], []
+    for leg in described:
+        elastic = leg["elastic"]
+        drives.append(sp.Integer(0) if elastic["drive"] is None else 1 / scalar(elastic["drive"]))
+        for b, j in enumerate(beams(leg)):
+            link = vector(leg["joints"][j]["link"])
+            terms.append(beam_terms(elastic["beams"][b], sp.sqrt(link.dot(link)), scalar, planar=dim == 2,
+                                    count=rods(leg, j)))
+    spec.add("elastic", (design,),
+             (Output("drives", sp.Matrix(drives), "each leg's drive compliance, 0 where rigid [rad/(N m), m/N]"),
+              Output("beams", sp.Matrix(terms) if terms else sp.zeros(0, len(BEAM_TERMS)),
+                     f"each beam's compliance terms at its end, clamped at its start: {', '.join(BEAM_TERMS)} [SI]")),
+             "The compliance of each leg's drive and of each of its beams.")
+    blocks = [-sp.eye(dim) if leg.h_c is None else leg.h_c for leg in legs]
+    spec.add("leg_ends", (joints, pose, design),
+             (Output("H_c", sp.Matrix.vstack(*blocks), "each leg's closure's derivative in its platform joint's "
+                     "point, the legs' rows stacked [-]"),),
+             "The derivative of each leg's closure in its platform joint's point.")
 
 
 def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
@@ -174,6 +203,9 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     if all(leg.circle is not None for leg in legs) and (frame != "spatial" or len(legs) == 6):
         _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
                      design=design_port)
+    if all("elastic" in leg for leg in description["legs"]):
+        _add_elastic(spec, description["legs"], legs, joints=joints, pose=pose_port, design=design_port,
+                     vector=vector, scalar=scalar)
     margins = [m for leg in legs for m in leg.margins]
     spec.add("workspace_margins", (joints, pose_port, design_port),
              (Output("margins", sp.Matrix(margins), "each leg's reach margins and its actuated joint's range, >= 0 "

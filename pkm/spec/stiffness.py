@@ -1,0 +1,112 @@
+"""The Cartesian stiffness of a described machine by the virtual joint method (Pashkevich, Klimchik and Chablat,
+MMT 44, 2009), composed in CasADi from its derived module leg by leg like the first order.
+
+Each leg is a serial chain from its base joint to its platform joint at c: its drive a spring in its actuated
+joint (compliance k_a^-1), each beam (:func:`pkm.spec.vocabulary.beams`) clamped at its start and a 6-D spring at
+its end E (3-D in the plane: its Euler-Bernoulli compliance C_b, :mod:`symbolic.described.elastic`), its passive
+joints free. With the closure h(q_a, q_p, c) = 0 of the leg (its rows: the chain's end less c, or a distance),
+a small motion closes where H_a dq_a + H_p dq_p + H_theta dtheta + H_c dc = 0, H_theta the chain end's motion
+under each beam's deflection (a twist at E: dc = du + dphi x (c - E)). The springs' compliance seen at the
+chain's end, S = H_a k_a^-1 H_a^T + sum_b H_theta,b C_b H_theta,b^T, and the passive joints give the leg's
+stiffness at c,
+
+    K_i = H_c^T G H_c,   G the first block of [[S, H_p], [H_p^T, 0]]^-1,
+
+the least elastic energy over the passive joints' motion for each motion dc (the platform joint, a revolute in
+the plane and a spherical joint in space, leaves the end's rotation free). The platform is rigid: its twist
+(dP, dphi) moves c_i by A_i = [I, -[c_i - P]x] (in the plane [I, perp(c_i - P)]), and
+
+    K = sum_i A_i^T K_i A_i
+
+in the twist's coordinates: a point pose's translation alone (A_i = I), else the translation and the small
+rotation about the base's axes (in the plane the platform angle's). Its blocks are in N/m, N/rad and N m/rad.
+Without the beams (``actuators_only``) K is J^T diag(k_a) J, Gosselin's actuator stiffness (IEEE TRA 6(3),
+1990)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import casadi as ca
+
+from pkm.spec.compose import legs_layout
+from pkm.spec.schema import Description
+from pkm.spec.vocabulary import beams, kind_of
+
+
+def _cross(v: ca.SX) -> ca.SX:
+    """[v]x, v x w = [v]x w."""
+    return ca.vertcat(ca.horzcat(0, -v[2], v[1]), ca.horzcat(v[2], 0, -v[0]), ca.horzcat(-v[1], v[0], 0))
+
+
+def _beam(terms: ca.SX, start: ca.SX, end: ca.SX, c: ca.SX) -> ca.SX:
+    """A beam's compliance seen at the chain's end c (its translation): clamped at ``start``, its end at ``end``,
+    its compliance terms (axial, bending_uu, bending_uphi, bending_phiphi, torsion) at its end in its frame
+    turned into the base's, a symmetric section (in the plane, bending in the plane)."""
+    axial, uu, uphi, phiphi, torsion = (terms[k] for k in range(5))
+    along = (end - start) / ca.norm_2(end - start)
+    dim = along.numel()
+    P = along @ along.T
+    Q = ca.SX.eye(dim) - P
+    r = c - end
+    if dim == 2:
+        n = ca.vertcat(-along[1], along[0])
+        compliance = ca.vertcat(ca.horzcat(axial * P + uu * Q, uphi * n), ca.horzcat(uphi * n.T, phiphi))
+        motion = ca.horzcat(ca.SX.eye(2), ca.vertcat(-r[1], r[0]))
+    else:
+        S = _cross(along)
+        compliance = ca.vertcat(ca.horzcat(axial * P + uu * Q, -uphi * S),
+                                ca.horzcat(uphi * S, torsion * P + phiphi * Q))
+        motion = ca.horzcat(ca.SX.eye(3), -_cross(r))
+    return motion @ compliance @ motion.T
+
+
+def _leg(H_p: ca.SX, H_c: ca.SX, springs: ca.SX) -> ca.SX:
+    """K_i = H_c^T G H_c, G the first block of [[S, H_p], [H_p^T, 0]]^-1 (module docstring)."""
+    rows, free = springs.size1(), H_p.size2()
+    if free == 0:
+        return H_c.T @ ca.solve(springs, H_c)
+    system = ca.vertcat(ca.horzcat(springs, H_p), ca.horzcat(H_p.T, ca.SX.zeros(free, free)))
+    G = ca.solve(system, ca.vertcat(ca.SX.eye(rows), ca.SX.zeros(free, rows)))[:rows, :]
+    return H_c.T @ G @ H_c
+
+
+def composed_stiffness(description: Description, functions: Mapping[str, ca.Function]) -> ca.Function:
+    """``stiffness(q, x, design) -> (K, K_drives)``: the Cartesian stiffness with the beams and with the drives
+    alone (module docstring), in the pose's twist coordinates."""
+    constraint, skeleton, elastic, ends = (functions[k] for k in ("constraint", "skeleton", "elastic", "leg_ends"))
+    q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
+    _, H_q, _ = constraint(q, x, d)
+    H_c = ends(q, x, d)
+    points = skeleton(q, x, d)
+    drives, terms = elastic(d)
+    data = description.data
+    frame = data["pose"]["frame"]
+    legs = data["legs"]
+    n_act = len(legs)
+    dim = points.size2()
+    origin = x[:dim]
+    turning = frame in ("planar", "spatial")
+    total = {k: ca.SX.zeros(x.numel(), x.numel()) for k in ("K", "K_drives")}
+    first, beam = 0, 0
+    for k, (leg, (rows, passive, _)) in enumerate(zip(legs, legs_layout(description), strict=True)):
+        own = points[first:first + kind_of(leg).points, :].T
+        first += kind_of(leg).points
+        c = own[:, -1]
+        H_a = H_q[rows, k]
+        H_p = H_q[rows, [n_act + p for p in passive]] if passive else ca.SX.zeros(len(rows), 0)
+        drive = drives[k] * (H_a @ H_a.T)
+        flexed = drive
+        for j in beams(leg):
+            flexed = flexed + _beam(terms[beam, :].T, own[:, j], own[:, j + 1], c)
+            beam += 1
+        if turning:
+            offset = c - origin
+            A = ca.horzcat(ca.SX.eye(2), ca.vertcat(-offset[1], offset[0])) if dim == 2 else \
+                ca.horzcat(ca.SX.eye(3), -_cross(offset))
+        else:
+            A = ca.SX.eye(dim)
+        for name, springs in (("K", flexed), ("K_drives", drive)):
+            total[name] = total[name] + A.T @ _leg(H_p, H_c[rows, :], springs) @ A
+    return ca.Function("stiffness", [q, x, d], [total["K"], total["K_drives"]], ["q", "x", "design"],
+                       ["K", "K_drives"])

@@ -1,0 +1,48 @@
+"""The Cartesian stiffness of a mechanism and the platform's deflection under a load (:meth:`pkm.Mechanism.stiffness`,
+:meth:`pkm.Mechanism.deflection`), where its model has elastic elements: a described machine whose legs state
+them (its ``stiffness`` function, :mod:`pkm.spec.stiffness`).
+
+K is in the pose's twist coordinates: a point pose's translation; else the translation and the small rotation
+(the platform angle in the plane, the rotation vector about the base's axes in space). Its blocks are in N/m
+(translation), N/rad (coupling) and N m/rad (rotation); a wrench is the force [N] and, where the platform turns,
+the moment [N m] about the pose's origin, in the base frame."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.errors import PkmError
+from pkm.kinematics import as_batch, unbatch
+
+if TYPE_CHECKING:
+    from pkm.kinematics import DesignLike, KinematicModel
+
+
+def stiffness(mech: KinematicModel, pose: Any, design: DesignLike = None, *, mode: str | None = None,
+              actuators_only: bool = False) -> np.ndarray:
+    """The Cartesian stiffness matrices K (N, n, n) or (n, n) at the poses in the working mode, n the pose's
+    coordinates; with ``actuators_only`` the drives' alone (the links rigid: J^T diag(k) J); NaN where the pose
+    is out of reach."""
+    fn = mech.functions.get("stiffness")
+    if fn is None:
+        raise PkmError(f"the {mech.name} has no elastic elements (a description states them per leg: elastic = "
+                       "{material, section, drive}), so no stiffness")
+    x, single = as_batch(pose, mech.n_out, "pose", finite=False)
+    d = mech.design_vector(design)
+    q = mech.inverse_kinematics(x, d, mode=mode, passive=True)
+    K, K_drives = evaluate(fn, q, x, d)
+    return unbatch(K_drives if actuators_only else K, single)
+
+
+def deflection(mech: KinematicModel, pose: Any, wrench: Any, design: DesignLike = None, *, mode: str | None = None,
+               actuators_only: bool = False) -> np.ndarray:
+    """The platform's displacement K^-1 w (N, n) or (n,) under the wrench w (n,) or (N, n) at each pose, in the
+    pose's twist coordinates [m, rad]."""
+    K = np.atleast_3d(stiffness(mech, np.atleast_2d(pose), design, mode=mode, actuators_only=actuators_only))
+    w, _ = as_batch(wrench, mech.n_out, "wrench")
+    single = np.ndim(pose) == 1 and np.ndim(wrench) == 1
+    w = np.broadcast_to(w, (len(K), K.shape[-1]))
+    return unbatch(np.linalg.solve(K, w[..., None])[..., 0], single)

@@ -1,0 +1,180 @@
+"""The Cartesian stiffness of described machines with elastic elements (issue 40), derived twice: pkm's virtual
+joint method against a planar frame model by the stiffness method written here (Euler-Bernoulli frame elements,
+pins as released rotations, drives as rotational springs to ground, the platform rigid), on the five-bar of RR
+legs and the 3-RRR; the drives alone against Gosselin's K = J^T diag(k) J; the 3-RPR of the ALIAS-C++
+documentation with unit axial drives, whose K has rational entries."""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+import warnings
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from helpers import FIVE_BAR_OF_RR_LEGS
+
+import pkm
+from pkm.errors import PkmError, SingularityWarning
+from pkm.models.described import DESCRIPTIONS
+from pkm.spec.schema import DescriptionError
+
+STEEL = (210e9, 81e9)
+TUBE = (0.02, 0.002)  # outer diameter, wall [m]
+DRIVE = 1e4  # [N m/rad]
+ELASTIC = {"material": "steel", "section": {"shape": "tube", "d": str(TUBE[0]), "t": str(TUBE[1])},
+           "drive": str(DRIVE)}
+
+
+def _load(raw: dict) -> pkm.Mechanism:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        return pkm.load(raw)
+
+
+def _elastic(raw: dict, name: str) -> dict:
+    raw = copy.deepcopy(raw)
+    raw["name"] = name
+    raw["legs"]["elastic"] = ELASTIC
+    return raw
+
+
+def _tube() -> tuple[float, float]:
+    d, t = TUBE
+    inner = d - 2 * t
+    return math.pi * (d**2 - inner**2) / 4, math.pi * (d**4 - inner**4) / 64
+
+
+def _element(start: np.ndarray, end: np.ndarray) -> np.ndarray:
+    """The 6 x 6 stiffness of a planar Euler-Bernoulli frame element in the base frame, its degrees of freedom
+    (u, v, theta) at its start, then at its end."""
+    area, moment = _tube()
+    young = STEEL[0]
+    length = float(np.linalg.norm(end - start))
+    c, s = (end - start) / length
+    a, b = young * area / length, young * moment / length**3
+    local = np.array([
+        [a, 0, 0, -a, 0, 0],
+        [0, 12 * b, 6 * b * length, 0, -12 * b, 6 * b * length],
+        [0, 6 * b * length, 4 * b * length**2, 0, -6 * b * length, 2 * b * length**2],
+        [-a, 0, 0, a, 0, 0],
+        [0, -12 * b, -6 * b * length, 0, 12 * b, -6 * b * length],
+        [0, 6 * b * length, 2 * b * length**2, 0, -6 * b * length, 4 * b * length**2]])
+    turn = np.zeros((6, 6))
+    for k in (0, 3):
+        turn[k:k + 2, k:k + 2] = [[c, s], [-s, c]]
+        turn[k + 2, k + 2] = 1
+    return turn.T @ local @ turn
+
+
+def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool) -> np.ndarray:
+    """The stiffness at the platform of RR legs (each its base joint, elbow and platform joint) as a planar frame:
+    each link an element, the proximal clamped to its drive's rotation (a spring DRIVE to ground), pins at the
+    elbow and at the platform joint (each element end its own rotation), the platform joints moving with the
+    platform's twist (dP, dphi) (``turning``) or one point dP; the internal degrees of freedom condensed."""
+    masters = 3 if turning else 2
+    n = masters + sum(6 for _ in legs)  # per leg: elbow u, v; drive rotation; three element-end rotations
+    K = np.zeros((n, n))
+    for k, (base, elbow, end) in enumerate(legs):
+        first = masters + 6 * k
+        u, drive, ends = first, first + 2, first + 3  # elbow translation, drive angle, other rotations
+        to_end = np.zeros((2, n))
+        to_end[:, :2] = np.eye(2)
+        if turning:
+            r = end - pose[:2]
+            to_end[:, 2] = [-r[1], r[0]]
+        proximal = np.zeros((6, n))
+        proximal[2, drive] = 1
+        proximal[3:5, u:u + 2] = np.eye(2)
+        proximal[5, ends] = 1
+        distal = np.zeros((6, n))
+        distal[0:2, u:u + 2] = np.eye(2)
+        distal[2, ends + 1] = 1
+        distal[3:5] = to_end
+        distal[5, ends + 2] = 1
+        K += proximal.T @ _element(base, elbow) @ proximal + distal.T @ _element(elbow, end) @ distal
+        K[drive, drive] += DRIVE
+    inner = np.arange(masters, n)
+    free = inner[np.abs(np.diag(K)[inner]) > 0]
+    m = np.arange(masters)
+    return K[np.ix_(m, m)] - K[np.ix_(m, free)] @ np.linalg.solve(K[np.ix_(free, free)], K[np.ix_(free, m)])
+
+
+@pytest.fixture(scope="module")
+def five_bar():
+    return _load(_elastic(FIVE_BAR_OF_RR_LEGS, "five_bar_elastic"))
+
+
+@pytest.fixture(scope="module")
+def rrr3():
+    return _load(_elastic(tomllib.loads(DESCRIPTIONS["rrr3"].read_text()), "rrr3_elastic"))
+
+
+@pytest.mark.parametrize("machine", ["five_bar", "rrr3"])
+def test_the_virtual_joint_method_is_the_frame_model(machine, request):
+    """At poses across the workspace, every mode: pkm's K equals the frame model's to 1e-9 (relative to its
+    largest entry), and the drives' alone is J^T diag(k) J; the links' bending makes the machine softer."""
+    m = request.getfixturevalue(machine)
+    rng = np.random.default_rng(5)
+    home = np.asarray(m.functions["home"](m.design_vector(None))).ravel()
+    poses = home + rng.uniform(-0.15, 0.15, (40, m.n_out)) * (1 if machine == "five_bar" else [1, 1, 1.5])
+    checked = 0
+    for mode in m.modes:
+        for pose in poses:
+            K = m.stiffness(pose, mode=mode)
+            if not np.all(np.isfinite(K)):
+                continue
+            legs = m.linkage(pose, mode=mode)
+            want = frame_stiffness(legs, pose, turning=m.n_out == 3)
+            np.testing.assert_allclose(K, want, rtol=0, atol=1e-9 * np.abs(want).max())
+            J = m.jacobian(pose, mode=mode)
+            drives = m.stiffness(pose, mode=mode, actuators_only=True)
+            np.testing.assert_allclose(drives, DRIVE * J.T @ J, rtol=0, atol=1e-9 * np.abs(drives).max())
+            assert np.linalg.eigvalsh(drives - K).min() > -1e-9 * np.abs(drives).max()
+            checked += 1
+    assert checked >= 40
+
+
+def test_the_alias_3rpr_with_unit_drives_has_its_rational_stiffness():
+    """Base joints (0,0), (10,0), (3,10), platform points (0,0), (4,0), (2,2), pose (5, 5, 0), unit axial drive
+    stiffness: K = sum_i a_i a_i^T / rho_i^2, a_i = (d_i, r_i x d_i), exactly, against pkm to 1e-12."""
+    raw = {"name": "alias_elastic", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
+           "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
+           "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
+                    "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]],
+                    "elastic": {**ELASTIC, "drive": "1"}}}
+    m = _load(raw)
+    want = [[Fraction(0)] * 3 for _ in range(3)]
+    for base, point in zip([(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)], strict=True):
+        d = (5 + point[0] - base[0], 5 + point[1] - base[1])
+        a = (d[0], d[1], point[0] * d[1] - point[1] * d[0])
+        for i in range(3):
+            for j in range(3):
+                want[i][j] += Fraction(a[i] * a[j], d[0] ** 2 + d[1] ** 2)
+    assert want[0][0] == Fraction(383, 325)
+    K = m.stiffness([5, 5, 0])
+    np.testing.assert_allclose(K, np.array(want, dtype=float), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(m.stiffness([5, 5, 0], actuators_only=True), K, rtol=0, atol=1e-12)
+
+
+def test_the_deflection_under_a_load_is_the_compliance_times_it(rrr3):
+    pose = np.array([0.05, -0.03, 0.1])
+    wrench = np.array([0.0, -10.0, 0.5])
+    K = rrr3.stiffness(pose)
+    np.testing.assert_allclose(K @ rrr3.deflection(pose, wrench), wrench, rtol=1e-10, atol=1e-12)
+    two = rrr3.deflection(np.stack([pose, pose]), wrench)
+    assert two.shape == (2, 3)
+
+
+def test_without_elastic_elements_there_is_no_stiffness_and_bad_elements_are_refused():
+    with pytest.raises(PkmError, match="no elastic elements"):
+        pkm.load("rrr3").stiffness([0, 0, 0])
+    raw = _elastic(FIVE_BAR_OF_RR_LEGS, "five_bar_bad")
+    raw["legs"]["elastic"] = {**ELASTIC, "material": "cheese"}
+    with pytest.raises(DescriptionError, match=r"legs.elastic.material violates: one of steel"):
+        pkm.load(raw)
+    raw["legs"]["elastic"] = {**ELASTIC, "section": {"shape": "tube", "d": "0.02"}}
+    with pytest.raises(DescriptionError, match=r"legs.elastic.section violates: a tube section's shape and"):
+        pkm.load(raw)
