@@ -561,6 +561,7 @@ class Mechanism:
     every_assembly = _Delegate("pkm.assemblies")
     stiffness = _Delegate("pkm.stiffness")
     deflection = _Delegate("pkm.stiffness")
+    stiffness_units = _Delegate("pkm.stiffness")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

@@ -33,7 +33,7 @@ def stiffness(mech: KinematicModel, pose: Any, design: DesignLike = None, *, mod
     x, single = as_batch(pose, mech.n_out, "pose", finite=False)
     d = mech.design_vector(design)
     q = mech.inverse_kinematics(x, d, mode=mode, passive=True)
-    K, K_drives = evaluate(fn, q, x, d)
+    K, K_drives, _ = evaluate(fn, q, x, d)
     return unbatch(K_drives if actuators_only else K, single)
 
 
@@ -46,3 +46,10 @@ def deflection(mech: KinematicModel, pose: Any, wrench: Any, design: DesignLike 
     single = np.ndim(pose) == 1 and np.ndim(wrench) == 1
     w = np.broadcast_to(w, (len(K), K.shape[-1]))
     return unbatch(np.linalg.solve(K, w[..., None])[..., 0], single)
+
+
+def stiffness_units(mech: KinematicModel) -> list[list[str]]:
+    """The unit of each entry of K: N/m between two translations, N/rad between a translation and a rotation,
+    N m/rad between two rotations."""
+    units = {("m", "m"): "N/m", ("m", "rad"): "N/rad", ("rad", "m"): "N/rad", ("rad", "rad"): "N m/rad"}
+    return [[units[a, b] for b in mech.pose_units] for a in mech.pose_units]

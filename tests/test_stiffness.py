@@ -11,6 +11,7 @@ import math
 import tomllib
 import warnings
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -178,3 +179,82 @@ def test_without_elastic_elements_there_is_no_stiffness_and_bad_elements_are_ref
     raw["legs"]["elastic"] = {**ELASTIC, "section": {"shape": "tube", "d": "0.02"}}
     with pytest.raises(DescriptionError, match=r"legs.elastic.section violates: a tube section's shape and"):
         pkm.load(raw)
+
+
+def test_the_blocks_scale_as_their_units_n_per_m_n_per_rad_and_n_m_per_rad():
+    """The ALIAS 3-RPR with unit axial drives at twice its size: its translational block (N/m) is the same, its
+    coupling (N/rad) twice, its rotational block (N m/rad) four times."""
+    raw = {"name": "alias_units", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
+           "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
+           "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
+                    "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]],
+                    "elastic": {**ELASTIC, "drive": "1"}}}
+    m = _load(raw)
+    assert m.stiffness_units() == [["N/m", "N/m", "N/rad"], ["N/m", "N/m", "N/rad"], ["N/rad", "N/rad", "N m/rad"]]
+    K, twice = m.stiffness([5, 5, 0]), m.stiffness([10, 10, 0], {"s": 2.0})
+    scale = np.array([[1, 1, 2], [1, 1, 2], [2, 2, 4]])
+    np.testing.assert_allclose(twice, K * scale, rtol=1e-12, atol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def delta():
+    return pkm.load(str(Path(__file__).resolve().parents[1] / "examples" / "delta_elastic.toml"))
+
+
+def test_the_deltas_stiffness_is_symmetric_positive_definite_and_its_frequency_the_generalised_eigenvalue(delta):
+    """Inside the task: K symmetric positive definite, softer than its drives alone (J^T k_m J), the least
+    translational stiffness its smallest eigenvalue and the elastic frequency sqrt(lambda_min(K, M_w))."""
+    from scipy.linalg import eigh
+
+    rng = np.random.default_rng(2)
+    radius, angle = 0.15 * np.sqrt(rng.uniform(size=30)), rng.uniform(0, 2 * np.pi, 30)
+    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.55, -0.45, 30)])
+    K, drives = delta.stiffness(poses), delta.stiffness(poses, actuators_only=True)
+    J, M = delta.jacobian(poses), delta.inertia_matrix(poses)
+    k_m = delta.design(None)["k_m"]
+    least = delta.local_index("stiffness_min", poses)
+    frequency = delta.local_index("elastic_frequency", poses)
+    for k in range(len(poses)):
+        np.testing.assert_allclose(K[k], K[k].T, rtol=0, atol=1e-9 * np.abs(K[k]).max())
+        eigenvalues = np.linalg.eigvalsh(K[k])
+        assert eigenvalues.min() > 0
+        assert least[k] == pytest.approx(eigenvalues.min(), rel=1e-10)
+        np.testing.assert_allclose(drives[k], k_m * J[k].T @ J[k], rtol=1e-10)
+        assert np.linalg.eigvalsh(drives[k] - K[k]).min() > 0
+        assert frequency[k] == pytest.approx(np.sqrt(eigh(K[k], M[k], eigvals_only=True).min()), rel=1e-10)
+
+
+def test_the_stiffness_index_has_the_design_gradient_of_its_finite_differences(delta):
+    """The task mean of the least translational stiffness at a fixed quadrature: its exact gradient in the arm
+    length, the arm tube's diameter and the drive stiffness equals central differences."""
+    d = delta.design(None)
+    value, gradient = delta.global_index("stiffness_min_mean", d, region="task", mode="elbow_out", resolution=4,
+                                         gradient=True)
+    for name in ("L_a", "d_a", "k_m"):
+        step = 1e-6 * d[name]
+        ahead = delta.global_index("stiffness_min_mean", {**d, name: d[name] + step}, region="task",
+                                   mode="elbow_out", resolution=4)
+        behind = delta.global_index("stiffness_min_mean", {**d, name: d[name] - step}, region="task",
+                                    mode="elbow_out", resolution=4)
+        assert gradient[name] == pytest.approx((ahead - behind) / (2 * step), rel=1e-5)
+    assert value > 0
+
+
+def test_a_deflection_constraint_binds_exactly_where_active():
+    """docs/tasks/delta_stiff.toml: the GCI maximised with the platform moving at most 50 um under 10 N
+    downwards over the task; at the optimum the constraint is active, held to its bound, and the deflection at
+    sampled task poses stays within it."""
+    from pkm.synthesis.designer import read_problem
+
+    problem = read_problem(Path(__file__).resolve().parents[1] / "docs" / "tasks" / "delta_stiff.toml")
+    result = pkm.synthesize(problem, progress=False, starts=2)
+    assert result.optimum.feasible
+    row = next(c for c in result.optimum.constraints if c.name.startswith("deflection"))
+    assert row.active
+    assert row.value == pytest.approx(50e-6, rel=1e-7)
+    m = problem.mechanism
+    rng = np.random.default_rng(4)
+    radius, angle = 0.15 * np.sqrt(rng.uniform(size=200)), rng.uniform(0, 2 * np.pi, 200)
+    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.55, -0.45, 200)])
+    moved = m.deflection(poses, [0, 0, -10], result.design, mode="elbow_out")
+    assert np.linalg.norm(moved, axis=1).max() <= 50e-6 * (1 + 1e-7)

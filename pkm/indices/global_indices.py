@@ -103,6 +103,12 @@ GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
         "actuator_force_max", local.ACTUATOR_FORCE, "region maximum of the largest actuator force under the load",
         "max", "min",
     ),
+    GlobalIndex("stiffness_min_mean", local.STIFFNESS_MIN, "region mean of the least translational stiffness"),
+    GlobalIndex("stiffness_min_min", local.STIFFNESS_MIN, "region minimum of the least translational stiffness: "
+                "the softest pose's", "min"),
+    GlobalIndex("stiffness_isotropy_mean", local.STIFFNESS_ISOTROPY, "region mean of the stiffness's isotropy"),
+    GlobalIndex("elastic_frequency_min", local.ELASTIC_FREQUENCY, "region minimum of the lowest natural frequency of "
+                "the platform on the elastic structure", "min"),
     GlobalIndex(
         "workspace_margin_min", local.WORKSPACE_MARGIN,
         "region minimum of the least workspace-constraint margin: >= 0 where the region lies in the workspace",

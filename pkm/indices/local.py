@@ -347,6 +347,25 @@ SINGULARITY = LocalIndex(
     "-", 0.0, 1.0, 0.0, lambda H_q, H_x: _least(_serial_margin(H_q, H_x), _parallel_margin(H_q, H_x)),
     "constraint", ("H_q", "H_x"), dimension=None, raw=True,
 )
+STIFFNESS_MIN = LocalIndex(
+    "stiffness_min",
+    "least translational stiffness: the smallest eigenvalue of K_t, the Cartesian stiffness's translational block "
+    "with the rotation free (its Schur complement; the virtual joint method, pkm.spec.stiffness)",
+    "N/m", 0.0, np.inf, 0.0, lambda K_t: symmetric_eigenvalues(K_t)[1], "stiffness", ("K_t",), dimension=None,
+    raw=True,
+)
+STIFFNESS_ISOTROPY = LocalIndex(
+    "stiffness_isotropy",
+    "lambda_min / lambda_max of K_t, the translational stiffness with the rotation free: 1 where the platform is "
+    "as stiff in every direction",
+    "-", 0.0, 1.0, 0.0, _symmetric_ratio, "stiffness", ("K_t",), dimension=None, raw=True,
+)
+ELASTIC_FREQUENCY = LocalIndex(
+    "elastic_frequency",
+    "lowest natural frequency of the rigid platform on the elastic structure: sqrt(lambda_min(K_x, M_w)) with "
+    "the Cartesian stiffness K_x and the task-space inertia M_w = J^T M_t J in the pose's coordinates",
+    "rad/s", 0.0, np.inf, 0.0, _lowest_frequency, "vibration", ("S_k",), raw=True,
+)
 SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular_types)
 SINGULAR_NEAR = 1e-2  # one below this is near a singularity (a not converged index's note names it)
 
@@ -366,6 +385,9 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     SINGULARITY,
     SINGULARITY_TYPE1,
     SINGULARITY_TYPE2,
+    STIFFNESS_MIN,
+    STIFFNESS_ISOTROPY,
+    ELASTIC_FREQUENCY,
 )
 
 

@@ -44,7 +44,7 @@ from pkm.spec.compose import (
 )
 from pkm.spec.schema import ROOT, SUFFIX, Description, DescriptionError, describe, read
 from pkm.spec.seeds import Seeds
-from pkm.spec.stiffness import composed_stiffness
+from pkm.spec.stiffness import composed_stiffness, composed_vibration
 from pkm.spec.vocabulary import (
     FRAMES,
     RANKS,
@@ -118,6 +118,9 @@ class DescribedFunctions(FunctionTable):
                                                   functions.get("gravity"))
             functions["inverse_dynamics"] = composed_inverse_dynamics(
                 functions["constraint"], functions["mass_matrix"], functions["first_order"], functions.get("gravity"))
+            if "stiffness" in functions:
+                functions["vibration"] = composed_vibration(functions["stiffness"], functions["inertia"],
+                                                            self.description.data["pose"]["frame"])
         return functions
 
     def _load(self) -> dict[str, ca.Function]:

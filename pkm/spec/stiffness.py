@@ -72,8 +72,9 @@ def _leg(H_p: ca.SX, H_c: ca.SX, springs: ca.SX) -> ca.SX:
 
 
 def composed_stiffness(description: Description, functions: Mapping[str, ca.Function]) -> ca.Function:
-    """``stiffness(q, x, design) -> (K, K_drives)``: the Cartesian stiffness with the beams and with the drives
-    alone (module docstring), in the pose's twist coordinates."""
+    """``stiffness(q, x, design) -> (K, K_drives, K_t)``: the Cartesian stiffness with the beams and with the
+    drives alone (module docstring), in the pose's twist coordinates, and K's translational block with the
+    rotation free (its Schur complement K_tt - K_tr K_rr^-1 K_rt; K itself for a point pose) [N/m]."""
     constraint, skeleton, elastic, ends = (functions[k] for k in ("constraint", "skeleton", "elastic", "leg_ends"))
     q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
     _, H_q, _ = constraint(q, x, d)
@@ -108,5 +109,46 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
             A = ca.SX.eye(dim)
         for name, springs in (("K", flexed), ("K_drives", drive)):
             total[name] = total[name] + A.T @ _leg(H_p, H_c[rows, :], springs) @ A
-    return ca.Function("stiffness", [q, x, d], [total["K"], total["K_drives"]], ["q", "x", "design"],
-                       ["K", "K_drives"])
+    K = total["K"]
+    if turning:
+        t, r = slice(0, dim), slice(dim, x.numel())
+        K_t = K[t, t] - K[t, r] @ ca.solve(K[r, r], K[r, t])
+    else:
+        K_t = K
+    return ca.Function("stiffness", [q, x, d], [K, total["K_drives"], K_t], ["q", "x", "design"],
+                       ["K", "K_drives", "K_t"])
+
+
+def _pose_rates(x: ca.SX) -> ca.SX:
+    """E with the platform's twist E x_dot for a spatial pose (x, y, z, roll, pitch, yaw), R = Rz(yaw) Ry(pitch)
+    Rx(roll): the translation's rates, and the angular velocity Rz Ry e_x roll_dot + Rz e_y pitch_dot + e_z
+    yaw_dot."""
+    _, pitch, yaw = x[3], x[4], x[5]
+    cy, sy, cp, sp = ca.cos(yaw), ca.sin(yaw), ca.cos(pitch), ca.sin(pitch)
+    turning = ca.horzcat(ca.vertcat(cy * cp, sy * cp, -sp), ca.vertcat(-sy, cy, 0), ca.vertcat(0, 0, 1))
+    return ca.diagcat(ca.SX.eye(3), turning)
+
+
+def _cholesky(M: ca.SX) -> ca.SX:
+    """The lower triangular L with M = L L^T of a symmetric positive definite matrix, written out."""
+    n = M.size1()
+    L = ca.SX.zeros(n, n)
+    for i in range(n):
+        for j in range(i + 1):
+            rest = M[i, j] - sum((L[i, k] * L[j, k] for k in range(j)), ca.SX(0))
+            L[i, j] = ca.sqrt(rest) if i == j else rest / L[j, j]
+    return L
+
+
+def composed_vibration(stiffness: ca.Function, inertia: ca.Function, frame: str) -> ca.Function:
+    """``vibration(q, x, design) -> S_k``: the rigid platform on the elastic structure, its squared natural
+    frequencies the eigenvalues of S_k = L^-1 K_x L^-T, M_w = L L^T the task-space inertia and K_x the stiffness in
+    the pose's coordinates (E^T K E, E the twist's rates of a spatial pose's; K itself otherwise)."""
+    q, x, d = (ca.SX.sym(stiffness.name_in(i), stiffness.size_in(i)) for i in range(3))
+    K = stiffness(q, x, d)[0]
+    if frame == "spatial":
+        E = _pose_rates(x)
+        K = E.T @ K @ E
+    L = _cholesky(inertia(q, x, d)[1])
+    inverse = ca.solve(L, ca.SX.eye(L.size1()))
+    return ca.Function("vibration", [q, x, d], [inverse @ K @ inverse.T], ["q", "x", "design"], ["S_k"])

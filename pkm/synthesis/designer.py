@@ -286,7 +286,7 @@ def _quantity(mech: Any, name: str, field: str, *, region: Any, along: Trajector
     return Quantity(_index(mech, name, field), region)
 
 
-PHYSICAL = ("joint", "joint_range", "effort")
+PHYSICAL = ("joint", "joint_range", "effort", "deflection")
 
 
 def _joint_extremes(mech: Any, name: str, field: str) -> tuple[GlobalIndex, GlobalIndex]:
@@ -311,18 +311,42 @@ def _effort(mech: Any, wrench: Any, field: str) -> LocalIndex:
     )
 
 
+def _deflection(mech: Any, wrench: Any, field: str) -> LocalIndex:
+    """The platform's displacement under the wrench w, |K^-1 w| over its translation [m] (K the Cartesian
+    stiffness, :mod:`pkm.spec.stiffness`; w the force [N] and, where the platform turns, the moment [N m] about
+    the pose's origin)."""
+    if "stiffness" not in mech.functions:
+        raise _fail(field, f"a mechanism with elastic elements (legs' elastic tables); {mech.name} has none",
+                    wrench)
+    if not _numbers(wrench, mech.n_out):
+        raise _fail(field, f"a wrench of {mech.n_out} finite numbers, dual to the pose ({', '.join(mech.pose_names)})",
+                    wrench)
+    w = ca.DM(wrench)
+    moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
+
+    def displacement(K: ca.SX) -> ca.SX:
+        return ca.solve(K, w)[moved]
+
+    return LocalIndex(
+        "deflection", f"the platform's displacement |K^-1 w| over its translation under the wrench w = {list(wrench)}",
+        "m", 0.0, np.inf, np.inf, lambda K: ca.norm_2(displacement(K)), "stiffness", ("K",),
+        epigraph_upper=lambda K, t: t - ca.norm_2(displacement(K)), dimension=None, raw=True,
+    )
+
+
 def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], field: str, *, region: Any,
               quantities: dict[str, Quantity]) -> list[Constraint]:
     """{joint: an actuated joint} within [lower, upper] over the task, {joint_range: one} moving at most
-    ``upper`` over it (its largest minus its least value), or {effort: a wrench} needing actuator efforts of
-    at most ``upper`` at every pose of it; each a region extreme, refined between the nodes."""
+    ``upper`` over it (its largest minus its least value), {effort: a wrench} needing actuator efforts of
+    at most ``upper`` at every pose of it, or {deflection: a wrench} moving the platform by at most ``upper`` at
+    every pose of it (:func:`_deflection`); each a region extreme, refined between the nodes."""
     if len(what) != 1 or next(iter(what)) not in PHYSICAL:
         raise _fail(field, f"a table with one of {', '.join(PHYSICAL)}", what)
     kind, value = next(iter(what.items()))
     lower, upper = bounds
-    if kind == "effort":
-        local = _effort(mech, value, f"{field}.effort")
-        name = next(n for n in (f"effort_{k}" if k else "effort" for k in range(len(quantities) + 1))
+    if kind in ("effort", "deflection"):
+        local = (_effort if kind == "effort" else _deflection)(mech, value, f"{field}.{kind}")
+        name = next(n for n in (f"{kind}_{k}" if k else kind for k in range(len(quantities) + 1))
                     if n not in quantities)
         quantities[name] = Quantity(GlobalIndex(name, local, f"the region maximum of {local.doc}", "max", "min"),
                                     region)
@@ -457,7 +481,7 @@ def _constraints(mech: Any, constraints: Sequence[Any], quantity: Any, quantitie
         what, lower, upper = item
         if not isinstance(what, str | Mapping):
             raise _fail(field, "an index's name, an expression of the design parameters or a table {joint}, "
-                               "{joint_range} or {effort}", what)
+                               "{joint_range}, {effort} or {deflection}", what)
         lower, upper = _bound(lower, f"{field}.lower", -math.inf), _bound(upper, f"{field}.upper", math.inf)
         if not lower <= upper:
             raise _fail(field, f"lower <= upper; got {lower:g}, {upper:g}")
@@ -509,8 +533,9 @@ def design_problem(
     index over the task, a local index's least or largest value over it (``inverse_condition_f_min``: a singularity
     margin), an expression of the design parameters (a frame size, ``2 * (d1 + d2)``), or a table: ``{"joint":
     name}`` (an actuated joint within [lower, upper] over the task), ``{"joint_range": name}`` (its largest minus
-    its least value at most upper) or ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
-    every pose of the task at most upper, :func:`_effort`); by default the task inside the workspace (the least
+    its least value at most upper), ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
+    every pose of the task at most upper, :func:`_effort`) or ``{"deflection": wrench}`` (the platform's
+    displacement under it at most upper, :func:`_deflection`); by default the task inside the workspace (the least
     workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
     stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``,
     at most MAX_BASELINE_POINTS designs. A bound is a finite number of magnitude at most MAX_BOUND, or -inf (a
