@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> None:
             }
         )
     shown = [name for name in ("inverse_condition_f", "singularity_margin_type1", "singularity_margin_type2",
-                               "velocity_max", "velocity_min") if name in local]
+                               "velocity_max", "velocity_min", "stiffness_min", "elastic_frequency") if name in local]
     text = "\n".join(
         f"pose {valued(r['pose'], mine['pose'])}: {valued(list(r['actuators'].values()), mine['actuators'])}, "
         + ", ".join(f"{name} = {r[name]:.6g}{unit_text(mine['indices'][name])}" for name in shown)
