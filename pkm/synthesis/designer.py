@@ -525,8 +525,8 @@ def design_problem(
     encoder: Sequence[float] | None = None,
     singularity_margin: float = SINGULARITY_MARGIN,
 ) -> Problem:
-    """A synthesis over the task region ``task`` (a region name of the mechanism, a region, a table placing one in
-    SI, :func:`task_region`, or given poses, :func:`task_poses`) of ``mechanism`` (a name, a description file or a
+    """A synthesis over the task region ``task`` (a region name of the mechanism, a region, a table placing one in SI,
+    :func:`task_region`, or given poses, :func:`task_poses`) of ``mechanism`` (a name, a description file or a
     mechanism): the ``variables`` between their bounds, the parameters in ``fixed`` at their values and the others
     at their defaults; ``objective`` a global index over the task in its sense, or a weighted combination {index:
     weight} (maximised, each index negated where smaller is better); ``constraints`` (what, lower, upper): a global
@@ -534,21 +534,19 @@ def design_problem(
     margin), an expression of the design parameters (a frame size, ``2 * (d1 + d2)``), or a table: ``{"joint":
     name}`` (an actuated joint within [lower, upper] over the task), ``{"joint_range": name}`` (its largest minus
     its least value at most upper), ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
-    every pose of the task at most upper, :func:`_effort`) or ``{"deflection": wrench}`` (the platform's
-    displacement under it at most upper, :func:`_deflection`); by default the task inside the workspace (the least
-    workspace margin over it at least 0); ``derived`` parameters set by expressions of the others, in order (a
-    stroke that follows a link length); the baseline ``("grid", points per axis)`` or ``("monte_carlo", samples)``,
-    at most MAX_BASELINE_POINTS designs. A bound is a finite number of magnitude at most MAX_BOUND, or -inf (a
-    lower one), inf (an upper one) for none; ``name`` letters, digits and single underscores or dots. Every
-    problem holds its task ``singularity_margin`` (in [0, 1), SINGULARITY_MARGIN by default) from singularity:
-    the constraint ``singularity_margin_min >= singularity_margin`` over the task, which a constraint on
-    ``singularity_margin_min`` given in ``constraints`` replaces and 0 leaves out.
-    IPOPT takes a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph
-    holds every node, and the exact Hessian of those rows costs more than it saves). With ``trajectory`` (a
+    every pose of the task at most upper) or ``{"deflection": wrench}`` (the platform's displacement under it); by
+    default the task inside the workspace (the least workspace margin over it at least 0); ``derived`` parameters
+    set by expressions of the others, in order (a stroke that follows a link length); the baseline ``("grid", points
+    per axis)`` or ``("monte_carlo", samples)``, at most MAX_BASELINE_POINTS designs. A bound is a finite number of
+    magnitude at most MAX_BOUND, or -inf (a lower one), inf (an upper one) for none; ``name`` letters, digits and
+    single underscores or dots. Every problem holds its task ``singularity_margin`` (in [0, 1), SINGULARITY_MARGIN
+    by default) from singularity: the constraint ``singularity_margin_min >= singularity_margin`` over the task,
+    which a constraint on ``singularity_margin_min`` given in ``constraints`` replaces and 0 leaves out. IPOPT takes
+    a limited-memory Hessian where a quantity is a region minimum or maximum (its epigraph holds every node, and the
+    exact Hessian of those rows costs more than it saves). With ``trajectory`` (a
     :class:`pkm.regions.TrajectoryRegion`, a move, or {waypoints, v_max, a_max}: trapezoidal moves between the
-    waypoints), the objective and constraints may name the trajectory quantities (``effort_peak``, ``energy``,
-    ..., :mod:`pkm.dynamics.quantities`; ``encoder`` the resolutions of ``positioning_error``), taken along it.
-    """
+    waypoints), the objective and constraints may name the trajectory quantities (``effort_peak``, ``energy``, ...,
+    :mod:`pkm.dynamics.quantities`; ``encoder`` the resolutions of ``positioning_error``), taken along it."""
     if isinstance(mechanism, str):
         with _field("mechanism"):
             mechanism = resolve_name(_file_name(mechanism, "mechanism", MECHANISM))
