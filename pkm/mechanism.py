@@ -562,6 +562,8 @@ class Mechanism:
     stiffness = _Delegate("pkm.stiffness")
     deflection = _Delegate("pkm.stiffness")
     stiffness_units = _Delegate("pkm.stiffness")
+    certify = _Delegate("pkm.certify")
+    largest_region = _Delegate("pkm.certify")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

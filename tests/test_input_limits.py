@@ -37,6 +37,7 @@ def _error_line(capfd: pytest.CaptureFixture[str]) -> str:
 OUT_COMMANDS = {
     "eval": ["eval", "five_bar", "--pose", "0.1,1.5"],
     "fk": ["fk", "five_bar", "--joints", "1.5,1.2"],
+    "certify": ["certify", "delta", "--properties", "limits"],
     "index": ["index", "five_bar", "gci"],
     "atlas": ["atlas", "five_bar", "gci"],
     "sweep": ["sweep", "five_bar", "--indices", "gci"],

@@ -6,6 +6,7 @@ command is its module and its name here."""
 from pkm.cli.commands import (
     atlas,
     build,
+    certify,
     compare,
     design,
     eval,
@@ -21,5 +22,5 @@ from pkm.cli.commands import (
     synth,
 )
 
-COMMANDS = (list, build, eval, fk, index, atlas, sweep, synth, pareto, show, compare, explore, design, export,
-            reproduce)
+COMMANDS = (list, build, eval, fk, certify, index, atlas, sweep, synth, pareto, show, compare, explore, design,
+            export, reproduce)

@@ -1,0 +1,327 @@
+"""Certified regions (issue 41): a property proved over the whole of a task region, refuted by a pose inside it,
+or left undecided in boxes of a stated size, by branch and prune on rigorous enclosures (:mod:`pkm.intervals`).
+
+A property is a local index at least a threshold: ``singularity``, the least of the type I and type II
+singularity margins (:data:`pkm.indices.local.SINGULARITY`) at least ``threshold`` (1e-6, pkm's singular pose, by
+default); ``limits``, the least workspace margin (the legs' reach and every stated limit, signed) at least 0. The
+region is certified in its reference coordinates u in [-1, 1]^d (a disc's, a cylinder's and a mapped region's
+too), the pose x(u) its placement at the design, the index g(x(u)) one SX graph at the working mode and the
+design. Each box B of u:
+
+- outside the region (a disc's or a cylinder's round part entirely beyond its rim): dropped;
+- proved where the enclosure of g over B, the tighter of the natural one and the mean-value form
+  g(m) + grad g(B) (B - m) (m the box's centre), lies at or above the threshold;
+- refuted where g at a point of B inside the region, enclosed at that point, lies below it: the point is the
+  witness, and the region's verdict is refuted;
+- else halved across its widest side, down to ``depth`` halvings; a box left at that depth is undecided.
+
+The verdict: ``proved`` (every box proved), ``refuted`` (a witness), else ``undecided`` with the volume of the
+undecided boxes as a fraction of the region's reference box. Boxes, time and the largest depth reached are
+reported. A sampled check (pkm's region extremes) is never called certified, nor the reverse."""
+
+from __future__ import annotations
+
+import heapq
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm import regions
+from pkm.errors import PkmError
+from pkm.indices.local import SINGULAR, WORKSPACE_MARGIN
+from pkm.intervals import ball, enclosure
+
+PROPERTIES = {"singularity": (("singularity_margin_type1", "singularity_margin_type2"), SINGULAR),
+              "limits": (("workspace_margin",), 0.0)}  # each property's indices and its default threshold
+DEPTH = 14  # halvings of a box at most (a side of 2^-(14/d) of the region's per coordinate)
+MAX_BOXES = 20000  # boxes examined at most
+SECONDS = 60.0  # time at most
+
+
+@dataclass
+class Certificate:
+    """The verdict on each property over the region: ``proved``, ``refuted`` (with ``witnesses``: poses inside
+    the region, each with the property's value there) or ``undecided`` (``undecided`` the fraction of the
+    region's reference box left undecided); ``boxes`` examined, ``depth`` reached and ``seconds`` taken."""
+
+    mechanism: str
+    region: str
+    mode: str
+    design: dict[str, float]
+    properties: dict[str, float]  # the thresholds
+    verdict: str
+    witnesses: list[dict[str, Any]] = field(default_factory=list)
+    undecided: float = 0.0
+    boxes: int = 0
+    depth: int = 0
+    seconds: float = 0.0
+    stopped: str = ""  # why the search stopped short (the box or time budget), "" where it ran out of boxes
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: getattr(self, k) for k in ("mechanism", "region", "mode", "design", "properties", "verdict",
+                                              "witnesses", "undecided", "boxes", "depth", "seconds", "stopped")}
+
+
+def _round_axes(shape: Any) -> list[int]:
+    """The reference coordinates that a disc (or a cylinder's disc) joins, where the region is round."""
+    inner = getattr(shape, "inner", shape)
+    if isinstance(inner, regions.Disc):
+        return [0, 1]
+    if isinstance(inner, regions.Cylinder):
+        return [k for k in range(3) if k != inner.axis]
+    return []
+
+
+def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> dict[str, ca.SX]:
+    """The properties' values at the pose x: the type I and type II singularity margins as |det A| / prod_j
+    ||a_j|| (the determinants from the first order, A = [H_a H_p] and [H_p H_x] from the closure: the same
+    Hadamard ratios as pkm.indices.local's, in a form whose enclosures stay tight), and the least workspace
+    margin (signed beyond the reach)."""
+    signs, d = ca.DM(mech.working_mode(mode).signs), ca.DM(design)
+    fused = regions.pipeline(mech, (), first_order=True)
+    q, _, _, *rest = fused(x, signs, d)
+    first = dict(zip(fused.name_out()[3:], rest, strict=True))
+    _, H_q, H_x = mech.functions["constraint"](q, x, d)
+    columns = (H_q, ca.horzcat(H_q[:, mech.n_act:], H_x))
+    out = {}
+    for k, A in enumerate(columns, 1):
+        norms = ca.SX(1)
+        for j in range(A.size2()):
+            norms = norms * ca.norm_2(A[:, j])
+        out[f"singularity_margin_type{k}"] = ca.fabs(first[f"det_type{k}"]) / norms
+    (margin,) = regions.pipeline(mech, (WORKSPACE_MARGIN,))(x, signs, d)[3:]
+    out["workspace_margin"] = margin
+    return out
+
+
+@dataclass(frozen=True)
+class _Domain:
+    """What a search certifies: the properties' values g(u) over reference coordinates u in [-1, 1]^d (each
+    property's indices in order), their gradient, the pose x(u), the round coordinates (a unit disc or ball
+    among them) and the thresholds per index."""
+
+    value: Any
+    slope: Any
+    g: ca.Function
+    pose: ca.Function
+    indices: list[str]
+    round_axes: list[int]
+    limits: np.ndarray
+
+
+def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
+            design: np.ndarray) -> _Domain:
+    margins = _margins(mech, x, mode, design)
+    indices = [i for n in bounds for i in PROPERTIES[n][0]]
+    g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
+    gradient = ca.Function("certified_gradient", [u], [ca.jacobian(g(u), u)])
+    return _Domain(enclosure(g), enclosure(gradient), g, ca.Function("certified_pose", [u], [x]), indices,
+                   round_axes, np.array([bounds[n] for n in bounds for _ in PROPERTIES[n][0]]))
+
+
+def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, float]:
+    unknown = [p for p in properties if p not in PROPERTIES]
+    if unknown or not properties:
+        raise PkmError(f"properties violates: some of {', '.join(PROPERTIES)}; got {', '.join(unknown) or 'none'}")
+    if threshold is not None and not 0 <= threshold < 1:
+        raise PkmError(f"threshold violates: a singularity margin in [0, 1); got {threshold!r}")
+    return {p: (threshold if p == "singularity" and threshold is not None else PROPERTIES[p][1])
+            for p in properties}
+
+
+def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[str] = ("singularity", "limits"),
+            mode: str | None = None, threshold: float | None = None, depth: int = DEPTH, max_boxes: int = MAX_BOXES,
+            seconds: float = SECONDS) -> Certificate:
+    """Each property proved, refuted or left undecided over the region (a name or a region of the mechanism)
+    at the design in the working mode (module docstring); ``threshold`` the least singularity margin."""
+    bounds = _bounds(properties, threshold)
+    shape = mech.region(region)
+    d = mech.design_vector(design)
+    mode = mech.working_mode(mode).name
+    pieces = shape.pieces()
+    if len(pieces) != 1:
+        raise PkmError(f"region {regions.region_name(shape)} violates: one placed shape to certify over")
+    u = ca.SX.sym("u", pieces[0].dimension)
+    domain = _domain(mech, pieces[0].to_pose(mech.functions, ca.DM(d), u), u, _round_axes(shape), bounds=bounds,
+                     mode=mode, design=d)
+    found = _search(mech, domain, depth=depth, max_boxes=max_boxes, seconds=seconds)
+    return Certificate(mech.name, regions.region_name(shape), mode, mech.design_dict(d), bounds, **found)
+
+
+def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float) -> dict[str, Any]:
+    """Branch and prune over [-1, 1]^d, the largest box first (module docstring)."""
+    dim = domain.g.numel_in(0)
+    start = time.perf_counter()
+    queue = [(-1.0, 0, np.full(dim, -1.0), np.full(dim, 1.0), 0)]
+    undecided, boxes, reached, stopped, witnesses = 0.0, 0, 0, "", []
+    while queue:
+        if boxes >= max_boxes or time.perf_counter() - start > seconds:
+            stopped = f"the budget of {max_boxes} boxes or {seconds:g} s"
+            undecided += sum(float(np.prod((hi - lo) / 2)) for _, _, lo, hi, _ in queue)
+            break
+        _, _, lo, hi, level = heapq.heappop(queue)
+        boxes += 1
+        reached = max(reached, level)
+        if _outside(lo, hi, domain.round_axes) or np.all(_lower(domain.value, domain.slope, lo, hi) >= domain.limits):
+            continue
+        centre = (lo + hi) / 2
+        if _inside(centre, domain.round_axes):
+            at = np.array([v.upper() for v in domain.value([[ball(c, c) for c in centre]])[0]], dtype=float)
+            if np.any(at < domain.limits):
+                x = np.asarray(domain.pose(centre), dtype=float).ravel()
+                witnesses.append({"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": centre.tolist(),
+                                  **{i: float(v) for i, v in zip(domain.indices, np.asarray(domain.g(centre)).ravel(),
+                                                                  strict=True)}})
+                break
+        if level >= depth:
+            undecided += float(np.prod((hi - lo) / 2))
+            continue
+        k = int(np.argmax(hi - lo))
+        middle = (lo[k] + hi[k]) / 2
+        upper_lo, lower_hi = lo.copy(), hi.copy()
+        upper_lo[k], lower_hi[k] = middle, middle
+        for part in ((lo, lower_hi), (upper_lo, hi)):
+            heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), boxes * 2 + len(queue), *part, level + 1))
+    verdict = "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided")
+    return {"verdict": verdict, "witnesses": witnesses, "undecided": undecided, "boxes": boxes, "depth": reached,
+            "seconds": time.perf_counter() - start, "stopped": stopped}
+
+
+@dataclass
+class LargestRegion:
+    """The largest disc (a planar pose's position) or ball (a spatial one's) about a pose at its orientation
+    where the properties hold: ``proved`` the radius certified, ``beyond`` the least radius above it found not
+    proved, ``witness`` the nearest pose found where a property fails (its ``distance`` from the centre: the rims
+    from ``beyond`` outwards searched, by steps doubling from the tolerance, then by halving the gap to the
+    nearest rim found clear), each certification's verdict by radius in ``steps``."""
+
+    mechanism: str
+    centre: dict[str, float]
+    properties: dict[str, float]
+    proved: float
+    beyond: float
+    witness: dict[str, Any] | None
+    steps: list[dict[str, Any]]
+    seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: getattr(self, k) for k in ("mechanism", "centre", "properties", "proved", "beyond", "witness",
+                                              "steps", "seconds")}
+
+
+def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
+                   properties: Sequence[str] = ("singularity", "limits"), mode: str | None = None,
+                   threshold: float | None = None, tolerance: float = 1e-3, depth: int = DEPTH,
+                   max_boxes: int = MAX_BOXES, seconds: float = SECONDS) -> LargestRegion:
+    """The largest disc or ball of the pose's position (its coordinates in m; the others held) about ``pose``
+    where the properties hold, certified from both sides: bisection on the radius from ``radius`` (the
+    largest tried) until the proved radius and the one beyond it differ by ``tolerance`` (relative); a
+    refuted radius is replaced by its witness's distance (a pose where a property fails), an undecided one
+    counts as not proved."""
+    bounds = _bounds(properties, threshold)
+    d = mech.design_vector(design)
+    mode = mech.working_mode(mode).name
+    centre = np.asarray(pose, dtype=float).ravel()
+    moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
+    if len(centre) != mech.n_out or not np.all(np.isfinite(centre)):
+        raise PkmError(f"pose violates: {mech.n_out} finite numbers ({', '.join(mech.pose_names)})")
+    if not radius > 0:
+        raise PkmError(f"radius violates: a positive length; got {radius!r}")
+    u = ca.SX.sym("u", len(moved))
+    r = ca.SX.sym("r")
+    x = ca.SX(ca.DM(centre))
+    for j, k in enumerate(moved):
+        x[k] = centre[k] + r * u[j]
+    def domain_at(trial: float) -> _Domain:
+        return _domain(mech, ca.substitute(x, r, trial), u, list(range(len(moved))), bounds=bounds, mode=mode,
+                       design=d)
+
+    start = time.perf_counter()
+    low, high, witness, steps = 0.0, radius, None, []
+    while high - low > tolerance * high:
+        trial = high if not steps else (low + high) / 2
+        found = _search(mech, domain_at(trial), depth=depth, max_boxes=max_boxes, seconds=seconds)
+        steps.append({"radius": trial, **{k: found[k] for k in ("verdict", "boxes", "undecided", "seconds")}})
+        if found["verdict"] == "proved":
+            low = trial
+            if trial == high:
+                break
+        elif found["verdict"] == "refuted":
+            witness = found["witnesses"][0]
+            high = witness["distance"] = trial * float(np.linalg.norm(witness["u"]))
+        else:
+            high = trial
+    clear, probe, step = high, high, tolerance * high
+    while witness is None or witness["distance"] > probe:
+        rim = _beyond(mech, domain_at(probe), len(moved))
+        if rim is not None:
+            witness = {**rim, "distance": probe}
+            break
+        if witness is None and probe >= radius:
+            break
+        clear, probe, step = probe, probe + step, 2 * step
+    while witness is not None and witness["distance"] - clear > tolerance * clear:
+        probe = (clear + witness["distance"]) / 2
+        rim = _beyond(mech, domain_at(probe), len(moved))
+        if rim is None:
+            clear = probe
+        else:
+            witness = {**rim, "distance": probe}
+    return LargestRegion(mech.name, dict(zip(mech.pose_names, centre.tolist(), strict=True)), bounds, low, high,
+                         witness, steps, time.perf_counter() - start)
+
+
+BEYOND_SAMPLES = 4096  # directions on the sphere searched for a witness at the radius beyond the proved one
+
+
+def _beyond(mech: Any, domain: _Domain, dim: int) -> dict[str, Any] | None:
+    """A pose on the rim (|u| = 1) where a property fails, its value enclosed at that point below the
+    threshold: the witness just beyond a proved radius; None where the sampled directions find none."""
+    rng = np.random.default_rng(0)
+    directions = rng.normal(size=(BEYOND_SAMPLES, dim))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    values = np.asarray(domain.g.map(BEYOND_SAMPLES)(directions.T), dtype=float).T
+    failing = np.flatnonzero(np.any(values < domain.limits, axis=1))
+    for k in failing[np.argsort(np.min(values[failing] - domain.limits, axis=1))]:
+        at = np.array([v.upper() for v in domain.value([[ball(c, c) for c in directions[k]]])[0]], dtype=float)
+        if np.any(at < domain.limits):
+            x = np.asarray(domain.pose(directions[k]), dtype=float).ravel()
+            return {"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": directions[k].tolist(),
+                    **dict(zip(domain.indices, values[k].tolist(), strict=True))}
+    return None
+
+
+def _lower(value: Any, slope: Any, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The least value of each property's enclosure over the box: the greater of the natural enclosure's and
+    the mean-value form's lower ends (-inf where neither is finite)."""
+    box = [ball(a, b) for a, b in zip(lo, hi, strict=True)]
+    natural = value([box])[0]
+    centre = (lo + hi) / 2
+    at = value([[ball(c, c) for c in centre]])[0]
+    grad = slope([box])[0]
+    n = len(at)
+    out = np.full(n, -math.inf)
+    for i in range(n):
+        form = at[i]
+        for j in range(len(lo)):
+            form = form + grad[j * n + i] * ball(lo[j] - centre[j], hi[j] - centre[j])
+        ends = [float(e.lower()) for e in (natural[i], form) if e.is_finite()]
+        out[i] = max(ends) if ends else -math.inf
+    return out
+
+
+def _outside(lo: np.ndarray, hi: np.ndarray, axes: list[int]) -> bool:
+    """Whether the box lies entirely beyond the unit disc of the round coordinates."""
+    if not axes:
+        return False
+    nearest = sum(max(0.0, lo[k], -hi[k]) ** 2 for k in axes)
+    return nearest > 1.0
+
+
+def _inside(u: np.ndarray, axes: list[int]) -> bool:
+    return sum(u[k] ** 2 for k in axes) <= 1.0

@@ -1,0 +1,72 @@
+"""``pkm certify``: a region's properties proved, refuted with a witness or left undecided (:mod:`pkm.certify`);
+with ``--around``, the largest certified disc or ball about a pose."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pkm import io
+from pkm.certify import DEPTH, MAX_BOXES, PROPERTIES, SECONDS
+from pkm.cli.arguments import design_option, listed
+from pkm.cli.common import emit, given_design, given_poses, given_region, load_mechanism, named
+from pkm.errors import PkmError
+
+HELP = "prove a region free of singularities and within the limits, by branch and prune on rigorous enclosures"
+PARALLEL = False
+
+
+def options(p: argparse.ArgumentParser) -> None:
+    """The mechanism, the region or the pose, the properties, the search's budget."""
+    listed(p, "mechanism", key="mechanism")
+    listed(p, "--region", key="region", default="task")
+    listed(p, "--mode", key="mode")
+    p.add_argument("--properties", default=",".join(PROPERTIES),
+                   help=f"comma-separated, of {', '.join(PROPERTIES)} (default: all)")
+    p.add_argument("--threshold", type=float, help="the least singularity margin, in [0, 1) (default: 1e-6, a "
+                                                   "singular pose's)")
+    p.add_argument("--around", help="a pose: the largest disc or ball of its position where the properties hold, "
+                                    "instead of the region (default: none); e.g. 0,0,-0.5")
+    p.add_argument("--radius", type=float, default=1.0, help="with --around, the largest radius tried [m] "
+                                                            "(default: 1)")
+    p.add_argument("--depth", type=int, default=DEPTH, help=f"halvings of a box at most (default: {DEPTH})")
+    p.add_argument("--boxes", type=int, default=MAX_BOXES, help=f"boxes at most (default: {MAX_BOXES})")
+    p.add_argument("--seconds", type=float, default=SECONDS, help=f"time at most (default: {SECONDS:g} s)")
+    p.add_argument("--out", help="folder for certify.json (default: none); e.g. certified")
+    design_option(p)
+
+
+def run(args: argparse.Namespace) -> None:
+    """The verdict, the witnesses, the undecided volume and the time; or the largest certified radius."""
+    m = load_mechanism(args.mechanism)
+    d = given_design(m, args.design)
+    properties = [p.strip() for p in args.properties.split(",") if p.strip()]
+    if not 0 < args.depth <= 40 or not 0 < args.boxes <= 10**7 or not 0 < args.seconds <= 3600:
+        raise PkmError("--depth, --boxes and --seconds violate: within 1-40, 1-10^7 and 0-3600 s")
+    budget = {"depth": args.depth, "max_boxes": args.boxes, "seconds": args.seconds}
+    if args.around:
+        (pose,) = given_poses([args.around], m.n_out)
+        found = m.largest_region(pose, d, radius=args.radius, properties=properties, mode=args.mode,
+                                 threshold=args.threshold, **budget)
+        data = found.as_dict()
+        beyond = "no witness found" if found.witness is None else (
+            f"witness at {found.witness['distance']:.6g} m: {named(found.witness['pose'])}")
+        text = (f"{m.name}: {', '.join(found.properties)} certified within {found.proved:.6g} m of "
+                f"{named(found.centre)}; not proved at {found.beyond:.6g} m; {beyond} ({len(found.steps)} "
+                f"certifications, {found.seconds:.2f} s)")
+    else:
+        found = m.certify(given_region(m, args.region), d, properties=properties, mode=args.mode,
+                          threshold=args.threshold, **budget)
+        data = found.as_dict()
+        text = (f"{m.name}: {', '.join(f'{p} >= {v:g}' for p, v in found.properties.items())} over "
+                f"{found.region} in mode {found.mode}: {found.verdict.upper()} ({found.boxes} boxes, depth "
+                f"{found.depth}, {found.seconds:.2f} s"
+                + (f"; {found.undecided:.3g} of the region's box undecided" if found.undecided else "")
+                + (f"; stopped at {found.stopped}" if found.stopped else "") + ")")
+        for w in found.witnesses:
+            values = {k: v for k, v in w.items() if k not in ("pose", "u")}
+            text += f"\n  witness {named(w['pose'])}: {named(values)}"
+    if args.out:
+        text += "\nwrote " + ", ".join(str(p) for p in io.write_result(
+            Path(args.out), lambda folder: [io.write_text(folder / "certify.json", io.to_json(data))]))
+    emit(args, data, text)

@@ -1,0 +1,157 @@
+"""Rigorous enclosures of a CasADi SX graph over a box of its inputs: each instruction of the graph evaluated in
+ball arithmetic (python-flint's ``arb``: every operation rounded outward, so that the ball it returns holds every
+value the operation takes over its arguments' balls), for :mod:`pkm.certify`.
+
+python-flint rather than an interval emitter of pkm's own: its arb balls are kept, documented and rigorous for
+every elementary function the kinematic graphs use (sqrt, the trigonometric functions and their inverses, atan2,
+powers), which a home-made emitter would have to prove again. The graph is walked once into a list of steps
+(:func:`enclosure`); comparisons give 0, 1 or the ball [0, 1] where the order is not decided over the box, and a
+choice (``if_else``) the union of its branches where its condition is not decided. A ball that is not finite
+(a square root of a ball reaching below 0: a pose out of reach somewhere in the box) decides nothing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import casadi as ca
+
+from pkm.errors import PkmError
+
+
+def _flint() -> Any:
+    try:
+        import flint
+    except ImportError as exc:
+        raise PkmError("certification violates: python-flint installed (pip install python-flint), whose ball "
+                       "arithmetic it runs on") from exc
+    return flint
+
+
+def ball(lower: float, upper: float) -> Any:
+    """The ball holding [lower, upper] (the union of its ends' exact balls)."""
+    arb = _flint().arb
+    return arb(lower).union(arb(upper))
+
+
+def span(lower: Any, upper: Any) -> Any:
+    """The ball holding the balls ``lower`` and ``upper`` and every value between."""
+    return lower.union(upper)
+
+
+def _ends(x: Any) -> tuple[Any, Any]:
+    return x.lower(), x.upper()
+
+
+def _truth(certain_true: bool, certain_false: bool) -> Any:
+    arb = _flint().arb
+    if certain_true:
+        return arb(1)
+    if certain_false:
+        return arb(0)
+    return ball(0.0, 1.0)
+
+
+def _less(a: Any, b: Any, strict: bool) -> Any:
+    return _truth(a < b if strict else a <= b, a >= b if strict else a > b)
+
+
+def _choice(condition: Any, value: Any) -> Any:
+    """if_else_zero: ``value`` where the condition holds, else 0."""
+    arb = _flint().arb
+    if condition > 0.5:
+        return value
+    if condition < 0.5:
+        return arb(0)
+    return span(value, arb(0)) if value.is_finite() else value
+
+
+def _minimum(a: Any, b: Any) -> Any:
+    lo = a.lower() if a.lower() < b.lower() else b.lower()
+    hi = a.upper() if a.upper() < b.upper() else b.upper()
+    return span(lo, hi)
+
+
+def _maximum(a: Any, b: Any) -> Any:
+    lo = a.lower() if a.lower() > b.lower() else b.lower()
+    hi = a.upper() if a.upper() > b.upper() else b.upper()
+    return span(lo, hi)
+
+
+def _sign(a: Any) -> Any:
+    arb = _flint().arb
+    if a > 0:
+        return arb(1)
+    if a < 0:
+        return arb(-1)
+    return ball(-1.0, 1.0) if a != 0 else arb(0)
+
+
+def _square(a: Any) -> Any:
+    return abs(a) ** 2
+
+
+def _operations() -> dict[int, Callable[..., Any]]:
+    arb = _flint().arb
+    return {
+        ca.OP_ASSIGN: lambda a: a, ca.OP_ADD: lambda a, b: a + b, ca.OP_SUB: lambda a, b: a - b,
+        ca.OP_MUL: lambda a, b: a * b, ca.OP_DIV: lambda a, b: a / b, ca.OP_NEG: lambda a: -a,
+        ca.OP_EXP: lambda a: a.exp(), ca.OP_LOG: lambda a: a.log(), ca.OP_POW: lambda a, b: a**b,
+        ca.OP_CONSTPOW: lambda a, b: a**b, ca.OP_SQRT: lambda a: a.sqrt(), ca.OP_SQ: _square,
+        ca.OP_TWICE: lambda a: 2 * a, ca.OP_SIN: lambda a: a.sin(), ca.OP_COS: lambda a: a.cos(),
+        ca.OP_TAN: lambda a: a.tan(), ca.OP_ASIN: lambda a: a.asin(), ca.OP_ACOS: lambda a: a.acos(),
+        ca.OP_ATAN: lambda a: a.atan(), ca.OP_ATAN2: arb.atan2,
+        ca.OP_SINH: lambda a: a.sinh(), ca.OP_COSH: lambda a: a.cosh(), ca.OP_TANH: lambda a: a.tanh(),
+        ca.OP_LT: lambda a, b: _less(a, b, True), ca.OP_LE: lambda a, b: _less(a, b, False),
+        ca.OP_EQ: lambda a, b: _truth(a == b, a != b), ca.OP_NE: lambda a, b: _truth(a != b, a == b),
+        ca.OP_NOT: lambda a: 1 - a, ca.OP_AND: _minimum, ca.OP_OR: _maximum,
+        ca.OP_FABS: abs, ca.OP_SIGN: _sign, ca.OP_IF_ELSE_ZERO: _choice, ca.OP_FMIN: _minimum,
+        ca.OP_FMAX: _maximum, ca.OP_INV: lambda a: 1 / a, ca.OP_HYPOT: lambda a, b: (_square(a) + _square(b)).sqrt(),
+        ca.OP_COPYSIGN: lambda a, b: abs(a) * _sign(b),
+    }
+
+
+def enclosure(fn: ca.Function) -> Callable[[Sequence[Sequence[Any]]], list[list[Any]]]:
+    """The enclosure of an SX function: called with one list of balls per input (its nonzeros), it gives one list
+    of balls per output holding every value the function takes over them."""
+    if not fn.is_a("SXFunction"):
+        raise PkmError(f"certification violates: an SX graph; {fn.name()} is not one")
+    operations = _operations()
+    arb = _flint().arb
+    steps = []
+    for k in range(fn.n_instructions()):
+        op, ins, out = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
+        if op == ca.OP_CONST:
+            steps.append((op, arb(float(fn.instruction_constant(k))), out))
+        elif op in (ca.OP_INPUT, ca.OP_OUTPUT):
+            steps.append((op, ins, out))
+        elif op in operations:
+            steps.append((op, (operations[op], ins), out))
+        else:
+            raise PkmError(f"certification violates: operations ball arithmetic encloses; {fn.name()} holds "
+                           f"CasADi's operation {op}")
+    size = max([1, *(o[0] + 1 for op, _, o in steps if op != ca.OP_OUTPUT)])
+    shapes = [fn.nnz_out(i) for i in range(fn.n_out())]
+
+    def evaluate(inputs: Sequence[Sequence[Any]]) -> list[list[Any]]:
+        work: list[Any] = [None] * size
+        outputs = [[arb(0)] * n for n in shapes]
+        for op, data, out in steps:
+            if op == ca.OP_CONST:
+                work[out[0]] = data
+            elif op == ca.OP_INPUT:
+                work[out[0]] = inputs[data[0]][data[1]]
+            elif op == ca.OP_OUTPUT:
+                outputs[out[0]][out[1]] = work[data[0]]
+            else:
+                function, args = data
+                work[out[0]] = function(*(work[a] for a in args[: 2 if op in _BINARY else 1]))
+        return outputs
+
+    return evaluate
+
+
+_BINARY = {ca.OP_ADD, ca.OP_SUB, ca.OP_MUL, ca.OP_DIV, ca.OP_POW, ca.OP_CONSTPOW, ca.OP_ATAN2, ca.OP_LT, ca.OP_LE,
+           ca.OP_EQ, ca.OP_NE, ca.OP_AND, ca.OP_OR, ca.OP_IF_ELSE_ZERO, ca.OP_FMIN, ca.OP_FMAX, ca.OP_HYPOT,
+           ca.OP_COPYSIGN}

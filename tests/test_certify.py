@@ -1,0 +1,125 @@
+"""Certified regions (issue 41): ball-arithmetic enclosures of pkm's graphs hold every value they enclose; a
+region is proved where no sampled pose of it violates the property, refuted by a witness that violates it (by
+pkm's own local indices, apart from the certification), and the largest certified disc or ball lies below a
+witness just beyond it."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import casadi as ca
+import numpy as np
+import pytest
+from helpers import rpr3_text
+
+import pkm
+from pkm import regions
+from pkm.cli import main
+from pkm.errors import PkmError, SingularityWarning
+from pkm.intervals import ball, enclosure
+
+
+def test_the_enclosure_of_a_graph_holds_its_values_over_the_box():
+    """A graph of every kind of operation the kinematics use (atan2, acos, sqrt, a choice, a minimum): at 2,000
+    random points of three random boxes each value lies within its enclosure."""
+    x = ca.SX.sym("x", 2)
+    f = ca.Function("f", [x], [ca.vertcat(
+        ca.sin(x[0]) * x[1] + ca.sqrt(x[0]) + ca.atan2(x[1], x[0]) + ca.if_else(x[0] < 0.5, x[1] ** 2, -x[1]),
+        ca.acos(x[0] / 2) + ca.fmin(x[0], x[1]) - ca.fabs(x[1]) ** 3 / (1 + x[0] ** 2))])
+    enclose = enclosure(f)
+    rng = np.random.default_rng(1)
+    for _ in range(3):
+        lo = rng.uniform(0.1, 0.8, 2)
+        hi = lo + rng.uniform(0.01, 0.5, 2)
+        (out,) = enclose([[ball(a, b) for a, b in zip(lo, hi, strict=True)]])
+        points = rng.uniform(lo, hi, (2000, 2))
+        values = np.asarray(f.map(len(points))(points.T)).T
+        for k, v in enumerate(out):
+            assert float(v.lower()) <= values[:, k].min()
+            assert values[:, k].max() <= float(v.upper())
+
+
+def test_the_enclosure_of_a_mechanisms_inverse_kinematics_holds_its_values():
+    m = pkm.load("rrr3")
+    x = ca.SX.sym("x", 3)
+    q, _ = m.functions["inverse_kinematics"](x, ca.DM(m.working_mode(None).signs), ca.DM(m.design_vector(None)))
+    f = ca.Function("ik", [x], [q])
+    lo, hi = np.array([0.02, -0.03, 0.1]), np.array([0.05, 0.0, 0.12])
+    (out,) = enclosure(f)([[ball(a, b) for a, b in zip(lo, hi, strict=True)]])
+    points = np.random.default_rng(2).uniform(lo, hi, (1000, 3))
+    values = np.asarray(f.map(len(points))(points.T)).T
+    for k, v in enumerate(out):
+        assert float(v.lower()) <= values[:, k].min() <= values[:, k].max() <= float(v.upper())
+
+
+def _disc(centre, radius):
+    return regions.Disc("probe", "a disc", fixed=(tuple(centre), (radius,)))
+
+
+def test_the_deltas_task_is_proved_within_its_limits_and_a_sampled_check_agrees():
+    delta = pkm.load("delta")
+    proved = delta.certify("task", properties=("limits",))
+    assert (proved.verdict, proved.undecided, proved.witnesses) == ("proved", 0.0, [])
+    assert proved.boxes >= 1
+    rng = np.random.default_rng(3)
+    radius, angle = 0.15 * np.sqrt(rng.uniform(size=2000)), rng.uniform(0, 2 * np.pi, 2000)
+    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.55, -0.45, 2000)])
+    assert delta.local_index("workspace_margin", poses).min() >= 0
+
+
+def test_a_disc_of_the_five_bar_away_from_its_singularities_is_proved_and_one_across_its_rim_refuted():
+    five_bar = pkm.load("five_bar")
+    inside = five_bar.certify(_disc((0.0, 1.6), 0.1), properties=("singularity", "limits"))
+    assert inside.verdict == "proved"
+    across = five_bar.certify(_disc((0.0, 1.6), 0.8), properties=("limits",))
+    assert across.verdict == "refuted"
+    (witness,) = across.witnesses
+    pose = np.array(list(witness["pose"].values()))
+    assert np.hypot(pose[0], pose[1] - 1.6) <= 0.8
+    assert five_bar.local_index("workspace_margin", pose) < 0
+
+
+@pytest.fixture(scope="module")
+def in_line(tmp_path_factory):
+    path = tmp_path_factory.mktemp("rpr3") / "rpr3.toml"
+    path.write_text(rpr3_text("rpr3_in_line_certify", R=1.0, r=0.4, stroke=(0.3, 1.5)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SingularityWarning)
+        return pkm.load(str(path))
+
+
+def test_a_singular_plane_is_refuted_with_a_witness_on_it(in_line):
+    """The in-line 3-RPR is type-II singular over phi = 0: a cylinder of platform angles across it is refuted,
+    its witness singular by pkm's own margins."""
+    region = regions.Cylinder("across", "across phi = 0", fixed=((0.0, 0.0, 0.0), (0.05, 0.2)), axis=2)
+    found = in_line.certify(region, properties=("singularity",), threshold=1e-3)
+    assert found.verdict == "refuted"
+    pose = np.array(list(found.witnesses[0]["pose"].values()))
+    assert in_line.local_index("singularity_margin", pose) < 1e-3
+
+
+def test_the_largest_certified_ball_of_the_delta_lies_below_a_witness_beyond_it():
+    delta = pkm.load("delta")
+    found = delta.largest_region([0, 0, -0.5], radius=0.4, properties=("limits",), tolerance=3e-2, depth=10)
+    assert 0 < found.proved <= found.beyond <= found.witness["distance"] <= 0.4
+    witness = np.array(list(found.witness["pose"].values()))
+    assert np.linalg.norm(witness - [0, 0, -0.5]) == pytest.approx(found.witness["distance"], rel=1e-9)
+    assert delta.local_index("workspace_margin", witness) < 0
+    rng = np.random.default_rng(5)
+    directions = rng.normal(size=(3000, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    inside = [0, 0, -0.5] + found.proved * rng.uniform(size=(3000, 1)) ** (1 / 3) * directions
+    assert delta.local_index("workspace_margin", inside).min() >= 0
+
+
+def test_pkm_certify_prints_the_verdict_and_refuses_bad_input(capsys):
+    assert main(["certify", "delta", "--properties", "limits", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["verdict"], data["region"], data["properties"]) == ("proved", "task", {"limits": 0.0})
+    assert main(["certify", "delta", "--properties", "colour"]) == 2
+    assert "properties violates: some of singularity, limits; got colour" in capsys.readouterr().err
+    assert main(["certify", "delta", "--threshold", "2"]) == 2
+    assert "threshold violates" in capsys.readouterr().err
+    with pytest.raises(PkmError, match="radius violates"):
+        pkm.load("delta").largest_region([0, 0, -0.5], radius=0)
