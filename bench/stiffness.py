@@ -24,7 +24,6 @@ import json
 import os
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ import numpy as np
 import pkm
 import pkm.batch
 from bench import json_main
+from bench.methods import best_of
 from bench.report import machine
 from bench.throughput import set_threads
 from pkm.batch import evaluate
@@ -177,14 +177,10 @@ def discrepancy(ours: np.ndarray, reference: np.ndarray) -> float:
 
 
 def _best_of(fn: Callable[[], Any], warmup: int = WARMUP, repeats: int = REPEATS) -> float:
+    """The least wall time [s] of ``repeats`` calls of ``fn`` after ``warmup`` untimed ones."""
     for _ in range(warmup):
         fn()
-    best = np.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return float(best)
+    return best_of(fn, repeats)
 
 
 def check(m: pkm.Mechanism, x: np.ndarray) -> dict[str, float]:
