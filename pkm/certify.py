@@ -3,7 +3,9 @@ or left undecided in boxes of a stated size, by branch and prune on rigorous enc
 
 A property is a local index at least a threshold: ``singularity``, the least of the type I and type II
 singularity margins (:data:`pkm.indices.local.SINGULARITY`) at least ``threshold`` (1e-6, pkm's singular pose, by
-default); ``limits``, the least workspace margin (the legs' reach and every stated limit, signed) at least 0. The
+default); ``limits``, the least workspace margin (the legs' reach and every stated limit, signed) at least 0;
+``collisions``, the collision margin (the least distance between two legs' capsules less their radii,
+:mod:`pkm.spec.collisions`) at least 0. The
 region is certified in its reference coordinates u in [-1, 1]^d (a disc's, a cylinder's and a mapped region's
 too), the pose x(u) its placement at the design, the index g(x(u)) one SX graph at the working mode and the
 design. Each box B of u:
@@ -34,10 +36,11 @@ import numpy as np
 from pkm import regions
 from pkm.errors import PkmError
 from pkm.indices.local import SINGULAR, WORKSPACE_MARGIN
-from pkm.intervals import ball, enclosure
+from pkm.intervals import ball, enclosure, span
 
 PROPERTIES = {"singularity": (("singularity_margin_type1", "singularity_margin_type2"), SINGULAR),
-              "limits": (("workspace_margin",), 0.0)}  # each property's indices and its default threshold
+              "limits": (("workspace_margin",), 0.0),
+              "collisions": (("collision_margin",), 0.0)}  # each property's indices and its default threshold
 DEPTH = 14  # halvings of a box at most (a side of 2^-(14/d) of the region's per coordinate)
 MAX_BOXES = 20000  # boxes examined at most
 SECONDS = 60.0  # time at most
@@ -99,11 +102,89 @@ def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> dict[str, ca
     return out
 
 
+PIECES = 8  # each capsule's segment cut into this many pieces, their boxes' gaps bounding the distance below
+
+
+@dataclass(frozen=True)
+class _Capsules:
+    """The legs' capsules over a box: the drawing's points enclosed, each pair of segments of two legs
+    (:func:`pkm.spec.collisions.pairs`) bounded below by the gaps between the boxes of their pieces, and above at
+    a point by the distance between two of their points."""
+
+    points: Any  # the enclosure of the drawing's points (n x dim, by columns) over a box of u
+    n: int
+    dim: int
+    pairs: list[tuple[int, int, int, int]]
+    first: list[int]
+    radii: np.ndarray
+    at: ca.Function  # the points at u
+    margin: ca.Function  # the collision margin at u, in floats
+
+    def _segments(self, balls: list[Any], i: int, a: int) -> tuple[list[Any], list[Any]]:
+        row = self.first[i] + a
+        return ([balls[row + self.n * c] for c in range(self.dim)],
+                [balls[row + 1 + self.n * c] for c in range(self.dim)])
+
+    def lower(self, lo: np.ndarray, hi: np.ndarray) -> float:
+        """The least margin's lower bound over the box."""
+        (balls,) = self.points([[ball(a, b) for a, b in zip(lo, hi, strict=True)]])
+        least = math.inf
+        for i, a, j, b in self.pairs:
+            (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
+            gap = min(_piece_gap((p1, q1, k), (p2, q2, m)) for k in range(PIECES) for m in range(PIECES))
+            least = min(least, gap - self.radii[i] - self.radii[j])
+        return least
+
+    def upper(self, u: np.ndarray) -> float:
+        """The least margin's upper bound at u: the distance between two points of each pair, enclosed."""
+        (balls,) = self.points([[ball(c, c) for c in u]])
+        points = np.asarray(self.at(u), dtype=float)
+        least = math.inf
+        for i, a, j, b in self.pairs:
+            s, t = _closest(points[self.first[i] + a], points[self.first[i] + a + 1], points[self.first[j] + b],
+                            points[self.first[j] + b + 1])
+            (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
+            square = sum(((p + (q - p) * s) - (r + (w - r) * t)) ** 2 for p, q, r, w in zip(p1, q1, p2, q2,
+                                                                                          strict=True))
+            distance = square.sqrt()
+            least = min(least, float(distance.upper()) - self.radii[i] - self.radii[j] if distance.is_finite()
+                        else math.inf)
+        return least
+
+
+def _piece_gap(first: tuple[list[Any], list[Any], int], second: tuple[list[Any], list[Any], int]) -> float:
+    """A lower bound of the distance between piece k of segment p q and piece m of segment r w (``first`` (p, q,
+    k), ``second`` (r, w, m)): the gap between their boxes (each the union of its ends' balls)."""
+    (p, q, k), (r, w, m) = first, second
+    total = ball(0.0, 0.0)
+    for c in range(len(p)):
+        one = span(p[c] + (q[c] - p[c]) * k / PIECES, p[c] + (q[c] - p[c]) * (k + 1) / PIECES)
+        two = span(r[c] + (w[c] - r[c]) * m / PIECES, r[c] + (w[c] - r[c]) * (m + 1) / PIECES)
+        if not (one.is_finite() and two.is_finite()):
+            return -math.inf
+        gap = two.lower() - one.upper() if two > one else (one.lower() - two.upper() if one > two else None)
+        if gap is not None:
+            total = total + gap**2
+    return float(total.sqrt().lower())
+
+
+def _closest(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> tuple[float, float]:
+    """The parameters of two segments' closest points, in floats (any two points give an upper bound)."""
+    best = (math.inf, 0.0, 0.0)
+    for s in np.linspace(0, 1, 65):
+        a = p1 + s * (q1 - p1)
+        d2 = q2 - p2
+        t = float(np.clip(np.dot(a - p2, d2) / max(np.dot(d2, d2), 1e-300), 0, 1))
+        gap = float(np.linalg.norm(a - p2 - t * d2))
+        best = min(best, (gap, float(s), t))
+    return best[1], best[2]
+
+
 @dataclass(frozen=True)
 class _Domain:
     """What a search certifies: the properties' values g(u) over reference coordinates u in [-1, 1]^d (each
-    property's indices in order), their gradient, the pose x(u), the round coordinates (a unit disc or ball
-    among them) and the thresholds per index."""
+    property's indices in order, but the collision margin), their gradient, the pose x(u), the round coordinates
+    (a unit disc or ball among them), the thresholds per index and, for collisions, the legs' capsules."""
 
     value: Any
     slope: Any
@@ -112,16 +193,39 @@ class _Domain:
     indices: list[str]
     round_axes: list[int]
     limits: np.ndarray
+    capsules: _Capsules | None = None
 
 
 def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
             design: np.ndarray) -> _Domain:
+    capsules = None
+    if "collisions" in bounds:
+        if "collision" not in mech.functions:
+            raise PkmError(f"properties violates: collisions of a machine whose legs state their capsules; "
+                           f"{mech.name}'s do not")
+        capsules = _capsules(mech, x, u, mode, design)
     margins = _margins(mech, x, mode, design)
-    indices = [i for n in bounds for i in PROPERTIES[n][0]]
+    indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
     g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
     gradient = ca.Function("certified_gradient", [u], [ca.jacobian(g(u), u)])
     return _Domain(enclosure(g), enclosure(gradient), g, ca.Function("certified_pose", [u], [x]), indices,
-                   round_axes, np.array([bounds[n] for n in bounds for _ in PROPERTIES[n][0]]))
+                   round_axes, np.array([bounds[n] for n in bounds if n != "collisions" for _ in PROPERTIES[n][0]]),
+                   capsules)
+
+
+def _capsules(mech: Any, x: ca.SX, u: ca.SX, mode: str, design: np.ndarray) -> _Capsules:
+    from pkm.spec.collisions import pairs
+    from pkm.spec.vocabulary import kind_of
+
+    d = ca.DM(design)
+    q = regions.pipeline(mech, ())(x, ca.DM(mech.working_mode(mode).signs), d)[0]
+    points = mech.functions["skeleton"](q, x, d)
+    counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
+    at = ca.Function("capsule_points", [u], [points])
+    margin = ca.Function("capsule_margin", [u], [ca.mmin(mech.functions["collision"](q, x, d))])
+    return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description),
+                     [sum(counts[:k]) for k in range(len(counts))],
+                     np.asarray(mech.functions["capsules"](d), dtype=float).ravel(), at, margin)
 
 
 def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, float]:
@@ -167,17 +271,12 @@ def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: 
         _, _, lo, hi, level = heapq.heappop(queue)
         boxes += 1
         reached = max(reached, level)
-        if _outside(lo, hi, domain.round_axes) or np.all(_lower(domain.value, domain.slope, lo, hi) >= domain.limits):
+        if _outside(lo, hi, domain.round_axes) or _proved(domain, lo, hi):
             continue
         centre = (lo + hi) / 2
-        if _inside(centre, domain.round_axes):
-            at = np.array([v.upper() for v in domain.value([[ball(c, c) for c in centre]])[0]], dtype=float)
-            if np.any(at < domain.limits):
-                x = np.asarray(domain.pose(centre), dtype=float).ravel()
-                witnesses.append({"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": centre.tolist(),
-                                  **{i: float(v) for i, v in zip(domain.indices, np.asarray(domain.g(centre)).ravel(),
-                                                                  strict=True)}})
-                break
+        if _inside(centre, domain.round_axes) and _refuted(domain, centre):
+            witnesses.append(_witness(mech, domain, centre))
+            break
         if level >= depth:
             undecided += float(np.prod((hi - lo) / 2))
             continue
@@ -276,6 +375,29 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
                          witness, steps, time.perf_counter() - start)
 
 
+def _proved(domain: _Domain, lo: np.ndarray, hi: np.ndarray) -> bool:
+    held = not domain.indices or bool(np.all(_lower(domain.value, domain.slope, lo, hi) >= domain.limits))
+    return held and (domain.capsules is None or domain.capsules.lower(lo, hi) >= 0)
+
+
+def _refuted(domain: _Domain, u: np.ndarray) -> bool:
+    """Whether a property fails at u, its value enclosed there below its threshold."""
+    if domain.indices:
+        at = np.array([v.upper() for v in domain.value([[ball(c, c) for c in u]])[0]], dtype=float)
+        if np.any(at < domain.limits):
+            return True
+    return domain.capsules is not None and domain.capsules.upper(u) < 0
+
+
+def _witness(mech: Any, domain: _Domain, u: np.ndarray) -> dict[str, Any]:
+    x = np.asarray(domain.pose(u), dtype=float).ravel()
+    out = {"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": u.tolist(),
+           **{i: float(v) for i, v in zip(domain.indices, np.asarray(domain.g(u)).ravel(), strict=True)}}
+    if domain.capsules is not None:
+        out["collision_margin"] = domain.capsules.upper(u)
+    return out
+
+
 BEYOND_SAMPLES = 4096  # directions on the sphere searched for a witness at the radius beyond the proved one
 
 
@@ -285,14 +407,15 @@ def _beyond(mech: Any, domain: _Domain, dim: int) -> dict[str, Any] | None:
     rng = np.random.default_rng(0)
     directions = rng.normal(size=(BEYOND_SAMPLES, dim))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    values = np.asarray(domain.g.map(BEYOND_SAMPLES)(directions.T), dtype=float).T
-    failing = np.flatnonzero(np.any(values < domain.limits, axis=1))
-    for k in failing[np.argsort(np.min(values[failing] - domain.limits, axis=1))]:
-        at = np.array([v.upper() for v in domain.value([[ball(c, c) for c in directions[k]]])[0]], dtype=float)
-        if np.any(at < domain.limits):
-            x = np.asarray(domain.pose(directions[k]), dtype=float).ravel()
-            return {"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": directions[k].tolist(),
-                    **dict(zip(domain.indices, values[k].tolist(), strict=True))}
+    short = np.full(BEYOND_SAMPLES, np.inf)
+    if domain.indices:
+        values = np.asarray(domain.g.map(BEYOND_SAMPLES)(directions.T), dtype=float).T
+        short = np.min(values - domain.limits, axis=1)
+    if domain.capsules is not None:
+        short = np.fmin(short, np.asarray(domain.capsules.margin.map(BEYOND_SAMPLES)(directions.T)).ravel())
+    for k in np.argsort(short)[: int(np.sum(short < 0))]:
+        if _refuted(domain, directions[k]):
+            return _witness(mech, domain, directions[k])
     return None
 
 

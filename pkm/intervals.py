@@ -1,13 +1,14 @@
-"""Rigorous enclosures of a CasADi SX graph over a box of its inputs: each instruction of the graph evaluated in
-ball arithmetic (python-flint's ``arb``: every operation rounded outward, so that the ball it returns holds every
-value the operation takes over its arguments' balls), for :mod:`pkm.certify`.
+"""Rigorous enclosures of a CasADi SX graph over a box of its inputs: each instruction of the graph evaluated in ball
+arithmetic (python-flint's ``arb``: every operation rounded outward, so that the ball it returns holds every value
+the operation takes over its arguments' balls), for :mod:`pkm.certify`.
 
-python-flint rather than an interval emitter of pkm's own: its arb balls are kept, documented and rigorous for
-every elementary function the kinematic graphs use (sqrt, the trigonometric functions and their inverses, atan2,
-powers), which a home-made emitter would have to prove again. The graph is walked once into a list of steps
-(:func:`enclosure`); comparisons give 0, 1 or the ball [0, 1] where the order is not decided over the box, and a
-choice (``if_else``) the union of its branches where its condition is not decided. A ball that is not finite
-(a square root of a ball reaching below 0: a pose out of reach somewhere in the box) decides nothing.
+python-flint rather than an interval emitter of pkm's own: its arb balls are kept, documented and rigorous for every
+elementary function the kinematic graphs use (sqrt, the trigonometric functions and their inverses, atan2, powers),
+which a home-made emitter would have to prove again. The graph is walked once into a list of steps
+(:func:`enclosure`); comparisons give 0, 1 or the ball [0, 1] where the order is not decided over the box, a choice
+(``if_else``) the union of its branches where its condition is not decided, a product of a value with itself its
+square (non-negative), and a minimum or maximum with a ball that is not finite is not finite. A ball that is not
+finite (a square root of a ball reaching below 0: a pose out of reach somewhere in the box) decides nothing.
 """
 
 from __future__ import annotations
@@ -68,12 +69,16 @@ def _choice(condition: Any, value: Any) -> Any:
 
 
 def _minimum(a: Any, b: Any) -> Any:
+    if not (a.is_finite() and b.is_finite()):
+        return a + b  # not finite: decides nothing
     lo = a.lower() if a.lower() < b.lower() else b.lower()
     hi = a.upper() if a.upper() < b.upper() else b.upper()
     return span(lo, hi)
 
 
 def _maximum(a: Any, b: Any) -> Any:
+    if not (a.is_finite() and b.is_finite()):
+        return a + b  # not finite: decides nothing
     lo = a.lower() if a.lower() > b.lower() else b.lower()
     hi = a.upper() if a.upper() > b.upper() else b.upper()
     return span(lo, hi)
@@ -144,6 +149,8 @@ def enclosure(fn: ca.Function) -> Callable[[Sequence[Sequence[Any]]], list[list[
                 work[out[0]] = inputs[data[0]][data[1]]
             elif op == ca.OP_OUTPUT:
                 outputs[out[0]][out[1]] = work[data[0]]
+            elif op == ca.OP_MUL and data[1][0] == data[1][1]:  # a square: one ball, not two independent ones
+                work[out[0]] = _square(work[data[1][0]])
             else:
                 function, args = data
                 work[out[0]] = function(*(work[a] for a in args[: 2 if op in _BINARY else 1]))

@@ -118,8 +118,71 @@ def test_pkm_certify_prints_the_verdict_and_refuses_bad_input(capsys):
     data = json.loads(capsys.readouterr().out)
     assert (data["verdict"], data["region"], data["properties"]) == ("proved", "task", {"limits": 0.0})
     assert main(["certify", "delta", "--properties", "colour"]) == 2
-    assert "properties violates: some of singularity, limits; got colour" in capsys.readouterr().err
+    assert "properties violates: some of singularity, limits, collisions; got colour" in capsys.readouterr().err
     assert main(["certify", "delta", "--threshold", "2"]) == 2
     assert "threshold violates" in capsys.readouterr().err
     with pytest.raises(PkmError, match="radius violates"):
         pkm.load("delta").largest_region([0, 0, -0.5], radius=0)
+
+
+def _segment_gap(p1, q1, p2, q2, samples=401):
+    """The least distance between two segments by dense sampling of both."""
+    s = np.linspace(0, 1, samples)[:, None]
+    a, b = p1 + s * (q1 - p1), p2 + s * (q2 - p2)
+    return np.min(np.linalg.norm(a[:, None] - b[None], axis=-1))
+
+
+def test_the_segment_distance_is_the_least_over_both_segments():
+    from pkm.spec.collisions import segment_distance
+
+    p1, q1, p2, q2 = (ca.SX.sym(n, 3) for n in ("p1", "q1", "p2", "q2"))
+    f = ca.Function("d", [p1, q1, p2, q2], [segment_distance(p1, q1, p2, q2)])
+    rng = np.random.default_rng(6)
+    for _ in range(40):
+        ends = rng.normal(size=(4, 3))
+        if rng.uniform() < 0.3:
+            ends[3] = ends[2] + 0.3 * (ends[1] - ends[0])  # parallel
+        assert float(f(*ends)) == pytest.approx(_segment_gap(*ends), abs=2e-3)
+        assert float(f(*ends)) <= _segment_gap(*ends) + 1e-12
+
+
+@pytest.fixture(scope="module")
+def capsules():
+    import copy
+
+    from helpers import FIVE_BAR_OF_RR_LEGS
+
+    raw = copy.deepcopy(FIVE_BAR_OF_RR_LEGS)
+    raw["name"], raw["legs"]["capsule"] = "five_bar_capsules", "0.05"
+    return pkm.load(raw)
+
+
+def test_the_collision_margin_is_the_least_gap_between_two_legs_links_less_their_radii(capsules):
+    """From the drawn linkage: the proximal links against each other and each against the other leg's distal
+    one (the distal links share the platform joint: not a pair), less twice the radius; negative in the mode
+    whose elbows cross."""
+    rng = np.random.default_rng(7)
+    poses = np.column_stack([rng.uniform(-0.4, 0.4, 10), rng.uniform(0.6, 1.9, 10)])
+    checked = 0
+    for mode in capsules.modes:
+        for pose in poses:
+            legs = capsules.linkage(pose, mode=mode)
+            if not legs or not np.all(np.isfinite(legs[0])):
+                continue
+            (a0, a1, a2), (b0, b1, b2) = legs
+            gap = min(_segment_gap(a0, a1, b0, b1), _segment_gap(a0, a1, b1, b2), _segment_gap(a1, a2, b0, b1))
+            assert capsules.local_index("collision_margin", pose, mode=mode) == pytest.approx(gap - 0.1, abs=5e-3)
+            checked += 1
+    assert checked >= 20
+    assert capsules.global_index("collision_margin_min", None, region=_disc((0.0, 1.6), 0.2), mode="out_out") > 0
+
+
+def test_collisions_are_certified_absent_in_one_mode_and_refuted_in_the_crossed_one(capsules):
+    region = _disc((0.0, 1.6), 0.2)
+    assert capsules.certify(region, properties=("collisions",), mode="out_out").verdict == "proved"
+    crossed = capsules.certify(region, properties=("collisions",), mode="in_in")
+    assert crossed.verdict == "refuted"
+    pose = np.array(list(crossed.witnesses[0]["pose"].values()))
+    assert capsules.local_index("collision_margin", pose, mode="in_in") < 0
+    with pytest.raises(PkmError, match="collisions of a machine whose legs state their capsules"):
+        pkm.load("five_bar").certify("miw", properties=("collisions",))

@@ -109,6 +109,8 @@ GLOBAL_INDICES: tuple[GlobalIndex, ...] = (
     GlobalIndex("stiffness_isotropy_mean", local.STIFFNESS_ISOTROPY, "region mean of the stiffness's isotropy"),
     GlobalIndex("elastic_frequency_min", local.ELASTIC_FREQUENCY, "region minimum of the lowest natural frequency of "
                 "the platform on the elastic structure", "min"),
+    GlobalIndex("collision_margin_min", local.COLLISION_MARGIN, "region minimum of the collision margin: >= 0 "
+                "where no two legs touch anywhere in the region", "min"),
     GlobalIndex(
         "workspace_margin_min", local.WORKSPACE_MARGIN,
         "region minimum of the least workspace-constraint margin: >= 0 where the region lies in the workspace",

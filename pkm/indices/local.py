@@ -366,6 +366,13 @@ ELASTIC_FREQUENCY = LocalIndex(
     "the Cartesian stiffness K_x and the task-space inertia M_w = J^T M_t J in the pose's coordinates",
     "rad/s", 0.0, np.inf, 0.0, _lowest_frequency, "vibration", ("S_k",), raw=True,
 )
+COLLISION_MARGIN = LocalIndex(
+    "collision_margin",
+    "least distance between two legs' capsules less their radii (>= 0 where no two legs touch): the least of the "
+    "margins of every pair of links of two legs; its epigraph keeps each pair's margin as its own constraint",
+    "m", -np.inf, np.inf, -np.inf, ca.mmin, "collision", ("margins",), lambda m, t: m - t,
+    dimension=None, raw=True, signed=True,
+)
 SINGULAR = 1e-6  # a pose with a singularity margin below this is singular (pkm.Mechanism.singular_types)
 SINGULAR_NEAR = 1e-2  # one below this is near a singularity (a not converged index's note names it)
 
@@ -388,6 +395,7 @@ LOCAL_INDICES: tuple[LocalIndex, ...] = (
     STIFFNESS_MIN,
     STIFFNESS_ISOTROPY,
     ELASTIC_FREQUENCY,
+    COLLISION_MARGIN,
 )
 
 

@@ -34,6 +34,7 @@ from pkm.kinematics import Branch, FunctionTable, NearestSeeds, within_limits
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
 from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle, index_values
+from pkm.spec.collisions import composed_collisions
 from pkm.spec.compose import (
     composed_energy,
     composed_first_order,
@@ -112,6 +113,8 @@ class DescribedFunctions(FunctionTable):
         self._limit_names = tuple(getattr(module, "LIMITS", ()))
         if "elastic" in functions:
             functions["stiffness"] = composed_stiffness(self.description, functions)
+        if "capsules" in functions:
+            functions["collision"] = composed_collisions(self.description, functions)
         if "mass_matrix" in functions:
             functions["inertia"] = composed_inertia(functions["mass_matrix"], functions["first_order"])
             functions["energy"] = composed_energy(functions["mass_matrix"], functions["first_order"],

@@ -297,10 +297,13 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
             leg["joints"] = _kind_chain(leg, where, dim, names)
             if "elastic" in table:
                 leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
+            if "capsule" in table:
+                leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
             legs.append(leg)
-    elastic = ["elastic" in leg for leg in legs]
-    if any(elastic) and not all(elastic):
-        raise _fail("legs.elastic", f"given on every leg where it is on one; leg {elastic.index(False) + 1} has none")
+    for name in ("elastic", "capsule"):
+        given = [name in leg for leg in legs]
+        if any(given) and not all(given):
+            raise _fail(f"legs.{name}", f"given on every leg where it is on one; leg {given.index(False) + 1} has none")
     for k, leg in enumerate(legs):
         if "elastic" in leg and leg["elastic"]["drive"] is None and not leg["elastic"]["beams"]:
             raise _fail("legs.elastic", f"a drive or a beam on every leg; leg {k + 1} has neither and would be "
@@ -461,6 +464,8 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
             leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
         if "elastic" in table:
             leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
+        if "capsule" in table:
+            leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
         legs.append(leg)
     return legs
 
@@ -628,7 +633,8 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
 
 NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
 # a leg's lengths and angles that must be positive
-POSITIVE = tuple(dict.fromkeys(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)))
+POSITIVE = tuple(dict.fromkeys([*(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)),
+                                 "capsule"]))
 DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which must not vanish
 
 

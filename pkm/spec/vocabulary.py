@@ -335,6 +335,9 @@ LEG_FIELDS = (
           "range (a stroke, an arm's sweep): outside it a pose is out of reach; a revolute's within a turn, spanning "
           "at most one"),
     ELASTIC,
+    Field("capsule", LENGTH, "the radius of the capsules around the leg's links (each segment of its drawing, "
+          "from joint to joint): two legs' capsules that meet collide (the collision margin, docs/certify.md); "
+          "where one leg has it every leg does"),
 )
 
 

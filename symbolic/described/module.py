@@ -203,6 +203,11 @@ def module(description: dict[str, Any]) -> ModuleSpec:
     if all(leg.circle is not None for leg in legs) and (frame != "spatial" or len(legs) == 6):
         _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
                      design=design_port)
+    if all("capsule" in leg for leg in description["legs"]):
+        spec.add("capsules", (design_port,),
+                 (Output("radii", sp.Matrix([scalar(leg["capsule"]) for leg in description["legs"]]),
+                         "the radius of each leg's capsules [m]"),),
+                 "The radius of the capsules around each leg's links.")
     if all("elastic" in leg for leg in description["legs"]):
         _add_elastic(spec, description["legs"], legs, joints=joints, pose=pose_port, design=design_port,
                      vector=vector, scalar=scalar)

@@ -21,8 +21,8 @@ def options(p: argparse.ArgumentParser) -> None:
     listed(p, "mechanism", key="mechanism")
     listed(p, "--region", key="region", default="task")
     listed(p, "--mode", key="mode")
-    p.add_argument("--properties", default=",".join(PROPERTIES),
-                   help=f"comma-separated, of {', '.join(PROPERTIES)} (default: all)")
+    p.add_argument("--properties", help=f"comma-separated, of {', '.join(PROPERTIES)} (default: singularity and "
+                                        "limits, and collisions where the legs state their capsules)")
     p.add_argument("--threshold", type=float, help="the least singularity margin, in [0, 1) (default: 1e-6, a "
                                                    "singular pose's)")
     p.add_argument("--around", help="a pose: the largest disc or ball of its position where the properties hold, "
@@ -40,7 +40,8 @@ def run(args: argparse.Namespace) -> None:
     """The verdict, the witnesses, the undecided volume and the time; or the largest certified radius."""
     m = load_mechanism(args.mechanism)
     d = given_design(m, args.design)
-    properties = [p.strip() for p in args.properties.split(",") if p.strip()]
+    properties = ([p.strip() for p in args.properties.split(",") if p.strip()] if args.properties is not None else
+                  ["singularity", "limits", *(["collisions"] if "collision" in m.functions else [])])
     if not 0 < args.depth <= 40 or not 0 < args.boxes <= 10**7 or not 0 < args.seconds <= 3600:
         raise PkmError("--depth, --boxes and --seconds violate: within 1-40, 1-10^7 and 0-3600 s")
     budget = {"depth": args.depth, "max_boxes": args.boxes, "seconds": args.seconds}
