@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import warnings
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -186,3 +187,15 @@ def test_collisions_are_certified_absent_in_one_mode_and_refuted_in_the_crossed_
     assert capsules.local_index("collision_margin", pose, mode="in_in") < 0
     with pytest.raises(PkmError, match="collisions of a machine whose legs state their capsules"):
         pkm.load("five_bar").certify("miw", properties=("collisions",))
+
+
+def test_a_synthesis_ends_with_its_optimum_certified_when_asked(capsys):
+    """pkm design --certify: the deflection-constrained Delta's optimum proved over its task free of a
+    singularity margin below the problem's and within its limits, in the text and the JSON."""
+    task = Path(__file__).resolve().parents[1] / "docs" / "tasks" / "delta_stiff.toml"
+    assert main(["design", str(task), "--resolution", "4", "--starts", "1", "--certify", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    certified = data["certified"]
+    assert (certified["verdict"], certified["region"], certified["properties"]) == (
+        "proved", "task", {"singularity": 0.01, "limits": 0.0})
+    assert certified["design"]["L_a"] == pytest.approx(data["optimum"]["design"]["L_a"])

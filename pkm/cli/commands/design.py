@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from pkm.cli.arguments import integer
-from pkm.cli.commands.synth import report
+from pkm.cli.commands.synth import certified, certify_option, report
 from pkm.cli.common import logs_to_stderr
 from pkm.synthesis import SynthesisError, synthesize
 
@@ -23,6 +23,7 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--verbose", action="store_true", help="show IPOPT's iterations (default off)")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: "
                                  "none); e.g. results")
+    certify_option(p)
 
 
 def run(args: argparse.Namespace) -> None:
@@ -39,4 +40,4 @@ def run(args: argparse.Namespace) -> None:
         if exc.result is not None:
             report(args, exc.result)
         raise
-    report(args, result)
+    report(args, result, certified(problem, result) if args.certify else None)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from pkm import io
 from pkm.cli.arguments import example, integer, listed, number, scheduled
@@ -35,7 +36,24 @@ def options(p: argparse.ArgumentParser) -> None:
                              "problem's; `pkm list` names them); e.g. {setting}")
     p.add_argument("--out", help="folder for <problem>.json, written also when the synthesis fails (default: none); "
                                  "e.g. results")
+    certify_option(p)
     scheduled(p)
+
+
+def certify_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--certify", action="store_true", help="end with the optimum certified over the task: no "
+                                                          "singularity (the problem's margin), every limit held "
+                                                          "(pkm certify; default: off)")
+
+
+def certified(problem: Any, result: SynthesisResult) -> dict[str, Any]:
+    """The optimum certified over the problem's task region in its mode: its singularity margin (the problem's
+    where it holds one, else pkm's singular pose's) and its limits (:func:`pkm.certify.certify`)."""
+    region = problem.margin.region
+    margin = problem.margin.value
+    found = problem.mechanism.certify(region, result.optimum.design, properties=("singularity", "limits"),
+                                      mode=result.mode, threshold=margin if margin else None)
+    return found.as_dict()
 
 
 def run(args: argparse.Namespace) -> None:
@@ -63,13 +81,16 @@ def _synth(args: argparse.Namespace) -> None:
             print_level=args.print_level,
             verbose=args.verbose,
         )
-    report(args, result)
+    report(args, result, certified(problem, result) if args.certify else None)
 
 
-def report(args: argparse.Namespace, result: SynthesisResult) -> None:
+def report(args: argparse.Namespace, result: SynthesisResult, certificate: dict[str, Any] | None = None) -> None:
     """A synthesis's record into ``--out`` (``<problem>.json``), and its summary: status, optimum, objective
-    as optimised, verified and sampled, constraints and baselines."""
+    as optimised, verified and sampled, constraints and baselines, and the optimum's certificate where one was
+    asked."""
     data = result.to_dict()
+    if certificate is not None:
+        data["certified"] = certificate
     if args.out:
         io.write_result(Path(args.out), lambda out: io.write_text(out / f"{args.problem}.json", io.to_json(data)))
     o = result.optimum
@@ -91,4 +112,10 @@ def report(args: argparse.Namespace, result: SynthesisResult) -> None:
             f"{base.best.objective:.6g}, verified {base.best.verified_objective:.6g}"
             f"{'' if base.best.feasible else ' (infeasible)'} at {named(base.best.variables)}"
         )
+    if certificate is not None:
+        c = certificate
+        lines.append(f"certified over {c['region']}: {', '.join(f'{k} >= {v:g}' for k, v in c['properties'].items())}"
+                     f" {c['verdict'].upper()} ({c['boxes']} boxes, {c['seconds']:.2f} s"
+                     + (f"; {c['undecided']:.3g} of the region's box undecided" if c["undecided"] else "")
+                     + (f"; witness {named(c['witnesses'][0]['pose'])}" if c["witnesses"] else "") + ")")
     emit(args, data, "\n".join(lines))
