@@ -564,6 +564,7 @@ class Mechanism:
     stiffness_units = _Delegate("pkm.stiffness")
     certify = _Delegate("pkm.certify")
     largest_region = _Delegate("pkm.certify")
+    error_model = _Delegate("pkm.accuracy")
 
 
 def _product_unit(units: tuple[str, ...]) -> str:

@@ -6,6 +6,7 @@ command is its module and its name here."""
 from pkm.cli.commands import (
     atlas,
     build,
+    calibrate,
     certify,
     compare,
     design,
@@ -20,7 +21,8 @@ from pkm.cli.commands import (
     show,
     sweep,
     synth,
+    tolerance,
 )
 
 COMMANDS = (list, build, eval, fk, certify, index, atlas, sweep, synth, pareto, show, compare, explore, design,
-            export, reproduce)
+            tolerance, calibrate, export, reproduce)

@@ -1,0 +1,345 @@
+"""Accuracy with real parts (issue 42): a described machine's error model, its pose error under tolerances, the
+widest tolerances within a budget, and calibration.
+
+The error model expands the description per leg (:func:`expanded`): each leg's base and platform attachments
+and each of its lengths (a kind's proximal, distal, arm or rod; a chain joint's non-zero link, per component) get
+an error parameter of their own, default 0, so that the nominal machine is the same graphs at zero error; each
+actuated joint's zero offset (the joint the drive reads less the joint's own) is one more. The pose error
+Jacobian E = dx/dp at fixed actuated joints follows from the closure h(q_a, q_p, x, p) = 0: [H_p H_x]
+[dq_p; dx] = -dh/dp dp for the geometric errors, and the forward Jacobian's columns for the zero offsets;
+composed in CasADi and evaluated over batches like every other graph.
+
+Under tolerances |p_k| <= t_k the linearised worst case of each pose coordinate is sum_k |E_ik| t_k; under
+independent Gaussian errors of deviations s_k its RMS is sqrt(sum_k (E_ik s_k)^2); a Monte Carlo run draws
+the errors, closes the loops of the perturbed machine at the same actuated joints and compares.
+
+The widest tolerances (:func:`widest_tolerances`) maximise sum_k w_k log t_k (or the user's weights) with
+every translational coordinate's worst case within the budget at every task pose: linear constraints in t, a
+convex problem IPOPT solves exactly. Calibration (:func:`calibrate`) identifies the errors from measured poses
+at read actuated joints by bounded, regularised Gauss-Newton steps on the closed loops, and reports the
+identifiability of each parameter (the stacked Jacobian's rank and singular values) and its confidence."""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from pkm.batch import evaluate
+from pkm.errors import PkmError
+from pkm.kinematics import as_batch
+from pkm.spec.vocabulary import CHAIN, KINDS
+
+SPAN = 0.1  # [m] an error parameter's bounds in the expanded description, either way
+CLOSURE_STEPS = 20  # Newton steps closing a perturbed machine's loops
+CLOSED = 1e-12  # [m] a loop closed to this
+
+
+@dataclass(frozen=True)
+class ErrorParameter:
+    """One geometric error: its name (a design parameter of the expanded machine, or a drive's zero offset),
+    unit, meaning and leg (1-based)."""
+
+    name: str
+    unit: str
+    doc: str
+    leg: int
+
+
+def _plus(tree: Any, name: str) -> Any:
+    return ["+", tree, name]
+
+
+def expanded(data: dict[str, Any]) -> tuple[dict[str, Any], list[ErrorParameter]]:
+    """The normalised description with an error parameter added to each leg's attachments and lengths, and
+    those parameters."""
+    out = copy.deepcopy(dict(data))
+    out["name"] = f"{data['name']}_errors"
+    out["doc"] = f"{data['doc']}, each leg's geometry with errors of its own"
+    axes = "xyz"
+    errors: list[ErrorParameter] = []
+
+    def add(name: str, doc: str, leg: int) -> str:
+        errors.append(ErrorParameter(name, "m", doc, leg))
+        return name
+
+    for k, leg in enumerate(out["legs"], 1):
+        for end in ("base", "platform"):
+            leg[end] = [_plus(t, add(f"e_{end}{k}_{axes[c]}", f"leg {k}'s {end} attachment along {axes[c]}", k))
+                        for c, t in enumerate(leg[end])]
+        if leg["kind"] != CHAIN:
+            for field in KINDS[leg["kind"]].lengths:
+                leg[field] = _plus(leg[field], add(f"e_{field}{k}", f"leg {k}'s {field} length", k))
+        for j, joint in enumerate(leg["joints"]):
+            link = joint.get("link", [])
+            if leg["kind"] == CHAIN and any(not (isinstance(c, int | float) and c == 0) for c in link):
+                joint["link"] = [_plus(t, add(f"e_link{k}_{j + 1}{axes[c]}", f"leg {k}'s link {j + 1} along "
+                                                                             f"{axes[c]} of its joint's frame", k))
+                                 for c, t in enumerate(link)]
+    out["parameters"] = [*out["parameters"], *({"name": e.name, "default": 0.0, "lower": -SPAN, "upper": SPAN,
+                                               "unit": "m", "doc": e.doc} for e in errors)]
+    return out, errors
+
+
+class ErrorModel:
+    """A described machine's error model (module docstring): ``machine`` the expanded machine, ``parameters``
+    its geometric errors and the drives' zero offsets, in the order of E's columns."""
+
+    def __init__(self, mech: Any) -> None:
+        description = getattr(mech, "description", None)
+        if description is None:
+            raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), whose description pkm "
+                           "expands per leg; the hand-derived machines have no error model yet")
+        from pkm.spec.machine import load
+        from pkm.spec.schema import Description
+
+        data, geometric = expanded(description.data)
+        self.nominal = mech
+        self.machine = load(Description(data))
+        offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive", k + 1)
+                   for k, unit in enumerate(mech.actuator_units)]
+        self.parameters = (*geometric, *offsets)
+        self._geometric = [self.machine.parameter_names().index(e.name) for e in geometric]
+        self.function = self._compose()
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    def design(self, design: Any = None, errors: Any = None) -> np.ndarray:
+        """The expanded machine's design vector: the nominal design's values and the geometric errors (by name,
+        0 where not given)."""
+        values = dict(self.nominal.design(design))
+        given = dict(errors or {})
+        unknown = sorted(set(given) - set(self.names))
+        if unknown:
+            raise PkmError(f"errors violate: parameters of the error model ({', '.join(self.names)}); got "
+                           f"{', '.join(unknown)}")
+        geometric = {p.name: 0.0 for p in self.parameters if not p.name.startswith("e_zero")}
+        return self.machine.design_vector({**values, **geometric, **{n: float(v) for n, v in given.items()
+                                                                     if n in geometric}})
+
+    def _compose(self) -> ca.Function:
+        m = self.machine
+        constraint, first = m.functions["constraint"], m.functions["first_order"]
+        q, x, d = (ca.SX.sym(constraint.name_in(i), constraint.size_in(i)) for i in range(3))
+        h, H_q, H_x = constraint(q, x, d)
+        A = ca.horzcat(H_q[:, m.n_act:], H_x)
+        B = ca.jacobian(h, d)[:, self._geometric]
+        moved = -ca.solve(A, B)[A.size2() - m.n_out:, :]
+        J_f = first(q, x, d)[1]
+        return ca.Function("error_jacobian", [q, x, d], [ca.horzcat(moved, J_f)], ["q", "x", "design"], ["E"])
+
+    def jacobian(self, pose: Any, design: Any = None, *, mode: str | None = None, errors: Any = None) -> np.ndarray:
+        """E = dx/dp (N, n_out, n_params) at the poses (NaN where out of reach), in the working mode."""
+        x, single = as_batch(pose, self.nominal.n_out, "pose", finite=False)
+        d = self.design(design, errors)
+        q = self.machine.inverse_kinematics(x, d, mode=mode, passive=True)
+        (E,) = evaluate(self.function, q, x, d)
+        return E[0] if single else E
+
+    def _widths(self, values: Any, what: str) -> np.ndarray:
+        given = dict(values)
+        unknown = sorted(set(given) - set(self.names))
+        if unknown:
+            raise PkmError(f"{what} violate: parameters of the error model ({', '.join(self.names)}); got "
+                           f"{', '.join(unknown)}")
+        widths = np.array([float(given.get(n, 0.0)) for n in self.names])
+        if not np.all(np.isfinite(widths) & (widths >= 0)):
+            raise PkmError(f"{what} violate: finite and not negative")
+        return widths
+
+    def worst_case(self, pose: Any, tolerances: Any, design: Any = None, *, mode: str | None = None) -> np.ndarray:
+        """The linearised worst case of each pose coordinate (N, n_out) under |p_k| <= t_k (``tolerances`` by
+        name, 0 where not given): sum_k |E_ik| t_k."""
+        return np.abs(self.jacobian(pose, design, mode=mode)) @ self._widths(tolerances, "tolerances")
+
+    def rms(self, pose: Any, deviations: Any, design: Any = None, *, mode: str | None = None) -> np.ndarray:
+        """The RMS of each pose coordinate (N, n_out) under independent Gaussian errors of the deviations (by
+        name): sqrt(sum_k (E_ik s_k)^2)."""
+        s = self._widths(deviations, "deviations")
+        return np.sqrt(np.sum((self.jacobian(pose, design, mode=mode) * s) ** 2, axis=-1))
+
+    def closed(self, joints: np.ndarray, start: np.ndarray, design: np.ndarray, *, mode: str | None = None
+               ) -> np.ndarray:
+        """The poses (N, n_out) of the expanded machine at the design at the actuated joints (N, n_act), its loops
+        closed by Newton's method from the poses ``start`` (their configurations in the working mode)."""
+        m = self.machine
+        q = m.inverse_kinematics(start, design, mode=mode, passive=True)
+        z = np.concatenate([q[:, m.n_act:], start], axis=1)
+        for _ in range(CLOSURE_STEPS):
+            full = np.concatenate([joints, z[:, : q.shape[1] - m.n_act]], axis=1)
+            h, H_q, H_x = evaluate(m.functions["constraint"], full, z[:, q.shape[1] - m.n_act:], design)
+            A = np.concatenate([H_q[:, :, m.n_act:], H_x], axis=2)
+            step = np.linalg.solve(A, h[..., 0][..., None])[..., 0]
+            z = z - step
+            if np.max(np.abs(step)) < CLOSED:
+                break
+        return z[:, q.shape[1] - m.n_act:]
+
+    def monte_carlo(self, pose: Any, deviations: Any, design: Any = None, *, mode: str | None = None,
+                    samples: int = 200, seed: int = 0) -> dict[str, np.ndarray]:
+        """The pose errors of ``samples`` machines drawn with independent Gaussian errors (the drives' offsets
+        read as joint errors) at the nominal poses' actuated joints, their loops closed: the sampled RMS of each
+        pose coordinate (N, n_out) beside the linearised one."""
+        x, _ = as_batch(pose, self.nominal.n_out, "pose")
+        s = self._widths(deviations, "deviations")
+        base = self.design(design)
+        q = self.nominal.inverse_kinematics(x, design, mode=mode)
+        rng = np.random.default_rng(seed)
+        errors = []
+        n_geometric = len(self._geometric)
+        for _ in range(samples):
+            p = rng.normal(size=len(s)) * s
+            d = base.copy()
+            d[self._geometric] += p[:n_geometric]
+            errors.append(self.closed(q + p[n_geometric:], x, d, mode=mode) - x)
+        return {"sampled": np.sqrt(np.mean(np.square(errors), axis=0)), "linearised": self.rms(x, deviations, design,
+                                                                                                mode=mode)}
+
+
+def error_model(mech: Any) -> ErrorModel:
+    """The mechanism's error model (:class:`ErrorModel`)."""
+    return ErrorModel(mech)
+
+
+@dataclass
+class Tolerances:
+    """The widest tolerances within the budget: each by name, its share of the budget where the budget binds
+    (``shares``: |E_ik| t_k / budget at the binding row of the largest sum), and the binding poses and their
+    coordinates."""
+
+    tolerances: dict[str, float]
+    units: dict[str, str]
+    budget: float
+    shares: dict[str, float]
+    binding: list[dict[str, Any]]
+    status: str
+
+
+def widest_tolerances(model: ErrorModel, poses: Any, budget: float, design: Any = None, *, mode: str | None = None,
+                      weights: Any = None, fixed: Any = None) -> Tolerances:
+    """The tolerances maximising sum_k w_k log t_k (``weights`` by name, 1 by default; a part's cost per
+    halving) with every translational coordinate's linearised worst case at every pose at most ``budget`` [m];
+    ``fixed`` tolerances (by name) held at their values. IPOPT on log t, the constraints linear in t."""
+    if not (isinstance(budget, int | float) and np.isfinite(budget) and budget > 0):
+        raise PkmError(f"budget violates: a positive length [m]; got {budget!r}")
+    x, _ = as_batch(poses, model.nominal.n_out, "poses")
+    E = model.jacobian(x, design, mode=mode)
+    moved = [i for i, unit in enumerate(model.nominal.pose_units) if unit == "m"]
+    rows = np.abs(E[:, moved, :]).reshape(-1, len(model.names))
+    if not np.all(np.isfinite(rows)):
+        raise PkmError("poses violate: every pose in reach in the working mode")
+    w = model._widths(weights, "weights") if weights is not None else np.ones(len(model.names))
+    held = model._widths(fixed or {}, "fixed")
+    free = np.array([n not in (fixed or {}) for n in model.names])
+    y = ca.SX.sym("y", int(free.sum()))
+    t = ca.SX(ca.DM(held))
+    for j, k in enumerate(np.flatnonzero(free)):
+        t[int(k)] = ca.exp(y[j])
+    solver = ca.nlpsol("tolerances", "ipopt", {"x": y, "f": -ca.dot(ca.DM(w[free]), y),
+                                                "g": ca.DM(rows / budget) @ t},
+                       {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-12,
+                                                       "constr_viol_tol": 1e-12, "bound_relax_factor": 0.0}})
+    reach = np.log(budget / np.maximum(rows[:, free], 1e-300).max(axis=0))  # each alone at the budget
+    solution = solver(x0=reach - np.log(max(1, int(free.sum()))), ubx=reach, ubg=1.0)
+    widths = held.copy()
+    widths[free] = np.exp(np.asarray(solution["x"]).ravel())
+    sums = rows @ widths
+    binding = np.flatnonzero(sums >= budget * (1 - 1e-6))  # at the budget, to the solver's tolerance
+    worst = int(np.argmax(sums))
+    return Tolerances(dict(zip(model.names, widths.tolist(), strict=True)),
+                      {p.name: p.unit for p in model.parameters}, float(budget),
+                      dict(zip(model.names, (rows[worst] * widths / budget).tolist(), strict=True)),
+                      [{"pose": x[r // len(moved)].tolist(),
+                        "coordinate": model.nominal.pose_names[moved[r % len(moved)]], "worst_case": float(sums[r])}
+                       for r in binding],
+                      solver.stats()["return_status"])
+
+
+@dataclass
+class Calibration:
+    """Identified errors by name with their standard deviations, the residual RMS before and after, and the
+    identifiability: the stacked Jacobian's rank of its columns, singular values, and the parameters (or
+    combinations) it cannot tell apart (``unidentifiable``: each null direction's largest components)."""
+
+    errors: dict[str, float]
+    deviations: dict[str, float]
+    rms_before: float
+    rms_after: float
+    rank: int
+    singular_values: list[float]
+    unidentifiable: list[dict[str, float]]
+    iterations: int
+
+
+RANK = 1e-8  # a singular value below this (relative to the largest) is a direction the data do not identify
+
+
+def calibrate(model: ErrorModel, joints: Any, poses: Any, design: Any = None, *, mode: str | None = None,
+              bounds: Any = None, regularisation: float = 1e-12, iterations: int = 10) -> Calibration:
+    """The errors that make the expanded machine at the read actuated joints (M, n_act) meet the measured poses
+    (M, n_out; NaN where a coordinate is not measured: a probe's one coordinate), by Gauss-Newton steps on the
+    closed loops, each a bounded least-squares problem (``bounds`` by name: |p_k| <= b_k; SPAN by default)
+    regularised by ``regularisation`` |p|^2 (a relative weight of the data's scale)."""
+    q, _ = as_batch(joints, model.nominal.n_act, "joints")
+    measured = np.asarray(poses, dtype=float).reshape(len(q), model.nominal.n_out)
+    seen = np.isfinite(measured)
+    if not seen.any(axis=1).all():
+        raise PkmError("poses violate: at least one measured coordinate per pose")
+    limit = np.full(len(model.names), SPAN)
+    if bounds is not None:
+        given = dict(bounds)
+        limit = np.where([n in given for n in model.names], model._widths(given, "bounds"), limit)
+    base, n_geometric = model.design(design), len(model._geometric)
+    start = np.where(seen, measured, _nearest_assembly(model.nominal, q, measured, design))
+    p = np.zeros(len(model.names))
+
+    def closed(p: np.ndarray) -> np.ndarray:
+        d = base.copy()
+        d[model._geometric] += p[:n_geometric]
+        return model.closed(q + p[n_geometric:], start, d, mode=mode)
+
+    x = closed(p)
+    before = float(np.sqrt(np.mean((measured - x)[seen] ** 2)))
+    done = 0
+    for _ in range(iterations):
+        E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
+        delta = _bounded_step(E, (measured - x)[seen], p, limit, regularisation * max(1.0, float(np.sum(E**2))))
+        p, done = p + delta, done + 1
+        x = closed(p)
+        if np.max(np.abs(delta)) < 1e-12:
+            break
+    E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
+    r = (measured - x)[seen]
+    _, sv, Vt = np.linalg.svd(E, full_matrices=False)
+    rank = int(np.sum(sv > RANK * sv[0])) if len(sv) else 0
+    variance = float(r @ r) / max(1, len(r) - rank)
+    inverse = np.linalg.pinv(E.T @ E, rcond=RANK**2)
+    null = [{model.names[k]: float(v[k]) for k in np.argsort(-np.abs(v))[:3]} for v in Vt[rank:]]
+    deviations = np.sqrt(np.maximum(np.diag(inverse) * variance, 0))
+    return Calibration(dict(zip(model.names, p.tolist(), strict=True)),
+                       dict(zip(model.names, deviations.tolist(), strict=True)), before, float(np.sqrt(np.mean(r**2))),
+                       rank, sv.tolist(), null, done)
+
+
+def _nearest_assembly(mech: Any, joints: np.ndarray, measured: np.ndarray, design: Any) -> np.ndarray:
+    """Each row's assembly of the nominal machine at its joints nearest the measured coordinates
+    (:meth:`pkm.Mechanism.every_assembly`), where a coordinate is not measured the loops' start."""
+    found = mech.every_assembly(joints, design)
+    gap = np.where(np.isfinite(measured)[:, None, :], found.poses - measured[:, None, :], 0.0)
+    distance = np.where(np.all(np.isfinite(found.poses), axis=2), np.sum(gap**2, axis=2), np.inf)
+    return found.poses[np.arange(len(joints)), np.argmin(distance, axis=1)]
+
+
+def _bounded_step(E: np.ndarray, r: np.ndarray, p: np.ndarray, limit: np.ndarray, weight: float) -> np.ndarray:
+    """The step minimising |E delta - r|^2 + weight |p + delta|^2 with |p + delta| <= limit (IPOPT)."""
+    delta = ca.SX.sym("delta", len(p))
+    residual = ca.DM(E) @ delta - ca.DM(r)
+    solver = ca.nlpsol("calibration", "ipopt", {"x": delta, "f": ca.sumsqr(residual) + weight * ca.sumsqr(p + delta)},
+                       {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-14}})
+    solution = solver(x0=np.zeros(len(p)), lbx=-limit - p, ubx=limit - p)
+    return np.asarray(solution["x"]).ravel()
