@@ -93,12 +93,9 @@ class ErrorModel:
         if description is None:
             raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), whose description pkm "
                            "expands per leg; the hand-derived machines have no error model yet")
-        from pkm.spec.machine import load
-        from pkm.spec.schema import Description
-
         data, geometric = expanded(description.data)
         self.nominal = mech
-        self.machine = load(Description(data))
+        self.machine = mech.variant(data)
         offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive", k + 1)
                    for k, unit in enumerate(mech.actuator_units)]
         self.parameters = (*geometric, *offsets)
@@ -308,10 +305,10 @@ def calibrate(model: ErrorModel, joints: Any, poses: Any, design: Any = None, *,
     done = 0
     for _ in range(iterations):
         E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
-        delta = _bounded_step(E, (measured - x)[seen], p, limit, regularisation * max(1.0, float(np.sum(E**2))))
-        p, done = p + delta, done + 1
+        step = _bounded_step(E, (measured - x)[seen], p, limit, regularisation * max(1.0, float(np.sum(E**2))))
+        p, done = p + step, done + 1
         x = closed(p)
-        if np.max(np.abs(delta)) < 1e-12:
+        if np.max(np.abs(step)) < 1e-12:
             break
     E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
     r = (measured - x)[seen]
@@ -336,10 +333,10 @@ def _nearest_assembly(mech: Any, joints: np.ndarray, measured: np.ndarray, desig
 
 
 def _bounded_step(E: np.ndarray, r: np.ndarray, p: np.ndarray, limit: np.ndarray, weight: float) -> np.ndarray:
-    """The step minimising |E delta - r|^2 + weight |p + delta|^2 with |p + delta| <= limit (IPOPT)."""
-    delta = ca.SX.sym("delta", len(p))
-    residual = ca.DM(E) @ delta - ca.DM(r)
-    solver = ca.nlpsol("calibration", "ipopt", {"x": delta, "f": ca.sumsqr(residual) + weight * ca.sumsqr(p + delta)},
+    """The step s minimising |E s - r|^2 + weight |p + s|^2 with |p + s| <= limit (IPOPT)."""
+    step = ca.SX.sym("step", len(p))
+    residual = ca.DM(E) @ step - ca.DM(r)
+    solver = ca.nlpsol("calibration", "ipopt", {"x": step, "f": ca.sumsqr(residual) + weight * ca.sumsqr(p + step)},
                        {"print_time": False, "ipopt": {"print_level": 0, "sb": "yes", "tol": 1e-14}})
     solution = solver(x0=np.zeros(len(p)), lbx=-limit - p, ubx=limit - p)
     return np.asarray(solution["x"]).ravel()

@@ -46,6 +46,8 @@ OUT_COMMANDS = {
     "show": ["show", "five_bar"],
     "compare": ["compare", "five_bar", "--design", "r1=1.1", "--design", "r1=1.2"],
     "design": ["design", "task.toml"],
+    "tolerance": ["tolerance", "task.toml"],
+    "calibrate": ["calibrate", "rrr3", "data.csv"],
     "export": ["export", "five_bar"],
     "reproduce": ["reproduce", "gao1998", "--quick"],
 }

@@ -241,12 +241,19 @@ def mechanism_class(description: Description) -> type[Mechanism]:
         "regions": {r["name"]: _region(r, len(pose_names)) for r in data["regions"]},
         "limits": LIMITS if limited(data) else None,
         "limit_names": property(lambda self: self.functions.limit_names),
+        "variant": staticmethod(variant),
     }
     if length is not None:
         attributes["characteristic_length"] = staticmethod(expressions.function(length))
     cls = type(f"Described_{data['name']}", (Mechanism,), attributes)
     cls.functions.__set_name__(cls, "functions")
     return cls
+
+
+def variant(data: Mapping[str, Any]) -> Mechanism:
+    """The mechanism of a normalised description changed from a described machine's (its legs expanded with
+    errors of their own, :mod:`pkm.accuracy`), derived and checked like any description."""
+    return load(Description(dict(data)))
 
 
 SHAPE_CLASSES = {"disc": Disc, "rectangle": Rectangle, "box": Box, "cylinder": Cylinder}
