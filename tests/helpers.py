@@ -244,6 +244,13 @@ FIVE_BAR_OF_RR_LEGS = {
              "proximal": "r1", "distal": "r2"},
 }
 
+# the five-bar of RR legs with elastic elements (steel tubes, 1e4 N m/rad drives) and capsules of 5 cm: one
+# description, derived once, for the stiffness's and the collisions' tests
+FIVE_BAR_ELASTIC = {**FIVE_BAR_OF_RR_LEGS, "name": "five_bar_elastic",
+                    "legs": {**FIVE_BAR_OF_RR_LEGS["legs"], "capsule": "0.05",
+                             "elastic": {"material": "steel", "section": {"shape": "tube", "d": "0.02", "t": "0.002"},
+                                         "drive": "10000.0"}}}
+
 RR = [{"type": "R", "actuated": True, "link": ["r1", 0]}, {"type": "R", "link": ["r2", 0]}]
 FIVE_BAR_OF_CHAINS = {
     "name": "five_bar_chains",

@@ -84,7 +84,7 @@ def test_a_disc_of_the_five_bar_away_from_its_singularities_is_proved_and_one_ac
 @pytest.fixture(scope="module")
 def in_line(tmp_path_factory):
     path = tmp_path_factory.mktemp("rpr3") / "rpr3.toml"
-    path.write_text(rpr3_text("rpr3_in_line_certify", R=1.0, r=0.4, stroke=(0.3, 1.5)))
+    path.write_text(rpr3_text("rpr3_in_line", R=1.0, r=0.4, stroke=(0.3, 1.5)))  # test_singularities' machine
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", SingularityWarning)
         return pkm.load(str(path))
@@ -149,13 +149,9 @@ def test_the_segment_distance_is_the_least_over_both_segments():
 
 @pytest.fixture(scope="module")
 def capsules():
-    import copy
+    from helpers import FIVE_BAR_ELASTIC
 
-    from helpers import FIVE_BAR_OF_RR_LEGS
-
-    raw = copy.deepcopy(FIVE_BAR_OF_RR_LEGS)
-    raw["name"], raw["legs"]["capsule"] = "five_bar_capsules", "0.05"
-    return pkm.load(raw)
+    return pkm.load(FIVE_BAR_ELASTIC)
 
 
 def test_the_collision_margin_is_the_least_gap_between_two_legs_links_less_their_radii(capsules):

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import FIVE_BAR_OF_RR_LEGS
+from helpers import FIVE_BAR_ELASTIC, FIVE_BAR_OF_RR_LEGS
 
 import pkm
 from pkm.errors import PkmError, SingularityWarning
@@ -105,7 +105,7 @@ def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool) 
 
 @pytest.fixture(scope="module")
 def five_bar():
-    return _load(_elastic(FIVE_BAR_OF_RR_LEGS, "five_bar_elastic"))
+    return _load(FIVE_BAR_ELASTIC)
 
 
 @pytest.fixture(scope="module")
@@ -184,7 +184,7 @@ def test_without_elastic_elements_there_is_no_stiffness_and_bad_elements_are_ref
 def test_the_blocks_scale_as_their_units_n_per_m_n_per_rad_and_n_m_per_rad():
     """The ALIAS 3-RPR with unit axial drives at twice its size: its translational block (N/m) is the same, its
     coupling (N/rad) twice, its rotational block (N m/rad) four times."""
-    raw = {"name": "alias_units", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
+    raw = {"name": "alias_elastic", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
            "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
            "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
                     "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]],
