@@ -4,7 +4,7 @@ widest tolerances within a budget, and calibration.
 The error model expands the description per leg (:func:`expanded`): each leg's base and platform attachments
 and each of its lengths (a kind's proximal, distal, arm or rod; a chain joint's non-zero link, per component) get
 an error parameter of their own, default 0, so that the nominal machine is the same graphs at zero error; each
-actuated joint's zero offset (the joint the drive reads less the joint's own) is one more. The pose error
+actuated joint's zero offset (the joint's own less the joint the drive reads) is one more. The pose error
 Jacobian E = dx/dp at fixed actuated joints follows from the closure h(q_a, q_p, x, p) = 0: [H_p H_x]
 [dq_p; dx] = -dh/dp dp for the geometric errors, and the forward Jacobian's columns for the zero offsets;
 composed in CasADi and evaluated over batches like every other graph.
@@ -22,6 +22,7 @@ identifiability of each parameter (the stacked Jacobian's rank and singular valu
 from __future__ import annotations
 
 import copy
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -96,7 +97,8 @@ class ErrorModel:
         data, geometric = expanded(description.data)
         self.nominal = mech
         self.machine = mech.variant(data)
-        offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive", k + 1)
+        offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive: its joint less "
+                                  "the joint the drive reads", k + 1)
                    for k, unit in enumerate(mech.actuator_units)]
         self.parameters = (*geometric, *offsets)
         self._geometric = [self.machine.parameter_names().index(e.name) for e in geometric]
@@ -139,11 +141,15 @@ class ErrorModel:
         return E[0] if single else E
 
     def _widths(self, values: Any, what: str) -> np.ndarray:
+        if not isinstance(values, Mapping):
+            raise PkmError(f"{what} violate: a table of numbers by error parameter; got {type(values).__name__}")
         given = dict(values)
         unknown = sorted(set(given) - set(self.names))
         if unknown:
             raise PkmError(f"{what} violate: parameters of the error model ({', '.join(self.names)}); got "
                            f"{', '.join(unknown)}")
+        if any(isinstance(v, bool) or not isinstance(v, int | float) for v in given.values()):
+            raise PkmError(f"{what} violate: numbers")
         widths = np.array([float(given.get(n, 0.0)) for n in self.names])
         if not np.all(np.isfinite(widths) & (widths >= 0)):
             raise PkmError(f"{what} violate: finite and not negative")
@@ -167,15 +173,22 @@ class ErrorModel:
         m = self.machine
         q = m.inverse_kinematics(start, design, mode=mode, passive=True)
         z = np.concatenate([q[:, m.n_act:], start], axis=1)
+        passive = q.shape[1] - m.n_act
+        residual = np.full(len(z), np.inf)
         for _ in range(CLOSURE_STEPS):
-            full = np.concatenate([joints, z[:, : q.shape[1] - m.n_act]], axis=1)
-            h, H_q, H_x = evaluate(m.functions["constraint"], full, z[:, q.shape[1] - m.n_act:], design)
+            full = np.concatenate([joints, z[:, :passive]], axis=1)
+            h, H_q, H_x = evaluate(m.functions["constraint"], full, z[:, passive:], design)
+            residual = np.max(np.abs(h[..., 0]), axis=1)
             A = np.concatenate([H_q[:, :, m.n_act:], H_x], axis=2)
-            step = np.linalg.solve(A, h[..., 0][..., None])[..., 0]
-            z = z - step
-            if np.max(np.abs(step)) < CLOSED:
+            solvable = np.all(np.isfinite(A), axis=(1, 2)) & (np.abs(np.linalg.det(np.where(np.isfinite(A), A, 0))) > 0)
+            if not solvable.all() or np.all(residual < CLOSED):
                 break
-        return z[:, q.shape[1] - m.n_act:]
+            z = z - np.linalg.solve(A, h[..., 0][..., None])[..., 0]
+        bad = np.flatnonzero(~(residual < CLOSED))
+        if len(bad):
+            raise PkmError(f"joints violate: loops that close from the given poses; rows {bad[:5].tolist()} do not "
+                           f"(residual {np.nan_to_num(residual[bad[0]], nan=np.inf):.1e} m)")
+        return z[:, passive:]
 
     def monte_carlo(self, pose: Any, deviations: Any, design: Any = None, *, mode: str | None = None,
                     samples: int = 200, seed: int = 0) -> dict[str, np.ndarray]:
@@ -222,7 +235,7 @@ def widest_tolerances(model: ErrorModel, poses: Any, budget: float, design: Any 
     """The tolerances maximising sum_k w_k log t_k (``weights`` by name, 1 by default; a part's cost per
     halving) with every translational coordinate's linearised worst case at every pose at most ``budget`` [m];
     ``fixed`` tolerances (by name) held at their values. IPOPT on log t, the constraints linear in t."""
-    if not (isinstance(budget, int | float) and np.isfinite(budget) and budget > 0):
+    if isinstance(budget, bool) or not (isinstance(budget, int | float) and np.isfinite(budget) and budget > 0):
         raise PkmError(f"budget violates: a positive length [m]; got {budget!r}")
     x, _ = as_batch(poses, model.nominal.n_out, "poses")
     E = model.jacobian(x, design, mode=mode)
@@ -232,9 +245,13 @@ def widest_tolerances(model: ErrorModel, poses: Any, budget: float, design: Any 
         raise PkmError("poses violate: every pose in reach in the working mode")
     w = model._widths(weights, "weights") if weights is not None else np.ones(len(model.names))
     held = model._widths(fixed or {}, "fixed")
-    free = np.array([n not in (fixed or {}) for n in model.names])
+    moving = np.any(rows > 0, axis=0)  # a parameter that moves no translation has no bound: left unbounded
+    free = np.array([n not in (fixed or {}) for n in model.names]) & moving
+    held[~moving & ~np.isin(model.names, list(fixed or {}))] = np.inf
+    if not free.any():
+        raise PkmError("fixed violates: at least one tolerance left to choose that moves the platform")
     y = ca.SX.sym("y", int(free.sum()))
-    t = ca.SX(ca.DM(held))
+    t = ca.SX(ca.DM(np.where(moving, held, 0.0)))
     for j, k in enumerate(np.flatnonzero(free)):
         t[int(k)] = ca.exp(y[j])
     solver = ca.nlpsol("tolerances", "ipopt", {"x": y, "f": -ca.dot(ca.DM(w[free]), y),
@@ -245,12 +262,13 @@ def widest_tolerances(model: ErrorModel, poses: Any, budget: float, design: Any 
     solution = solver(x0=reach - np.log(max(1, int(free.sum()))), ubx=reach, ubg=1.0)
     widths = held.copy()
     widths[free] = np.exp(np.asarray(solution["x"]).ravel())
-    sums = rows @ widths
+    sums = rows[:, moving] @ widths[moving]
     binding = np.flatnonzero(sums >= budget * (1 - 1e-6))  # at the budget, to the solver's tolerance
     worst = int(np.argmax(sums))
     return Tolerances(dict(zip(model.names, widths.tolist(), strict=True)),
                       {p.name: p.unit for p in model.parameters}, float(budget),
-                      dict(zip(model.names, (rows[worst] * widths / budget).tolist(), strict=True)),
+                      dict(zip(model.names, np.where(moving, rows[worst] * np.where(moving, widths, 0) / budget,
+                                                     0.0).tolist(), strict=True)),
                       [{"pose": x[r // len(moved)].tolist(),
                         "coordinate": model.nominal.pose_names[moved[r % len(moved)]], "worst_case": float(sums[r])}
                        for r in binding],
@@ -329,6 +347,10 @@ def _nearest_assembly(mech: Any, joints: np.ndarray, measured: np.ndarray, desig
     found = mech.every_assembly(joints, design)
     gap = np.where(np.isfinite(measured)[:, None, :], found.poses - measured[:, None, :], 0.0)
     distance = np.where(np.all(np.isfinite(found.poses), axis=2), np.sum(gap**2, axis=2), np.inf)
+    none = np.flatnonzero(~np.isfinite(distance).any(axis=1))
+    if len(none):
+        raise PkmError(f"joints violate: joints at which the nominal machine assembles; rows {none[:5].tolist()} do "
+                       "not")
     return found.poses[np.arange(len(joints)), np.argmin(distance, axis=1)]
 
 

@@ -1,14 +1,13 @@
 """Certified regions (issue 41): a property proved over the whole of a task region, refuted by a pose inside it,
 or left undecided in boxes of a stated size, by branch and prune on rigorous enclosures (:mod:`pkm.intervals`).
 
-A property is a local index at least a threshold: ``singularity``, the least of the type I and type II
-singularity margins (:data:`pkm.indices.local.SINGULARITY`) at least ``threshold`` (1e-6, pkm's singular pose, by
-default); ``limits``, the least workspace margin (the legs' reach and every stated limit, signed) at least 0;
-``collisions``, the collision margin (the least distance between two legs' capsules less their radii,
-:mod:`pkm.spec.collisions`) at least 0. The
-region is certified in its reference coordinates u in [-1, 1]^d (a disc's, a cylinder's and a mapped region's
-too), the pose x(u) its placement at the design, the index g(x(u)) one SX graph at the working mode and the
-design. Each box B of u:
+A property is a local index at least a threshold: ``singularity``, the least of the type I and type II singularity
+margins (:data:`pkm.indices.local.SINGULARITY`) at least ``threshold`` (1e-6, pkm's singular pose, by default);
+``limits``, the least workspace margin (the legs' reach and every stated limit, signed) at least 0; ``collisions``,
+the collision margin (the least distance between two legs' capsules less their radii, :mod:`pkm.spec.collisions`) at
+least 0. The region (a disc, rectangle, box or cylinder, placed or mapped into the pose) is certified in its
+reference coordinates u in [-1, 1]^d, the pose x(u) its placement at the design, the index g(x(u)) one SX graph at
+the working mode and the design. Each box B of u:
 
 - outside the region (a disc's or a cylinder's round part entirely beyond its rim): dropped;
 - proved where the enclosure of g over B, the tighter of the natural one and the mean-value form
@@ -24,6 +23,7 @@ reported. A sampled check (pkm's region extremes) is never called certified, nor
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 import time
 from collections.abc import Sequence
@@ -132,7 +132,8 @@ class _Capsules:
         for i, a, j, b in self.pairs:
             (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
             gap = min(_piece_gap((p1, q1, k), (p2, q2, m)) for k in range(PIECES) for m in range(PIECES))
-            least = min(least, gap - self.radii[i] - self.radii[j])
+            clear = ball(gap, gap) - ball(self.radii[i], self.radii[i]) - ball(self.radii[j], self.radii[j])
+            least = min(least, float(clear.lower()) if clear.is_finite() else -math.inf)
         return least
 
     def upper(self, u: np.ndarray) -> float:
@@ -146,9 +147,8 @@ class _Capsules:
             (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
             square = sum(((p + (q - p) * s) - (r + (w - r) * t)) ** 2 for p, q, r, w in zip(p1, q1, p2, q2,
                                                                                           strict=True))
-            distance = square.sqrt()
-            least = min(least, float(distance.upper()) - self.radii[i] - self.radii[j] if distance.is_finite()
-                        else math.inf)
+            margin = square.sqrt() - ball(self.radii[i], self.radii[i]) - ball(self.radii[j], self.radii[j])
+            least = min(least, float(margin.upper()) if margin.is_finite() else math.inf)
         return least
 
 
@@ -207,7 +207,7 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
     margins = _margins(mech, x, mode, design)
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
     g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
-    gradient = ca.Function("certified_gradient", [u], [ca.jacobian(g(u), u)])
+    gradient = ca.Function("certified_gradient", [u], [ca.densify(ca.jacobian(g(u), u))])
     return _Domain(enclosure(g), enclosure(gradient), g, ca.Function("certified_pose", [u], [x]), indices,
                    round_axes, np.array([bounds[n] for n in bounds if n != "collisions" for _ in PROPERTIES[n][0]]),
                    capsules)
@@ -221,7 +221,7 @@ def _capsules(mech: Any, x: ca.SX, u: ca.SX, mode: str, design: np.ndarray) -> _
     q = regions.pipeline(mech, ())(x, ca.DM(mech.working_mode(mode).signs), d)[0]
     points = mech.functions["skeleton"](q, x, d)
     counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
-    at = ca.Function("capsule_points", [u], [points])
+    at = ca.Function("capsule_points", [u], [ca.densify(points)])
     margin = ca.Function("capsule_margin", [u], [ca.mmin(mech.functions["collision"](q, x, d))])
     return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description),
                      [sum(counts[:k]) for k in range(len(counts))],
@@ -248,8 +248,10 @@ def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[
     d = mech.design_vector(design)
     mode = mech.working_mode(mode).name
     pieces = shape.pieces()
-    if len(pieces) != 1:
-        raise PkmError(f"region {regions.region_name(shape)} violates: one placed shape to certify over")
+    inner = getattr(shape, "inner", shape)
+    if len(pieces) != 1 or not isinstance(inner, regions.Disc | regions.Rectangle | regions.Box | regions.Cylinder):
+        raise PkmError(f"region {regions.region_name(shape)} violates: one disc, rectangle, box or cylinder (placed, "
+                       "or mapped into the pose) to certify over, its reference coordinates in [-1, 1]")
     u = ca.SX.sym("u", pieces[0].dimension)
     domain = _domain(mech, pieces[0].to_pose(mech.functions, ca.DM(d), u), u, _round_axes(shape), bounds=bounds,
                      mode=mode, design=d)
@@ -261,7 +263,8 @@ def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: 
     """Branch and prune over [-1, 1]^d, the largest box first (module docstring)."""
     dim = domain.g.numel_in(0)
     start = time.perf_counter()
-    queue = [(-1.0, 0, np.full(dim, -1.0), np.full(dim, 1.0), 0)]
+    order = itertools.count()  # the heap's tie-break: first pushed, first taken
+    queue = [(-1.0, next(order), np.full(dim, -1.0), np.full(dim, 1.0), 0)]
     undecided, boxes, reached, stopped, witnesses = 0.0, 0, 0, "", []
     while queue:
         if boxes >= max_boxes or time.perf_counter() - start > seconds:
@@ -285,7 +288,7 @@ def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: 
         upper_lo, lower_hi = lo.copy(), hi.copy()
         upper_lo[k], lower_hi[k] = middle, middle
         for part in ((lo, lower_hi), (upper_lo, hi)):
-            heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), boxes * 2 + len(queue), *part, level + 1))
+            heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), next(order), *part, level + 1))
     verdict = "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided")
     return {"verdict": verdict, "witnesses": witnesses, "undecided": undecided, "boxes": boxes, "depth": reached,
             "seconds": time.perf_counter() - start, "stopped": stopped}
@@ -329,8 +332,10 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
     moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
     if len(centre) != mech.n_out or not np.all(np.isfinite(centre)):
         raise PkmError(f"pose violates: {mech.n_out} finite numbers ({', '.join(mech.pose_names)})")
-    if not radius > 0:
-        raise PkmError(f"radius violates: a positive length; got {radius!r}")
+    if not (isinstance(radius, int | float) and math.isfinite(radius) and radius > 0):
+        raise PkmError(f"radius violates: a finite positive length; got {radius!r}")
+    if not (isinstance(tolerance, int | float) and 0 < tolerance < 1):
+        raise PkmError(f"tolerance violates: a relative gap in (0, 1); got {tolerance!r}")
     u = ca.SX.sym("u", len(moved))
     r = ca.SX.sym("r")
     x = ca.SX(ca.DM(centre))

@@ -36,6 +36,7 @@ import numpy as np
 
 from pkm.batch import THREADS
 from pkm.compiled.cache import location
+from pkm.errors import ComputationError
 from pkm.io import atomic_write
 
 PATHS = 40  # the solutions of the generic instance (Raghavan 1993)
@@ -210,7 +211,7 @@ def _monodromy(rng: np.random.Generator) -> tuple[tuple[np.ndarray, ...], np.nda
         if len(known) >= PATHS:
             break
     if len(known) != PATHS:
-        raise RuntimeError(f"the monodromy found {len(known)} of the {PATHS} solutions of the start instance")
+        raise ComputationError(f"the monodromy found {len(known)} of the {PATHS} solutions of the start instance")
     return start, c, known
 
 

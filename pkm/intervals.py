@@ -5,10 +5,11 @@ the operation takes over its arguments' balls), for :mod:`pkm.certify`.
 python-flint rather than an interval emitter of pkm's own: its arb balls are kept, documented and rigorous for every
 elementary function the kinematic graphs use (sqrt, the trigonometric functions and their inverses, atan2, powers),
 which a home-made emitter would have to prove again. The graph is walked once into a list of steps
-(:func:`enclosure`); comparisons give 0, 1 or the ball [0, 1] where the order is not decided over the box, a choice
-(``if_else``) the union of its branches where its condition is not decided, a product of a value with itself its
-square (non-negative), and a minimum or maximum with a ball that is not finite is not finite. A ball that is not
-finite (a square root of a ball reaching below 0: a pose out of reach somewhere in the box) decides nothing.
+(:func:`enclosure`); comparisons give 0, 1 or the ball [0, 1] where the order is not decided over the box, a truth
+is CasADi's (a nonzero value), a choice (``if_else``) the union of its branches where its condition is not decided,
+a product of a value with itself its square (non-negative). A ball that is not finite (a square root of a ball
+reaching below 0: a pose out of reach somewhere in the box; an infinity) decides nothing, and a minimum, a maximum
+or an undecided choice with one is not finite either.
 """
 
 from __future__ import annotations
@@ -58,43 +59,71 @@ def _less(a: Any, b: Any, strict: bool) -> Any:
     return _truth(a < b if strict else a <= b, a >= b if strict else a > b)
 
 
+def _undecided() -> Any:
+    """A ball that decides nothing (not finite)."""
+    return _flint().arb("nan")
+
+
+def _truth_of(a: Any) -> Any:
+    """CasADi's truth of a value (nonzero), as 0, 1 or [0, 1]."""
+    return _truth(a != 0, a == 0)
+
+
 def _choice(condition: Any, value: Any) -> Any:
-    """if_else_zero: ``value`` where the condition holds, else 0."""
+    """if_else_zero: ``value`` where the condition (a nonzero value) holds, else 0; their union where the box does
+    not decide it, and nothing decided where that union holds a value that is not finite."""
     arb = _flint().arb
-    if condition > 0.5:
+    truth = _truth_of(condition)
+    if truth > 0.5:
         return value
-    if condition < 0.5:
+    if truth < 0.5:
         return arb(0)
-    return span(value, arb(0)) if value.is_finite() else value
+    return span(value, arb(0)) if value.is_finite() else _undecided()
+
+
+def _extreme(a: Any, b: Any, least: bool) -> Any:
+    """The least (or the largest) of two balls' values: from their ends; nothing decided where either is not
+    finite."""
+    if not (a.is_finite() and b.is_finite()):
+        return _undecided()
+    pick = (lambda u, v: u if u < v else v) if least else (lambda u, v: u if u > v else v)
+    return span(pick(a.lower(), b.lower()), pick(a.upper(), b.upper()))
 
 
 def _minimum(a: Any, b: Any) -> Any:
-    if not (a.is_finite() and b.is_finite()):
-        return a + b  # not finite: decides nothing
-    lo = a.lower() if a.lower() < b.lower() else b.lower()
-    hi = a.upper() if a.upper() < b.upper() else b.upper()
-    return span(lo, hi)
+    return _extreme(a, b, True)
 
 
 def _maximum(a: Any, b: Any) -> Any:
-    if not (a.is_finite() and b.is_finite()):
-        return a + b  # not finite: decides nothing
-    lo = a.lower() if a.lower() > b.lower() else b.lower()
-    hi = a.upper() if a.upper() > b.upper() else b.upper()
-    return span(lo, hi)
+    return _extreme(a, b, False)
 
 
 def _sign(a: Any) -> Any:
+    """-1, 0 or 1 where the box decides it (0 only for an exact 0), else [-1, 1]."""
     arb = _flint().arb
     if a > 0:
         return arb(1)
     if a < 0:
         return arb(-1)
-    return ball(-1.0, 1.0) if a != 0 else arb(0)
+    if a == 0:
+        return arb(0)
+    return ball(-1.0, 1.0)
+
+
+def _copysign(a: Any, b: Any) -> Any:
+    """|a| with b's sign, or both where the box does not decide it (b's ball holds 0: its sign unknown)."""
+    if b > 0:
+        return abs(a)
+    if b < 0:
+        return -abs(a)
+    return span(-abs(a), abs(a))
 
 
 def _square(a: Any) -> Any:
-    return abs(a) ** 2
+    """a^2 from |a|'s ends: non-negative, and finite where a is."""
+    if not a.is_finite():
+        return _undecided()
+    return span(a.abs_lower() ** 2, a.abs_upper() ** 2)
 
 
 def _operations() -> dict[int, Callable[..., Any]]:
@@ -110,10 +139,11 @@ def _operations() -> dict[int, Callable[..., Any]]:
         ca.OP_SINH: lambda a: a.sinh(), ca.OP_COSH: lambda a: a.cosh(), ca.OP_TANH: lambda a: a.tanh(),
         ca.OP_LT: lambda a, b: _less(a, b, True), ca.OP_LE: lambda a, b: _less(a, b, False),
         ca.OP_EQ: lambda a, b: _truth(a == b, a != b), ca.OP_NE: lambda a, b: _truth(a != b, a == b),
-        ca.OP_NOT: lambda a: 1 - a, ca.OP_AND: _minimum, ca.OP_OR: _maximum,
+        ca.OP_NOT: lambda a: 1 - _truth_of(a), ca.OP_AND: lambda a, b: _minimum(_truth_of(a), _truth_of(b)),
+        ca.OP_OR: lambda a, b: _maximum(_truth_of(a), _truth_of(b)),
         ca.OP_FABS: abs, ca.OP_SIGN: _sign, ca.OP_IF_ELSE_ZERO: _choice, ca.OP_FMIN: _minimum,
         ca.OP_FMAX: _maximum, ca.OP_INV: lambda a: 1 / a, ca.OP_HYPOT: lambda a, b: (_square(a) + _square(b)).sqrt(),
-        ca.OP_COPYSIGN: lambda a, b: abs(a) * _sign(b),
+        ca.OP_COPYSIGN: _copysign,
     }
 
 

@@ -40,12 +40,19 @@ def stiffness(mech: KinematicModel, pose: Any, design: DesignLike = None, *, mod
 def deflection(mech: KinematicModel, pose: Any, wrench: Any, design: DesignLike = None, *, mode: str | None = None,
                actuators_only: bool = False) -> np.ndarray:
     """The platform's displacement K^-1 w (N, n) or (n,) under the wrench w (n,) or (N, n) at each pose, in the
-    pose's twist coordinates [m, rad]."""
-    K = np.atleast_3d(stiffness(mech, np.atleast_2d(pose), design, mode=mode, actuators_only=actuators_only))
+    pose's twist coordinates [m, rad]; NaN where the pose is out of reach or K singular (a mechanism free to move
+    under the load)."""
+    K = stiffness(mech, np.atleast_2d(pose), design, mode=mode, actuators_only=actuators_only)
     w, _ = as_batch(wrench, mech.n_out, "wrench")
+    if len(w) not in (1, len(K)) and len(K) != 1:
+        raise PkmError(f"wrench violates: one wrench or one per pose ({len(K)}); got {len(w)}")
     single = np.ndim(pose) == 1 and np.ndim(wrench) == 1
-    w = np.broadcast_to(w, (len(K), K.shape[-1]))
-    return unbatch(np.linalg.solve(K, w[..., None])[..., 0], single)
+    n = max(len(K), len(w))
+    K, w = np.broadcast_to(K, (n, *K.shape[1:])), np.broadcast_to(w, (n, w.shape[1]))
+    stiff = np.all(np.isfinite(K), axis=(1, 2)) & (np.abs(np.linalg.det(np.where(np.isfinite(K), K, 0))) > 0)
+    out = np.full((n, K.shape[-1]), np.nan)
+    out[stiff] = np.linalg.solve(K[stiff], w[stiff][..., None])[..., 0]
+    return unbatch(out, single)
 
 
 def stiffness_units(mech: KinematicModel) -> list[list[str]]:

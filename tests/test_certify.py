@@ -195,3 +195,35 @@ def test_a_synthesis_ends_with_its_optimum_certified_when_asked(capsys):
     assert (certified["verdict"], certified["region"], certified["properties"]) == (
         "proved", "task", {"singularity": 0.01, "limits": 0.0})
     assert certified["design"]["L_a"] == pytest.approx(data["optimum"]["design"]["L_a"])
+
+
+def test_signs_truths_and_copysigns_over_a_box_are_every_value_they_take():
+    """Over [-1, 1] the derivative of |x| (CasADi's sign) takes -1 and 1, a choice on a nonzero value and a logic
+    of values other than 0 and 1 are CasADi's, and copysign takes both signs."""
+    x = ca.SX.sym("x", 2)
+    box, point = [ball(-1.0, 1.0), ball(5.0, 5.0)], [ball(-1.0, -1.0), ball(5.0, 5.0)]
+    for expression, at_point in ((ca.densify(ca.jacobian(ca.fabs(x[0]), x))[0], -1.0),
+                                 (ca.if_else(x[0], x[1], 0), 5.0),
+                                 (ca.if_else(ca.logic_and(x[0], 1), x[1], 7), 5.0),
+                                 (ca.copysign(3, x[0]), -3.0)):
+        f = ca.Function("f", [x], [expression])
+        (over,) = enclosure(f)([box])[0]
+        (here,) = enclosure(f)([point])[0]
+        assert float(here.lower()) <= at_point <= float(here.upper())
+        values = [float(f([u, 5.0])) for u in np.linspace(-1, 1, 101)]
+        assert float(over.lower()) <= min(values)
+        assert max(values) <= float(over.upper())
+
+
+def test_a_property_that_fails_inside_a_box_is_never_proved_by_its_mean_value_form():
+    """g(u) = |u0 - 0.1| (1 + u1^2) >= 1e-6 fails at u0 = 0.1: the search must not prove it (the derivative of
+    |.| enclosed as 0 across the kink once did)."""
+    from pkm.certify import _Domain, _search
+
+    u = ca.SX.sym("u", 2)
+    g = ca.Function("g", [u], [ca.fabs(u[0] - 0.1) * (1 + u[1] ** 2)])
+    gradient = ca.Function("dg", [u], [ca.densify(ca.jacobian(g(u), u))])
+    domain = _Domain(enclosure(g), enclosure(gradient), g, ca.Function("x", [u], [u]), ["g"], [],
+                     np.array([1e-6]))
+    found = _search(pkm.load("five_bar"), domain, depth=12, max_boxes=3000, seconds=20)
+    assert found["verdict"] != "proved"

@@ -28,7 +28,8 @@ def segment_distance(p1: ca.SX, q1: ca.SX, p2: ca.SX, q2: ca.SX) -> ca.SX:
     def clamp(v: ca.SX) -> ca.SX:
         return ca.fmin(ca.fmax(v, 0), 1)
 
-    s = ca.if_else(denominator > DEGENERATE * (a * e + DEGENERATE), clamp((b * f - c * e) / denominator), 0)
+    s = ca.if_else(denominator > DEGENERATE * (a * e + DEGENERATE), clamp((b * f - c * e) / denominator),
+                   ca.if_else(e > DEGENERATE, 0, ca.if_else(a > DEGENERATE, clamp(-c / a), 0)))
     t = ca.if_else(e > DEGENERATE, (b * s + f) / e, 0)
     s = ca.if_else(t < 0, ca.if_else(a > DEGENERATE, clamp(-c / a), 0),
                    ca.if_else(t > 1, ca.if_else(a > DEGENERATE, clamp((b - c) / a), 0), s))

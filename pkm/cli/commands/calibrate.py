@@ -40,7 +40,9 @@ def _read(path: str, joints: tuple[str, ...], pose: tuple[str, ...]) -> tuple[np
         raise PkmError(f"data violates: 1 to {MAX_ROWS} rows under a header naming {', '.join((*joints, *pose))}; "
                        f"{'missing ' + ', '.join(missing) if missing else f'{len(rows)} rows'}")
 
-    def number(text: str, where: str, empty: bool) -> float:
+    def number(text: str | None, where: str, empty: bool) -> float:
+        if text is None:
+            raise PkmError(f"data violates: as many fields in each row as in the header; {where} is missing")
         if empty and not text.strip():
             return float("nan")
         try:
