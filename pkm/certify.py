@@ -80,11 +80,11 @@ def _round_axes(shape: Any) -> list[int]:
     return []
 
 
-def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> dict[str, ca.SX]:
-    """The properties' values at the pose x: the type I and type II singularity margins as |det A| / prod_j
-    ||a_j|| (the determinants from the first order, A = [H_a H_p] and [H_p H_x] from the closure: the same
-    Hadamard ratios as pkm.indices.local's, in a form whose enclosures stay tight), and the least workspace
-    margin (signed beyond the reach)."""
+def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> tuple[dict[str, ca.SX], ca.SX]:
+    """The properties' values at the pose x, and the joints there: the type I and type II singularity margins as
+    |det A| / prod_j ||a_j|| (the determinants from the first order, A = [H_a H_p] and [H_p H_x] from the closure:
+    the same Hadamard ratios as pkm.indices.local's, in a form whose enclosures stay tight), and the least
+    workspace margin (signed beyond the reach)."""
     signs, d = ca.DM(mech.working_mode(mode).signs), ca.DM(design)
     fused = regions.pipeline(mech, (), first_order=True)
     q, _, _, *rest = fused(x, signs, d)
@@ -99,7 +99,7 @@ def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> dict[str, ca
         out[f"singularity_margin_type{k}"] = ca.fabs(first[f"det_type{k}"]) / norms
     (margin,) = regions.pipeline(mech, (WORKSPACE_MARGIN,))(x, signs, d)[3:]
     out["workspace_margin"] = margin
-    return out
+    return out, q
 
 
 PIECES = 8  # each capsule's segment cut into this many pieces, their boxes' gaps bounding the distance below
@@ -198,13 +198,11 @@ class _Domain:
 
 def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
             design: np.ndarray) -> _Domain:
-    capsules = None
-    if "collisions" in bounds:
-        if "collision" not in mech.functions:
-            raise PkmError(f"properties violates: collisions of a machine whose legs state their capsules; "
-                           f"{mech.name}'s do not")
-        capsules = _capsules(mech, x, u, mode, design)
-    margins = _margins(mech, x, mode, design)
+    if "collisions" in bounds and "collision" not in mech.functions:
+        raise PkmError(f"properties violates: collisions of a machine whose legs state their capsules; {mech.name}'s "
+                       "do not")
+    margins, q = _margins(mech, x, mode, design)
+    capsules = _capsules(mech, q, x, u, design) if "collisions" in bounds else None
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
     g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
     gradient = ca.Function("certified_gradient", [u], [ca.densify(ca.jacobian(g(u), u))])
@@ -213,12 +211,12 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
                    capsules)
 
 
-def _capsules(mech: Any, x: ca.SX, u: ca.SX, mode: str, design: np.ndarray) -> _Capsules:
+def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _Capsules:
+    """The legs' capsules at the joints q and the pose x(u)."""
     from pkm.spec.collisions import pairs
     from pkm.spec.vocabulary import kind_of
 
     d = ca.DM(design)
-    q = regions.pipeline(mech, ())(x, ca.DM(mech.working_mode(mode).signs), d)[0]
     points = mech.functions["skeleton"](q, x, d)
     counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
     at = ca.Function("capsule_points", [u], [ca.densify(points)])

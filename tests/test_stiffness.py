@@ -29,6 +29,13 @@ ELASTIC = {"material": "steel", "section": {"shape": "tube", "d": str(TUBE[0]), 
            "drive": str(DRIVE)}
 
 
+# the 3-RPR of the ALIAS-C++ documentation at scale s, its drives of unit axial stiffness
+ALIAS = {"name": "alias_elastic", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
+         "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
+         "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
+                  "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]], "elastic": {**ELASTIC, "drive": "1"}}}
+
+
 def _load(raw: dict) -> pkm.Mechanism:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", SingularityWarning)
@@ -141,12 +148,7 @@ def test_the_virtual_joint_method_is_the_frame_model(machine, request):
 def test_the_alias_3rpr_with_unit_drives_has_its_rational_stiffness():
     """Base joints (0,0), (10,0), (3,10), platform points (0,0), (4,0), (2,2), pose (5, 5, 0), unit axial drive
     stiffness: K = sum_i a_i a_i^T / rho_i^2, a_i = (d_i, r_i x d_i), exactly, against pkm to 1e-12."""
-    raw = {"name": "alias_elastic", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
-           "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
-           "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
-                    "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]],
-                    "elastic": {**ELASTIC, "drive": "1"}}}
-    m = _load(raw)
+    m = _load(ALIAS)
     want = [[Fraction(0)] * 3 for _ in range(3)]
     for base, point in zip([(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)], strict=True):
         d = (5 + point[0] - base[0], 5 + point[1] - base[1])
@@ -184,12 +186,7 @@ def test_without_elastic_elements_there_is_no_stiffness_and_bad_elements_are_ref
 def test_the_blocks_scale_as_their_units_n_per_m_n_per_rad_and_n_m_per_rad():
     """The ALIAS 3-RPR with unit axial drives at twice its size: its translational block (N/m) is the same, its
     coupling (N/rad) twice, its rotational block (N m/rad) four times."""
-    raw = {"name": "alias_elastic", "doc": "ALIAS's 3-RPR with unit drives", "frame": "planar", "home": [5, 5, 0],
-           "parameters": [{"name": "s", "default": 1.0, "lower": 0.1, "upper": 10, "unit": "m", "doc": "scale"}],
-           "legs": {"kind": "RPR", "count": 3, "base": [["0", "0"], ["10 * s", "0"], ["3 * s", "10 * s"]],
-                    "platform": [["0", "0"], ["4 * s", "0"], ["2 * s", "2 * s"]],
-                    "elastic": {**ELASTIC, "drive": "1"}}}
-    m = _load(raw)
+    m = _load(ALIAS)
     assert m.stiffness_units() == [["N/m", "N/m", "N/rad"], ["N/m", "N/m", "N/rad"], ["N/rad", "N/rad", "N m/rad"]]
     K, twice = m.stiffness([5, 5, 0]), m.stiffness([10, 10, 0], {"s": 2.0})
     scale = np.array([[1, 1, 2], [1, 1, 2], [2, 2, 4]])

@@ -295,11 +295,7 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
                 leg["zero"] = [["cos", a], ["sin", a], 0] if table.get("zero", "radial") == "radial" else \
                     _vector(table["zero"], 3, f"{where}.zero", names)
             leg["joints"] = _kind_chain(leg, where, dim, names)
-            if "elastic" in table:
-                leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
-            if "capsule" in table:
-                leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
-            legs.append(leg)
+            legs.append(_with_elements(leg, table, where, names))
     for name in ("elastic", "capsule"):
         given = [name in leg for leg in legs]
         if any(given) and not all(given):
@@ -462,12 +458,17 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
             if not isinstance(bounds, list) or len(bounds) != 2:
                 raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
             leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
-        if "elastic" in table:
-            leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
-        if "capsule" in table:
-            leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
-        legs.append(leg)
+        legs.append(_with_elements(leg, table, where, names))
     return legs
+
+
+def _with_elements(leg: dict[str, Any], table: Mapping[str, Any], where: str, names: set[str]) -> dict[str, Any]:
+    """A normalised leg (its chain's joints known) with its table's elastic elements and capsule, where given."""
+    if "elastic" in table:
+        leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
+    if "capsule" in table:
+        leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
+    return leg
 
 
 def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> dict[str, Any]:
