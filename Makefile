@@ -29,9 +29,11 @@ lint: $(STAMP)
 
 # The suite's processes (its two workers, the command lines and derivations it starts) read the bytecode
 # that the first of them writes, where PYTHONDONTWRITEBYTECODE would have each compile every module again.
+# Each worker is one core (tests/conftest.py): OpenBLAS's threads, which spin while they wait for work, would
+# take the other worker's core.
 test: $(STAMP)
 	$(VENV)/bin/ruff check .
-	PYTHONDONTWRITEBYTECODE= MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist loadfile
+	PYTHONDONTWRITEBYTECODE= OPENBLAS_NUM_THREADS=1 MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist loadfile
 
 # The interpreter's pass runs what only it can catch: every mechanism's contract at its first random design
 # (every method over large batches, which the compiled pass evaluates compiled; the other designs are the
@@ -41,7 +43,7 @@ test: $(STAMP)
 INTERPRETED_TESTS := tests/test_contract.py tests/test_compiled.py tests/test_global_indices.py tests/test_synthesis.py
 
 test-interpreted: $(STAMP)
-	PYTHONDONTWRITEBYTECODE= PKM_COMPILED=0 MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist load -W ignore::pkm.compiled.CompiledPathWarning \
+	PYTHONDONTWRITEBYTECODE= OPENBLAS_NUM_THREADS=1 PKM_COMPILED=0 MPLBACKEND=Agg $(PY) -m pytest -n 2 --dist load -W ignore::pkm.compiled.CompiledPathWarning \
 		-k "not -1] and not -2]" $(INTERPRETED_TESTS)
 
 bench: $(STAMP)

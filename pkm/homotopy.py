@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pkm.batch import THREADS
+from pkm import batch
 from pkm.compiled.cache import location
 from pkm.errors import ComputationError
 from pkm.io import atomic_write
@@ -227,7 +227,7 @@ def solve(a: np.ndarray, b: np.ndarray, radii2: np.ndarray) -> tuple[np.ndarray,
     path's end and whether it arrived (N, 40); the instances in blocks on :data:`pkm.batch.THREADS` threads
     (numpy's loops and LAPACK release the interpreter's lock)."""
     start, c, z = _start()
-    blocks = np.array_split(np.arange(len(a)), min(THREADS, len(a))) if len(a) else []
+    blocks = np.array_split(np.arange(len(a)), min(batch.THREADS, len(a))) if len(a) else []
 
     def block(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = len(rows)

@@ -154,36 +154,41 @@ def enclosure(fn: ca.Function) -> Callable[[Sequence[Sequence[Any]]], list[list[
         raise PkmError(f"certification violates: an SX graph; {fn.name()} is not one")
     operations = _operations()
     arb = _flint().arb
-    steps = []
+    # every value in a register of its own, so that the constants and the inputs are placed before the first step
+    fn = ca.Function(fn.name(), fn.sx_in(), fn.call(fn.sx_in()), {"live_variables": False})
+    size = 1
+    constants, reads, writes, steps = [], [], [], []
     for k in range(fn.n_instructions()):
         op, ins, out = fn.instruction_id(k), fn.instruction_input(k), fn.instruction_output(k)
+        if op != ca.OP_OUTPUT:
+            size = max(size, out[0] + 1)
         if op == ca.OP_CONST:
-            steps.append((op, arb(float(fn.instruction_constant(k))), out))
-        elif op in (ca.OP_INPUT, ca.OP_OUTPUT):
-            steps.append((op, ins, out))
+            constants.append((out[0], arb(float(fn.instruction_constant(k)))))
+        elif op == ca.OP_INPUT:
+            reads.append((out[0], ins[0], ins[1]))
+        elif op == ca.OP_OUTPUT:
+            writes.append((out[0], out[1], ins[0]))
+        elif op == ca.OP_MUL and ins[0] == ins[1]:  # a square: one ball, not two independent ones
+            steps.append((_square, ins[0], -1, out[0]))
         elif op in operations:
-            steps.append((op, (operations[op], ins), out))
+            steps.append((operations[op], ins[0], ins[1] if op in _BINARY else -1, out[0]))
         else:
             raise PkmError(f"certification violates: operations ball arithmetic encloses; {fn.name()} holds "
                            f"CasADi's operation {op}")
-    size = max([1, *(o[0] + 1 for op, _, o in steps if op != ca.OP_OUTPUT)])
+    template: list[Any] = [None] * size
+    for at, value in constants:
+        template[at] = value
     shapes = [fn.nnz_out(i) for i in range(fn.n_out())]
 
     def evaluate(inputs: Sequence[Sequence[Any]]) -> list[list[Any]]:
-        work: list[Any] = [None] * size
+        work = list(template)
+        for at, port, entry in reads:
+            work[at] = inputs[port][entry]
+        for function, a, b, at in steps:
+            work[at] = function(work[a]) if b < 0 else function(work[a], work[b])
         outputs = [[arb(0)] * n for n in shapes]
-        for op, data, out in steps:
-            if op == ca.OP_CONST:
-                work[out[0]] = data
-            elif op == ca.OP_INPUT:
-                work[out[0]] = inputs[data[0]][data[1]]
-            elif op == ca.OP_OUTPUT:
-                outputs[out[0]][out[1]] = work[data[0]]
-            elif op == ca.OP_MUL and data[1][0] == data[1][1]:  # a square: one ball, not two independent ones
-                work[out[0]] = _square(work[data[1][0]])
-            else:
-                function, args = data
-                work[out[0]] = function(*(work[a] for a in args[: 2 if op in _BINARY else 1]))
+        for port, entry, at in writes:
+            outputs[port][entry] = work[at]
         return outputs
 
     return evaluate

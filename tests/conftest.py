@@ -2,9 +2,23 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+# --- Cores: each of the suite's workers is one ----------------------------------------------------------
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """A worker of ``pytest -n N`` evaluates on one thread, as a Dask worker does (pkm.parallel.as_worker): the
+    workers are the parallelism, and pkm's kept threads in each would contend for the same cores. The tests of
+    the threads themselves set pkm.batch.THREADS where they run."""
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        from pkm import parallel
+
+        parallel.as_worker()
+
 
 # --- Generated code: one fresh derivation of generated/ per test session --------------------------------
 
@@ -22,7 +36,6 @@ def fresh_generated(tmp_path_factory: pytest.TempPathFactory) -> Path:
     for the fixture do not pay for it.
     """
     import hashlib
-    import os
     import platform
     import shutil
 
