@@ -1,7 +1,7 @@
 """The test suite's own time (issue 36): ``python -m bench.suite [--root CHECKOUT] [--json PATH]``.
 
-Runs the suite as ``make test`` runs it (ruff, then ``pytest -n 2 --dist loadfile``, with ``--durations``,
-bytecode written) in the checkout ``--root`` (this one by default) twice in a row:
+Runs the suite as ``make test`` runs it (ruff, then ``pytest -n 2 --dist loadfile`` with ``--durations``,
+OpenBLAS on one thread, bytecode written) in the checkout ``--root`` (this one by default) twice in a row:
 
 * **cold**: an empty kernel cache (``PKM_CACHE_DIR`` a new folder) and an empty user cache
   (``XDG_CACHE_HOME`` a new folder: no derived descriptions, no fresh derivation of generated/), as on a
@@ -45,7 +45,7 @@ def run_suite(root: Path, env: dict[str, str]) -> dict[str, Any]:
                           capture_output=True, text=True, check=False)
     done = subprocess.run([python, "-m", "pytest", "-n", "2", "--dist", "loadfile", "-p", "no:cacheprovider",
                            f"--durations={SLOWEST}"], cwd=root,
-                          env={**env, "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE": ""},
+                          env={**env, "MPLBACKEND": "Agg", "PYTHONDONTWRITEBYTECODE": "", "OPENBLAS_NUM_THREADS": "1"},
                           capture_output=True, text=True, check=False)
     wall = time.perf_counter() - start
     lines = done.stdout.splitlines()

@@ -18,23 +18,27 @@ in the kernel cache (its folder ``homotopy``). Every instance is then reached fr
 p(s) = (1 - s) p_start + s p (complex start: the path misses the instances with fewer solutions with probability
 one), each of the 40 paths tracked by a predictor-corrector (a Runge-Kutta step of dz/ds = -F_z^-1 F_s, Newton's
 corrections, the step halved where they do not converge and grown where they do; a path that did not arrive tracked
-again with steps of at most RETRY_STEP), all paths of all instances at once in numpy (batches of small complex
-solves; not yet a compiled graph). Each path ends at a solution, or is reported failed (it met a singular point or
-ran out of steps), never dropped.
+again with steps of at most RETRY_STEP). The paths run in pkm/_track.c, a kernel pkm writes in C (each path a row
+with steps of its own, its 8 x 8 complex solves by Gaussian elimination with partial pivoting, the rows on pkm's
+threads through the kernel runner), compiled into the kernel cache at first use; where the compiled path is off,
+:func:`track` steps all of them at once in numpy (batches of small complex solves), the same steps to rounding.
+The monodromy's loops between complex instances run in numpy. Each path ends at a solution, or is reported failed
+(it met a singular point or ran out of steps), never dropped.
 
-F_i is quadratic in the parameters along the path, so dF_i/ds is exact in closed form from the parameters'
-change (:func:`_terms`).
+F_i is quadratic in the parameters along the path, so dF_i/ds is exact in closed form from the parameters' change
+(:func:`_terms`).
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
-from pkm import batch
+from pkm import batch, compiled
 from pkm.compiled.cache import location
 from pkm.errors import ComputationError
 from pkm.io import atomic_write
@@ -117,7 +121,19 @@ def _system(z: np.ndarray, start: tuple[np.ndarray, ...], change: tuple[np.ndarr
 def _velocity(z: np.ndarray, start: tuple[np.ndarray, ...], change: tuple[np.ndarray, ...], s: np.ndarray,
               c: np.ndarray) -> np.ndarray:
     _, h_z, h_s = _system(z, start, change, s, c)
-    return -np.linalg.solve(h_z, h_s[..., None])[..., 0]
+    return -_solved(h_z, h_s)
+
+
+def _solved(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a^-1 b of each row (a (R, 8, 8), b (R, 8)); NaN in a row whose matrix is singular (its path fails there)."""
+    try:
+        return np.linalg.solve(a, b[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        out = np.full(b.shape, np.nan, dtype=np.result_type(a, b))
+        for k in range(len(a)):
+            with contextlib.suppress(np.linalg.LinAlgError):
+                out[k] = np.linalg.solve(a[k], b[k])
+        return out
 
 
 def _corrected(z: np.ndarray, start: tuple[np.ndarray, ...], change: tuple[np.ndarray, ...], s: np.ndarray,
@@ -126,7 +142,7 @@ def _corrected(z: np.ndarray, start: tuple[np.ndarray, ...], change: tuple[np.nd
     size = np.ones(len(z))
     for _ in range(steps):
         h, h_z, _ = _system(z, start, change, s, c)
-        step = np.linalg.solve(h_z, h[..., None])[..., 0]
+        step = _solved(h_z, h)
         z = z - step
         size = np.linalg.norm(step, axis=-1) / np.maximum(np.linalg.norm(z, axis=-1), 1.0)
     return z, size <= CONVERGED
@@ -224,27 +240,58 @@ def _union(known: np.ndarray, found: np.ndarray) -> np.ndarray:
 
 def solve(a: np.ndarray, b: np.ndarray, radii2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every solution (N, 40, 8) of the instances (a (N, 6, 3), b (N, 6, 3), radii2 (N, 6)), real or complex, each
-    path's end and whether it arrived (N, 40); the instances in blocks on :data:`pkm.batch.THREADS` threads
-    (numpy's loops and LAPACK release the interpreter's lock)."""
+    path's end and whether it arrived (N, 40). The paths are tracked by the compiled tracker (pkm/_track.c, a
+    row per path, on :data:`pkm.batch.THREADS` threads) where the compiled path is on, else by :func:`track` in
+    numpy on as many threads (numpy's loops and LAPACK release the interpreter's lock)."""
     start, c, z = _start()
-    blocks = np.array_split(np.arange(len(a)), min(batch.THREADS, len(a))) if len(a) else []
+    n = len(a)
+    target = tuple(np.repeat(np.asarray(p, dtype=float), PATHS, axis=0) for p in (a, b, radii2))
+    points = np.tile(z, (n, 1))
+    ends, arrived = _tracked(points, start, target, c, MAX_STEP)
+    again = np.flatnonzero(~arrived)
+    if len(again):
+        ends[again], arrived[again] = _tracked(points[again], start, tuple(p[again] for p in target), c, RETRY_STEP)
+    return ends.reshape(n, PATHS, 8), arrived.reshape(n, PATHS)
+
+
+TRACKER = Path(__file__).with_name("_track.c")
+CHUNK_PATHS = 40  # paths a thread takes at a time from the compiled tracker's batch
+
+
+def _tracked(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndarray, ...], c: np.ndarray,
+             largest: float) -> tuple[np.ndarray, np.ndarray]:
+    """The paths from z (R, 8) on the start instance (one, complex) to the target instances (real, a row each):
+    their ends and whether they arrived, compiled where it can be."""
+    rows = len(z)
+    if rows == 0:
+        return np.zeros((0, 8), complex), np.zeros(0, bool)
+    run, _ = compiled.written_kernel(TRACKER)
+    if run is None:
+        return _tracked_in_numpy(z, start, target, c, largest)
+    starts = np.concatenate([p.reshape(-1) for p in start]).astype(complex)
+    inputs = [np.ascontiguousarray(np.concatenate([z.real, z.imag], axis=1)),
+              np.ascontiguousarray(np.concatenate([p.reshape(rows, -1) for p in target], axis=1)),
+              np.concatenate([starts.real, starts.imag]), np.concatenate([c.real, c.imag]),
+              np.array([MAX_STEPS, FIRST_STEP, largest, GROWTH, LEAST_STEP, CORRECTIONS, CONVERGED, END_STEPS],
+                       dtype=float)]
+    ends, arrived, steps = np.zeros((rows, 16)), np.zeros((rows, 1)), np.zeros((rows, 1))
+    chunks = [([inputs[0][k : k + CHUNK_PATHS], inputs[1][k : k + CHUNK_PATHS], *inputs[2:]],
+               [ends[k : k + CHUNK_PATHS], arrived[k : k + CHUNK_PATHS], steps[k : k + CHUNK_PATHS], np.zeros((1, 1))],
+               min(CHUNK_PATHS, rows - k), min(CHUNK_PATHS, rows - k)) for k in range(0, rows, CHUNK_PATHS)]
+    run([16, 42, 0, 0, 0], chunks, batch.THREADS)
+    return ends[:, :8] + 1j * ends[:, 8:], arrived[:, 0] > 0
+
+
+def _tracked_in_numpy(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndarray, ...], c: np.ndarray,
+                      largest: float) -> tuple[np.ndarray, np.ndarray]:
+    blocks = np.array_split(np.arange(len(z)), min(batch.THREADS, len(z)))
 
     def block(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        n = len(rows)
-        each = lambda p: np.repeat(p[rows, None], PATHS, axis=1).reshape(n * PATHS, *p.shape[1:])  # noqa: E731
-        begin = tuple(np.broadcast_to(p, (n * PATHS, *p.shape)) for p in start)
-        target = (each(a), each(b), each(radii2))
-        ends, arrived = track(np.tile(z, (n, 1)), begin, target, c)
-        again = np.flatnonzero(~arrived)
-        if len(again):
-            ends[again], arrived[again] = track(np.tile(z, (n, 1))[again], tuple(p[again] for p in begin),
-                                                tuple(p[again] for p in target), c, largest=RETRY_STEP)
-        return ends.reshape(n, PATHS, 8), arrived.reshape(n, PATHS)
+        begin = tuple(np.broadcast_to(p, (len(rows), *p.shape)) for p in start)
+        return track(z[rows], begin, tuple(p[rows] for p in target), c, largest=largest)
 
-    with ThreadPoolExecutor(max(1, len(blocks))) as pool:
+    with ThreadPoolExecutor(len(blocks)) as pool:
         parts = list(pool.map(block, blocks))
-    if not parts:
-        return np.zeros((0, PATHS, 8), complex), np.zeros((0, PATHS), bool)
     return np.concatenate([e for e, _ in parts]), np.concatenate([r for _, r in parts])
 
 

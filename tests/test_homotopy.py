@@ -7,6 +7,7 @@ came from is among them; at Dietmaier's geometry both find all 40 real poses, th
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from bench.assemblies import fksgp_poses, pose_distance, spatial_instances, spatial_poses
 from pkm import homotopy
@@ -48,3 +49,32 @@ def test_dietmaiers_geometry_has_40_real_poses_in_both():
     reference_rotation, reference_t = fksgp_poses(a, b, radii2)
     assert len(reference_rotation) == homotopy.PATHS
     assert pose_distance(rotation[0], t[0], reference_rotation, reference_t) <= SAME
+
+
+def test_the_compiled_tracker_ends_every_path_where_numpys_does(monkeypatch):
+    """pkm/_track.c against pkm.homotopy.track on the same paths: the same arrivals and the same ends (both
+    polished by Newton at s = 1) to 1e-9 of the point's size."""
+    from pkm import compiled
+
+    if compiled.written_kernel(homotopy.TRACKER)[0] is None:
+        pytest.skip(f"the compiled path is off: {compiled.written_kernel(homotopy.TRACKER)[1]}")
+    a, b, radii2, _, _ = spatial_instances(3, SEED + 1)
+    ends, arrived = homotopy.solve(a, b, radii2)
+    monkeypatch.setattr(compiled, "written_kernel", lambda _source: (None, "off in this test"))
+    numpy_ends, numpy_arrived = homotopy.solve(a, b, radii2)
+    assert arrived.all()
+    assert numpy_arrived.all()
+    size = np.maximum(np.abs(numpy_ends).max(axis=-1, keepdims=True), 1.0)
+    assert np.all(np.abs(ends - numpy_ends) <= 1e-9 * size)
+
+
+def test_a_singular_matrix_fails_its_own_path_alone():
+    """numpy's batched solve raises for the whole batch where one matrix is singular; the tracker's solve gives NaN
+    in that row (its path fails there) and the others' solutions."""
+    rng = np.random.default_rng(1)
+    a = rng.normal(size=(3, 8, 8)) + 1j * rng.normal(size=(3, 8, 8))
+    a[1] = 0
+    b = rng.normal(size=(3, 8)) + 0j
+    x = homotopy._solved(a, b)
+    assert np.all(np.isnan(x[1]))
+    np.testing.assert_allclose(np.einsum("rij,rj->ri", a[[0, 2]], x[[0, 2]]), b[[0, 2]], atol=1e-12)

@@ -47,7 +47,7 @@ import numpy as np
 
 from pkm.compiled import emit
 from pkm.compiled.cache import Cache, location
-from pkm.compiled.toolchain import CompileError, Toolchain, find
+from pkm.compiled.toolchain import SMALL, CompileError, Toolchain, find
 from pkm.progress import Progress
 
 COMPILE_WORK = 1 << 27  # a compile's cost whatever the graph (the compiler's start, the link, the load), in
@@ -431,6 +431,51 @@ def build(functions: Iterable[tuple[ca.Function, bool]], *, progress: Callable[[
                 progress(done, len(entries))
     counts["interpreted"] += sum(e.state == "off" and e.future is None for e in entries)
     return {k: counts[k] for k in ("cached", "compiled", "interpreted")}
+
+
+_written: dict[Path, tuple[Run | None, str]] = {}
+
+
+def written_kernel(source: Path) -> tuple[Run | None, str]:
+    """``(run, "")`` for a kernel pkm writes in C itself (``source``, one of its own files: a routine with a loop
+    of its own, which no CasADi graph expresses, such as a path tracker), with the emitted kernels' interface
+    (``pkm_kernel``; :func:`kernel`'s ``run``); compiled into the cache at its first use in any process and kept,
+    its key the source's sha256 and the toolchain's fingerprint. ``(None, why)`` where the compiled path is off
+    or the kernel does not compile or load."""
+    with _lock:
+        if source not in _written:
+            _written[source] = _written_kernel(source)
+        return _written[source]
+
+
+def _written_kernel(source: Path) -> tuple[Run | None, str]:
+    path = _path()
+    if path.runner is None:
+        return None, path.reason
+    text = source.read_bytes()
+    toolchain = path.toolchain
+    key = hashlib.sha256(b"\0".join([b"written", text, toolchain.fingerprint.encode()])).hexdigest()
+    library = path.cache.find(key)
+    try:
+        if library is None:
+            if path.unwritable:
+                return None, path.unwritable
+
+            def build(folder: Path) -> dict:
+                (folder / "kernel.c").write_bytes(text)
+                toolchain.compile_kernel(folder / "kernel.c", folder / "kernel.so", SMALL)  # at -O2
+                return {"function": source.stem, "compiler": toolchain.identity}
+
+            library = path.cache.add(key, build)
+        address = path.runner.load(str(library))
+    except (CompileError, OSError) as exc:
+        return None, f"{source.name} did not compile or load: {exc}"
+    runner = path.runner
+
+    def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
+        runner.run(address, threads, strides, chunks)
+
+    return run, ""
 
 
 def casadi_versions() -> dict[str, str]:
