@@ -132,6 +132,27 @@ class ErrorModel:
         J_f = first(q, x, d)[1]
         return ca.Function("error_jacobian", [q, x, d], [ca.horzcat(moved, J_f)], ["q", "x", "design"], ["E"])
 
+    def nominal_function(self) -> ca.Function:
+        """E as a function of the nominal machine's joints, pose and design, ``(q, x, design) -> E``: the expanded
+        machine's at zero errors, for a local index of the nominal machine (the designer's ``pose_error``)."""
+        full, names = self.function, self.nominal.parameter_names()
+        q, x = (ca.SX.sym(full.name_in(i), full.size_in(i)) for i in range(2))
+        d = ca.SX.sym("design", len(names))
+        zero = ca.SX(0)
+        expanded_design = ca.vertcat(*[d[names.index(n)] if n in names else zero
+                                       for n in self.machine.parameter_names()])
+        return ca.Function("pose_error_jacobian", [q, x, d], [full(q, x, expanded_design)], ["q", "x", "design"],
+                           ["E"])
+
+    def widths(self, tolerances: Any) -> np.ndarray:
+        """The tolerances as E's columns: a number, every geometric error's [m] (the drives' zero offsets 0), or a
+        table by error parameter (0 where not given)."""
+        if isinstance(tolerances, int | float) and not isinstance(tolerances, bool):
+            if not (np.isfinite(tolerances) and tolerances >= 0):
+                raise PkmError(f"tolerances violate: finite and not negative; got {tolerances!r}")
+            return np.array([0.0 if p.name.startswith("e_zero") else float(tolerances) for p in self.parameters])
+        return self._widths(tolerances, "tolerances")
+
     def jacobian(self, pose: Any, design: Any = None, *, mode: str | None = None, errors: Any = None) -> np.ndarray:
         """E = dx/dp (N, n_out, n_params) at the poses (NaN where out of reach), in the working mode."""
         x, single = as_batch(pose, self.nominal.n_out, "pose", finite=False)

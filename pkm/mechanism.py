@@ -368,7 +368,7 @@ class Mechanism:
     def _has(self, spec: LocalIndex) -> bool:
         """Whether this mechanism offers the local index: its source function has every output the index
         reads, none of them empty (a machine without stated limits has no workspace margin)."""
-        fn = self.functions.get(spec.source)
+        fn = self.functions.get(spec.source) if isinstance(spec.source, str) else spec.source  # its own function
         fits = spec.dimension is None or self.n_out <= spec.dimension
         return (fits and fn is not None and set(spec.arguments) <= set(fn.name_out())
                 and all(fn.numel_out(fn.index_out(a)) > 0 for a in spec.arguments))

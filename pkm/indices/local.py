@@ -34,19 +34,19 @@ ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the 
 
 @dataclass(frozen=True)
 class LocalIndex:
-    """A local index: key, meaning, unit (a template with ``{pose}`` and ``{actuator}``, the units of the
-    mechanism's pose and actuator coordinates: :meth:`pkm.Mechanism.index_unit`), documented range, its
-    value where the pose is singular, the generated function (``source``) and outputs (``arguments``) it
-    is computed from, and its formula on CasADi matrices; ``epigraph(*arguments, t)``, where given, is a
-    smooth g with g >= 0 exactly where the index is >= t (value - t otherwise), and ``epigraph_upper`` one
-    with g >= 0 exactly where it is <= t (t - value otherwise); ``dimension`` the largest matrices its
-    formula takes (the closed forms of singular values and eigenvalues stop at 3 x 3; None: any); ``raw``
-    takes the arguments as generated, in SI, where the index is a physical quantity (an actuator effort,
-    a joint angle) rather than a ratio of normalised matrices (:mod:`pkm.regions.pipeline`); ``smooth``,
-    where given, a smooth stand-in of the formula (same arguments) that an optimiser's quadrature integrates
-    instead (a positive part smoothed), while every reported value takes the formula; a ``signed`` index (a
-    margin) is defined beyond the reach, negative where a limit or the assembly is violated, and is NaN only
-    where its formula is (:mod:`pkm.regions.pipeline`)."""
+    """A local index: key, meaning, unit (a template with ``{pose}`` and ``{actuator}``, the units of the mechanism's
+    pose and actuator coordinates: :meth:`pkm.Mechanism.index_unit`), documented range, its value where the pose
+    is singular, the generated function (``source``; or a function of its own of the joints, the pose and the
+    design) and outputs (``arguments``) it is computed from, and its formula on CasADi matrices;
+    ``epigraph(*arguments, t)``, where given, is a smooth g with g >= 0 exactly where the index is >= t (value -
+    t otherwise), and ``epigraph_upper`` one with g >= 0 exactly where it is <= t (t - value otherwise);
+    ``dimension`` the largest matrices its formula takes (the closed forms of singular values and eigenvalues
+    stop at 3 x 3; None: any); ``raw`` takes the arguments as generated, in SI, where the index is a physical
+    quantity (an actuator effort, a joint angle) rather than a ratio of normalised matrices
+    (:mod:`pkm.regions.pipeline`); ``smooth``, where given, a smooth stand-in of the formula (same arguments)
+    that an optimiser's quadrature integrates instead (a positive part smoothed), while every reported value
+    takes the formula; a ``signed`` index (a margin) is defined beyond the reach, negative where a limit or the
+    assembly is violated, and is NaN only where its formula is (:mod:`pkm.regions.pipeline`)."""
 
     name: str
     doc: str
@@ -55,7 +55,7 @@ class LocalIndex:
     upper: float
     at_singularity: float
     formula: Callable[..., ca.SX]
-    source: str = "first_order"
+    source: str | ca.Function = "first_order"
     arguments: tuple[str, ...] = ("J", "J_f")
     epigraph: Callable[..., ca.SX] | None = None
     epigraph_upper: Callable[..., ca.SX] | None = None

@@ -181,7 +181,9 @@ def pipeline(
     moving = reads_motion(locals_)
     wanted = [s.source for s in locals_ if s.source != MOTION] + (["first_order"] if first_order or moving else [])
     for source in [name for name in dict.fromkeys(wanted) if name not in sources]:
-        if from_pose(source) in fns and ASSEMBLED not in fns:
+        if isinstance(source, ca.Function):  # a local index's own function of (q, x, design)
+            sources[source] = _outputs(source, [q, x, design])
+        elif from_pose(source) in fns and ASSEMBLED not in fns:
             sources[source] = _outputs(fns[from_pose(source)], [x, mode, design])
             del sources[source]["q"], sources[source]["reach"]
         else:

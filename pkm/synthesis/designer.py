@@ -27,6 +27,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import expressions, io, registry
+from pkm.accuracy import error_model
 from pkm.design import MAX_MAGNITUDE, completed, stack_design
 from pkm.dynamics import Trajectory
 from pkm.dynamics.quantities import effort_unit, joint_extremes, trajectory_indices
@@ -286,7 +287,7 @@ def _quantity(mech: Any, name: str, field: str, *, region: Any, along: Trajector
     return Quantity(_index(mech, name, field), region)
 
 
-PHYSICAL = ("joint", "joint_range", "effort", "deflection")
+PHYSICAL = ("joint", "joint_range", "effort", "deflection", "pose_error")
 
 
 def _joint_extremes(mech: Any, name: str, field: str) -> tuple[GlobalIndex, GlobalIndex]:
@@ -334,24 +335,49 @@ def _deflection(mech: Any, wrench: Any, field: str) -> LocalIndex:
     )
 
 
+def _pose_error(mech: Any, value: Any, field: str) -> LocalIndex:
+    """The linearised worst-case pose error under the tolerances, the largest over the translational coordinates
+    of sum_k |E_ik| t_k [m] (E = dx/dp, the error model's pose error Jacobian, :mod:`pkm.accuracy`)."""
+    if not (isinstance(value, Mapping) and set(value) == {"tolerances"}):
+        raise _fail(field, "a table {tolerances = a number [m], every geometric error's, or a table by error "
+                           "parameter}", value)
+    try:
+        model = error_model(mech)
+        widths = ca.DM(model.widths(value["tolerances"])).T
+    except PkmError as exc:
+        raise _fail(f"{field}.tolerances", str(exc).split(" violate: ", 1)[-1], value["tolerances"]) from None
+    moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
+
+    def rows(E: ca.SX) -> ca.SX:
+        return ca.vertcat(*[ca.sum2(ca.fabs(E[i, :]) * widths) for i in moved])
+
+    return LocalIndex(
+        "pose_error", f"the worst-case pose error over the translation, max_i sum_k |E_ik| t_k, under the tolerances "
+        f"{reprlib.repr(value['tolerances'])}", "m", 0.0, np.inf, np.inf, lambda E: ca.mmax(rows(E)),
+        model.nominal_function(), ("E",), epigraph_upper=lambda E, t: t - rows(E), dimension=None, raw=True,
+    )
+
+
 def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], field: str, *, region: Any,
               quantities: dict[str, Quantity]) -> list[Constraint]:
     """{joint: an actuated joint} within [lower, upper] over the task, {joint_range: one} moving at most
     ``upper`` over it (its largest minus its least value), {effort: a wrench} needing actuator efforts of
-    at most ``upper`` at every pose of it, or {deflection: a wrench} moving the platform by at most ``upper`` at
-    every pose of it (:func:`_deflection`); each a region extreme, refined between the nodes."""
+    at most ``upper`` at every pose of it, {deflection: a wrench} moving the platform by at most ``upper`` at
+    every pose of it (:func:`_deflection`), or {pose_error: {tolerances}} whose worst-case pose error is at most
+    ``upper`` at every pose of it (:func:`_pose_error`); each a region extreme, refined between the nodes."""
     if len(what) != 1 or next(iter(what)) not in PHYSICAL:
         raise _fail(field, f"a table with one of {', '.join(PHYSICAL)}", what)
     kind, value = next(iter(what.items()))
     lower, upper = bounds
-    if kind in ("effort", "deflection"):
-        local = (_effort if kind == "effort" else _deflection)(mech, value, f"{field}.{kind}")
+    if kind in ("effort", "deflection", "pose_error"):
+        local = {"effort": _effort, "deflection": _deflection, "pose_error": _pose_error}[kind](
+            mech, value, f"{field}.{kind}")
         name = next(n for n in (f"{kind}_{k}" if k else kind for k in range(len(quantities) + 1))
                     if n not in quantities)
         quantities[name] = Quantity(GlobalIndex(name, local, f"the region maximum of {local.doc}", "max", "min"),
                                     region)
-        return [Constraint(f"{name} holding {list(value)} <= {upper:g} {local.unit}", lambda t: t[name], -math.inf,
-                           upper)]
+        held = "under its tolerances" if kind == "pose_error" else f"holding {list(value)}"
+        return [Constraint(f"{name} {held} <= {upper:g} {local.unit}", lambda t: t[name], -math.inf, upper)]
     low, high = _joint_extremes(mech, value, f"{field}.{kind}")
     least, largest, local = low.name, high.name, low.local
     quantities[least], quantities[largest] = Quantity(low, region), Quantity(high, region)
@@ -481,7 +507,7 @@ def _constraints(mech: Any, constraints: Sequence[Any], quantity: Any, quantitie
         what, lower, upper = item
         if not isinstance(what, str | Mapping):
             raise _fail(field, "an index's name, an expression of the design parameters or a table {joint}, "
-                               "{joint_range}, {effort} or {deflection}", what)
+                               "{joint_range}, {effort}, {deflection} or {pose_error}", what)
         lower, upper = _bound(lower, f"{field}.lower", -math.inf), _bound(upper, f"{field}.upper", math.inf)
         if not lower <= upper:
             raise _fail(field, f"lower <= upper; got {lower:g}, {upper:g}")
@@ -534,7 +560,8 @@ def design_problem(
     margin), an expression of the design parameters (a frame size, ``2 * (d1 + d2)``), or a table: ``{"joint":
     name}`` (an actuated joint within [lower, upper] over the task), ``{"joint_range": name}`` (its largest minus
     its least value at most upper), ``{"effort": wrench}`` (the actuator efforts that hold a payload's wrench at
-    every pose of the task at most upper) or ``{"deflection": wrench}`` (the platform's displacement under it); by
+    every pose of the task at most upper), ``{"deflection": wrench}`` (the platform's displacement under it) or
+    ``{"pose_error": {"tolerances": t}}`` (the worst-case pose error under the tolerances, :mod:`pkm.accuracy`); by
     default the task inside the workspace (the least workspace margin over it at least 0); ``derived`` parameters
     set by expressions of the others, in order (a stroke that follows a link length); the baseline ``("grid", points
     per axis)`` or ``("monte_carlo", samples)``, at most MAX_BASELINE_POINTS designs. A bound is a finite number of
