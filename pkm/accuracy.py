@@ -37,6 +37,7 @@ from pkm.spec.vocabulary import CHAIN, KINDS
 SPAN = 0.1  # [m] an error parameter's bounds in the expanded description, either way
 CLOSURE_STEPS = 20  # Newton steps closing a perturbed machine's loops
 CLOSED = 1e-12  # [m] a loop closed to this
+MONTE_CARLO_ROWS = 100_000  # machines of a Monte Carlo run closed in one batch
 
 
 @dataclass(frozen=True)
@@ -189,47 +190,78 @@ class ErrorModel:
 
     def closed(self, joints: np.ndarray, start: np.ndarray, design: np.ndarray, *, mode: str | None = None
                ) -> np.ndarray:
-        """The poses (N, n_out) of the expanded machine at the design at the actuated joints (N, n_act), its loops
-        closed by Newton's method from the poses ``start`` (their configurations in the working mode)."""
+        """The poses (N, n_out) of the expanded machine at the design (one, or one per row) at the actuated joints
+        (N, n_act), its loops closed by Newton's method from the poses ``start`` (their configurations in the
+        working mode)."""
         m = self.machine
         q = m.inverse_kinematics(start, design, mode=mode, passive=True)
-        z = np.concatenate([q[:, m.n_act:], start], axis=1)
-        passive = q.shape[1] - m.n_act
+        return self._closing(joints, np.concatenate([q[:, m.n_act:], start], axis=1), design)
+
+    def _closing(self, joints: np.ndarray, z: np.ndarray, design: np.ndarray) -> np.ndarray:
+        """Newton's method on the loops from z (N, passive joints and pose) at the actuated joints: the poses."""
+        m = self.machine
+        passive = z.shape[1] - m.n_out
         residual = np.full(len(z), np.inf)
         for _ in range(CLOSURE_STEPS):
             full = np.concatenate([joints, z[:, :passive]], axis=1)
             h, H_q, H_x = evaluate(m.functions["constraint"], full, z[:, passive:], design)
             residual = np.max(np.abs(h[..., 0]), axis=1)
-            A = np.concatenate([H_q[:, :, m.n_act:], H_x], axis=2)
-            solvable = np.all(np.isfinite(A), axis=(1, 2)) & (np.abs(np.linalg.det(np.where(np.isfinite(A), A, 0))) > 0)
-            if not solvable.all() or np.all(residual < CLOSED):
+            if np.all(residual < CLOSED):
                 break
-            z = z - np.linalg.solve(A, h[..., 0][..., None])[..., 0]
+            A = np.concatenate([H_q[:, :, m.n_act:], H_x], axis=2)
+            try:
+                z = z - np.linalg.solve(A, h[..., 0][..., None])[..., 0]
+            except np.linalg.LinAlgError:  # a singular configuration: its row does not close, and is named below
+                break
         bad = np.flatnonzero(~(residual < CLOSED))
         if len(bad):
             raise PkmError(f"joints violate: loops that close from the given poses; rows {bad[:5].tolist()} do not "
                            f"(residual {np.nan_to_num(residual[bad[0]], nan=np.inf):.1e} m)")
         return z[:, passive:]
 
+    def _perturbed(self, x: np.ndarray, q: np.ndarray, p: np.ndarray, base: np.ndarray, mode: str | None
+                   ) -> np.ndarray:
+        """The pose errors (S, n_out) of S machines with the errors p (S, n_params), each at the nominal pose x's
+        actuated joints q (the drives' offsets read as joint errors), their loops closed from the nominal
+        configuration at x."""
+        m = self.machine
+        n_geometric = len(self._geometric)
+        designs = np.repeat(base[None], len(p), axis=0)
+        designs[:, self._geometric] += p[:, :n_geometric]
+        nominal = m.inverse_kinematics(x[None], base, mode=mode, passive=True)[0]
+        z = np.repeat(np.concatenate([nominal[m.n_act:], x])[None], len(p), axis=0)
+        return self._closing(q + p[:, n_geometric:], z, designs) - x
+
     def monte_carlo(self, pose: Any, deviations: Any, design: Any = None, *, mode: str | None = None,
                     samples: int = 200, seed: int = 0) -> dict[str, np.ndarray]:
         """The pose errors of ``samples`` machines drawn with independent Gaussian errors (the drives' offsets
-        read as joint errors) at the nominal poses' actuated joints, their loops closed: the sampled RMS of each
-        pose coordinate (N, n_out) beside the linearised one."""
+        read as joint errors) at the nominal poses' actuated joints, their loops closed (MONTE_CARLO_ROWS machines
+        at a time, each a row of one batch): the sampled RMS of each pose coordinate (N, n_out) beside the
+        linearised one."""
         x, _ = as_batch(pose, self.nominal.n_out, "pose")
         s = self._widths(deviations, "deviations")
         base = self.design(design)
         q = self.nominal.inverse_kinematics(x, design, mode=mode)
         rng = np.random.default_rng(seed)
-        errors = []
-        n_geometric = len(self._geometric)
-        for _ in range(samples):
-            p = rng.normal(size=len(s)) * s
-            d = base.copy()
-            d[self._geometric] += p[:n_geometric]
-            errors.append(self.closed(q + p[n_geometric:], x, d, mode=mode) - x)
-        return {"sampled": np.sqrt(np.mean(np.square(errors), axis=0)), "linearised": self.rms(x, deviations, design,
-                                                                                                mode=mode)}
+        squares = np.zeros(x.shape)
+        for k in range(len(x)):
+            for first in range(0, samples, MONTE_CARLO_ROWS):
+                p = rng.normal(size=(min(MONTE_CARLO_ROWS, samples - first), len(s))) * s
+                squares[k] += np.sum(self._perturbed(x[k], q[k], p, base, mode) ** 2, axis=0)
+        return {"sampled": np.sqrt(squares / samples), "linearised": self.rms(x, deviations, design, mode=mode)}
+
+    def worst_case_checked(self, pose: Any, tolerances: Any, design: Any = None, *, mode: str | None = None
+                           ) -> dict[str, np.ndarray]:
+        """The linearised worst case (N, n_out) beside the error of the machine built at its worst vertex, each
+        coordinate's: p_k = t_k sign(E_ik), the loops closed at the nominal pose's actuated joints."""
+        x, _ = as_batch(pose, self.nominal.n_out, "pose")
+        t = self.widths(tolerances)
+        base = self.design(design)
+        E = self.jacobian(x, design, mode=mode)
+        q = self.nominal.inverse_kinematics(x, design, mode=mode)
+        built = np.stack([np.diagonal(self._perturbed(x[k], q[k], np.sign(E[k]) * t, base, mode))
+                          for k in range(len(x))])
+        return {"linearised": np.abs(E) @ t, "built": np.abs(built)}
 
 
 def error_model(mech: Any) -> ErrorModel:
