@@ -55,23 +55,49 @@ def _plus(tree: Any, name: str) -> Any:
     return ["+", tree, name]
 
 
-def expanded(data: dict[str, Any]) -> tuple[dict[str, Any], list[ErrorParameter]]:
+ATTACHMENTS = ("cartesian", "polar")  # how an attachment's errors are named
+
+
+def _circle(x: Any, y: Any) -> tuple[Any, Any] | None:
+    """The radius and angle of an attachment placed on a circle (the schema's normal form, x = rho cos(a) and
+    y = rho sin(a)), else None."""
+    if (isinstance(x, list) and isinstance(y, list) and len(x) == len(y) == 3 and x[0] == y[0] == "*"
+            and x[1] == y[1] and isinstance(x[2], list) and isinstance(y[2], list) and x[2][0] == "cos"
+            and y[2][0] == "sin" and x[2][1:] == y[2][1:]):
+        return x[1], x[2][1]
+    return None
+
+
+def expanded(data: dict[str, Any], attachments: str = "cartesian") -> tuple[dict[str, Any], list[ErrorParameter]]:
     """The normalised description with an error parameter added to each leg's attachments and lengths, and
-    those parameters."""
+    those parameters: an attachment's errors along x, y and z, or with ``attachments="polar"``, where it is
+    placed on a circle, of its circle's radius [m] and its angle on it [rad] (a tower's radius and angle) and
+    along z."""
+    if attachments not in ATTACHMENTS:
+        raise PkmError(f"attachments violates: one of {', '.join(ATTACHMENTS)}; got {attachments!r}")
     out = copy.deepcopy(dict(data))
-    out["name"] = f"{data['name']}_errors"
+    out["legs"] = [copy.deepcopy(leg) for leg in data["legs"]]  # each its own: legs of one table share their joints
+    out["name"] = f"{data['name']}_errors" if attachments == "cartesian" else f"{data['name']}_{attachments}_errors"
     out["doc"] = f"{data['doc']}, each leg's geometry with errors of its own"
     axes = "xyz"
     errors: list[ErrorParameter] = []
 
-    def add(name: str, doc: str, leg: int) -> str:
-        errors.append(ErrorParameter(name, "m", doc, leg))
+    def add(name: str, doc: str, leg: int, unit: str = "m") -> str:
+        errors.append(ErrorParameter(name, unit, doc, leg))
         return name
 
     for k, leg in enumerate(out["legs"], 1):
         for end in ("base", "platform"):
-            leg[end] = [_plus(t, add(f"e_{end}{k}_{axes[c]}", f"leg {k}'s {end} attachment along {axes[c]}", k))
-                        for c, t in enumerate(leg[end])]
+            circle = _circle(*leg[end][:2]) if attachments == "polar" and len(leg[end]) == 3 else None
+            if circle is None:
+                leg[end] = [_plus(t, add(f"e_{end}{k}_{axes[c]}", f"leg {k}'s {end} attachment along {axes[c]}", k))
+                            for c, t in enumerate(leg[end])]
+                continue
+            rho = _plus(circle[0], add(f"e_{end}{k}_radius", f"leg {k}'s {end} attachment's circle radius", k))
+            angle = _plus(circle[1], add(f"e_{end}{k}_angle", f"leg {k}'s {end} attachment's angle on its circle",
+                                         k, "rad"))
+            leg[end] = [["*", rho, ["cos", angle]], ["*", rho, ["sin", angle]],
+                        _plus(leg[end][2], add(f"e_{end}{k}_z", f"leg {k}'s {end} attachment along z", k))]
         if leg["kind"] != CHAIN:
             for field in KINDS[leg["kind"]].lengths:
                 leg[field] = _plus(leg[field], add(f"e_{field}{k}", f"leg {k}'s {field} length", k))
@@ -82,7 +108,7 @@ def expanded(data: dict[str, Any]) -> tuple[dict[str, Any], list[ErrorParameter]
                                                                              f"{axes[c]} of its joint's frame", k))
                                  for c, t in enumerate(link)]
     out["parameters"] = [*out["parameters"], *({"name": e.name, "default": 0.0, "lower": -SPAN, "upper": SPAN,
-                                               "unit": "m", "doc": e.doc} for e in errors)]
+                                               "unit": e.unit, "doc": e.doc} for e in errors)]
     return out, errors
 
 
@@ -90,12 +116,12 @@ class ErrorModel:
     """A described machine's error model (module docstring): ``machine`` the expanded machine, ``parameters``
     its geometric errors and the drives' zero offsets, in the order of E's columns."""
 
-    def __init__(self, mech: Any) -> None:
+    def __init__(self, mech: Any, attachments: str = "cartesian") -> None:
         description = getattr(mech, "description", None)
         if description is None:
             raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), whose description pkm "
                            "expands per leg; the hand-derived machines have no error model yet")
-        data, geometric = expanded(description.data)
+        data, geometric = expanded(description.data, attachments)
         self.nominal = mech
         self.machine = mech.variant(data)
         offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive: its joint less "
@@ -146,12 +172,13 @@ class ErrorModel:
                            ["E"])
 
     def widths(self, tolerances: Any) -> np.ndarray:
-        """The tolerances as E's columns: a number, every geometric error's [m] (the drives' zero offsets 0), or a
-        table by error parameter (0 where not given)."""
+        """The tolerances as E's columns: a number, every geometric error's in metres (the angles' and the drives'
+        zero offsets' 0), or a table by error parameter (0 where not given)."""
         if isinstance(tolerances, int | float) and not isinstance(tolerances, bool):
             if not (np.isfinite(tolerances) and tolerances >= 0):
                 raise PkmError(f"tolerances violate: finite and not negative; got {tolerances!r}")
-            return np.array([0.0 if p.name.startswith("e_zero") else float(tolerances) for p in self.parameters])
+            return np.array([float(tolerances) if p.unit == "m" and not p.name.startswith("e_zero") else 0.0
+                             for p in self.parameters])
         return self._widths(tolerances, "tolerances")
 
     def jacobian(self, pose: Any, design: Any = None, *, mode: str | None = None, errors: Any = None) -> np.ndarray:
@@ -264,9 +291,10 @@ class ErrorModel:
         return {"linearised": np.abs(E) @ t, "built": np.abs(built)}
 
 
-def error_model(mech: Any) -> ErrorModel:
-    """The mechanism's error model (:class:`ErrorModel`)."""
-    return ErrorModel(mech)
+def error_model(mech: Any, attachments: str = "cartesian") -> ErrorModel:
+    """The mechanism's error model (:class:`ErrorModel`): each attachment's errors along x, y and z, or with
+    ``attachments="polar"``, where it is placed on a circle, of the circle's radius and its angle on it."""
+    return ErrorModel(mech, attachments)
 
 
 @dataclass
@@ -331,8 +359,10 @@ def widest_tolerances(model: ErrorModel, poses: Any, budget: float, design: Any 
 @dataclass
 class Calibration:
     """Identified errors by name with their standard deviations, the residual RMS before and after, and the
-    identifiability: the stacked Jacobian's rank of its columns, singular values, and the parameters (or
-    combinations) it cannot tell apart (``unidentifiable``: each null direction's largest components)."""
+    identifiability: the stacked Jacobian's rank of its columns, singular values, the parameters (or
+    combinations) it cannot tell apart (``unidentifiable``: each null direction's largest components) and those
+    it tells apart poorly (``weakly_identified``: the directions of singular values below WEAK of the largest,
+    weakest first, each with its relative singular value under ``"ratio"``)."""
 
     errors: dict[str, float]
     deviations: dict[str, float]
@@ -341,23 +371,28 @@ class Calibration:
     rank: int
     singular_values: list[float]
     unidentifiable: list[dict[str, float]]
+    weakly_identified: list[dict[str, float]]
     iterations: int
 
 
 RANK = 1e-8  # a singular value below this (relative to the largest) is a direction the data do not identify
+WEAK = 1e-2  # one below this identifies its direction poorly: the measurements' noise grows 100x along it
 
 
 def calibrate(model: ErrorModel, joints: Any, poses: Any, design: Any = None, *, mode: str | None = None,
-              bounds: Any = None, regularisation: float = 1e-12, iterations: int = 10) -> Calibration:
+              bounds: Any = None, regularisation: float = 1e-12, iterations: int = 10,
+              parameters: Any = None) -> Calibration:
     """The errors that make the expanded machine at the read actuated joints (M, n_act) meet the measured poses
     (M, n_out; NaN where a coordinate is not measured: a probe's one coordinate), by Gauss-Newton steps on the
     closed loops, each a bounded least-squares problem (``bounds`` by name: |p_k| <= b_k; SPAN by default)
-    regularised by ``regularisation`` |p|^2 (a relative weight of the data's scale)."""
+    regularised by ``regularisation`` |p|^2 (a relative weight of the data's scale); ``parameters`` the names
+    identified (every one by default), the others held at 0."""
     q, _ = as_batch(joints, model.nominal.n_act, "joints")
     measured = np.asarray(poses, dtype=float).reshape(len(q), model.nominal.n_out)
     seen = np.isfinite(measured)
     if not seen.any(axis=1).all():
         raise PkmError("poses violate: at least one measured coordinate per pose")
+    chosen = _chosen(model, parameters)
     limit = np.full(len(model.names), SPAN)
     if bounds is not None:
         given = dict(bounds)
@@ -374,24 +409,95 @@ def calibrate(model: ErrorModel, joints: Any, poses: Any, design: Any = None, *,
     x = closed(p)
     before = float(np.sqrt(np.mean((measured - x)[seen] ** 2)))
     done = 0
+    names = [model.names[k] for k in chosen]
     for _ in range(iterations):
-        E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
-        step = _bounded_step(E, (measured - x)[seen], p, limit, regularisation * max(1.0, float(np.sum(E**2))))
-        p, done = p + step, done + 1
+        E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen][:, chosen]
+        step = _bounded_step(E, (measured - x)[seen], p[chosen], limit[chosen],
+                             regularisation * max(1.0, float(np.sum(E**2))))
+        p[chosen], done = p[chosen] + step, done + 1
         x = closed(p)
         if np.max(np.abs(step)) < 1e-12:
             break
-    E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen]
+    E = model.jacobian(x, design, mode=mode, errors=dict(zip(model.names, p, strict=True)))[seen][:, chosen]
     r = (measured - x)[seen]
     _, sv, Vt = np.linalg.svd(E, full_matrices=False)
     rank = int(np.sum(sv > RANK * sv[0])) if len(sv) else 0
     variance = float(r @ r) / max(1, len(r) - rank)
     inverse = np.linalg.pinv(E.T @ E, rcond=RANK**2)
-    null = [{model.names[k]: float(v[k]) for k in np.argsort(-np.abs(v))[:3]} for v in Vt[rank:]]
+    null = [_direction(names, v) for v in Vt[rank:]]
+    weak = [{**_direction(names, Vt[k]), "ratio": float(sv[k] / sv[0])} for k in range(rank - 1, -1, -1)
+            if sv[k] < WEAK * sv[0]]
     deviations = np.sqrt(np.maximum(np.diag(inverse) * variance, 0))
-    return Calibration(dict(zip(model.names, p.tolist(), strict=True)),
-                       dict(zip(model.names, deviations.tolist(), strict=True)), before, float(np.sqrt(np.mean(r**2))),
-                       rank, sv.tolist(), null, done)
+    return Calibration(dict(zip(names, p[chosen].tolist(), strict=True)),
+                       dict(zip(names, deviations.tolist(), strict=True)), before, float(np.sqrt(np.mean(r**2))),
+                       rank, sv.tolist(), null, weak, done)
+
+
+def _direction(names: list[str], v: np.ndarray) -> dict[str, float]:
+    """A direction in the parameters by its largest components (at most 4, those of at least a tenth)."""
+    order = [k for k in np.argsort(-np.abs(v))[:4] if abs(v[k]) >= 0.1]
+    return {names[k]: float(v[k]) for k in order}
+
+
+@dataclass
+class Selection:
+    """The measurement poses chosen from the candidates (their rows, in the order chosen), the log-determinant of
+    the chosen rows' information matrix E^T E and its condition number, in the parameters identified."""
+
+    rows: list[int]
+    log_determinant: float
+    condition: float
+
+
+def select_poses(model: ErrorModel, candidates: Any, count: int, design: Any = None, *, mode: str | None = None,
+                 parameters: Any = None, measured: Any = None) -> Selection:
+    """The ``count`` candidate poses whose measurements best identify the parameters (all by default): greedy
+    D-optimal design, each step the candidate that most increases det(E^T E + eps I) (its rows E_c: the
+    coordinates ``measured``, by name, all by default; a probe measures one), then exchanges of a chosen pose for
+    an unchosen one while one raises it."""
+    x, _ = as_batch(candidates, model.nominal.n_out, "candidates")
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= len(x):
+        raise PkmError(f"count violates: an integer from 1 to the {len(x)} candidates; got {count!r}")
+    names = model.nominal.pose_names
+    rows = [names.index(n) for n in (names if measured is None else measured) if n in names]
+    if measured is not None and (isinstance(measured, str) or len(rows) != len(measured) or not rows):
+        raise PkmError(f"measured violates: a list of the pose's coordinates ({', '.join(names)}); got {measured!r}")
+    E = model.jacobian(x, design, mode=mode)[:, rows][:, :, _chosen(model, parameters)]
+    usable = np.flatnonzero(np.all(np.isfinite(E), axis=(1, 2)))
+    if len(usable) < count:
+        raise PkmError(f"candidates violate: {count} poses within the machine's reach; {len(usable)} are")
+    information = np.einsum("nri,nrj->nij", E, E)
+    eps = 1e-12 * max(float(np.trace(information.sum(axis=0))), 1e-300)
+
+    def score(chosen: list[int]) -> float:
+        return float(np.linalg.slogdet(information[chosen].sum(axis=0) + eps * np.eye(E.shape[2]))[1])
+
+    chosen: list[int] = []
+    for _ in range(count):
+        chosen.append(max((c for c in usable if c not in chosen), key=lambda c: score([*chosen, c])))
+    improved = True
+    while improved:
+        improved = False
+        best = score(chosen)
+        for k in range(len(chosen)):
+            for c in usable:
+                if c not in chosen and score([*chosen[:k], c, *chosen[k + 1:]]) > best + 1e-9:
+                    chosen[k], best, improved = c, score([*chosen[:k], c, *chosen[k + 1:]]), True
+    sv = np.linalg.svd(information[chosen].sum(axis=0), compute_uv=False)
+    return Selection([int(c) for c in chosen], score(chosen), float(sv[0] / sv[-1]) if sv[-1] > 0 else np.inf)
+
+
+def _chosen(model: ErrorModel, parameters: Any) -> np.ndarray:
+    """The columns of the parameters a calibration identifies (every one where None)."""
+    if parameters is None:
+        return np.arange(len(model.names))
+    if isinstance(parameters, str) or not all(isinstance(n, str) for n in parameters) or not len(parameters):
+        raise PkmError(f"parameters violate: a list of the error model's parameters; got {parameters!r}")
+    unknown = sorted(set(parameters) - set(model.names))
+    if unknown:
+        raise PkmError(f"parameters violate: parameters of the error model ({', '.join(model.names)}); got "
+                       f"{', '.join(unknown)}")
+    return np.array([k for k, n in enumerate(model.names) if n in set(parameters)])
 
 
 def _nearest_assembly(mech: Any, joints: np.ndarray, measured: np.ndarray, design: Any) -> np.ndarray:

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from pkm import io
-from pkm.accuracy import calibrate
+from pkm.accuracy import ATTACHMENTS, calibrate
 from pkm.cli.arguments import design_option, listed
 from pkm.cli.common import emit, given_design, load_mechanism
 from pkm.errors import PkmError
@@ -25,6 +25,11 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("data", help="a CSV file: a header of the actuators' and the pose coordinates' names, a row per "
                                 "measurement in SI; a coordinate left empty is not measured (a probe's one)")
     listed(p, "--mode", key="mode")
+    p.add_argument("--attachments", choices=ATTACHMENTS, default="cartesian",
+                   help="the attachments' errors along x, y, z, or (polar) of their circle's radius and angle where "
+                        "placed on one (default: cartesian)")
+    p.add_argument("--parameters", help="the error parameters identified, comma-separated (default: all); the others "
+                                        "held at 0")
     p.add_argument("--out", help="folder for calibration.json (default: none); e.g. calibrated")
     design_option(p)
 
@@ -63,13 +68,17 @@ def run(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     d = given_design(m, args.design)
     q, x = _read(args.data, m.actuator_names, m.pose_names)
-    found = calibrate(m.error_model(), q, x, d, mode=args.mode)
+    chosen = None if args.parameters is None else [n.strip() for n in args.parameters.split(",")]
+    found = calibrate(m.error_model(args.attachments), q, x, d, mode=args.mode, parameters=chosen)
     data = {"mechanism": m.name, "measurements": len(q), **found.__dict__}
     lines = [f"{m.name}: {len(q)} measurements, residual RMS {found.rms_before:.3g} -> {found.rms_after:.3g} "
              f"({found.iterations} steps); {found.rank} of {len(found.errors)} parameters identified"]
     lines += [f"  {n} = {v:.4g} +- {found.deviations[n]:.2g}" for n, v in found.errors.items()]
     lines += [f"  not identified apart: {', '.join(f'{v:+.2f} {n}' for n, v in direction.items())}"
               for direction in found.unidentifiable]
+    lines += [f"  poorly identified (singular value {direction.pop('ratio'):.1e} of the largest): "
+              f"{', '.join(f'{v:+.2f} {n}' for n, v in direction.items())}"
+              for direction in (dict(w) for w in found.weakly_identified)]
     text = "\n".join(lines)
     if args.out:
         text += "\nwrote " + ", ".join(str(p) for p in io.write_result(
