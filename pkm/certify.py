@@ -26,7 +26,7 @@ import heapq
 import itertools
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -64,10 +64,12 @@ class Certificate:
     depth: int = 0
     seconds: float = 0.0
     stopped: str = ""  # why the search stopped short (the box or time budget), "" where it ran out of boxes
+    designs: dict[str, list[float]] = field(default_factory=dict)  # the parameters that span intervals
 
     def as_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in ("mechanism", "region", "mode", "design", "properties", "verdict",
-                                              "witnesses", "undecided", "boxes", "depth", "seconds", "stopped")}
+        return {k: getattr(self, k) for k in ("mechanism", "region", "mode", "design", "designs", "properties",
+                                              "verdict", "witnesses", "undecided", "boxes", "depth", "seconds",
+                                              "stopped")}
 
 
 def _round_axes(shape: Any) -> list[int]:
@@ -80,12 +82,17 @@ def _round_axes(shape: Any) -> list[int]:
     return []
 
 
-def _margins(mech: Any, x: ca.SX, mode: str, design: np.ndarray) -> tuple[dict[str, ca.SX], ca.SX]:
+def _as_casadi(design: Any) -> Any:
+    """A design vector as CasADi takes it: symbolic where some of it spans a box (:func:`certify`'s designs)."""
+    return design if isinstance(design, ca.SX) else ca.DM(design)
+
+
+def _margins(mech: Any, x: ca.SX, mode: str, design: Any) -> tuple[dict[str, ca.SX], ca.SX]:
     """The properties' values at the pose x, and the joints there: the type I and type II singularity margins as
     |det A| / prod_j ||a_j|| (the determinants from the first order, A = [H_a H_p] and [H_p H_x] from the closure:
     the same Hadamard ratios as pkm.indices.local's, in a form whose enclosures stay tight), and the least
     workspace margin (signed beyond the reach)."""
-    signs, d = ca.DM(mech.working_mode(mode).signs), ca.DM(design)
+    signs, d = ca.DM(mech.working_mode(mode).signs), _as_casadi(design)
     fused = regions.pipeline(mech, (), first_order=True)
     q, _, _, *rest = fused(x, signs, d)
     first = dict(zip(fused.name_out()[3:], rest, strict=True))
@@ -194,10 +201,11 @@ class _Domain:
     round_axes: list[int]
     limits: np.ndarray
     capsules: _Capsules | None = None
+    design: ca.Function | None = None  # the design at u, where designs span a box
 
 
 def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
-            design: np.ndarray) -> _Domain:
+            design: Any) -> _Domain:
     if "collisions" in bounds and "collision" not in mech.functions:
         raise PkmError(f"properties violates: collisions of a machine whose legs state their capsules; {mech.name}'s "
                        "do not")
@@ -206,9 +214,10 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
     g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
     gradient = ca.Function("certified_gradient", [u], [ca.densify(ca.jacobian(g(u), u))])
+    spanned = ca.Function("certified_design", [u], [design]) if isinstance(design, ca.SX) else None
     return _Domain(enclosure(g), enclosure(gradient), g, ca.Function("certified_pose", [u], [x]), indices,
                    round_axes, np.array([bounds[n] for n in bounds if n != "collisions" for _ in PROPERTIES[n][0]]),
-                   capsules)
+                   capsules, spanned)
 
 
 def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _Capsules:
@@ -216,14 +225,24 @@ def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _C
     from pkm.spec.collisions import pairs
     from pkm.spec.vocabulary import kind_of
 
-    d = ca.DM(design)
+    d = _as_casadi(design)
     points = mech.functions["skeleton"](q, x, d)
     counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
     at = ca.Function("capsule_points", [u], [ca.densify(points)])
     margin = ca.Function("capsule_margin", [u], [ca.mmin(mech.functions["collision"](q, x, d))])
     return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description),
                      [sum(counts[:k]) for k in range(len(counts))],
-                     np.asarray(mech.functions["capsules"](d), dtype=float).ravel(), at, margin)
+                     _radii(mech, d, u), at, margin)
+
+
+def _radii(mech: Any, design: Any, u: ca.SX) -> np.ndarray:
+    """The capsules' radii: numbers, or where a radius follows a design parameter that spans a box, its largest
+    over the box (a bound that only widens the capsules: a proof stays a proof)."""
+    radii = mech.functions["capsules"](design)
+    if isinstance(radii, ca.DM):
+        return np.asarray(radii, dtype=float).ravel()
+    enclosed = enclosure(ca.Function("capsule_radii", [u], [ca.densify(radii)]))
+    return np.array([float(r.upper()) for r in enclosed([[ball(-1.0, 1.0)] * u.numel()])[0]])
 
 
 def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, float]:
@@ -238,9 +257,11 @@ def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, flo
 
 def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[str] = ("singularity", "limits"),
             mode: str | None = None, threshold: float | None = None, depth: int = DEPTH, max_boxes: int = MAX_BOXES,
-            seconds: float = SECONDS) -> Certificate:
+            seconds: float = SECONDS, designs: Mapping[str, Sequence[float]] | None = None) -> Certificate:
     """Each property proved, refuted or left undecided over the region (a name or a region of the mechanism)
-    at the design in the working mode (module docstring); ``threshold`` the least singularity margin."""
+    at the design in the working mode (module docstring); ``threshold`` the least singularity margin; with
+    ``designs`` ({parameter: [lower, upper]}), at every design whose parameters lie in those intervals (the
+    others the design's): the box searched spans them too, and a witness names its design."""
     bounds = _bounds(properties, threshold)
     shape = mech.region(region)
     d = mech.design_vector(design)
@@ -250,11 +271,48 @@ def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[
     if len(pieces) != 1 or not isinstance(inner, regions.Disc | regions.Rectangle | regions.Box | regions.Cylinder):
         raise PkmError(f"region {regions.region_name(shape)} violates: one disc, rectangle, box or cylinder (placed, "
                        "or mapped into the pose) to certify over, its reference coordinates in [-1, 1]")
-    u = ca.SX.sym("u", pieces[0].dimension)
-    domain = _domain(mech, pieces[0].to_pose(mech.functions, ca.DM(d), u), u, _round_axes(shape), bounds=bounds,
-                     mode=mode, design=d)
+    spans = _spans(mech, designs)
+    u = ca.SX.sym("u", pieces[0].dimension + len(spans))
+    at = _spanned(mech, d, spans, u[pieces[0].dimension:]) if spans else ca.DM(d)
+    domain = _domain(mech, pieces[0].to_pose(mech.functions, at, u[: pieces[0].dimension]), u, _round_axes(shape),
+                     bounds=bounds, mode=mode, design=at if spans else d)
     found = _search(mech, domain, depth=depth, max_boxes=max_boxes, seconds=seconds)
-    return Certificate(mech.name, regions.region_name(shape), mode, mech.design_dict(d), bounds, **found)
+    return Certificate(mech.name, regions.region_name(shape), mode, mech.design_dict(d), bounds, **found,
+                       designs={name: list(interval) for name, interval in spans.items()})
+
+
+def _spans(mech: Any, designs: Mapping[str, Sequence[float]] | None) -> dict[str, tuple[float, float]]:
+    """The design parameters that span intervals, checked: each a parameter of the mechanism, lower < upper,
+    finite and within its bounds."""
+    if designs is None:
+        return {}
+    if not isinstance(designs, Mapping):
+        raise PkmError(f"designs violates: a table {{parameter: [lower, upper]}}; got {type(designs).__name__}")
+    spans = {}
+    for name, given in designs.items():
+        parameter = next((p for p in mech.parameters if p.name == name), None)
+        if parameter is None:
+            raise PkmError(f"designs violates: parameters of {mech.name} ({', '.join(mech.parameter_names())}); got "
+                           f"{name!r}")
+        try:
+            lower, upper = (float(v) for v in given)
+        except (TypeError, ValueError):
+            raise PkmError(f"designs.{name} violates: [lower, upper], two numbers; got {given!r}") from None
+        if not (np.isfinite(lower) and np.isfinite(upper) and parameter.lower <= lower < upper <= parameter.upper):
+            raise PkmError(f"designs.{name} violates: finite, lower < upper, within [{parameter.lower:g}, "
+                           f"{parameter.upper:g}]; got [{lower:g}, {upper:g}]")
+        spans[name] = (lower, upper)
+    return spans
+
+
+def _spanned(mech: Any, design: np.ndarray, spans: dict[str, tuple[float, float]], v: ca.SX) -> ca.SX:
+    """The design vector with each spanning parameter at the middle of its interval plus half its width times
+    its reference coordinate in [-1, 1]."""
+    names = list(mech.parameter_names())
+    entries = [ca.SX(float(value)) for value in design]
+    for k, (name, (lower, upper)) in enumerate(spans.items()):
+        entries[names.index(name)] = (lower + upper) / 2 + (upper - lower) / 2 * v[k]
+    return ca.vertcat(*entries)
 
 
 def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float) -> dict[str, Any]:
@@ -395,6 +453,8 @@ def _refuted(domain: _Domain, u: np.ndarray) -> bool:
 def _witness(mech: Any, domain: _Domain, u: np.ndarray) -> dict[str, Any]:
     x = np.asarray(domain.pose(u), dtype=float).ravel()
     out = {"pose": dict(zip(mech.pose_names, x.tolist(), strict=True)), "u": u.tolist(),
+           **({"design": mech.design_dict(np.asarray(domain.design(u), dtype=float).ravel())}
+              if domain.design is not None else {}),
            **{i: float(v) for i, v in zip(domain.indices, np.asarray(domain.g(u)).ravel(), strict=True)}}
     if domain.capsules is not None:
         out["collision_margin"] = domain.capsules.upper(u)

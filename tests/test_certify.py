@@ -6,6 +6,7 @@ witness just beyond it."""
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
@@ -122,6 +123,10 @@ def test_pkm_certify_prints_the_verdict_and_refuses_bad_input(capsys):
     assert "properties violates: some of singularity, limits, collisions; got colour" in capsys.readouterr().err
     assert main(["certify", "delta", "--threshold", "2"]) == 2
     assert "threshold violates" in capsys.readouterr().err
+    assert main(["certify", "delta", "--properties", "limits", "--designs", "L_b=0.58:0.62"]) == 0
+    assert "over task, L_b in [0.58, 0.62] in mode elbow_out: PROVED" in capsys.readouterr().out
+    assert main(["certify", "delta", "--designs", "L_b=0.58"]) == 2
+    assert "--designs violates: comma-separated name=lower:upper" in capsys.readouterr().err
     with pytest.raises(PkmError, match="radius violates"):
         pkm.load("delta").largest_region([0, 0, -0.5], radius=0)
 
@@ -227,3 +232,39 @@ def test_a_property_that_fails_inside_a_box_is_never_proved_by_its_mean_value_fo
                      np.array([1e-6]))
     found = _search(pkm.load("five_bar"), domain, depth=12, max_boxes=3000, seconds=20)
     assert found["verdict"] != "proved"
+
+
+def test_a_disc_is_proved_for_every_design_of_a_box_and_refuted_with_the_design_that_fails():
+    """The five-bar's disc of radius 0.1 about (0, 1.6) for every r2 within 2 % and r3 within 5 % of the defaults:
+    proved, and 20 designs drawn in the box agree at 200 poses of the disc; the disc of radius 0.4, proved at the
+    default design, refuted for r2 in [0.9, 1.0] with a witness whose design lies in that interval and whose
+    workspace margin at that design is negative."""
+    five_bar = pkm.load("five_bar")
+    spans = {"r2": (0.98, 1.02), "r3": (0.76, 0.84)}
+    proved = five_bar.certify(_disc((0.0, 1.6), 0.1), properties=("singularity", "limits"), designs=spans)
+    assert proved.verdict == "proved"
+    assert proved.designs == {name: list(span) for name, span in spans.items()}
+    rng = np.random.default_rng(6)
+    radius, angle = 0.1 * np.sqrt(rng.uniform(size=200)), rng.uniform(0, 2 * np.pi, 200)
+    poses = np.column_stack([radius * np.cos(angle), 1.6 + radius * np.sin(angle)])
+    for _ in range(20):
+        design = {**dict(five_bar.design()), **{name: rng.uniform(*span) for name, span in spans.items()}}
+        assert np.all(five_bar.local_index("workspace_margin", poses, design) >= 0)
+        assert np.all(five_bar.local_index("singularity_margin", poses, design) >= 1e-6)
+    assert five_bar.certify(_disc((0.0, 1.6), 0.4), properties=("limits",)).verdict == "proved"
+    refuted = five_bar.certify(_disc((0.0, 1.6), 0.4), properties=("limits",), designs={"r2": (0.9, 1.0)})
+    assert refuted.verdict == "refuted"
+    (witness,) = refuted.witnesses
+    assert 0.9 <= witness["design"]["r2"] <= 1.0
+    pose = np.array(list(witness["pose"].values()))
+    assert five_bar.local_index("workspace_margin", pose, witness["design"]) < 0
+
+
+@pytest.mark.parametrize(("designs", "condition"), [
+    ({"l9": (0.9, 1.0)}, "designs violates: parameters of five_bar"),
+    ({"r2": (1.0, 0.9)}, "designs.r2 violates: finite, lower < upper"),
+    ({"r2": "wide"}, "designs.r2 violates: [lower, upper], two numbers"),
+])
+def test_a_bad_design_box_is_refused_naming_it(designs, condition):
+    with pytest.raises(PkmError, match=re.escape(condition)):
+        pkm.load("five_bar").certify(_disc((0.0, 1.6), 0.1), designs=designs)

@@ -32,8 +32,23 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--depth", type=int, default=DEPTH, help=f"halvings of a box at most (default: {DEPTH})")
     p.add_argument("--boxes", type=int, default=MAX_BOXES, help=f"boxes at most (default: {MAX_BOXES})")
     p.add_argument("--seconds", type=float, default=SECONDS, help=f"time at most (default: {SECONDS:g} s)")
+    p.add_argument("--designs", help="design parameters spanning intervals, every design within them certified: "
+                                     "comma-separated name=lower:upper (default: none); e.g. r2=0.98:1.02")
     p.add_argument("--out", help="folder for certify.json (default: none); e.g. certified")
     design_option(p)
+
+
+def _designs(text: str | None) -> dict[str, list[str]] | None:
+    """--designs as {name: [lower, upper]} (the numbers checked by pkm.certify)."""
+    if text is None:
+        return None
+    out = {}
+    for item in (part.strip() for part in text.split(",") if part.strip()):
+        name, _, span = item.partition("=")
+        if not span or span.count(":") != 1:
+            raise PkmError(f"--designs violates: comma-separated name=lower:upper; got {item!r}")
+        out[name.strip()] = span.split(":")
+    return out
 
 
 def run(args: argparse.Namespace) -> None:
@@ -57,16 +72,18 @@ def run(args: argparse.Namespace) -> None:
                 f"certifications, {found.seconds:.2f} s)")
     else:
         found = m.certify(given_region(m, args.region), d, properties=properties, mode=args.mode,
-                          threshold=args.threshold, **budget)
+                          threshold=args.threshold, designs=_designs(args.designs), **budget)
         data = found.as_dict()
+        spanned = "".join(f", {n} in [{lo:g}, {hi:g}]" for n, (lo, hi) in found.designs.items())
         text = (f"{m.name}: {', '.join(f'{p} >= {v:g}' for p, v in found.properties.items())} over "
-                f"{found.region} in mode {found.mode}: {found.verdict.upper()} ({found.boxes} boxes, depth "
+                f"{found.region}{spanned} in mode {found.mode}: {found.verdict.upper()} ({found.boxes} boxes, depth "
                 f"{found.depth}, {found.seconds:.2f} s"
                 + (f"; {found.undecided:.3g} of the region's box undecided" if found.undecided else "")
                 + (f"; stopped at {found.stopped}" if found.stopped else "") + ")")
         for w in found.witnesses:
-            values = {k: v for k, v in w.items() if k not in ("pose", "u")}
-            text += f"\n  witness {named(w['pose'])}: {named(values)}"
+            values = {k: v for k, v in w.items() if k not in ("pose", "u", "design")}
+            at = "".join(f", {n} = {w['design'][n]:.6g}" for n in found.designs)
+            text += f"\n  witness {named(w['pose'])}{at}: {named(values)}"
     if args.out:
         text += "\nwrote " + ", ".join(str(p) for p in io.write_result(
             Path(args.out), lambda folder: [io.write_text(folder / "certify.json", io.to_json(data))]))
