@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 import tomllib
 import warnings
 from fractions import Fraction
@@ -15,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import FIVE_BAR_ELASTIC, FIVE_BAR_OF_RR_LEGS
+from helpers import FIVE_BAR_ELASTIC, FIVE_BAR_OF_CHAINS, FIVE_BAR_OF_RR_LEGS
 
 import pkm
 from pkm.errors import PkmError, SingularityWarning
@@ -77,15 +78,16 @@ def _element(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     return turn.T @ local @ turn
 
 
-def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool) -> np.ndarray:
+def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool, elbow: float = 0.0) -> np.ndarray:
     """The stiffness at the platform of RR legs (each its base joint, elbow and platform joint) as a planar frame:
     each link an element, the proximal clamped to its drive's rotation (a spring DRIVE to ground), pins at the
-    elbow and at the platform joint (each element end its own rotation), the platform joints moving with the
-    platform's twist (dP, dphi) (``turning``) or one point dP; the internal degrees of freedom condensed."""
+    elbow (with ``elbow`` a rotational spring between its two element ends) and at the platform joint (each
+    element end its own rotation), the platform joints moving with the platform's twist (dP, dphi) (``turning``)
+    or one point dP; the internal degrees of freedom condensed."""
     masters = 3 if turning else 2
     n = masters + sum(6 for _ in legs)  # per leg: elbow u, v; drive rotation; three element-end rotations
     K = np.zeros((n, n))
-    for k, (base, elbow, end) in enumerate(legs):
+    for k, (base, knee, end) in enumerate(legs):
         first = masters + 6 * k
         u, drive, ends = first, first + 2, first + 3  # elbow translation, drive angle, other rotations
         to_end = np.zeros((2, n))
@@ -102,8 +104,9 @@ def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool) 
         distal[2, ends + 1] = 1
         distal[3:5] = to_end
         distal[5, ends + 2] = 1
-        K += proximal.T @ _element(base, elbow) @ proximal + distal.T @ _element(elbow, end) @ distal
+        K += proximal.T @ _element(base, knee) @ proximal + distal.T @ _element(knee, end) @ distal
         K[drive, drive] += DRIVE
+        K[np.ix_([ends, ends + 1], [ends, ends + 1])] += elbow * np.array([[1, -1], [-1, 1]])
     inner = np.arange(masters, n)
     free = inner[np.abs(np.diag(K)[inner]) > 0]
     m = np.arange(masters)
@@ -143,6 +146,48 @@ def test_the_virtual_joint_method_is_the_frame_model(machine, request):
             assert np.linalg.eigvalsh(drives - K).min() > -1e-9 * np.abs(drives).max()
             checked += 1
     assert checked >= 40
+
+
+FLEXURE = 500.0  # [N m/rad] an elbow's rotational spring
+
+
+@pytest.mark.parametrize("legs", ["RR", "chain"])
+def test_a_passive_joints_spring_is_the_frame_models_spring_at_the_elbow(legs):
+    """The five-bar with a rotational spring at each elbow (elastic.passive), of RR legs (whose distal angle is
+    measured from the base's frame) and of chain legs (joint by joint): K equals the frame model's with the spring
+    between the elbow's two element ends, to 1e-9, at poses across the workspace in both assembly modes; the
+    springs stiffen it."""
+    def described(elastic: dict, name: str) -> dict:
+        if legs == "RR":
+            return {**FIVE_BAR_ELASTIC, "name": name, "legs": {**FIVE_BAR_ELASTIC["legs"], "elastic": elastic}}
+        return {**FIVE_BAR_OF_CHAINS, "name": name,
+                "legs": [{**leg, "elastic": elastic} for leg in FIVE_BAR_OF_CHAINS["legs"]]}
+
+    m = _load(described({**ELASTIC, "passive": [str(FLEXURE)]}, f"five_bar_{legs}_flexures"))
+    free = _load(FIVE_BAR_ELASTIC if legs == "RR" else described(ELASTIC, "five_bar_chains_elastic"))
+    rng = np.random.default_rng(8)
+    home = np.asarray(m.functions["home"](m.design_vector(None))).ravel()
+    checked = 0
+    for mode in m.modes:
+        for pose in home + rng.uniform(-0.15, 0.15, (15, 2)):
+            K = m.stiffness(pose, mode=mode)
+            if not np.all(np.isfinite(K)):
+                continue
+            want = frame_stiffness(m.linkage(pose, mode=mode), pose, turning=False, elbow=FLEXURE)
+            np.testing.assert_allclose(K, want, rtol=0, atol=1e-9 * np.abs(want).max())
+            assert np.linalg.eigvalsh(K - free.stiffness(pose, mode=mode)).min() > 0
+            checked += 1
+    assert checked >= 20
+
+
+def test_a_passive_joints_list_has_one_entry_per_passive_joint():
+    raw = copy.deepcopy(FIVE_BAR_ELASTIC)
+    raw["legs"]["elastic"] = {**ELASTIC, "passive": ["1", "2"]}
+    with pytest.raises(DescriptionError, match=re.escape("legs.elastic.passive violates: a list of 1 expressions")):
+        pkm.load(raw)
+    raw["legs"]["elastic"]["passive"] = ["-5"]
+    with pytest.raises(DescriptionError, match=re.escape("a positive value at the default design, or 0 (free)")):
+        pkm.load(raw)
 
 
 def test_the_alias_3rpr_with_unit_drives_has_its_rational_stiffness():

@@ -3,12 +3,13 @@
 Every leg is a chain of joints from its base attachment A to its platform attachment C: a chain leg's as described,
 a named kind's as :data:`pkm.spec.vocabulary.KINDS` states it (RR: an actuated R, an R; RPR: an R, an actuated P;
 PRR: an actuated P, an R; R_parallelogram: an actuated R, a parallelogram; UPS: a U, an actuated P), its joint
-values at the reference configuration from the kind's own where they differ from the chain's (:data:`_VALUES`: an
-RR's elbow and an R_parallelogram's rods relative to its arm, a UPS's universal joint). One walk turns each into
-links and joints: an R or a P one joint, a U two revolutes (its zero at the reference configuration), a
-parallelogram the chain its two rods make of it (the rods' plane turning about its first axis, the rods swinging
-about its second, the same two turns undone at the rods' end by mimic joints with multiplier -1, so that the bar
-there keeps the frame of the body before it), and the platform's revolute (planar) or spherical joint at C.
+values at the reference configuration from the kind's own where they differ from the chain's (an RR's elbow and an
+R_parallelogram's rods relative to its arm: :func:`_relative`; a UPS's universal joint: :data:`_VALUES`). One walk
+turns each into links and joints: an R or a P one joint, a U two revolutes (its zero at the reference
+configuration), a parallelogram the chain its two rods make of it (the rods' plane turning about its first axis, the
+rods swinging about its second, the same two turns undone at the rods' end by mimic joints with multiplier -1, so
+that the bar there keeps the frame of the body before it), and the platform's revolute (planar) or spherical joint
+at C.
 
 The platform hangs from the first leg whose platform joint is not spherical (its joints, then the other legs'
 in their order); where every leg ends in a spherical joint the platform floats (a free joint), and a point pose
@@ -106,7 +107,7 @@ class _Leg:
         self.joints: list[Joint] = []
         self.platform_parts: list[Inertial] = []
         self.notes: list[str] = []
-        self.q = _VALUES[leg["kind"]](self, q) if leg["kind"] in _VALUES else q
+        self.q = _VALUES[leg["kind"]](self, q) if leg["kind"] in _VALUES else _relative(leg, q)
         self._walk()
 
     def body(self, name: str) -> Mapping[str, Any] | None:
@@ -235,27 +236,22 @@ class _Leg:
         return parts
 
 
-def _rr_values(_leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
-    """An RR's absolute link angles (theta, phi) as its chain's joints: the arm's, the elbow relative to it."""
-    theta, phi = q
-    return theta, phi - theta
-
-
 def _ups_values(leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
     """A UPS's length, then its universal joint (about x, then y) pointing its prismatic joint's z at C."""
     d = unit(leg.c - leg.a)
     return q[0], math.atan2(-d[1], d[2]), math.asin(float(np.clip(d[0], -1.0, 1.0)))
 
 
-def _parallelogram_values(_leg: _Leg, q: tuple[float, ...]) -> tuple[float, ...]:
-    """An R_parallelogram's arm angle, then its parallelogram's turns in the arm's frame: the rods' absolute
-    angle about the axis less the arm's, and their turn about zero x axis."""
-    theta, alpha, beta = q
-    return theta, alpha - theta, beta
+def _relative(leg: Mapping[str, Any], q: tuple[float, ...]) -> tuple[float, ...]:
+    """A kind's joint values (actuated first) as its chain's: each passive angle the kind measures from the base's
+    frame (:attr:`pkm.spec.vocabulary.Kind.follows`: an RR's distal angle, an R_parallelogram's rods' angle about
+    the axis) less the actuated joint's."""
+    follows = kind_of(leg).follows
+    return tuple(v - q[0] if i - 1 in follows else v for i, v in enumerate(q))
 
 
-# a named kind's joint values (actuated first) as its chain's, where they differ
-_VALUES = {"RR": _rr_values, "UPS": _ups_values, "R_parallelogram": _parallelogram_values}
+# a named kind's joint values (actuated first) as its chain's, where its chain's coordinates are not its own
+_VALUES = {"UPS": _ups_values}
 
 
 Frame = tuple[np.ndarray, np.ndarray, np.ndarray]  # the body's origin after a joint, its link's end, the joint's axis

@@ -51,8 +51,10 @@ from pkm.spec.vocabulary import (
     TEXT_LENGTH,
     Field,
     beams,
+    is_free,
     kind_of,
     leg_fields,
+    passive_angles,
 )
 
 SUFFIX = ".toml"  # a mechanism name with it is a description file
@@ -475,7 +477,7 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
     """A leg's elastic elements: its material ({E, G, density} trees), section ({shape, its dimensions}), drive
     stiffness (or None: rigid) and per beam its material and section, each the leg's where not given."""
     if not isinstance(raw, Mapping):
-        raise _fail(where, "a table {material, section, drive, beams}")
+        raise _fail(where, "a table {material, section, drive, passive, beams}")
     _check_fields(raw, ELASTIC_FIELDS, where, "a leg's elastic elements")
     spatial = len(leg["joints"][0]["link"]) == 3
     material = _material(raw["material"], f"{where}.material", names)
@@ -497,7 +499,15 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
                          "section": _section(table["section"], f"{field}.section", names, spatial=spatial)
                          if "section" in table else section})
     drive = _expression(f"{where}.drive", raw["drive"], names) if "drive" in raw else None
-    return {"beams": per_beam, "drive": drive}
+    out = {"beams": per_beam, "drive": drive}
+    if "passive" in raw:
+        count = len(passive_angles(leg))
+        given = raw["passive"]
+        if not isinstance(given, list) or len(given) != count:
+            raise _fail(f"{where}.passive", f"a list of {count} expressions, one per passive joint variable of the "
+                                            "leg in order (0 for a free one)")
+        out["passive"] = [_expression(f"{where}.passive[{j}]", t, names) for j, t in enumerate(given)]
+    return out
 
 
 def _material(raw: Any, where: str, names: set[str]) -> dict[str, expressions.Tree]:
@@ -653,9 +663,11 @@ def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
 def _check_elastic(elastic: Mapping[str, Any], where: str, value: Any) -> None:
     """Every number of a leg's elastic elements positive at the default design, a tube's wall within its
     section."""
+    free = {f"{where}.passive[{j}]" for j, t in enumerate(elastic.get("passive", [])) if is_free(t)}
     for field, tree in _trees(elastic, where):
-        if not value(field, tree) > 0:
-            raise _fail(field, "a positive value at the default design")
+        if field not in free and not value(field, tree) > 0:
+            raise _fail(field, "a positive value at the default design" + (", or 0 (free)" if ".passive[" in field
+                                                                           else ""))
     for b, beam in enumerate(elastic["beams"]):
         section = beam["section"]
         if "t" in section:

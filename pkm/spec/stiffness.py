@@ -1,14 +1,16 @@
 """The Cartesian stiffness of a described machine by the virtual joint method (Pashkevich, Klimchik and Chablat,
 MMT 44, 2009), composed in CasADi from its derived module leg by leg like the first order.
 
-Each leg is a serial chain from its base joint to its platform joint at c: its drive a spring in its actuated
-joint (compliance k_a^-1), each beam (:func:`pkm.spec.vocabulary.beams`) clamped at its start and a 6-D spring at
-its end E (3-D in the plane: its Euler-Bernoulli compliance C_b, :mod:`symbolic.described.elastic`), its passive
-joints free. With the closure h(q_a, q_p, c) = 0 of the leg (its rows: the chain's end less c, or a distance),
-a small motion closes where H_a dq_a + H_p dq_p + H_theta dtheta + H_c dc = 0, H_theta the chain end's motion
-under each beam's deflection (a twist at E: dc = du + dphi x (c - E)). The springs' compliance seen at the
-chain's end, S = H_a k_a^-1 H_a^T + sum_b H_theta,b C_b H_theta,b^T, and the passive joints give the leg's
-stiffness at c,
+Each leg is a serial chain from its base joint to its platform joint at c: its drive a spring in its actuated joint
+(compliance k_a^-1), each beam (:func:`pkm.spec.vocabulary.beams`) clamped at its start and a 6-D spring at its end
+E (3-D in the plane: its Euler-Bernoulli compliance C_b, :mod:`symbolic.described.elastic`), its passive joints free
+or, where the leg's ``elastic.passive`` gives their stiffness k_p, springs in their own motion (relative to the link
+before them; a kind that measures a passive angle from the base's frame, an RR's distal one, has it turn with the
+actuated joint: :attr:`pkm.spec.vocabulary.Kind.follows`). With the closure h(q_a, q_p, c) = 0 of the leg (its rows:
+the chain's end less c, or a distance), a small motion closes where H_a dq_a + H_p dq_p + H_theta dtheta + H_c dc =
+0, H_theta the chain end's motion under each beam's deflection (a twist at E: dc = du + dphi x (c - E)). The
+springs' compliance seen at the chain's end, S = H_a k_a^-1 H_a^T + sum_p H_p k_p^-1 H_p^T + sum_b H_theta,b C_b
+H_theta,b^T, and the free passive joints (H_p their columns) give the leg's stiffness at c,
 
     K_i = H_c^T G H_c,   G the first block of [[S, H_p], [H_p^T, 0]]^-1,
 
@@ -20,8 +22,8 @@ the plane and a spherical joint in space, leaves the end's rotation free). The p
 
 in the twist's coordinates: a point pose's translation alone (A_i = I), else the translation and the small
 rotation about the base's axes (in the plane the platform angle's). Its blocks are in N/m, N/rad and N m/rad.
-Without the beams (``actuators_only``) K is J^T diag(k_a) J, Gosselin's actuator stiffness (IEEE TRA 6(3),
-1990)."""
+Without the beams and the passive joints' springs (``actuators_only``) K is J^T diag(k_a) J, Gosselin's actuator
+stiffness (IEEE TRA 6(3), 1990)."""
 
 from __future__ import annotations
 
@@ -31,7 +33,7 @@ import casadi as ca
 
 from pkm.spec.compose import legs_layout
 from pkm.spec.schema import Description
-from pkm.spec.vocabulary import beams, kind_of
+from pkm.spec.vocabulary import beams, kind_of, passive_stiffness
 
 
 def _cross(v: ca.SX) -> ca.SX:
@@ -80,7 +82,7 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
     _, H_q, _ = constraint(q, x, d)
     H_c = ends(q, x, d)
     points = skeleton(q, x, d)
-    drives, terms = elastic(d)
+    drives, compliances, terms = elastic(d)
     data = description.data
     frame = data["pose"]["frame"]
     legs = data["legs"]
@@ -89,15 +91,24 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
     origin = x[:dim]
     turning = frame in ("planar", "spatial")
     total = {k: ca.SX.zeros(x.numel(), x.numel()) for k in ("K", "K_drives")}
-    first, beam = 0, 0
+    first, beam, spring = 0, 0, 0
     for k, (leg, (rows, passive, _)) in enumerate(zip(legs, legs_layout(description), strict=True)):
         own = points[first:first + kind_of(leg).points, :].T
         first += kind_of(leg).points
         c = own[:, -1]
-        H_a = H_q[rows, k]
-        H_p = H_q[rows, [n_act + p for p in passive]] if passive else ca.SX.zeros(len(rows), 0)
+        columns = [H_q[rows, n_act + p] for p in passive]
+        # the actuated joint turned with the passive joints' own motions held: the angles its kind measures from
+        # the base's frame turn with it
+        H_a = H_q[rows, k] + sum((columns[i] for i in kind_of(leg).follows), ca.SX.zeros(len(rows), 1))
+        stiff = [j for j, given in enumerate(passive_stiffness(leg)) if given is not None]
+        free = [j for j in range(len(columns)) if j not in stiff]
+        H_p = ca.horzcat(*(columns[j] for j in free)) if free else ca.SX.zeros(len(rows), 0)
+        H_all = ca.horzcat(*columns) if columns else ca.SX.zeros(len(rows), 0)
         drive = drives[k] * (H_a @ H_a.T)
         flexed = drive
+        for j in stiff:
+            flexed = flexed + compliances[spring + j] * (columns[j] @ columns[j].T)
+        spring += len(columns)
         for j in beams(leg):
             flexed = flexed + _beam(terms[beam, :].T, own[:, j], own[:, j + 1], c)
             beam += 1
@@ -107,8 +118,8 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
                 ca.horzcat(ca.SX.eye(3), -_cross(offset))
         else:
             A = ca.SX.eye(dim)
-        for name, springs in (("K", flexed), ("K_drives", drive)):
-            total[name] = total[name] + A.T @ _leg(H_p, H_c[rows, :], springs) @ A
+        for name, springs, unconstrained in (("K", flexed, H_p), ("K_drives", drive, H_all)):
+            total[name] = total[name] + A.T @ _leg(unconstrained, H_c[rows, :], springs) @ A
     K = total["K"]
     if turning:
         t, r = slice(0, dim), slice(dim, x.numel())

@@ -138,15 +138,19 @@ ELASTIC_FIELDS = (
           required=True),
     Field("drive", "an expression [N m/rad, N/m on a prismatic joint], positive", "the actuated joint's "
           "stiffness (the drive and its transmission); rigid where absent"),
+    Field("passive", "a list of expressions [N m/rad, N/m on a prismatic joint], one per passive joint variable, "
+          "each positive, or 0", "each passive joint's stiffness for its own motion (relative to the link before it: "
+          "a flexure's, a spring's), in order from the base (a universal joint's or a parallelogram's two); 0 or "
+          "absent: free"),
     Field("beams", "a list of tables {material, section}", "each beam of the leg in order from the base (its links "
           "after a revolute, a universal joint or a parallelogram, whose rods count twice), each field optional: "
           "where given, it replaces the leg's"),
 )
 BEAM_FIELDS = (Field("material", ELASTIC_FIELDS[0].holds, "the beam's material; the leg's by default"),
                Field("section", ELASTIC_FIELDS[1].holds, "the beam's section; the leg's by default"))
-ELASTIC = Field("elastic", "a table {material, section, drive, beams} (Elastic elements)", "the leg's elastic "
-                "elements: its links as Euler-Bernoulli beams clamped at their joints, its drive as a spring; where "
-                "one leg has them every leg does")
+ELASTIC = Field("elastic", "a table {material, section, drive, passive, beams} (Elastic elements)", "the leg's "
+                "elastic elements: its links as Euler-Bernoulli beams clamped at their joints, its drive and its "
+                "passive joints as springs; where one leg has them every leg does")
 BEAM_JOINTS = ("R", "U", "parallelogram")  # a chain joint whose non-zero link is a beam
 SHAPES = {"disc": (2, 1, "its radius"), "rectangle": (2, 2, "its half extents"), "box": (3, 3, "its half extents"),
           "cylinder": (3, 2, "its radius and half length")}  # a region's dimension, its size's entries, their meaning
@@ -174,7 +178,8 @@ class Kind:
     names the assembly modes), its bodies, the joints drawn, and the chain of joints a leg of it is: ``chain``
     takes the leg's own fields as expression texts (a direction a list of them) and gives the joints as a chain
     leg's ``joints`` table states them, in the base's frame (``turn`` 0); None for a chain, whose joints are its
-    own."""
+    own. ``follows``: the passive angles that the kind measures from the base's frame, not from the link before
+    them (an RR's distal angle): each is its chain joint's own angle plus the actuated joint's."""
 
     space: str
     doc: str
@@ -187,6 +192,7 @@ class Kind:
     bodies: tuple[Field, ...]
     points: int  # joints drawn, from the base's to the platform's
     chain: Callable[[Mapping[str, Any]], list[dict[str, Any]]] | None = None
+    follows: tuple[int, ...] = ()  # passive angles measured from the base's frame: they turn with the actuated joint
 
     @property
     def branched(self) -> bool:
@@ -237,7 +243,8 @@ KINDS = {
                 Field("distal", BODY, "the passive link, its centre from the elbow, its inertia about z")),
         points=3,
         chain=lambda leg: [{"type": "R", "actuated": True, "link": [leg["proximal"], "0"]},
-                           {"type": "R", "link": [leg["distal"], "0"]}]),
+                           {"type": "R", "link": [leg["distal"], "0"]}],
+        follows=(0,)),
     "RPR": Kind(
         space="planar",
         doc="a passive revolute at the base attachment, an actuated prismatic joint along the leg (its length, to "
@@ -288,7 +295,8 @@ KINDS = {
                             "link": _times(leg["arm"], leg["zero"])},
                            {"type": "parallelogram", "axes": [leg["axis"], _cross(leg["zero"], leg["axis"])],
                             "link": _times(leg["rod"], leg["zero"])},
-                           {"type": "S"}]),
+                           {"type": "S"}],
+        follows=(0,)),
     "UPS": Kind(
         space="spatial",
         doc="a universal joint at the base attachment, an actuated prismatic joint along the leg (its length), a "
@@ -411,6 +419,19 @@ def passive_angles(leg: Mapping[str, Any]) -> tuple[bool, ...]:
     if leg["kind"] != CHAIN:
         return (True,) * KINDS[leg["kind"]].passive
     return tuple(j["type"] != "P" for j in leg["joints"] if not j["actuated"] for _ in range(CHAIN_JOINTS[j["type"]]))
+
+
+def is_free(tree: Any) -> bool:
+    """Whether a passive joint's stiffness (an expression tree) is the literal 0 of a free joint."""
+    return isinstance(tree, int | float) and not isinstance(tree, bool) and tree == 0
+
+
+def passive_stiffness(leg: Mapping[str, Any]) -> list[Any]:
+    """A normalised leg's passive joints' stiffness expressions in order, None for a free one (0, or not given)."""
+    given = leg.get("elastic", {}).get("passive")
+    if given is None:
+        return [None] * len(passive_angles(leg))
+    return [None if is_free(t) else t for t in given]
 
 
 def beams(leg: Mapping[str, Any]) -> list[int]:

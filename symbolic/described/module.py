@@ -10,7 +10,7 @@ from typing import Any
 
 import sympy as sp
 
-from pkm.spec.vocabulary import beams, rods
+from pkm.spec.vocabulary import beams, passive_stiffness, rods
 from symbolic import codegen
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.described.bodies import Kinetic, chain_bodies, leg_bodies, mass_matrix, platform_bodies
@@ -57,21 +57,24 @@ def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *
 
 def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[Leg], *, joints: Port, pose: Port,
                  design: Port, vector: Any, scalar: Any) -> None:
-    """``elastic(design) -> (drives, beams)``: each leg's drive compliance (0 where rigid) and each beam's
-    compliance terms (:data:`symbolic.described.elastic.BEAM_TERMS`, legs in order, each leg's beams from the
-    base); and ``leg_ends(q, x, design) -> H_c``: each leg's closure's derivative in its platform joint's point,
-    the legs' rows stacked."""
+    """``elastic(design) -> (drives, passive, beams)``: each leg's drive compliance (0 where rigid), its passive joints'
+    (0 where free) and each beam's compliance terms (:data:`symbolic.described.elastic.BEAM_TERMS`, legs in
+    order, each leg's beams from the base); and ``leg_ends(q, x, design) -> H_c``: each leg's closure's
+    derivative in its platform joint's point, the legs' rows stacked."""
     dim = vector(described[0]["base"]).rows
-    drives, terms = [], []
+    drives, terms, passive = [], [], []
     for leg in described:
         elastic = leg["elastic"]
         drives.append(sp.Integer(0) if elastic["drive"] is None else 1 / scalar(elastic["drive"]))
+        passive += [sp.Integer(0) if k is None else 1 / scalar(k) for k in passive_stiffness(leg)]
         for b, j in enumerate(beams(leg)):
             link = vector(leg["joints"][j]["link"])
             terms.append(beam_terms(elastic["beams"][b], sp.sqrt(link.dot(link)), scalar, planar=dim == 2,
                                     count=rods(leg, j)))
     spec.add("elastic", (design,),
              (Output("drives", sp.Matrix(drives), "each leg's drive compliance, 0 where rigid [rad/(N m), m/N]"),
+              Output("passive", sp.Matrix(passive) if passive else sp.zeros(0, 1), "each leg's passive joints' "
+                     "compliance in order, 0 where free [rad/(N m), m/N]"),
               Output("beams", sp.Matrix(terms) if terms else sp.zeros(0, len(BEAM_TERMS)),
                      f"each beam's compliance terms at its end, clamped at its start: {', '.join(BEAM_TERMS)} [SI]")),
              "The compliance of each leg's drive and of each of its beams.")
