@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import re
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from pkm import regions
 from pkm.cli import main
 from pkm.errors import PkmError, SingularityWarning
 from pkm.intervals import ball, enclosure
+from pkm.models.described import DESCRIPTIONS
 
 
 def test_the_enclosure_of_a_graph_holds_its_values_over_the_box():
@@ -268,3 +270,53 @@ def test_a_disc_is_proved_for_every_design_of_a_box_and_refuted_with_the_design_
 def test_a_bad_design_box_is_refused_naming_it(designs, condition):
     with pytest.raises(PkmError, match=re.escape(condition)):
         pkm.load("five_bar").certify(_disc((0.0, 1.6), 0.1), designs=designs)
+
+
+def _capsule(p: np.ndarray, q: np.ndarray, radius: float):
+    """coal's capsule about the segment p q: its axis z turned onto q - p, its centre the segment's middle."""
+    import coal
+
+    d = q - p
+    length = float(np.linalg.norm(d))
+    z = d / length
+    axis = np.cross([0.0, 0.0, 1.0], z)
+    s, c = float(np.linalg.norm(axis)), float(z[2])
+    if s < 1e-12:
+        rotation = np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    else:
+        k = axis / s
+        cross = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        rotation = np.eye(3) + s * cross + (1 - c) * cross @ cross
+    return coal.Capsule(radius, length), coal.Transform3s(rotation, (p + q) / 2)
+
+
+def test_the_deltas_capsules_are_coals_and_its_tasks_rim_is_certified_free_of_collisions():
+    """The Delta with 15 mm capsules about its arms and rods: every pair's margin (the arms and the rods of two legs
+    against each other) equals coal's capsule distance at 30 poses across and beyond its task, to 1e-12; a
+    cylinder at the task's rim is proved free of collisions."""
+    import coal
+
+    from pkm.batch import evaluate
+    from pkm.spec.collisions import pairs
+
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    m = pkm.load({**raw, "name": "delta_capsules", "legs": {**raw["legs"], "capsule": "0.015"}})
+    d = m.design_vector(None)
+    radii = np.asarray(m.functions["capsules"](d)).ravel()
+    rng = np.random.default_rng(3)
+    radius, angle = 0.25 * np.sqrt(rng.uniform(size=30)), rng.uniform(0, 2 * np.pi, 30)
+    checked = 0
+    for x in np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.6, -0.4, 30)]):
+        legs = m.linkage(x)
+        if not legs or not all(np.all(np.isfinite(leg)) for leg in legs):
+            continue
+        (margins,) = evaluate(m.functions["collision"], m.inverse_kinematics(x, passive=True), x, d)
+        for margin, (i, a, j, b) in zip(np.ravel(margins), pairs(m.description), strict=True):
+            distance = coal.distance(*_capsule(legs[i][a], legs[i][a + 1], radii[i]),
+                                     *_capsule(legs[j][b], legs[j][b + 1], radii[j]),
+                                     coal.DistanceRequest(), coal.DistanceResult())
+            assert margin == pytest.approx(distance, abs=1e-12)
+            checked += 1
+    assert checked >= 20 * 12
+    rim = regions.Cylinder("rim", "the task's rim", fixed=((0.15, 0.0, -0.5), (0.03, 0.05)), axis=2)
+    assert m.certify(rim, properties=("collisions",)).verdict == "proved"
