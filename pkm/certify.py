@@ -261,24 +261,61 @@ def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[
     """Each property proved, refuted or left undecided over the region (a name or a region of the mechanism)
     at the design in the working mode (module docstring); ``threshold`` the least singularity margin; with
     ``designs`` ({parameter: [lower, upper]}), at every design whose parameters lie in those intervals (the
-    others the design's): the box searched spans them too, and a witness names its design."""
+    others the design's): the box searched spans them too, and a witness names its design. In parallel over
+    boxes: :func:`pkm.certify_pieces.certify`."""
+    task = checked(mech, region, design, properties=properties, mode=mode, threshold=threshold, designs=designs)
+    found = search(mech, prepared(mech, task), depth=depth, max_boxes=max_boxes, seconds=seconds)
+    return task.certificate(mech, found)
+
+
+@dataclass(frozen=True)
+class Task:
+    """A certification's inputs, checked: the region (as given, and placed), the design vector, the working
+    mode, the properties (as given, and their thresholds), the least singularity margin given and the design
+    parameters that span intervals."""
+
+    region: Any
+    shape: Any
+    design: np.ndarray
+    mode: str
+    properties: tuple[str, ...]
+    threshold: float | None
+    bounds: dict[str, float]
+    spans: dict[str, tuple[float, float]]
+
+    @property
+    def dimension(self) -> int:
+        """The searched box's: the region's reference coordinates and the spanning parameters'."""
+        return self.shape.pieces()[0].dimension + len(self.spans)
+
+    def certificate(self, mech: Any, found: dict[str, Any]) -> Certificate:
+        return Certificate(mech.name, regions.region_name(self.shape), self.mode, mech.design_dict(self.design),
+                           self.bounds, **found, designs={n: list(interval) for n, interval in self.spans.items()})
+
+
+def checked(mech: Any, region: Any, design: Any = None, *, properties: Sequence[str] = ("singularity", "limits"),
+            mode: str | None = None, threshold: float | None = None,
+            designs: Mapping[str, Sequence[float]] | None = None) -> Task:
+    """A certification's inputs checked (:func:`certify`'s)."""
     bounds = _bounds(properties, threshold)
     shape = mech.region(region)
     d = mech.design_vector(design)
-    mode = mech.working_mode(mode).name
     pieces = shape.pieces()
     inner = getattr(shape, "inner", shape)
     if len(pieces) != 1 or not isinstance(inner, regions.Disc | regions.Rectangle | regions.Box | regions.Cylinder):
         raise PkmError(f"region {regions.region_name(shape)} violates: one disc, rectangle, box or cylinder (placed, "
                        "or mapped into the pose) to certify over, its reference coordinates in [-1, 1]")
-    spans = _spans(mech, designs)
-    u = ca.SX.sym("u", pieces[0].dimension + len(spans))
-    at = _spanned(mech, d, spans, u[pieces[0].dimension:]) if spans else ca.DM(d)
-    domain = _domain(mech, pieces[0].to_pose(mech.functions, at, u[: pieces[0].dimension]), u, _round_axes(shape),
-                     bounds=bounds, mode=mode, design=at if spans else d)
-    found = _search(mech, domain, depth=depth, max_boxes=max_boxes, seconds=seconds)
-    return Certificate(mech.name, regions.region_name(shape), mode, mech.design_dict(d), bounds, **found,
-                       designs={name: list(interval) for name, interval in spans.items()})
+    return Task(region, shape, d, mech.working_mode(mode).name, tuple(properties), threshold, bounds,
+                _spans(mech, designs))
+
+
+def prepared(mech: Any, task: Task) -> _Domain:
+    """The domain of a certification: the region's reference coordinates and the spanning design parameters'."""
+    piece = task.shape.pieces()[0]
+    u = ca.SX.sym("u", task.dimension)
+    at = _spanned(mech, task.design, task.spans, u[piece.dimension:]) if task.spans else ca.DM(task.design)
+    return _domain(mech, piece.to_pose(mech.functions, at, u[: piece.dimension]), u, _round_axes(task.shape),
+                   bounds=task.bounds, mode=task.mode, design=at if task.spans else task.design)
 
 
 def _spans(mech: Any, designs: Mapping[str, Sequence[float]] | None) -> dict[str, tuple[float, float]]:
@@ -315,15 +352,18 @@ def _spanned(mech: Any, design: np.ndarray, spans: dict[str, tuple[float, float]
     return ca.vertcat(*entries)
 
 
-def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float) -> dict[str, Any]:
-    """Branch and prune over [-1, 1]^d, the largest box first (module docstring)."""
+def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float,
+            start: tuple[np.ndarray, np.ndarray, int] | None = None) -> dict[str, Any]:
+    """Branch and prune over [-1, 1]^d (or the box ``start``: its corners and its level), the largest box first
+    (module docstring)."""
     dim = domain.g.numel_in(0)
-    start = time.perf_counter()
+    lo, hi, level = start if start is not None else (np.full(dim, -1.0), np.full(dim, 1.0), 0)
+    began = time.perf_counter()
     order = itertools.count()  # the heap's tie-break: first pushed, first taken
-    queue = [(-1.0, next(order), np.full(dim, -1.0), np.full(dim, 1.0), 0)]
+    queue = [(-float(np.prod(hi - lo)), next(order), lo, hi, level)]
     undecided, boxes, reached, stopped, witnesses = 0.0, 0, 0, "", []
     while queue:
-        if boxes >= max_boxes or time.perf_counter() - start > seconds:
+        if boxes >= max_boxes or time.perf_counter() - began > seconds:
             stopped = f"the budget of {max_boxes} boxes or {seconds:g} s"
             undecided += sum(float(np.prod((hi - lo) / 2)) for _, _, lo, hi, _ in queue)
             break
@@ -347,7 +387,7 @@ def _search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: 
             heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), next(order), *part, level + 1))
     verdict = "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided")
     return {"verdict": verdict, "witnesses": witnesses, "undecided": undecided, "boxes": boxes, "depth": reached,
-            "seconds": time.perf_counter() - start, "stopped": stopped}
+            "seconds": time.perf_counter() - began, "stopped": stopped}
 
 
 @dataclass
@@ -405,7 +445,7 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
     low, high, witness, steps = 0.0, radius, None, []
     while high - low > tolerance * high:
         trial = high if not steps else (low + high) / 2
-        found = _search(mech, domain_at(trial), depth=depth, max_boxes=max_boxes, seconds=seconds)
+        found = search(mech, domain_at(trial), depth=depth, max_boxes=max_boxes, seconds=seconds)
         steps.append({"radius": trial, **{k: found[k] for k in ("verdict", "boxes", "undecided", "seconds")}})
         if found["verdict"] == "proved":
             low = trial

@@ -225,14 +225,14 @@ def test_signs_truths_and_copysigns_over_a_box_are_every_value_they_take():
 def test_a_property_that_fails_inside_a_box_is_never_proved_by_its_mean_value_form():
     """g(u) = |u0 - 0.1| (1 + u1^2) >= 1e-6 fails at u0 = 0.1: the search must not prove it (the derivative of
     |.| enclosed as 0 across the kink once did)."""
-    from pkm.certify import _Domain, _search
+    from pkm.certify import _Domain, search
 
     u = ca.SX.sym("u", 2)
     g = ca.Function("g", [u], [ca.fabs(u[0] - 0.1) * (1 + u[1] ** 2)])
     gradient = ca.Function("dg", [u], [ca.densify(ca.jacobian(g(u), u))])
     domain = _Domain(enclosure(g), enclosure(gradient), g, ca.Function("x", [u], [u]), ["g"], [],
                      np.array([1e-6]))
-    found = _search(pkm.load("five_bar"), domain, depth=12, max_boxes=3000, seconds=20)
+    found = search(pkm.load("five_bar"), domain, depth=12, max_boxes=3000, seconds=20)
     assert found["verdict"] != "proved"
 
 
@@ -320,3 +320,26 @@ def test_the_deltas_capsules_are_coals_and_its_tasks_rim_is_certified_free_of_co
     assert checked >= 20 * 12
     rim = regions.Cylinder("rim", "the task's rim", fixed=((0.15, 0.0, -0.5), (0.03, 0.05)), axis=2)
     assert m.certify(rim, properties=("collisions",)).verdict == "proved"
+
+
+def test_a_certification_in_parallel_pieces_is_the_one_search(capsys):
+    """The box cut into pkm.certify_pieces.PIECES pieces by the search's own halvings, each in a local process:
+    the same verdict and undecided volume as one search (the five-bar's MIW, which touches its workspace's rim, and
+    a disc refuted for a box of designs, its witnesses' designs in the box); the pieces tile the box; the command
+    takes --executor processes."""
+    from pkm import certify_pieces
+
+    five_bar = pkm.load("five_bar")
+    one = five_bar.certify("miw", properties=("limits",))
+    pieces = certify_pieces.certify(five_bar, "miw", properties=("limits",), executor="processes")
+    assert (pieces.verdict, pieces.undecided) == (one.verdict, one.undecided) == ("undecided", pieces.undecided)
+    assert pieces.undecided > 0
+    refuted = certify_pieces.certify(five_bar, _disc((0.0, 1.6), 0.4), properties=("limits",),
+                                     designs={"r2": (0.9, 1.0)}, executor="processes")
+    assert refuted.verdict == "refuted"
+    assert all(0.9 <= w["design"]["r2"] <= 1.0 for w in refuted.witnesses)
+    boxes = certify_pieces.cut(3)
+    assert len(boxes) == certify_pieces.PIECES
+    assert sum(np.prod(np.subtract(hi, lo)) for lo, hi, _ in boxes) == pytest.approx(8.0)
+    assert main(["certify", "delta", "--properties", "limits", "--executor", "processes", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["verdict"] == "proved"

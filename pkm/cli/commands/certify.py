@@ -6,14 +6,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pkm import io
+from pkm import certify_pieces, io, parallel
 from pkm.certify import DEPTH, MAX_BOXES, PROPERTIES, SECONDS
-from pkm.cli.arguments import design_option, listed
+from pkm.cli.arguments import design_option, listed, scheduled
 from pkm.cli.common import emit, given_design, given_poses, given_region, load_mechanism, named
 from pkm.errors import PkmError
 
 HELP = "prove a region free of singularities and within the limits, by branch and prune on rigorous enclosures"
-PARALLEL = False
+PARALLEL = True
 
 
 def options(p: argparse.ArgumentParser) -> None:
@@ -34,8 +34,12 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seconds", type=float, default=SECONDS, help=f"time at most (default: {SECONDS:g} s)")
     p.add_argument("--designs", help="design parameters spanning intervals, every design within them certified: "
                                      "comma-separated name=lower:upper (default: none); e.g. r2=0.98:1.02")
+    p.add_argument("--executor", choices=parallel.EXECUTORS, default="serial",
+                   help="where the search runs: serial (one search, the default), processes (its box cut into "
+                        "pieces, a local process for each in turn) or auto (a Dask scheduler if set); e.g. processes")
     p.add_argument("--out", help="folder for certify.json (default: none); e.g. certified")
     design_option(p)
+    scheduled(p)
 
 
 def _designs(text: str | None) -> dict[str, list[str]] | None:
@@ -71,8 +75,12 @@ def run(args: argparse.Namespace) -> None:
                 f"{named(found.centre)}; not proved at {found.beyond:.6g} m; {beyond} ({len(found.steps)} "
                 f"certifications, {found.seconds:.2f} s)")
     else:
-        found = m.certify(given_region(m, args.region), d, properties=properties, mode=args.mode,
-                          threshold=args.threshold, designs=_designs(args.designs), **budget)
+        options = {"properties": properties, "mode": args.mode, "threshold": args.threshold,
+                   "designs": _designs(args.designs), **budget}
+        region = given_region(m, args.region)
+        where = "auto" if parallel.scheduler() else args.executor  # a Dask scheduler set takes the work
+        found = m.certify(region, d, **options) if where == "serial" else \
+            certify_pieces.certify(m, region, d, executor=where, **options)
         data = found.as_dict()
         spanned = "".join(f", {n} in [{lo:g}, {hi:g}]" for n, (lo, hi) in found.designs.items())
         text = (f"{m.name}: {', '.join(f'{p} >= {v:g}' for p, v in found.properties.items())} over "
