@@ -121,7 +121,7 @@ def test_a_failing_task_is_retried_once_then_reported_with_its_inputs():
 
 
 def test_a_bad_scheduler_address_is_pkms_error_within_seconds(capfd, monkeypatch):
-    monkeypatch.setattr(parallel, "CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(parallel, "CONNECT_TIMEOUT", "0.5s")
     start = time.perf_counter()
     status = main(["atlas", "five_bar", "gci", "--resolution", "5", "--scheduler", "tcp://127.0.0.1:9"])
     assert time.perf_counter() - start < 10
@@ -179,7 +179,7 @@ def test_a_serial_atlas_leaves_the_callers_threads_alone(serial):
 def test_an_address_that_is_not_a_dask_scheduler_is_refused_within_seconds(monkeypatch):
     import socket
 
-    monkeypatch.setattr(parallel, "CONNECT_TIMEOUT", "1s")
+    monkeypatch.setattr(parallel, "CONNECT_TIMEOUT", "0.5s")
     with socket.socket() as server:
         server.bind(("127.0.0.1", 0))
         server.listen()
