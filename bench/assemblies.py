@@ -30,7 +30,9 @@ import pkm
 from bench import json_main
 from bench.fksgp import solver66
 from bench.fksgp.cayley import cayley
+from bench.methods import best_of
 from bench.report import machine
+from bench.throughput import set_threads
 from pkm import assemblies, batch, compiled, homotopy
 from pkm.batch import evaluate
 from pkm.models.described import DESCRIPTIONS
@@ -154,18 +156,20 @@ def _spatial(log: Any) -> dict[str, Any]:
     if not max(apart) <= AGREE:
         apart_at = np.flatnonzero(~(np.array(apart) <= AGREE))
         raise AssertionError(f"pkm's homotopy and fkSGP give different real poses at instances {apart_at}")
-    pkm_s = _best(lambda: spatial_poses(a, b, radii2))
-    with _threads(1):
-        one_s = _best(lambda: spatial_poses(a, b, radii2))
+    pkm_s = best_of(lambda: spatial_poses(a, b, radii2), REPEATS)
+    threads = batch.THREADS
+    set_threads(1)
+    one_s = best_of(lambda: spatial_poses(a, b, radii2), REPEATS)
+    set_threads(threads)
     with _numpy_tracker():
-        numpy_s = _best(lambda: spatial_poses(a, b, radii2))
+        numpy_s = best_of(lambda: spatial_poses(a, b, radii2), REPEATS)
 
     def fksgp() -> None:
         with np.errstate(divide="ignore", invalid="ignore"):
             for ak, bk, rk in zip(a, b, radii2, strict=True):
                 solver66(ak - ak[0], bk - bk[0], rk, 1)
 
-    fksgp_s = _best(fksgp)
+    fksgp_s = best_of(fksgp, REPEATS)
     log(f"spatial: homotopy {1e3 * pkm_s / SPATIAL:.1f} ms/pose (numpy tracker {1e3 * numpy_s / SPATIAL:.1f}), "
         f"fkSGP {1e3 * fksgp_s / SPATIAL:.1f} ms/pose")
     return {"instances": SPATIAL, "threads": batch.THREADS,
@@ -175,25 +179,6 @@ def _spatial(log: Any) -> dict[str, Any]:
             "arrived": int(arrived.sum()), "paths": int(arrived.size), "agree": max(apart),
             "real": {str(k): int(v) for k, v in enumerate(np.bincount(real.sum(axis=1), minlength=homotopy.PATHS + 1))
                      if v}}
-
-
-def _best(call: Any) -> float:
-    """The least wall time of REPEATS calls [s]."""
-    least = np.inf
-    for _ in range(REPEATS):
-        start = time.perf_counter()
-        call()
-        least = min(least, time.perf_counter() - start)
-    return least
-
-
-@contextlib.contextmanager
-def _threads(count: int) -> Any:
-    before, batch.THREADS = batch.THREADS, count
-    try:
-        yield
-    finally:
-        batch.THREADS = before
 
 
 @contextlib.contextmanager
