@@ -1,9 +1,9 @@
-"""A description loaded as a :class:`pkm.mechanism.Mechanism`: derived once into the user's cache
-(``descriptions/`` of the kernel cache, content-addressed by the normalised description and the deriving
-modules: ``python -m symbolic.described`` in a subprocess, for pkm never imports sympy), its working modes the
-named sign combinations of the legs with two branches or, unnamed, every combination, those in which the home
-pose is regular first (:func:`working_modes`), its assembly modes, regions and stated limits, and its mobility
-checked at the home pose (:func:`check_mobility`)."""
+"""A description loaded as a :class:`pkm.mechanism.Mechanism`: derived once into the user's cache (``descriptions/``
+of the kernel cache, content-addressed by the normalised description and the deriving modules: ``python -m
+symbolic.described`` in a process of its own, :mod:`pkm.spec.derivation`, for pkm never imports sympy), its
+working modes the named sign combinations of the legs with two branches or, unnamed, every combination, those in
+which the home pose is regular first (:func:`working_modes`), its assembly modes, regions and stated limits, and
+its mobility checked at the home pose (:func:`check_mobility`)."""
 
 from __future__ import annotations
 
@@ -12,8 +12,6 @@ import itertools
 import json
 import os
 import reprlib
-import subprocess
-import sys
 import tempfile
 import warnings
 from collections.abc import Mapping, Sequence
@@ -34,6 +32,7 @@ from pkm.kinematics import Branch, FunctionTable, NearestSeeds, within_limits
 from pkm.mechanism import Mechanism
 from pkm.progress import Progress
 from pkm.regions import Box, Cylinder, Disc, Mapped, Rectangle, index_values
+from pkm.spec import derivation
 from pkm.spec.collisions import composed_collisions
 from pkm.spec.compose import (
     composed_energy,
@@ -43,7 +42,7 @@ from pkm.spec.compose import (
     composed_inverse_kinematics,
     legs_layout,
 )
-from pkm.spec.schema import ROOT, SUFFIX, Description, DescriptionError, describe, read
+from pkm.spec.schema import SUFFIX, Description, DescriptionError, describe, read
 from pkm.spec.seeds import Seeds
 from pkm.spec.stiffness import composed_stiffness, composed_vibration
 from pkm.spec.vocabulary import (
@@ -71,19 +70,16 @@ def module_path(description: Description) -> Path:
         source.write_text(json.dumps({**description.data, "key": description.key}, sort_keys=True))
         out = Path(tmp) / "module.py"
         with Progress(1, f"deriving {description.name} (first use, into {folder})") as bar:
-            try:
-                done = subprocess.run([sys.executable, "-m", "symbolic.described", str(source), str(out)], cwd=ROOT,
-                                      capture_output=True, text=True, check=False, stdin=subprocess.DEVNULL,
-                                      timeout=DERIVATION_SECONDS)
-            except subprocess.TimeoutExpired:
-                raise ComputationError(f"deriving {description.name} took longer than its limit of "
-                                       f"{DERIVATION_SECONDS:g} s") from None
+            done = derivation.derive(source, out, DERIVATION_SECONDS)
             bar.advance()
-        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
-        if done.returncode == UNDEFINED:
+        if done is None:
+            raise ComputationError(f"deriving {description.name} took longer than its limit of "
+                                   f"{DERIVATION_SECONDS:g} s")
+        code, last = done
+        if code == UNDEFINED:
             raise DescriptionError(f"description {description.name}: {last.removeprefix('undefined: ')} (a zero "
                                    "length or axis, or a function outside its domain, in the description?)")
-        if done.returncode != 0:
+        if code != 0:
             raise ComputationError(f"deriving {description.name} failed: {reprlib.repr(last)}")
         io.atomic_write(target, lambda path: path.write_bytes(out.read_bytes()))
     return target
