@@ -52,3 +52,18 @@ def test_a_forked_process_derives_with_a_server_of_its_own():
     assert loaded
     assert pid != os.getpid()
     assert derivation._SERVERS[os.getpid()].process.poll() is None
+
+
+def test_a_server_that_ends_without_answering_says_why(monkeypatch, tmp_path):
+    """A server that ends without answering (here one started where the derivation's modules are not) fails the
+    derivation with its last words, and the next derivation starts a working server."""
+    server = derivation._Server()
+    monkeypatch.setattr(derivation, "ROOT", tmp_path)
+    code, words = server.derive(tmp_path / "a.json", tmp_path / "a.py", 60)
+    assert code == 1
+    assert "ended without an answer" in words
+    assert "symbolic" in words
+    assert server.process is None
+    monkeypatch.undo()
+    m = pkm.load(_five_bar(f"derived_after_{os.getpid()}", 1.26))
+    assert m.n_out == 2

@@ -30,7 +30,7 @@ class _Server:
     def _started(self) -> subprocess.Popen:
         if self.process is None or self.process.poll() is not None:
             self.process = subprocess.Popen([sys.executable, "-m", "symbolic.described", "--serve"], cwd=ROOT,
-                                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                             text=True, bufsize=1)
         return self.process
 
@@ -53,9 +53,11 @@ class _Server:
             if line is None:
                 self.stop()
                 return None
-            if not line:  # the server ended: the derivation crashed it
+            if not line:  # the server ended (it could not start, or the derivation crashed it): its last words
+                process.wait()
+                words = (process.stderr.read().strip().splitlines() or ["no output"])[-1]
                 self.stop()
-                return 1, "the derivation's process ended without an answer"
+                return 1, f"the derivation's process ended without an answer: {words}"
             code, last = json.loads(line)
             return int(code), str(last)
 
