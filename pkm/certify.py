@@ -415,14 +415,17 @@ class LargestRegion:
 def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
                    properties: Sequence[str] = ("singularity", "limits"), mode: str | None = None,
                    threshold: float | None = None, tolerance: float = 1e-3, depth: int = DEPTH,
-                   max_boxes: int = MAX_BOXES, seconds: float = SECONDS) -> LargestRegion:
+                   max_boxes: int = MAX_BOXES, seconds: float = SECONDS,
+                   designs: Mapping[str, Sequence[float]] | None = None) -> LargestRegion:
     """The largest disc or ball of the pose's position (its coordinates in m; the others held) about ``pose``
     where the properties hold, certified from both sides: bisection on the radius from ``radius`` (the
     largest tried) until the proved radius and the one beyond it differ by ``tolerance`` (relative); a
     refuted radius is replaced by its witness's distance (a pose where a property fails), an undecided one
-    counts as not proved."""
+    counts as not proved. With ``designs`` ({parameter: [lower, upper]}, as :func:`certify` takes them), for
+    every design within the intervals: a witness names its design."""
     bounds = _bounds(properties, threshold)
     d = mech.design_vector(design)
+    spans = _spans(mech, designs)
     mode = mech.working_mode(mode).name
     centre = np.asarray(pose, dtype=float).ravel()
     moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
@@ -432,14 +435,16 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
         raise PkmError(f"radius violates: a finite positive length; got {radius!r}")
     if not (isinstance(tolerance, int | float) and 0 < tolerance < 1):
         raise PkmError(f"tolerance violates: a relative gap in (0, 1); got {tolerance!r}")
-    u = ca.SX.sym("u", len(moved))
+    u = ca.SX.sym("u", len(moved) + len(spans))
     r = ca.SX.sym("r")
     x = ca.SX(ca.DM(centre))
     for j, k in enumerate(moved):
         x[k] = centre[k] + r * u[j]
+    at = _spanned(mech, d, spans, u[len(moved):]) if spans else d
+
     def domain_at(trial: float) -> _Domain:
         return _domain(mech, ca.substitute(x, r, trial), u, list(range(len(moved))), bounds=bounds, mode=mode,
-                       design=d)
+                       design=at)
 
     start = time.perf_counter()
     low, high, witness, steps = 0.0, radius, None, []
@@ -453,12 +458,12 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
                 break
         elif found["verdict"] == "refuted":
             witness = found["witnesses"][0]
-            high = witness["distance"] = trial * float(np.linalg.norm(witness["u"]))
+            high = witness["distance"] = trial * float(np.linalg.norm(witness["u"][: len(moved)]))
         else:
             high = trial
     clear, probe, step = high, high, tolerance * high
     while witness is None or witness["distance"] > probe:
-        rim = _beyond(mech, domain_at(probe), len(moved))
+        rim = _beyond(mech, domain_at(probe), len(moved), len(spans))
         if rim is not None:
             witness = {**rim, "distance": probe}
             break
@@ -467,7 +472,7 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
         clear, probe, step = probe, probe + step, 2 * step
     while witness is not None and witness["distance"] - clear > tolerance * clear:
         probe = (clear + witness["distance"]) / 2
-        rim = _beyond(mech, domain_at(probe), len(moved))
+        rim = _beyond(mech, domain_at(probe), len(moved), len(spans))
         if rim is None:
             clear = probe
         else:
@@ -504,12 +509,17 @@ def _witness(mech: Any, domain: _Domain, u: np.ndarray) -> dict[str, Any]:
 BEYOND_SAMPLES = 4096  # directions on the sphere searched for a witness at the radius beyond the proved one
 
 
-def _beyond(mech: Any, domain: _Domain, dim: int) -> dict[str, Any] | None:
-    """A pose on the rim (|u| = 1) where a property fails, its value enclosed at that point below the
-    threshold: the witness just beyond a proved radius; None where the sampled directions find none."""
+def _beyond(mech: Any, domain: _Domain, dim: int, spanned: int = 0) -> dict[str, Any] | None:
+    """A pose on the rim (|u| = 1 in its ``dim`` position coordinates) where a property fails, its value enclosed
+    at that point below the threshold, at designs of the box of the ``spanned`` parameters (half the samples at
+    its corners, where a property is likeliest to fail first, half within it): the witness just beyond a proved
+    radius; None where the sampled directions find none."""
     rng = np.random.default_rng(0)
     directions = rng.normal(size=(BEYOND_SAMPLES, dim))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    corners = rng.choice([-1.0, 1.0], size=(BEYOND_SAMPLES // 2, spanned))
+    designs = np.concatenate([corners, rng.uniform(-1, 1, (BEYOND_SAMPLES - len(corners), spanned))])
+    directions = np.concatenate([directions, designs], axis=1)
     short = np.full(BEYOND_SAMPLES, np.inf)
     if domain.indices:
         values = np.asarray(domain.g.map(BEYOND_SAMPLES)(directions.T), dtype=float).T

@@ -343,3 +343,23 @@ def test_a_certification_in_parallel_pieces_is_the_one_search(capsys):
     assert sum(np.prod(np.subtract(hi, lo)) for lo, hi, _ in boxes) == pytest.approx(8.0)
     assert main(["certify", "delta", "--properties", "limits", "--executor", "processes", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["verdict"] == "proved"
+
+
+def test_the_largest_disc_over_a_set_of_designs_lies_within_each_designs_and_below_its_witness(capsys):
+    """The five-bar's largest disc about (0, 1.6) free of limits for every r2 in [0.95, 1.0]: proved no larger than
+    at the default design (r2 = 1.0, in the interval), and its witness lies beyond it at a design in the interval
+    whose workspace margin there is negative."""
+    five_bar = pkm.load("five_bar")
+    alone = five_bar.largest_region([0.0, 1.6], radius=1.0, properties=("limits",), tolerance=2e-2, depth=10)
+    spanned = five_bar.largest_region([0.0, 1.6], radius=1.0, properties=("limits",), tolerance=2e-2, depth=10,
+                                      designs={"r2": (0.95, 1.0)})
+    assert 0 < spanned.proved <= alone.proved * (1 + 2e-2)
+    witness = spanned.witness
+    assert spanned.proved <= witness["distance"]
+    assert 0.95 <= witness["design"]["r2"] <= 1.0
+    pose = np.array(list(witness["pose"].values()))
+    assert np.hypot(pose[0], pose[1] - 1.6) == pytest.approx(witness["distance"], rel=1e-9)
+    assert five_bar.local_index("workspace_margin", pose, witness["design"]) < 0
+    assert main(["certify", "five_bar", "--around", "0,1.6", "--radius", "1", "--properties", "limits", "--depth",
+                 "10", "--designs", "r2=0.95:1.0"]) == 0
+    assert ", r2 = 0.95" in capsys.readouterr().out

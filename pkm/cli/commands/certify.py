@@ -67,10 +67,13 @@ def run(args: argparse.Namespace) -> None:
     if args.around:
         (pose,) = given_poses([args.around], m.n_out)
         found = m.largest_region(pose, d, radius=args.radius, properties=properties, mode=args.mode,
+                                 designs=_designs(args.designs),
                                  threshold=args.threshold, **budget)
         data = found.as_dict()
+        spanning = _designs(args.designs) or {}
         beyond = "no witness found" if found.witness is None else (
-            f"witness at {found.witness['distance']:.6g} m: {named(found.witness['pose'])}")
+            f"witness at {found.witness['distance']:.6g} m: {named(found.witness['pose'])}"
+            + "".join(f", {n} = {found.witness['design'][n]:.6g}" for n in spanning))
         text = (f"{m.name}: {', '.join(found.properties)} certified within {found.proved:.6g} m of "
                 f"{named(found.centre)}; not proved at {found.beyond:.6g} m; {beyond} ({len(found.steps)} "
                 f"certifications, {found.seconds:.2f} s)")
