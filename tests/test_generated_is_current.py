@@ -1,8 +1,9 @@
 """generated/ is what symbolic/ derives today: bytes (STYLE practices 2-3) and numbers (practice 4).
 
-Both comparisons read the one derivation of the session fixture ``fresh_generated`` (tests/conftest.py).
-That the derivation does not depend on the hash seed (practice 3) is checked by `make check-generated`,
-which regenerates under PYTHONHASHSEED=0 and 1 and runs in CI, not by this suite.
+Both comparisons read the one derivation of the session fixture ``fresh_generated`` (tests/conftest.py), under
+the worker's own hash seed. That the derivation does not depend on the hash seed (practice 3) is checked by `make
+check-generated`, which regenerates under PYTHONHASHSEED=0 and 1, and in CI by `make check-generated-after-test`
+after this suite: one more derivation, under PYTHONHASHSEED=1.
 """
 
 from __future__ import annotations
