@@ -8,7 +8,7 @@
    (84: the same 42 entries, real parts, then imaginary parts), shared by the rows; 3 the patch c (16: real,
    then imaginary parts), shared; 4 the settings (8: MAX_STEPS, FIRST_STEP, the largest step, GROWTH,
    LEAST_STEP, CORRECTIONS, CONVERGED, END_STEPS), shared. Outputs: 0 the end point (16, as z), 1 whether
-   the path arrived (1: 1 or 0), 2 the steps it took (1). */
+   the path arrived (1: 1 or 0). */
 #include <math.h>
 
 typedef struct { double re, im; } cx;
@@ -72,13 +72,11 @@ static void system_at(const path *p, const cx *z, double s, cx *h, cx *hz, cx *h
                  c_add(c_scale(2, q_dot(eb, ae)), c_scale(4, q_dot(g, ae))));
     const quat nb = {{0, 0}, c_scale(-1, b[0]), c_scale(-1, b[1]), c_scale(-1, b[2])};
     const quat gb = q_mul(g, nb), aeb = q_mul(ae, pb), ag = q_mul(pa, g);
-    cx ge[4], gg[4], ebv[4], aev[4], gbv[4], aebv[4], agv[4], ev[4], gv[4];
+    cx ebv[4], aev[4], gbv[4], aebv[4], agv[4], ev[4], gv[4];
     q_put(gbv, gb); q_put(aebv, aeb); q_put(agv, ag); q_put(ev, e); q_put(gv, g); q_put(ebv, eb); q_put(aev, ae);
     for (int m = 0; m < 4; ++m) {
-      ge[m] = c_add(c_scale(2, c_mul(k, ev[m])), c_scale(4, c_add(c_add(gbv[m], aebv[m]), agv[m])));
-      gg[m] = c_add(c_scale(8, gv[m]), c_scale(4, c_sub(ebv[m], aev[m])));
-      hz[8 * i + m] = ge[m];
-      hz[8 * i + 4 + m] = gg[m];
+      hz[8 * i + m] = c_add(c_scale(2, c_mul(k, ev[m])), c_scale(4, c_add(c_add(gbv[m], aebv[m]), agv[m])));
+      hz[8 * i + 4 + m] = c_add(c_scale(8, gv[m]), c_scale(4, c_sub(ebv[m], aev[m])));
     }
     const quat edb = q_mul(e, qb), dae = q_mul(qa, e);
     hs[i] = c_sub(c_add(c_mul(dk, ee), c_scale(4, q_dot(edb, g))),
@@ -171,7 +169,7 @@ static int corrected(const path *p, cx *z, double s, int steps, double converged
   return 0;
 }
 
-static void track(const path *p, cx *z, const double *settings, double *arrived, double *steps_taken)
+static double track(const path *p, cx *z, const double *settings)
 {
   const long max_steps = (long)settings[0];
   const double largest = settings[2], growth = settings[3], least = settings[4], converged = settings[6];
@@ -201,8 +199,7 @@ static void track(const path *p, cx *z, const double *settings, double *arrived,
     }
   }
   const int closed = corrected(p, z, 1.0, end_steps, converged);
-  *arrived = closed && s >= 1 && finite8(z);
-  *steps_taken = (double)taken;
+  return closed && s >= 1 && finite8(z);
 }
 
 void pkm_kernel(long n, long group, const double *const *in, const long *stride, double *const *out)
@@ -219,13 +216,11 @@ void pkm_kernel(long n, long group, const double *const *in, const long *stride,
       p.change[m] = (cx){target[m] - start[m], -start[42 + m]};
     }
     for (int m = 0; m < 8; ++m) z[m] = (cx){z0[m], z0[8 + m]};
-    double arrived, taken;
-    track(&p, z, settings, &arrived, &taken);
+    const double arrived = track(&p, z, settings);
     for (int m = 0; m < 8; ++m) {
       out[0][r * 16 + m] = z[m].re;
       out[0][r * 16 + 8 + m] = z[m].im;
     }
     out[1][r] = arrived;
-    out[2][r] = taken;
   }
 }

@@ -220,9 +220,7 @@ class ErrorModel:
         """The poses (N, n_out) of the expanded machine at the design (one, or one per row) at the actuated joints
         (N, n_act), its loops closed by Newton's method from the poses ``start`` (their configurations in the
         working mode)."""
-        m = self.machine
-        q = m.inverse_kinematics(start, design, mode=mode, passive=True)
-        return self._closing(joints, np.concatenate([q[:, m.n_act:], start], axis=1), design)
+        return self._closing(joints, self._configurations(start, design, mode), design)
 
     def _closing(self, joints: np.ndarray, z: np.ndarray, design: np.ndarray) -> np.ndarray:
         """Newton's method on the loops from z (N, passive joints and pose) at the actuated joints: the poses."""
@@ -246,18 +244,25 @@ class ErrorModel:
                            f"(residual {np.nan_to_num(residual[bad[0]], nan=np.inf):.1e} m)")
         return z[:, passive:]
 
-    def _perturbed(self, x: np.ndarray, q: np.ndarray, p: np.ndarray, base: np.ndarray, mode: str | None
-                   ) -> np.ndarray:
-        """The pose errors (S, n_out) of S machines with the errors p (S, n_params), each at the nominal pose x's
-        actuated joints q (the drives' offsets read as joint errors), their loops closed from the nominal
-        configuration at x."""
-        m = self.machine
+    def _built(self, base: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Machines built with the errors p (S, n_params) on the expanded design ``base``: their designs (S, n_d)
+        and their drives' zero offsets (S, n_act), read as joint errors."""
         n_geometric = len(self._geometric)
         designs = np.repeat(base[None], len(p), axis=0)
         designs[:, self._geometric] += p[:, :n_geometric]
-        nominal = m.inverse_kinematics(x[None], base, mode=mode, passive=True)[0]
-        z = np.repeat(np.concatenate([nominal[m.n_act:], x])[None], len(p), axis=0)
-        return self._closing(q + p[:, n_geometric:], z, designs) - x
+        return designs, p[:, n_geometric:]
+
+    def _configurations(self, x: np.ndarray, base: np.ndarray, mode: str | None) -> np.ndarray:
+        """The nominal machine's configurations (N, passive joints and pose) at the poses x, in the working mode."""
+        q = self.machine.inverse_kinematics(x, base, mode=mode, passive=True)
+        return np.concatenate([q[:, self.machine.n_act:], x], axis=1)
+
+    def _perturbed(self, z: np.ndarray, q: np.ndarray, p: np.ndarray, base: np.ndarray) -> np.ndarray:
+        """The pose errors (S, n_out) of S machines with the errors p (S, n_params), each at its nominal
+        configuration z (S, passive joints and pose) and that pose's actuated joints q (S, n_act), their loops
+        closed from there."""
+        designs, offsets = self._built(base, p)
+        return self._closing(q + offsets, z, designs) - z[:, z.shape[1] - self.nominal.n_out:]
 
     def monte_carlo(self, pose: Any, deviations: Any, design: Any = None, *, mode: str | None = None,
                     samples: int = 200, seed: int = 0) -> dict[str, np.ndarray]:
@@ -269,12 +274,14 @@ class ErrorModel:
         s = self._widths(deviations, "deviations")
         base = self.design(design)
         q = self.nominal.inverse_kinematics(x, design, mode=mode)
+        z = self._configurations(x, base, mode)
         rng = np.random.default_rng(seed)
         squares = np.zeros(x.shape)
         for k in range(len(x)):
             for first in range(0, samples, MONTE_CARLO_ROWS):
                 p = rng.normal(size=(min(MONTE_CARLO_ROWS, samples - first), len(s))) * s
-                squares[k] += np.sum(self._perturbed(x[k], q[k], p, base, mode) ** 2, axis=0)
+                rows = np.repeat(z[k : k + 1], len(p), axis=0), np.repeat(q[k : k + 1], len(p), axis=0)
+                squares[k] += np.sum(self._perturbed(*rows, p, base) ** 2, axis=0)
         return {"sampled": np.sqrt(squares / samples), "linearised": self.rms(x, deviations, design, mode=mode)}
 
     def worst_case_checked(self, pose: Any, tolerances: Any, design: Any = None, *, mode: str | None = None
@@ -286,9 +293,11 @@ class ErrorModel:
         base = self.design(design)
         E = self.jacobian(x, design, mode=mode)
         q = self.nominal.inverse_kinematics(x, design, mode=mode)
-        built = np.stack([np.diagonal(self._perturbed(x[k], q[k], np.sign(E[k]) * t, base, mode))
-                          for k in range(len(x))])
-        return {"linearised": np.abs(E) @ t, "built": np.abs(built)}
+        n = self.nominal.n_out  # a vertex per pose and coordinate, all in one batch
+        errors = self._perturbed(np.repeat(self._configurations(x, base, mode), n, axis=0), np.repeat(q, n, axis=0),
+                                 (np.sign(E) * t).reshape(-1, len(t)), base)
+        return {"linearised": np.abs(E) @ t, "built": np.abs(np.diagonal(errors.reshape(len(x), n, n), axis1=1,
+                                                                          axis2=2))}
 
 
 def error_model(mech: Any, attachments: str = "cartesian") -> ErrorModel:
@@ -397,14 +406,13 @@ def calibrate(model: ErrorModel, joints: Any, poses: Any, design: Any = None, *,
     if bounds is not None:
         given = dict(bounds)
         limit = np.where([n in given for n in model.names], model._widths(given, "bounds"), limit)
-    base, n_geometric = model.design(design), len(model._geometric)
+    base = model.design(design)
     start = np.where(seen, measured, _nearest_assembly(model.nominal, q, measured, design))
     p = np.zeros(len(model.names))
 
     def closed(p: np.ndarray) -> np.ndarray:
-        d = base.copy()
-        d[model._geometric] += p[:n_geometric]
-        return model.closed(q + p[n_geometric:], start, d, mode=mode)
+        (d,), (offsets,) = model._built(base, p[None])
+        return model.closed(q + offsets, start, d, mode=mode)
 
     x = closed(p)
     before = float(np.sqrt(np.mean((measured - x)[seen] ** 2)))

@@ -315,7 +315,7 @@ def prepared(mech: Any, task: Task) -> _Domain:
     u = ca.SX.sym("u", task.dimension)
     at = _spanned(mech, task.design, task.spans, u[piece.dimension:]) if task.spans else ca.DM(task.design)
     return _domain(mech, piece.to_pose(mech.functions, at, u[: piece.dimension]), u, _round_axes(task.shape),
-                   bounds=task.bounds, mode=task.mode, design=at if task.spans else task.design)
+                   bounds=task.bounds, mode=task.mode, design=at)
 
 
 def _spans(mech: Any, designs: Mapping[str, Sequence[float]] | None) -> dict[str, tuple[float, float]]:
@@ -352,6 +352,15 @@ def _spanned(mech: Any, design: np.ndarray, spans: dict[str, tuple[float, float]
     return ca.vertcat(*entries)
 
 
+def halves(lo: np.ndarray, hi: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """A box's two halves across its widest side, the lower first: how the search cuts a box."""
+    k = int(np.argmax(hi - lo))
+    middle = (lo[k] + hi[k]) / 2
+    upper_lo, lower_hi = lo.copy(), hi.copy()
+    upper_lo[k], lower_hi[k] = middle, middle
+    return (lo, lower_hi), (upper_lo, hi)
+
+
 def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float,
             start: tuple[np.ndarray, np.ndarray, int] | None = None) -> dict[str, Any]:
     """Branch and prune over [-1, 1]^d (or the box ``start``: its corners and its level), the largest box first
@@ -379,11 +388,7 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
         if level >= depth:
             undecided += float(np.prod((hi - lo) / 2))
             continue
-        k = int(np.argmax(hi - lo))
-        middle = (lo[k] + hi[k]) / 2
-        upper_lo, lower_hi = lo.copy(), hi.copy()
-        upper_lo[k], lower_hi[k] = middle, middle
-        for part in ((lo, lower_hi), (upper_lo, hi)):
+        for part in halves(lo, hi):
             heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), next(order), *part, level + 1))
     verdict = "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided")
     return {"verdict": verdict, "witnesses": witnesses, "undecided": undecided, "boxes": boxes, "depth": reached,

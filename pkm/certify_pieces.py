@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from pkm import parallel, registry
-from pkm.certify import DEPTH, MAX_BOXES, SECONDS, Certificate, checked, prepared, search
+from pkm.certify import DEPTH, MAX_BOXES, SECONDS, Certificate, checked, halves, prepared, search
 from pkm.errors import PkmError
 from pkm.spec.machine import resolve
 
@@ -49,11 +49,7 @@ def cut(dim: int) -> list[tuple[tuple[float, ...], tuple[float, ...], int]]:
     boxes = [(np.full(dim, -1.0), np.full(dim, 1.0), 0)]
     while len(boxes) < PIECES:
         lo, hi, level = boxes.pop(0)
-        k = int(np.argmax(hi - lo))
-        middle = (lo[k] + hi[k]) / 2
-        upper_lo, lower_hi = lo.copy(), hi.copy()
-        upper_lo[k], lower_hi[k] = middle, middle
-        boxes += [(lo, lower_hi, level + 1), (upper_lo, hi, level + 1)]
+        boxes += [(*part, level + 1) for part in halves(lo, hi)]
     return [(tuple(lo.tolist()), tuple(hi.tolist()), level) for lo, hi, level in boxes]
 
 

@@ -274,9 +274,9 @@ def _tracked(z: np.ndarray, start: tuple[np.ndarray, ...], target: tuple[np.ndar
               np.concatenate([starts.real, starts.imag]), np.concatenate([c.real, c.imag]),
               np.array([MAX_STEPS, FIRST_STEP, largest, GROWTH, LEAST_STEP, CORRECTIONS, CONVERGED, END_STEPS],
                        dtype=float)]
-    ends, arrived, steps = np.zeros((rows, 16)), np.zeros((rows, 1)), np.zeros((rows, 1))
+    ends, arrived = np.zeros((rows, 16)), np.zeros((rows, 1))
     chunks = [([inputs[0][k : k + CHUNK_PATHS], inputs[1][k : k + CHUNK_PATHS], *inputs[2:]],
-               [ends[k : k + CHUNK_PATHS], arrived[k : k + CHUNK_PATHS], steps[k : k + CHUNK_PATHS], np.zeros((1, 1))],
+               [ends[k : k + CHUNK_PATHS], arrived[k : k + CHUNK_PATHS], np.zeros((1, 1))],
                min(CHUNK_PATHS, rows - k), min(CHUNK_PATHS, rows - k)) for k in range(0, rows, CHUNK_PATHS)]
     run([16, 42, 0, 0, 0], chunks, batch.THREADS)
     return ends[:, :8] + 1j * ends[:, 8:], arrived[:, 0] > 0
