@@ -24,7 +24,7 @@ from pkm import registry
 from pkm.design import Parameter
 from pkm.errors import PkmError
 from pkm.indices import GlobalIndex
-from pkm.indices.local import extreme_singular_values
+from pkm.indices.local import extreme_singular_values, jacobi_eigenvalues, symmetric_eigenvalues
 from pkm.kinematics import Branch, FunctionTable, PolynomialRoots, Rootfinder
 from pkm.mechanism import Mechanism
 from pkm.models.five_bar import FiveBar
@@ -260,6 +260,35 @@ def test_3x3_singular_values_are_exact_where_two_coincide(sigma):
         largest, smallest = (float(v) for v in f(U @ np.diag(sigma) @ V.T))
         assert largest == pytest.approx(max(sigma), rel=3e-15, abs=0)
         assert smallest == pytest.approx(min(sigma), rel=3e-15, abs=0)
+
+
+@pytest.mark.parametrize("n", [4, 6])
+def test_jacobi_sweeps_give_the_eigenvalues_of_a_symmetric_matrix_and_their_derivative(n):
+    """The written-out Jacobi sweeps of a symmetric 4 x 4 or 6 x 6 matrix (a spatial platform's vibration):
+    numpy's eigenvalues to the rounding of the largest, where the eigenvalues spread over 8 decades and where
+    two meet; the smallest's derivative along a direction dS is v^T dS v, v its unit eigenvector."""
+    rng = np.random.default_rng(n)
+    S, dS = ca.SX.sym("S", n, n), ca.SX.sym("dS", n, n)
+    values = ca.Function("values", [S], [ca.vertcat(*jacobi_eigenvalues(S))])
+    largest, smallest = symmetric_eigenvalues(S)
+    extremes = ca.Function("extremes", [S, dS], [largest, smallest, ca.jtimes(smallest, S, dS)])
+    for k in range(30):
+        Q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+        lam = 10 ** rng.uniform(-6, 2, n)
+        if k % 3 == 0:
+            lam[1] = lam[0]
+        A = Q @ np.diag(lam) @ Q.T
+        A = (A + A.T) / 2
+        reference = np.linalg.eigvalsh(A)
+        np.testing.assert_allclose(np.sort(np.ravel(values(A))), reference, rtol=0, atol=1e-14 * reference[-1])
+        direction = rng.normal(size=(n, n))
+        direction = direction + direction.T
+        top, bottom, rate = (float(v) for v in extremes(A, direction))
+        assert top == pytest.approx(reference[-1], rel=1e-14)
+        assert bottom == pytest.approx(reference[0], rel=0, abs=1e-14 * reference[-1])
+        if reference[1] - reference[0] > 1e-3 * reference[-1]:
+            v = np.linalg.eigh(A)[1][:, 0]
+            assert rate == pytest.approx(v @ direction @ v, rel=1e-8, abs=1e-12 * np.abs(direction).max())
 
 
 def test_the_3rrr_at_its_centred_pose_has_1_over_kappa_2_of_its_singular_values():

@@ -282,6 +282,61 @@ def test_the_stiffness_index_has_the_design_gradient_of_its_finite_differences(d
     assert value > 0
 
 
+def _stewart_on_springs() -> pkm.Mechanism:
+    """The shipped Stewart-Gough platform with a 20 kg platform on steel legs of diameter d and drives of axial
+    stiffness k."""
+    raw = tomllib.loads(DESCRIPTIONS["stewart"].read_text())
+    raw["name"] = "stewart_on_springs"
+    raw["parameters"] += [{"name": "d", "default": 0.03, "lower": 0.005, "upper": 0.1, "unit": "m", "doc": "legs"},
+                          {"name": "k", "default": 2e7, "lower": 1e5, "upper": 1e9, "unit": "N/m", "doc": "drives"}]
+    raw["platform"] = {"mass": "20", "centre": ["0", "0", "0.05"], "inertia": ["1.2", "1.4", "2.0"]}
+    raw["legs"]["bodies"] = {"cylinder": {"mass": "2", "centre": "0.3", "inertia": "0.05"},
+                             "piston": {"mass": "1", "centre": "0.3", "inertia": "0.03"}}
+    raw["legs"]["elastic"] = {"material": "steel", "section": {"shape": "round", "d": "d"}, "drive": "k"}
+    return _load(raw)
+
+
+def _rotation(angles: np.ndarray) -> np.ndarray:
+    roll, pitch, yaw = angles
+    c, s = np.cos, np.sin
+    Rx = np.array([[1, 0, 0], [0, c(roll), -s(roll)], [0, s(roll), c(roll)]])
+    Ry = np.array([[c(pitch), 0, s(pitch)], [0, 1, 0], [-s(pitch), 0, c(pitch)]])
+    Rz = np.array([[c(yaw), -s(yaw), 0], [s(yaw), c(yaw), 0], [0, 0, 1]])
+    return Rz @ Ry @ Rx
+
+
+def test_a_spatial_platforms_lowest_frequency_is_the_generalised_eigenvalue_of_its_six_coordinates():
+    """A 6-UPS on elastic legs: the elastic frequency is sqrt(lambda_min(E^T K E, M_w)) in the pose's six
+    coordinates, E the twist's rates of the angles' (here by central differences of the rotation matrix:
+    [omega]x = R_dot R^T), and the global minimum over the task has the design gradient of its central
+    differences in the legs' diameter and the drives' stiffness."""
+    from scipy.linalg import eigh
+
+    m = _stewart_on_springs()
+    rng = np.random.default_rng(5)
+    poses = np.array([0, 0, 1.0, 0, 0, 0]) + rng.uniform(-1, 1, (12, 6)) * [0.05, 0.05, 0.03, 0.15, 0.15, 0.15]
+    K, M = m.stiffness(poses), m.inertia_matrix(poses)
+    frequency = m.local_index("elastic_frequency", poses)
+    for k, x in enumerate(poses):
+        E = np.eye(6)
+        R = _rotation(x[3:])
+        for j in range(3):
+            step = np.zeros(3)
+            step[j] = 1e-6
+            W = (_rotation(x[3:] + step) - _rotation(x[3:] - step)) / 2e-6 @ R.T
+            E[3:, 3 + j] = [W[2, 1], W[0, 2], W[1, 0]]
+        assert frequency[k] == pytest.approx(np.sqrt(eigh(E.T @ K[k] @ E, M[k], eigvals_only=True).min()),
+                                             rel=1e-8)
+    d = m.design(None)
+    value, gradient = m.global_index("elastic_frequency_min", d, region="task", resolution=2, gradient=True)
+    assert value > 0
+    for name in ("d", "k"):
+        step = 1e-6 * d[name]
+        ahead, behind = (m.global_index("elastic_frequency_min", {**d, name: d[name] + sign * step}, region="task",
+                                        resolution=2) for sign in (1, -1))
+        assert gradient[name] == pytest.approx((ahead - behind) / (2 * step), rel=1e-5)
+
+
 def test_a_deflection_constraint_binds_exactly_where_active():
     """docs/tasks/delta_stiff.toml: the GCI maximised with the platform moving at most 50 um under 10 N
     downwards over the task; at the optimum the constraint is active, held to its bound, and the deflection at

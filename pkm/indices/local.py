@@ -10,7 +10,9 @@ for 3 x 3, the largest eigenvalue of a symmetric matrix by the trigonometric sol
 (Smith 1961) with the smallest from the adjugate (sigma_min(A) = |det A| / sigma_max(adj A)). Where
 both J and J_f enter, the smallest singular value of one is the inverse of the largest of the other.
 Those indices raise :class:`PkmError` on larger matrices, and a mechanism of more degrees of freedom does not
-offer them (``LocalIndex.dimension``); the Frobenius condition number and the determinants hold for any n.
+offer them (``LocalIndex.dimension``); the Frobenius condition number and the determinants hold for any n. The
+eigenvalues of a symmetric matrix of 4 to 6 rows (a spatial platform's vibration) come from a fixed number of
+cyclic Jacobi sweeps written out (:func:`jacobi_eigenvalues`), differentiable like the closed forms.
 
 A pose mixing metres and radians is normalised by the mechanism's characteristic length before any
 index is taken (see :mod:`pkm.regions.pipeline`).
@@ -29,6 +31,9 @@ import numpy as np
 from pkm.errors import PkmError
 
 MAX_DIMENSION = 3
+JACOBI_DIMENSION = 6  # the largest symmetric matrix whose eigenvalues are taken by Jacobi sweeps
+JACOBI_SWEEPS = 8  # cyclic sweeps: each squares the off-diagonal's relative size once it is small
+JACOBI_FLOOR = 1e-300  # the floor of a rotation's denominator: no rotation where the plane is already diagonal
 ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the closed form finite at A = a I
 
 
@@ -65,13 +70,44 @@ class LocalIndex:
     signed: bool = False
 
 
-def _check_square(A: ca.SX) -> int:
+def _check_square(A: ca.SX, largest: int = MAX_DIMENSION) -> int:
     n = A.size1()
-    if A.size2() != n or not 1 <= n <= MAX_DIMENSION:
-        raise PkmError(
-            f"local indices need square matrices of size 1 to {MAX_DIMENSION}; got {A.size1()} x {A.size2()}"
-        )
+    if A.size2() != n or not 1 <= n <= largest:
+        raise PkmError(f"local indices need square matrices of size 1 to {largest}; got {A.size1()} x {A.size2()}")
     return n
+
+
+def jacobi_eigenvalues(S: ca.SX, sweeps: int = JACOBI_SWEEPS) -> list[ca.SX]:
+    """The eigenvalues of a symmetric n x n matrix, unordered: ``sweeps`` cyclic Jacobi sweeps (Golub and Van
+    Loan, Matrix Computations, section 8.5), each rotation in the plane (p, q) annihilating a_pq with
+    t = tan(theta) = 2 a_pq sgn(d) / (|d| + sqrt(d^2 + 4 a_pq^2)), d = a_qq - a_pp, the smaller of the two
+    angles that do: a_pp -= t a_pq, a_qq += t a_pq, and rows p and q turned by c = 1 / sqrt(1 + t^2), s = t c.
+    The diagonal converges quadratically (its error after a sweep is of the order of the squared off-diagonal
+    before it), so a fixed count reaches the rounding of a matrix of a few rows, and its derivative converges
+    with it."""
+    n = S.size1()
+    a = [[S[i, j] for j in range(n)] for i in range(n)]
+    for _ in range(sweeps):
+        for p, q in itertools.combinations(range(n), 2):
+            apq, d = a[p][q], a[q][q] - a[p][p]
+            t = 2 * apq * ca.if_else(d >= 0, 1, -1) / ca.fmax(ca.fabs(d) + ca.sqrt(d**2 + 4 * apq**2), JACOBI_FLOOR)
+            c = 1 / ca.sqrt(1 + t**2)
+            s = t * c
+            a[p][p], a[q][q] = a[p][p] - t * apq, a[q][q] + t * apq
+            a[p][q] = a[q][p] = ca.SX(0)
+            for r in range(n):
+                if r not in (p, q):
+                    rp, rq = c * a[r][p] - s * a[r][q], s * a[r][p] + c * a[r][q]
+                    a[r][p] = a[p][r] = rp
+                    a[r][q] = a[q][r] = rq
+    return [a[i][i] for i in range(n)]
+
+
+def _fmin(values: list[ca.SX]) -> ca.SX:
+    out = values[0]
+    for v in values[1:]:
+        out = ca.fmin(out, v)
+    return out
 
 
 def _adjugate(A: ca.SX) -> ca.SX:
@@ -117,13 +153,16 @@ def _largest_symmetric_3(S: ca.SX) -> ca.SX:
 
 
 def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
-    """Largest and smallest eigenvalue of a symmetric positive semidefinite n x n matrix (n <= 3).
+    """Largest and smallest eigenvalue of a symmetric positive semidefinite n x n matrix (n <= 6).
 
     For n = 3 the smallest is det(S) / lambda_max(adj S) (adj S = det(S) S^-1): the largest eigenvalue
     of a matrix is accurate to its own size, where the smallest of the cubic's roots would lose
-    det-sized digits to cancellation.
+    det-sized digits to cancellation. From 4 rows on, by Jacobi sweeps (:func:`jacobi_eigenvalues`).
     """
-    n = _check_square(S)
+    n = _check_square(S, JACOBI_DIMENSION)
+    if n > 3:
+        values = jacobi_eigenvalues(S)
+        return -_fmin([-v for v in values]), _fmin(values)
     if n == 1:
         return S[0, 0], S[0, 0]
     if n == 2:
@@ -196,14 +235,14 @@ def _symmetric_ratio(M: ca.SX) -> ca.SX:
 def _frequency_epigraph(S: ca.SX, t: ca.SX) -> ca.SX:
     """sqrt(lambda_min(S_e)) >= t as S_e - t^2 I positive semidefinite: for n = 2 a non-negative trace
     and determinant, polynomial in S_e and t and smooth where the eigenvalues meet."""
-    if _check_square(S) != 2:
+    if _check_square(S, JACOBI_DIMENSION) != 2:
         return _lowest_frequency(S) - t
     M = S - t**2 * ca.SX.eye(2)
     return ca.vertcat(M[0, 0] + M[1, 1], M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0])
 
 
 def _lowest_frequency(S: ca.SX) -> ca.SX:
-    if _check_square(S) == 2:
+    if _check_square(S, JACOBI_DIMENSION) == 2:
         return ca.sqrt(extreme_singular_values(S)[1])
     return ca.sqrt(ca.fmax(symmetric_eigenvalues(S)[1], 0))
 
@@ -364,7 +403,7 @@ ELASTIC_FREQUENCY = LocalIndex(
     "elastic_frequency",
     "lowest natural frequency of the rigid platform on the elastic structure: sqrt(lambda_min(K_x, M_w)) with "
     "the Cartesian stiffness K_x and the task-space inertia M_w = J^T M_t J in the pose's coordinates",
-    "rad/s", 0.0, np.inf, 0.0, _lowest_frequency, "vibration", ("S_k",), raw=True,
+    "rad/s", 0.0, np.inf, 0.0, _lowest_frequency, "vibration", ("S_k",), dimension=JACOBI_DIMENSION, raw=True,
 )
 COLLISION_MARGIN = LocalIndex(
     "collision_margin",
