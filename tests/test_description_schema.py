@@ -38,7 +38,8 @@ EXAMPLES = {
              "platform": [["r", 0], [0, "r"]], "proximal": "l", "distal": "l", "range": [-3, 3], "bodies": RR_BODIES,
              "elastic": ELASTIC, "capsule": 0.02},
             {"kind": "RR", "base": [[0, "-R"]], "platform": {"circle": "r", "start": "-pi/2"}, "proximal": "l",
-             "distal": "l", "bodies": RR_BODIES, "elastic": {**ELASTIC, "passive": ["200"]}, "capsule": 0.02},
+             "distal": "l", "bodies": RR_BODIES, "capsule": 0.02,
+             "elastic": {**ELASTIC, "passive": ["200"], "bearings": ["1e7", "2e7", "1e7"]}},
         ],
     },
     "sliders": {

@@ -78,31 +78,46 @@ def _element(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     return turn.T @ local @ turn
 
 
-def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool, elbow: float = 0.0) -> np.ndarray:
+def frame_stiffness(legs: list[np.ndarray], pose: np.ndarray, *, turning: bool, elbow: float = 0.0,
+                    bearing: float | None = None) -> np.ndarray:
     """The stiffness at the platform of RR legs (each its base joint, elbow and platform joint) as a planar frame:
     each link an element, the proximal clamped to its drive's rotation (a spring DRIVE to ground), pins at the
     elbow (with ``elbow`` a rotational spring between its two element ends) and at the platform joint (each
     element end its own rotation), the platform joints moving with the platform's twist (dP, dphi) (``turning``)
-    or one point dP; the internal degrees of freedom condensed."""
+    or one point dP; with ``bearing`` each pin's two element ends (or its end and the ground or the platform) have
+    translations of their own, tied by translational springs of that stiffness; the internal degrees of freedom
+    condensed."""
     masters = 3 if turning else 2
-    n = masters + sum(6 for _ in legs)  # per leg: elbow u, v; drive rotation; three element-end rotations
+    # per leg: the element ends' translations (base, elbow twice, platform: 8), the drive's rotation and three
+    # element-end rotations
+    per_leg = 12
+    n = masters + per_leg * len(legs)
     K = np.zeros((n, n))
     for k, (base, knee, end) in enumerate(legs):
-        first = masters + 6 * k
-        u, drive, ends = first, first + 2, first + 3  # elbow translation, drive angle, other rotations
+        first = masters + per_leg * k
+        at_base, at_knee, from_knee, at_end = (first + 2 * j for j in range(4))
+        drive, ends = first + 8, first + 9
         to_end = np.zeros((2, n))
         to_end[:, :2] = np.eye(2)
         if turning:
             r = end - pose[:2]
             to_end[:, 2] = [-r[1], r[0]]
+        base_end, knee_end, end_end = np.eye(2, n, at_base), np.eye(2, n, at_knee), np.eye(2, n, at_end)
+        knee_start = np.eye(2, n, from_knee)
+        if bearing is None:  # the pins rigid: one translation per pin, none at the base
+            base_end, knee_start, end_end = np.zeros((2, n)), knee_end, to_end
+        for one, other in ((base_end, 0), (knee_end, knee_start), (end_end, to_end)):
+            gap = one - other
+            K += (0 if bearing is None else bearing) * gap.T @ gap
         proximal = np.zeros((6, n))
+        proximal[0:2] = base_end
         proximal[2, drive] = 1
-        proximal[3:5, u:u + 2] = np.eye(2)
+        proximal[3:5] = knee_end
         proximal[5, ends] = 1
         distal = np.zeros((6, n))
-        distal[0:2, u:u + 2] = np.eye(2)
+        distal[0:2] = knee_start
         distal[2, ends + 1] = 1
-        distal[3:5] = to_end
+        distal[3:5] = end_end
         distal[5, ends + 2] = 1
         K += proximal.T @ _element(base, knee) @ proximal + distal.T @ _element(knee, end) @ distal
         K[drive, drive] += DRIVE
@@ -178,6 +193,38 @@ def test_a_passive_joints_spring_is_the_frame_models_spring_at_the_elbow(legs):
             assert np.linalg.eigvalsh(K - free.stiffness(pose, mode=mode)).min() > 0
             checked += 1
     assert checked >= 20
+
+
+BEARING = 2e6  # [N/m] each pin's bearing
+
+
+def test_the_bearings_are_the_frame_models_translational_springs_at_each_pin():
+    """The five-bar of RR legs with a bearing at each of its three pins (elastic.bearings): K equals the frame
+    model's with the element ends at each pin tied by translational springs, to 1e-9, in both modes; softer than
+    rigid bearings. A list of the wrong length is refused by name."""
+    m = _load({**FIVE_BAR_ELASTIC, "name": "five_bar_bearings",
+               "legs": {**FIVE_BAR_ELASTIC["legs"], "elastic": {**ELASTIC, "bearings": [str(BEARING)] * 3}}})
+    rigid = _load(FIVE_BAR_ELASTIC)
+    rng = np.random.default_rng(9)
+    home = np.asarray(m.functions["home"](m.design_vector(None))).ravel()
+    checked = 0
+    for mode in m.modes:
+        for pose in home + rng.uniform(-0.15, 0.15, (12, 2)):
+            K = m.stiffness(pose, mode=mode)
+            if not np.all(np.isfinite(K)):
+                continue
+            want = frame_stiffness(m.linkage(pose, mode=mode), pose, turning=False, bearing=BEARING)
+            np.testing.assert_allclose(K, want, rtol=0, atol=1e-9 * np.abs(want).max())
+            assert np.linalg.eigvalsh(rigid.stiffness(pose, mode=mode) - K).min() > 0
+            checked += 1
+    assert checked >= 15
+    raw = copy.deepcopy(FIVE_BAR_ELASTIC)
+    raw["legs"]["elastic"] = {**ELASTIC, "bearings": ["1e6"] * 2}
+    with pytest.raises(DescriptionError, match=re.escape("legs.elastic.bearings violates: a list of 3 expressions")):
+        pkm.load(raw)
+    raw["legs"]["elastic"]["bearings"] = ["1e6", "0", "1e6"]
+    with pytest.raises(DescriptionError, match=re.escape("elastic.bearings[1] violates: a positive value")):
+        pkm.load(raw)
 
 
 def test_a_passive_joints_list_has_one_entry_per_passive_joint():

@@ -477,7 +477,7 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
     """A leg's elastic elements: its material ({E, G, density} trees), section ({shape, its dimensions}), drive
     stiffness (or None: rigid) and per beam its material and section, each the leg's where not given."""
     if not isinstance(raw, Mapping):
-        raise _fail(where, "a table {material, section, drive, passive, beams}")
+        raise _fail(where, "a table {material, section, drive, passive, bearings, beams}")
     _check_fields(raw, ELASTIC_FIELDS, where, "a leg's elastic elements")
     spatial = len(leg["joints"][0]["link"]) == 3
     material = _material(raw["material"], f"{where}.material", names)
@@ -507,6 +507,13 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
             raise _fail(f"{where}.passive", f"a list of {count} expressions, one per passive joint variable of the "
                                             "leg in order (0 for a free one)")
         out["passive"] = [_expression(f"{where}.passive[{j}]", t, names) for j, t in enumerate(given)]
+    if "bearings" in raw:
+        count = kind_of(leg).points
+        given = raw["bearings"]
+        if not isinstance(given, list) or len(given) != count:
+            raise _fail(f"{where}.bearings", f"a list of {count} expressions, one per joint the leg draws from the "
+                                             "base, the platform's included")
+        out["bearings"] = [_expression(f"{where}.bearings[{j}]", t, names) for j, t in enumerate(given)]
     return out
 
 

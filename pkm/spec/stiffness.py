@@ -10,7 +10,8 @@ actuated joint: :attr:`pkm.spec.vocabulary.Kind.follows`). With the closure h(q_
 the chain's end less c, or a distance), a small motion closes where H_a dq_a + H_p dq_p + H_theta dtheta + H_c dc =
 0, H_theta the chain end's motion under each beam's deflection (a twist at E: dc = du + dphi x (c - E)). The
 springs' compliance seen at the chain's end, S = H_a k_a^-1 H_a^T + sum_p H_p k_p^-1 H_p^T + sum_b H_theta,b C_b
-H_theta,b^T, and the free passive joints (H_p their columns) give the leg's stiffness at c,
+H_theta,b^T + (sum_j k_j^-1) H_c H_c^T (each joint's bearing a translational spring k_j: its translation moves the
+chain beyond it, and c, by as much), and the free passive joints (H_p their columns) give the leg's stiffness at c,
 
     K_i = H_c^T G H_c,   G the first block of [[S, H_p], [H_p^T, 0]]^-1,
 
@@ -82,7 +83,7 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
     _, H_q, _ = constraint(q, x, d)
     H_c = ends(q, x, d)
     points = skeleton(q, x, d)
-    drives, compliances, terms = elastic(d)
+    drives, compliances, terms, bearings = elastic(d)
     data = description.data
     frame = data["pose"]["frame"]
     legs = data["legs"]
@@ -112,6 +113,7 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
         for j in beams(leg):
             flexed = flexed + _beam(terms[beam, :].T, own[:, j], own[:, j + 1], c)
             beam += 1
+        flexed = flexed + bearings[k] * (H_c[rows, :] @ H_c[rows, :].T)
         if turning:
             offset = c - origin
             A = ca.horzcat(ca.SX.eye(2), ca.vertcat(-offset[1], offset[0])) if dim == 2 else \

@@ -142,15 +142,18 @@ ELASTIC_FIELDS = (
           "each positive, or 0", "each passive joint's stiffness for its own motion (relative to the link before it: "
           "a flexure's, a spring's), in order from the base (a universal joint's or a parallelogram's two); 0 or "
           "absent: free"),
+    Field("bearings", "a list of expressions [N/m], one per joint the leg draws from the base (the platform's "
+          "included), each positive", "each joint's bearing as a translational spring at the joint: a revolute's "
+          "radial stiffness in the plane, the same in every direction in space (its tilt rigid); rigid where absent"),
     Field("beams", "a list of tables {material, section}", "each beam of the leg in order from the base (its links "
           "after a revolute, a universal joint or a parallelogram, whose rods count twice), each field optional: "
           "where given, it replaces the leg's"),
 )
 BEAM_FIELDS = (Field("material", ELASTIC_FIELDS[0].holds, "the beam's material; the leg's by default"),
                Field("section", ELASTIC_FIELDS[1].holds, "the beam's section; the leg's by default"))
-ELASTIC = Field("elastic", "a table {material, section, drive, passive, beams} (Elastic elements)", "the leg's "
-                "elastic elements: its links as Euler-Bernoulli beams clamped at their joints, its drive and its "
-                "passive joints as springs; where one leg has them every leg does")
+ELASTIC = Field("elastic", "a table {material, section, drive, passive, bearings, beams} (Elastic elements)",
+                "the leg's elastic elements: its links as Euler-Bernoulli beams clamped at their joints, its drive, "
+                "its passive joints and its joints' bearings as springs; where one leg has them every leg does")
 BEAM_JOINTS = ("R", "U", "parallelogram")  # a chain joint whose non-zero link is a beam
 SHAPES = {"disc": (2, 1, "its radius"), "rectangle": (2, 2, "its half extents"), "box": (3, 3, "its half extents"),
           "cylinder": (3, 2, "its radius and half length")}  # a region's dimension, its size's entries, their meaning

@@ -57,15 +57,17 @@ def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *
 
 def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[Leg], *, joints: Port, pose: Port,
                  design: Port, vector: Any, scalar: Any) -> None:
-    """``elastic(design) -> (drives, passive, beams)``: each leg's drive compliance (0 where rigid), its passive joints'
-    (0 where free) and each beam's compliance terms (:data:`symbolic.described.elastic.BEAM_TERMS`, legs in
-    order, each leg's beams from the base); and ``leg_ends(q, x, design) -> H_c``: each leg's closure's
-    derivative in its platform joint's point, the legs' rows stacked."""
+    """``elastic(design) -> (drives, passive, beams, bearings)``: each leg's drive compliance (0 where rigid), its
+    passive joints' (0 where free), each beam's compliance terms (:data:`symbolic.described.elastic.BEAM_TERMS`, legs
+    in order, each leg's beams from the base) and each leg's bearings' translational compliances summed (a
+    translation at any joint moves the chain beyond it, and its end, by as much); and ``leg_ends(q, x, design) ->
+    H_c``: each leg's closure's derivative in its platform joint's point, the legs' rows stacked."""
     dim = vector(described[0]["base"]).rows
-    drives, terms, passive = [], [], []
+    drives, terms, passive, bearings = [], [], [], []
     for leg in described:
         elastic = leg["elastic"]
         drives.append(sp.Integer(0) if elastic["drive"] is None else 1 / scalar(elastic["drive"]))
+        bearings.append(sum((1 / scalar(k) for k in elastic.get("bearings", [])), sp.Integer(0)))
         passive += [sp.Integer(0) if k is None else 1 / scalar(k) for k in passive_stiffness(leg)]
         for b, j in enumerate(beams(leg)):
             link = vector(leg["joints"][j]["link"])
@@ -76,8 +78,10 @@ def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[L
               Output("passive", sp.Matrix(passive) if passive else sp.zeros(0, 1), "each leg's passive joints' "
                      "compliance in order, 0 where free [rad/(N m), m/N]"),
               Output("beams", sp.Matrix(terms) if terms else sp.zeros(0, len(BEAM_TERMS)),
-                     f"each beam's compliance terms at its end, clamped at its start: {', '.join(BEAM_TERMS)} [SI]")),
-             "The compliance of each leg's drive and of each of its beams.")
+                     f"each beam's compliance terms at its end, clamped at its start: {', '.join(BEAM_TERMS)} [SI]"),
+              Output("bearings", sp.Matrix(bearings), "each leg's joints' bearings' translational compliances "
+                     "summed, 0 where rigid [m/N]")),
+             "The compliance of each leg's drive, passive joints, beams and bearings.")
     blocks = [-sp.eye(dim) if leg.h_c is None else leg.h_c for leg in legs]
     spec.add("leg_ends", (joints, pose, design),
              (Output("H_c", sp.Matrix.vstack(*blocks), "each leg's closure's derivative in its platform joint's "
