@@ -1,13 +1,13 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 11a942edc2f12090).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 3b8ed592f6fd5a51).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "11a942edc2f12090"
-FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", "inertia_from_pose", )
-PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", )
+SOURCE_HASH = "3b8ed592f6fd5a51"
+FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "skeleton", "elastic", "leg_ends", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", "inertia_from_pose", )
+PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", "w_l", "t_l", )
 POSE = ("x", "y", )
 ACTUATORS = ("theta1", "theta2", )
 
@@ -18,7 +18,7 @@ def inverse_kinematics():
     Inputs:
         x (2): [x, y] end-effector position [m]
         mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
         reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
@@ -29,7 +29,7 @@ def inverse_kinematics():
     mode = ca.SX.sym("mode", 2)
     mode_0 = mode[0]
     mode_1 = mode[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -46,6 +46,8 @@ def inverse_kinematics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 20 common subexpressions, 69 operations
     _t0 = design_2 + x_0
     _t1 = design_0**2
@@ -78,7 +80,7 @@ def forward_kinematics():
     Inputs:
         q_a (2): [theta1, theta2] actuated joint angles [rad]
         assembly (1): [sigma] side of the line A1 -> A2 on which P lies (+1 left, -1 right)
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         x (2x1, column-major): end-effector position [m]
         q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
@@ -89,7 +91,7 @@ def forward_kinematics():
     q_a_1 = q_a[1]
     assembly = ca.SX.sym("assembly", 1)
     assembly_0 = assembly[0]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -106,6 +108,8 @@ def forward_kinematics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 18 common subexpressions, 48 operations
     _t0 = design_0*ca.cos(q_a_0)
     _t1 = (1/2)*_t0
@@ -137,7 +141,7 @@ def constraint():
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         h (4x1, column-major): loop-closure residuals [m]
         H_q (4x4, column-major): dh/dq, actuated then passive [m/rad]
@@ -151,7 +155,7 @@ def constraint():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -168,6 +172,8 @@ def constraint():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 10 common subexpressions, 35 operations
     _t0 = -x_0
     _t1 = design_0*ca.cos(q_0)
@@ -191,7 +197,7 @@ def first_order():
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         J (2x2, column-major): q_a_dot = J x_dot [rad/m]
         J_f (2x2, column-major): x_dot = J_f q_a_dot [m/rad]
@@ -207,7 +213,7 @@ def first_order():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -224,6 +230,8 @@ def first_order():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 24 common subexpressions, 70 operations
     _t0 = ca.cos(q_2)
     _t1 = 1/design_0
@@ -263,7 +271,7 @@ def first_order_from_pose():
     Inputs:
         x (2): [x, y] end-effector position [m]
         mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
         reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
@@ -279,7 +287,7 @@ def first_order_from_pose():
     mode = ca.SX.sym("mode", 2)
     mode_0 = mode[0]
     mode_1 = mode[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -296,6 +304,8 @@ def first_order_from_pose():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 46 common subexpressions, 137 operations
     _t0 = design_2 + x_0
     _t1 = design_0**2
@@ -357,12 +367,12 @@ def maximum_inscribed_circle():
     """Maximum inscribed circle of the workspace of the out_out working mode (Lara-Molina eqs. 10-12).
 
     Inputs:
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         centre (2x1, column-major): centre (0, y_MIC) of the MIC [m]
         radius (1x1, column-major): radius r_MIC of the MIC [m]
     """
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -379,6 +389,8 @@ def maximum_inscribed_circle():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 8 common subexpressions, 45 operations
     _t0 = design_2**2
     _t1 = ca.fabs(design_0 - design_1)
@@ -393,28 +405,25 @@ def maximum_inscribed_circle():
     return ca.Function("maximum_inscribed_circle", [design], [centre, radius], ["design"], ["centre", "radius"])
 
 
-def joint_dynamics():
-    """Stacked chain dynamics of the links in the joint coordinates (Lara-Molina eqs. 20-21).
+def skeleton():
+    """The points of the joints, chain by chain, for drawing the linkage and for its elastic elements.
 
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
-        q_dot (4): [theta1_dot, theta2_dot, phi1_dot, phi2_dot] rates of q [rad/s]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        x (2): [x, y] end-effector position [m]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
-        M (4x4, column-major): mass matrix of the links in q (eq. 21) [kg m^2]
-        C (4x4, column-major): Christoffel Coriolis matrix in q [kg m^2/s]
+        points (6x2, column-major): O_i, A_i and P of each chain, one row each [m]
     """
     q = ca.SX.sym("q", 4)
     q_0 = q[0]
     q_1 = q[1]
     q_2 = q[2]
     q_3 = q[3]
-    q_dot = ca.SX.sym("q_dot", 4)
-    q_dot_0 = q_dot[0]
-    q_dot_1 = q_dot[1]
-    q_dot_2 = q_dot[2]
-    q_dot_3 = q_dot[3]
-    design = ca.SX.sym("design", 16)
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -431,6 +440,149 @@ def joint_dynamics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    # 1 common subexpressions, 11 operations
+    _t0 = -design_2
+    points = ca.reshape(ca.vertcat(_t0, _t0 + design_0*ca.cos(q_0), x_0, design_2, design_0*ca.cos(q_1) + design_2, x_0, 0, design_0*ca.sin(q_0), x_1, 0, design_0*ca.sin(q_1), x_1), 6, 2)
+    return ca.Function("skeleton", [q, x, design], [points], ["q", "x", "design"], ["points"])
+
+
+def elastic():
+    """The compliance of each chain's transmission and of each link, an aluminium square tube w_l x w_l x t_l.
+
+    Inputs:
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
+    Outputs:
+        drives (2x1, column-major): each chain's transmission compliance [rad/(N m)]
+        passive (2x1, column-major): each elbow's compliance, 0: free [rad/(N m)]
+        beams (4x5, column-major): each link's compliance terms at its end, clamped at its start, proximal then distal, chain by chain: axial, bending_uu, bending_uphi, bending_phiphi, torsion [SI]
+        bearings (2x1, column-major): the joints' bearings' compliance: rigid [m/N]
+    """
+    design = ca.SX.sym("design", 18)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    # 15 common subexpressions, 36 operations
+    _t0 = -2*design_17 + design_16
+    _t1 = 1/(-70000000000.0*_t0**2 + 70000000000.0*design_16**2)
+    _t2 = _t1*design_0
+    _t3 = _t1*design_1
+    _t4 = design_16**4
+    _t5 = _t0**4
+    _t6 = 1/(17500000000.0*_t4 - 17500000000.0*_t5)
+    _t7 = _t6*design_0**3
+    _t8 = _t6*design_1**3
+    _t9 = 1/(11666666666.666666*_t4 - 11666666666.666666*_t5)
+    _t10 = _t9*design_0**2
+    _t11 = _t9*design_1**2
+    _t12 = 1/(5833333333.333333*_t4 - 5833333333.333333*_t5)
+    _t13 = _t12*design_0
+    _t14 = _t12*design_1
+    drives = ca.reshape(ca.vertcat(1/design_9, 1/design_10), 2, 1)
+    passive = ca.reshape(ca.vertcat(0, 0), 2, 1)
+    beams = ca.reshape(ca.vertcat(_t2, _t3, _t2, _t3, _t7, _t8, _t7, _t8, _t10, _t11, _t10, _t11, _t13, _t14, _t13, _t14, 0, 0, 0, 0), 4, 5)
+    bearings = ca.reshape(ca.vertcat(0, 0), 2, 1)
+    return ca.Function("elastic", [design], [drives, passive, beams, bearings], ["design"], ["drives", "passive", "beams", "bearings"])
+
+
+def leg_ends():
+    """The derivative of each chain's closure in the end effector's point.
+
+    Inputs:
+        q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
+        x (2): [x, y] end-effector position [m]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
+    Outputs:
+        H_c (4x2, column-major): each chain's closure's derivative in P [-]
+    """
+    q = ca.SX.sym("q", 4)
+    q_0 = q[0]
+    q_1 = q[1]
+    q_2 = q[2]
+    q_3 = q[3]
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    design = ca.SX.sym("design", 18)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    # 0 common subexpressions, 0 operations
+    H_c = ca.reshape(ca.vertcat(1, 0, 1, 0, 0, 1, 0, 1), 4, 2)
+    return ca.Function("leg_ends", [q, x, design], [H_c], ["q", "x", "design"], ["H_c"])
+
+
+def joint_dynamics():
+    """Stacked chain dynamics of the links in the joint coordinates (Lara-Molina eqs. 20-21).
+
+    Inputs:
+        q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
+        q_dot (4): [theta1_dot, theta2_dot, phi1_dot, phi2_dot] rates of q [rad/s]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
+    Outputs:
+        M (4x4, column-major): mass matrix of the links in q (eq. 21) [kg m^2]
+        C (4x4, column-major): Christoffel Coriolis matrix in q [kg m^2/s]
+    """
+    q = ca.SX.sym("q", 4)
+    q_0 = q[0]
+    q_1 = q[1]
+    q_2 = q[2]
+    q_3 = q[3]
+    q_dot = ca.SX.sym("q_dot", 4)
+    q_dot_0 = q_dot[0]
+    q_dot_1 = q_dot[1]
+    q_dot_2 = q_dot[2]
+    q_dot_3 = q_dot[3]
+    design = ca.SX.sym("design", 18)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 29 common subexpressions, 84 operations
     _t0 = design_0**2
     _t1 = _t0*design_3
@@ -473,7 +625,7 @@ def actuated_dynamics():
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
         q_a_dot (2): [theta1_dot, theta2_dot] actuated joint rates [rad/s]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         M_t (2x2, column-major): M_t = Psi^T M Psi [kg m^2]
         C_t (2x2, column-major): C_t = Psi^T (M Psi_dot + C Psi) [kg m^2/s]
@@ -491,7 +643,7 @@ def actuated_dynamics():
     q_a_dot = ca.SX.sym("q_a_dot", 2)
     q_a_dot_0 = q_a_dot[0]
     q_a_dot_1 = q_a_dot[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -508,6 +660,8 @@ def actuated_dynamics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 82 common subexpressions, 243 operations
     _t0 = design_0**2
     _t1 = _t0*design_3
@@ -605,7 +759,7 @@ def elastic_dynamics():
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
         z_dot (4): [theta1_dot, theta2_dot, theta_m1_dot, theta_m2_dot] rates of z [rad/s]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         M_T (4x4, column-major): blockdiag(M_t, diag(j1, j2)) (eq. 31) [kg m^2]
         C_T (4x4, column-major): blockdiag(C_t, 0) [kg m^2/s]
@@ -625,7 +779,7 @@ def elastic_dynamics():
     z_dot_1 = z_dot[1]
     z_dot_2 = z_dot[2]
     z_dot_3 = z_dot[3]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -642,6 +796,8 @@ def elastic_dynamics():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 78 common subexpressions, 247 operations
     _t0 = design_0**2
     _t1 = _t0*design_3
@@ -734,7 +890,7 @@ def inertia():
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         M_t (2x2, column-major): actuated-space inertia Psi^T M Psi [kg m^2]
         M_w (2x2, column-major): task-space inertia J^T M_t J (eq. 35) [kg]
@@ -748,7 +904,7 @@ def inertia():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -765,6 +921,8 @@ def inertia():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 290 common subexpressions, 1065 operations
     _t0 = design_0**2
     _t1 = _t0*design_3
@@ -1069,7 +1227,7 @@ def second_order():
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
         x_dot (2): [x_dot, y_dot] end-effector velocity [m/s]
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         q_dot (4x1, column-major): all joint rates [rad/s]
         q_ddot_bias (4x1, column-major): joint accelerations at zero x_ddot: Phi_dot x_dot [rad/s^2]
@@ -1085,7 +1243,7 @@ def second_order():
     x_dot = ca.SX.sym("x_dot", 2)
     x_dot_0 = x_dot[0]
     x_dot_1 = x_dot[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -1102,6 +1260,8 @@ def second_order():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 46 common subexpressions, 134 operations
     _t0 = ca.cos(q_2)
     _t1 = 1/design_0
@@ -1160,7 +1320,7 @@ def inertia_from_pose():
     Inputs:
         x (2): [x, y] end-effector position [m]
         mode (2): [sigma1, sigma2] elbow signs of chains 1 and 2 (+1 or -1)
-        design (16): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]
+        design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
         q (4x1, column-major): theta1, theta2, phi1, phi2 [rad]
         reach (2x1, column-major): 1 - cos^2 of each elbow angle; >= 0 where reachable
@@ -1174,7 +1334,7 @@ def inertia_from_pose():
     mode = ca.SX.sym("mode", 2)
     mode_0 = mode[0]
     mode_1 = mode[1]
-    design = ca.SX.sym("design", 16)
+    design = ca.SX.sym("design", 18)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -1191,6 +1351,8 @@ def inertia_from_pose():
     design_13 = design[13]
     design_14 = design[14]
     design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
     # 336 common subexpressions, 1185 operations
     _t0 = design_2 + x_0
     _t1 = design_0**2

@@ -214,12 +214,12 @@ def test_a_design_text_that_is_not_a_string_is_pkms_error(text):
 @pytest.mark.parametrize(
     ("design", "needle"),
     [
-        ("r1=1.2", "design = 'r1=1.2' violates: a mapping name -> value, a sequence of 16 values"),
+        ("r1=1.2", "design = 'r1=1.2' violates: a mapping name -> value, a sequence of 18 values"),
         ({1.2, 1.0}, "violates: a mapping name -> value"),
         (3, "design = 3 violates: a mapping name -> value"),
-        (["a"] * 16, "design parameter r1 = 'a' violates: a real number"),
-        ([1j] * 16, "design parameter r1 = 1j violates: a real number"),
-        ([[1.2], [1.0, 0.8]], "a design vector needs 16 values"),
+        (["a"] * 18, "design parameter r1 = 'a' violates: a real number"),
+        ([1j] * 18, "design parameter r1 = 1j violates: a real number"),
+        ([[1.2], [1.0, 0.8]], "a design vector needs 18 values"),
         ({1: 2.0, ("r1",): 1.0}, "unknown design parameter(s) ('r1',), 1"),
     ],
     ids=["text", "set", "scalar", "strings", "complex", "ragged", "keys not strings"],
@@ -287,12 +287,19 @@ def test_a_theta_that_is_not_real_numbers_is_a_pose_error(theta):
 
 
 def test_a_design_of_another_mechanism_is_a_design_error():
-    """The five-bar and the 2-UPS-PU both have 16 parameters: a Design is not taken by its length."""
-    five_bar, ups_pu = pkm.load("five_bar"), pkm.load("ups_pu")
+    """A described five-bar with as many parameters as the five-bar: a Design is not taken by its length."""
+    from helpers import FIVE_BAR_OF_RR_LEGS
+
+    five_bar = pkm.load("five_bar")
+    padding = [{"name": f"p{k}", "default": 1.0, "lower": 0.0, "upper": 2.0, "unit": "m", "doc": "unused"}
+               for k in range(len(five_bar.parameters) - len(FIVE_BAR_OF_RR_LEGS["parameters"]))]
+    other = pkm.load({**FIVE_BAR_OF_RR_LEGS, "name": "five_bar_padded",
+                      "parameters": FIVE_BAR_OF_RR_LEGS["parameters"] + padding})
+    assert len(other.parameters) == len(five_bar.parameters)
     with pytest.raises(DesignError, match="a design of the five_bar"):
-        five_bar.reachable([0.0, 1.6], ups_pu.design())
+        five_bar.reachable([0.0, 1.6], other.design())
     with pytest.raises(DesignError, match="unknown design parameter"):
-        five_bar.design(ups_pu.design())
+        five_bar.design(other.design())
 
 
 @pytest.mark.parametrize("command", ["atlas five_bar gci", "sweep five_bar --indices gci"])

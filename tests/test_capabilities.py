@@ -12,6 +12,7 @@ from helpers import random_design, reachable_poses
 import pkm
 from pkm import registry
 from pkm.batch import evaluate
+from pkm.errors import PkmError
 
 SEED = 11
 STEP = 1e-6  # relative step of the directional central difference
@@ -78,6 +79,18 @@ def _parametrised_cases() -> list[tuple[str, str, str]]:
     return cases
 
 
+def _round_off(m: pkm.Mechanism, region: str, index: str) -> float:
+    """1e-12 of the local index's size at the region's centre, where the region is placed in the pose's
+    coordinates; else (a region that is not a placed shape, or one in other coordinates) 0."""
+    try:
+        placed = m.region_placement(region)
+    except PkmError:
+        return 0.0
+    if placed["mapped"] or len(placed["centre"]) != m.n_out:
+        return 0.0
+    return 1e-12 * abs(float(m.local_index(registry.global_index(index).local.name, placed["centre"])))
+
+
 @pytest.mark.parametrize(("name", "region", "index"), _parametrised_cases())
 def test_parametrised_global_index_gradient_matches_central_differences(name, region, index):
     """The exact gradient along a random direction of the design against a central difference. A region
@@ -95,6 +108,9 @@ def test_parametrised_global_index_gradient_matches_central_differences(name, re
     exact = float(np.dot(list(grad.values()), direction))
     tol = 2e-5 * abs(exact) + 1e-7 * max(1.0, abs(value))
     if registry.global_index(index).reduce == "min":
+        # a minimum at round-off of the index's size (0 on a singularity the region's rim touches) has
+        # differences of round-off over the step
+        tol += _round_off(m, region, index) / h
         forward, backward = (up - value) / h, (value - down) / h
         assert forward - tol <= exact <= backward + tol
     else:
@@ -107,7 +123,11 @@ def test_parametrised_global_index_converges_with_resolution(name, region, index
     values = [m.global_index(index, region=region, resolution=n) for n in (2, 4, 8)]
     spec = registry.global_index(index)
     if spec.reduce == "min":
-        assert abs(values[2] - values[1]) <= 1e-2 * abs(values[2])
+        # a minimum of 0 at a node every resolution has (the MIW's rim on the singularity, where the stiffness
+        # vanishes) differs by round-off alone: of the index's size at the region's centre
+        gap = abs(values[2] - values[1])
+        if gap > 1e-2 * abs(values[2]):
+            assert gap <= _round_off(m, region, index)
     else:
         assert abs(values[2] - values[1]) <= abs(values[1] - values[0]) + 1e-12 * abs(values[2])
     assert values[2].accuracy == pytest.approx(abs(values[2] - values[1]))

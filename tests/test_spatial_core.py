@@ -360,13 +360,13 @@ def _elbows(q_a, d):
 
 def _polynomial() -> ca.Function:
     """t^2 - (r2^2 - |A1 A2|^2 / 4) = 0: P = M + t n on the bisector of the elbows."""
-    q_a, d = ca.SX.sym("q_a", 2), ca.SX.sym("design", 16)
+    q_a, d = ca.SX.sym("q_a", 2), ca.SX.sym("design", len(FiveBar.parameters))
     a1, a2 = _elbows(q_a, d)
     return ca.Function("forward_polynomial", [q_a, d], [ca.vertcat(1, 0, -(d[1] ** 2 - ca.sumsqr(a2 - a1) / 4))])
 
 
 def _from_root() -> ca.Function:
-    t, q_a, d = ca.SX.sym("t"), ca.SX.sym("q_a", 2), ca.SX.sym("design", 16)
+    t, q_a, d = ca.SX.sym("t"), ca.SX.sym("q_a", 2), ca.SX.sym("design", len(FiveBar.parameters))
     a1, a2 = _elbows(q_a, d)
     u = a2 - a1
     p = (a1 + a2) / 2 + t * ca.vertcat(-u[1], u[0]) / ca.norm_2(u)

@@ -64,6 +64,9 @@ def price(instructions: int) -> int:
 MAX_INSTRUCTIONS = 50_000  # a larger graph stays on the interpreter: its compile takes minutes
 CHECK_ROWS = 5  # rows of the check against the interpreter after loading
 CHECK_TOLERANCE = 1e-9  # of the largest entry of an output, at the check's random inputs
+CHECK_NUDGE = 1e-15  # relative: the check's inputs rounded again, to see how far the function itself moves
+CHECK_NUDGES = 3  # times, the largest move counting
+CHECK_SENSITIVITY = 100  # times that move: a kernel within it of the interpreter is as right as the interpreter
 
 
 class CompiledPathWarning(UserWarning):
@@ -339,32 +342,46 @@ class _Kernel:
             _warn(topic or reason, message)
 
 
-def _check(fn: ca.Function, summed: bool, run: Run) -> str:
-    """Empty where ``run`` gives the interpreter's values at CHECK_ROWS random rows (the inputs named in
-    ``emit.GROUP_SHARED`` shared by the rows), else what differs."""
-    rng = np.random.default_rng(0)
-    n = CHECK_ROWS
-    shared = [fn.name_in(i) in emit.GROUP_SHARED for i in range(fn.n_in())]
-    inputs = [rng.uniform(0.5, 1.5, size=fn.numel_in(i) if shared[i] else (n, fn.numel_in(i)))
-              for i in range(fn.n_in())]
+def _interpreted(fn: ca.Function, inputs: list[np.ndarray], shared: list[bool], n: int) -> list[np.ndarray]:
+    """The interpreter's outputs (n, numel_j) at the check's rows."""
     rows = []
     for p in range(n):
         args = [ca.DM(a.reshape(fn.size_in(i), order="F") if shared[i] else a[p].reshape(fn.size_in(i), order="F"))
                 for i, a in enumerate(inputs)]
         rows.append([np.asarray(o).reshape(-1, order="F") for o in fn.call(args)])
-    want = [np.array([r[j] for r in rows]) for j in range(fn.n_out())]
+    return [np.array([r[j] for r in rows]) for j in range(fn.n_out())]
+
+
+def _check(fn: ca.Function, summed: bool, run: Run) -> str:
+    """Empty where ``run`` gives the interpreter's values at CHECK_ROWS random rows (the inputs named in
+    ``emit.GROUP_SHARED`` shared by the rows), else what differs: to CHECK_TOLERANCE of each output's largest
+    entry, or CHECK_SENSITIVITY times as far as the interpreter's value moves when the inputs are rounded once
+    more (CHECK_NUDGE, the largest of CHECK_NUDGES moves), where the function itself amplifies rounding (the
+    least eigenvalue of a stiffness whose largest is 1e9 times larger is known to 1e-7 of it)."""
+    rng = np.random.default_rng(0)
+    n = CHECK_ROWS
+    shared = [fn.name_in(i) in emit.GROUP_SHARED for i in range(fn.n_in())]
+    inputs = [rng.uniform(0.5, 1.5, size=fn.numel_in(i) if shared[i] else (n, fn.numel_in(i)))
+              for i in range(fn.n_in())]
+    want = _interpreted(fn, inputs, shared, n)
+    nudged = [_interpreted(fn, [a * (1 + CHECK_NUDGE * rng.standard_normal(a.shape)) for a in inputs], shared, n)
+              for _ in range(CHECK_NUDGES)]
     if summed:
         got = [np.zeros((1, fn.numel_out(j))) for j in range(fn.n_out())]
         scales = [np.abs(w).sum(axis=0) for w in want]
+        moves = [np.max([np.abs((m[j] - w).sum(axis=0, keepdims=True)) for m in nudged], axis=0)
+                 for j, w in enumerate(want)]
         want = [w.sum(axis=0, keepdims=True) for w in want]
     else:
         got = [np.zeros((n, fn.numel_out(j))) for j in range(fn.n_out())]
         scales = [np.abs(np.nan_to_num(w, posinf=0, neginf=0)).max(initial=0.0) for w in want]
+        moves = [np.max([np.abs(m[j] - w) for m in nudged], axis=0) for j, w in enumerate(want)]
     strides = [0 if shared[i] else fn.numel_in(i) for i in range(fn.n_in())]
     run(strides, [(inputs, [*got, np.zeros((1, 1))], n, n)], 1)
-    for j, (g, w, scale) in enumerate(zip(got, want, scales, strict=True)):
+    for j, (g, w, scale, move) in enumerate(zip(got, want, scales, moves, strict=True)):
         with np.errstate(invalid="ignore"):
-            close = np.abs(g - w) <= CHECK_TOLERANCE * np.maximum(1.0, np.nan_to_num(scale, posinf=0, neginf=0))
+            close = np.abs(g - w) <= np.maximum(CHECK_TOLERANCE * np.maximum(1.0, np.nan_to_num(
+                scale, posinf=0, neginf=0)), CHECK_SENSITIVITY * np.nan_to_num(move, nan=0, posinf=0))
         same = close | (np.isnan(g) & np.isnan(w)) | (np.isinf(w) & (g == w))
         if not np.all(same):
             return f"output {fn.name_out(j)}: {np.count_nonzero(~same)} of {same.size} entries"

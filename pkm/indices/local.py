@@ -241,6 +241,13 @@ def _frequency_epigraph(S: ca.SX, t: ca.SX) -> ca.SX:
     return ca.vertcat(M[0, 0] + M[1, 1], M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0])
 
 
+def _elastic_frequency(S: ca.SX) -> ca.SX:
+    """The lowest frequency of S_k, 0 where S_k is not finite: at a type-II singularity the task-space inertia
+    and the stiffness both vanish along the singular direction (0/0 in S_k), and the frequency's limit there is 0
+    (the machine loses its stiffness), which region extremes see at a node on the singularity too."""
+    return ca.if_else(ca.sumsqr(S) < np.inf, _lowest_frequency(S), 0)
+
+
 def _lowest_frequency(S: ca.SX) -> ca.SX:
     if _check_square(S, JACOBI_DIMENSION) == 2:
         return ca.sqrt(extreme_singular_values(S)[1])
@@ -403,7 +410,7 @@ ELASTIC_FREQUENCY = LocalIndex(
     "elastic_frequency",
     "lowest natural frequency of the rigid platform on the elastic structure: sqrt(lambda_min(K_x, M_w)) with "
     "the Cartesian stiffness K_x and the task-space inertia M_w = J^T M_t J in the pose's coordinates",
-    "rad/s", 0.0, np.inf, 0.0, _lowest_frequency, "vibration", ("S_k",), dimension=JACOBI_DIMENSION, raw=True,
+    "rad/s", 0.0, np.inf, 0.0, _elastic_frequency, "vibration", ("S_k",), dimension=JACOBI_DIMENSION, raw=True,
 )
 COLLISION_MARGIN = LocalIndex(
     "collision_margin",

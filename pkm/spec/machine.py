@@ -44,7 +44,7 @@ from pkm.spec.compose import (
 )
 from pkm.spec.schema import SUFFIX, Description, DescriptionError, describe, read
 from pkm.spec.seeds import Seeds
-from pkm.spec.stiffness import composed_stiffness, composed_vibration
+from pkm.spec.stiffness import elastic_functions
 from pkm.spec.vocabulary import (
     FRAMES,
     RANKS,
@@ -107,8 +107,6 @@ class DescribedFunctions(FunctionTable):
         if limited(self.description.data):
             functions.update(within_limits(functions, LIMITS))
         self._limit_names = tuple(getattr(module, "LIMITS", ()))
-        if "elastic" in functions:
-            functions["stiffness"] = composed_stiffness(self.description, functions)
         if "capsules" in functions:
             functions["collision"] = composed_collisions(self.description, functions)
         if "mass_matrix" in functions:
@@ -117,9 +115,7 @@ class DescribedFunctions(FunctionTable):
                                                   functions.get("gravity"))
             functions["inverse_dynamics"] = composed_inverse_dynamics(
                 functions["constraint"], functions["mass_matrix"], functions["first_order"], functions.get("gravity"))
-            if "stiffness" in functions:
-                functions["vibration"] = composed_vibration(functions["stiffness"], functions["inertia"],
-                                                            self.description.data["pose"]["frame"])
+        functions.update(elastic_functions(self.description, functions))
         return functions
 
     def _load(self) -> dict[str, ca.Function]:

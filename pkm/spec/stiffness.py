@@ -65,12 +65,17 @@ def _beam(terms: ca.SX, start: ca.SX, end: ca.SX, c: ca.SX) -> ca.SX:
 
 
 def _leg(H_p: ca.SX, H_c: ca.SX, springs: ca.SX) -> ca.SX:
-    """K_i = H_c^T G H_c, G the first block of [[S, H_p], [H_p^T, 0]]^-1 (module docstring)."""
+    """K_i = H_c^T G H_c, G the first block of [[S, H_p], [H_p^T, 0]]^-1 (module docstring), taken as
+    N (N^T S N)^-1 N^T with N spanning the motions the free passive joints cannot make (H_p^T N = 0): with the
+    projector P = I - H_p (H_p^T H_p)^-1 H_p^T onto them, G = P (P S P + s (I - P))^-1 P, s = tr(S) / rows. S
+    itself is never inverted, whose inverse is as large as the stiffest element (a rigid beam beside a soft
+    drive) and would cancel in G to the leg's own stiffness."""
     rows, free = springs.size1(), H_p.size2()
     if free == 0:
         return H_c.T @ ca.solve(springs, H_c)
-    system = ca.vertcat(ca.horzcat(springs, H_p), ca.horzcat(H_p.T, ca.SX.zeros(free, free)))
-    G = ca.solve(system, ca.vertcat(ca.SX.eye(rows), ca.SX.zeros(free, rows)))[:rows, :]
+    eye = ca.SX.eye(rows)
+    P = eye - H_p @ ca.solve(H_p.T @ H_p, H_p.T)
+    G = P @ ca.solve(P @ springs @ P + ca.trace(springs) / rows * (eye - P), P)
     return H_c.T @ G @ H_c
 
 
@@ -165,3 +170,17 @@ def composed_vibration(stiffness: ca.Function, inertia: ca.Function, frame: str)
     L = _cholesky(inertia(q, x, d)[1])
     inverse = ca.solve(L, ca.SX.eye(L.size1()))
     return ca.Function("vibration", [q, x, d], [inverse @ K @ inverse.T], ["q", "x", "design"], ["S_k"])
+
+
+def elastic_functions(description: Description, functions: Mapping[str, ca.Function]) -> dict[str, ca.Function]:
+    """``stiffness`` (:func:`composed_stiffness`) of a machine whose functions have its legs' ``elastic``
+    compliances, and ``vibration`` (:func:`composed_vibration`) where they have its ``inertia`` too; nothing
+    where they have no elastic elements. ``description`` gives the legs' layout: a described machine's own, or
+    the legs of a hand-derived machine in the description vocabulary (whose generated ``skeleton``, ``elastic``
+    and ``leg_ends`` follow a described machine's conventions)."""
+    if "elastic" not in functions:
+        return {}
+    out = {"stiffness": composed_stiffness(description, functions)}
+    if "inertia" in functions:
+        out["vibration"] = composed_vibration(out["stiffness"], functions["inertia"], description.data["pose"]["frame"])
+    return out

@@ -30,6 +30,12 @@ theta_i - phi_i in the mass matrix expanded into products of the vectors' compon
 Forward kinematics intersects the circles of radius r2 about the elbows; the assembly sign chooses the
 side of the directed line A1 -> A2 on which P lies.
 
+Elastic elements (pkm's stiffness, the virtual joint method of :mod:`pkm.spec.stiffness`): each link an
+aluminium square tube of outer side w_l and wall t_l (the 40 x 40 x 2 mm tube of the masses' defaults), an
+Euler-Bernoulli beam clamped at its start (:func:`symbolic.described.elastic.beam_terms`), each drive the
+transmission spring k_i, the elbows free: ``skeleton`` (the joints' points O_i, A_i, P, leg by leg),
+``elastic`` and ``leg_ends`` (H_c = dh/dP = I per leg), in the conventions of a described machine of RR legs.
+
 Dynamics (Lara-Molina 2016 section II.B): each chain carries its proximal link (mass m1, centre of mass
 at c1 r1 from the base joint, moment of inertia g1 m1 r1^2 about it), its distal link (m2, c2 r2 from
 the elbow, g2 m2 r2^2) and the motor rotor (inertia j_i, angle theta_mi) coupled to the proximal link
@@ -44,7 +50,9 @@ from functools import cache
 
 import sympy as sp
 
+from pkm.spec.vocabulary import MATERIALS
 from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.described.elastic import BEAM_TERMS, beam_terms
 from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_from_pose, add_kinematics
 from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
@@ -53,6 +61,7 @@ r1, r2, r3 = sp.symbols("r1 r2 r3", positive=True)
 m1, m2, c1, c2, g1, g2 = sp.symbols("m1 m2 c1 c2 g1 g2", positive=True)
 k1, k2, j1, j2 = sp.symbols("k1 k2 j1 j2", positive=True)
 fv, fc, vm = sp.symbols("fv fc vm", nonnegative=True)
+w_l, t_l = sp.symbols("w_l t_l", positive=True)
 x, y = sp.symbols("x y", real=True)
 theta1, theta2, phi1, phi2 = sp.symbols("theta1 theta2 phi1 phi2", real=True)
 sigma1, sigma2, sigma = sp.symbols("sigma1 sigma2 sigma", real=True)
@@ -61,9 +70,9 @@ x_dot, y_dot = rate(x), rate(y)
 
 DESIGN = Port(
     "design",
-    (r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm),
+    (r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l),
     "r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], "
-    "fc [N m], vm [N m s/rad]",
+    "fc [N m], vm [N m s/rad]; w_l, t_l [m]",
 )
 POSE = Port("x", (x, y), "end-effector position [m]")
 JOINTS = Port("q", (theta1, theta2, phi1, phi2), "actuated then passive absolute link angles [rad]")
@@ -201,6 +210,7 @@ def module() -> ModuleSpec:
         units={"h": "m", "H_q": "m/rad", "H_x": "-", "J": "rad/m", "J_f": "m/rad", "psi": "-", "det": "m^2"},
     )
     _add_mic(spec)
+    _add_elastic(spec)
     _add_dynamics(spec, loop)
     add_from_pose(spec, "inertia", inverse=inverse, joints=JOINTS, pose=POSE, mode=MODE)
     return spec
@@ -240,6 +250,34 @@ def _add_mic(spec: ModuleSpec) -> None:
         ),
         "Maximum inscribed circle of the workspace of the out_out working mode (Lara-Molina eqs. 10-12).",
     )
+
+
+LINKS = "aluminium"  # the links' material (pkm.spec.vocabulary.MATERIALS)
+
+
+def _add_elastic(spec: ModuleSpec) -> None:
+    """The joints' points, the elastic elements' compliances and the legs' closure derivative in P (module
+    docstring)."""
+    points = []
+    for base, th in zip(BASES, (theta1, theta2), strict=True):
+        points += [base, base + r1 * _e(th), P]
+    spec.add("skeleton", (JOINTS, POSE, DESIGN),
+             (Output("points", sp.Matrix.hstack(*points).T, "O_i, A_i and P of each chain, one row each [m]"),),
+             "The points of the joints, chain by chain, for drawing the linkage and for its elastic elements.")
+    young, shear, density = MATERIALS[LINKS]
+    tube = {"material": {"E": young, "G": shear, "density": density},
+            "section": {"shape": "rect_tube", "b": w_l, "h": w_l, "t": t_l}}
+    terms = [beam_terms(tube, length, sp.sympify, planar=True, count=1) for _ in BASES for length in (r1, r2)]
+    spec.add("elastic", (DESIGN,),
+             (Output("drives", sp.Matrix([1 / k1, 1 / k2]), "each chain's transmission compliance [rad/(N m)]"),
+              Output("passive", sp.zeros(2, 1), "each elbow's compliance, 0: free [rad/(N m)]"),
+              Output("beams", sp.Matrix(terms), "each link's compliance terms at its end, clamped at its start, "
+                     f"proximal then distal, chain by chain: {', '.join(BEAM_TERMS)} [SI]"),
+              Output("bearings", sp.zeros(2, 1), "the joints' bearings' compliance: rigid [m/N]")),
+             "The compliance of each chain's transmission and of each link, an aluminium square tube w_l x w_l x t_l.")
+    spec.add("leg_ends", (JOINTS, POSE, DESIGN),
+             (Output("H_c", sp.Matrix.vstack(sp.eye(2), sp.eye(2)), "each chain's closure's derivative in P [-]"),),
+             "The derivative of each chain's closure in the end effector's point.")
 
 
 def chains() -> tuple[Chain, Chain]:

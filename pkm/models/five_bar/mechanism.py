@@ -9,17 +9,21 @@ OABC'D, OA'BCD and OA'BC'D, with A/A' the elbow of the chain at O and C/C' that 
 from __future__ import annotations
 
 import math
+from functools import cache, cached_property
 from typing import ClassVar
 
 import numpy as np
 
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace
-from pkm.kinematics import Branch
+from pkm.kinematics import Branch, FunctionTable, GeneratedFunctions
 from pkm.mechanism import Mechanism
+from pkm.models.five_bar.legs import described
 from pkm.models.five_bar.spaces import GAO1998, LARA_MOLINA2016
 from pkm.models.five_bar.structure import structure
 from pkm.regions import Disc
+from pkm.spec.schema import Description, describe
+from pkm.spec.stiffness import elastic_functions
 
 
 def _optional(name, default, lower, unit, doc, *, closed=False, default_from=None):
@@ -57,6 +61,11 @@ DYNAMIC_PARAMETERS = (
     _optional("fc", 0.0, 0.0, "N m", "Coulomb friction at each actuated joint (eq. 22)", closed=True),
     _optional("vm", 0.0, 0.0, "N m s/rad", "viscous friction at each rotor (eq. 13)", closed=True),
 )
+ELASTIC_PARAMETERS = (
+    _optional("w_l", 0.04, 0.0, "m", "outer side of the links' aluminium square tube (their beams' section; the "
+              "masses' defaults are the 40 mm tube's)"),
+    _optional("t_l", 0.002, 0.0, "m", "wall of the links' square tube"),
+)
 
 
 class FiveBar(Mechanism):
@@ -67,9 +76,11 @@ class FiveBar(Mechanism):
         Parameter("r2", R2, 0.0, math.inf, "m", "distal link length, elbow to end effector"),
         Parameter("r3", R3, 0.0, math.inf, "m", "half the distance between the two base joints", closed_lower=True),
         *DYNAMIC_PARAMETERS,
+        *ELASTIC_PARAMETERS,
     )
     conditions = (
         Condition("r1 + r2 > r3 (the chains' reaches overlap: Gao eq. 5)", lambda d: d["r1"] + d["r2"] - d["r3"]),
+        Condition("2 t_l < w_l (the tube's walls within its side)", lambda d: d["w_l"] - 2 * d["t_l"]),
     )
     working_modes = (
         Branch("out_out", (1.0, -1.0), "both elbows outside the triangle O1 P O2", ("OABCD",)),
@@ -99,6 +110,13 @@ class FiveBar(Mechanism):
         )
     }
 
+    @cached_property
+    def functions(self) -> FunctionTable:
+        """The generated functions, with the stiffness and the elastic vibration composed from the chains' elastic
+        elements as a described machine's of the same legs (:mod:`pkm.models.five_bar.legs`)."""
+        return GeneratedFunctions(self.name, parameters=self.parameter_names(), pose=self.pose_names,
+                                  actuators=self.actuator_names, extra=lambda f: elastic_functions(_legs(), f))
+
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """The intersection of the chains' annuli lies in |x| <= R - r3, |y| <= sqrt(R^2 - r3^2)."""
         r1, r2, r3 = design[:3]
@@ -110,3 +128,8 @@ class FiveBar(Mechanism):
         """Centre (0, y_MIC) and radius r_MIC of the maximum inscribed circle (Lara-Molina eqs. 10-12)."""
         centre, radius = self.functions["maximum_inscribed_circle"](self.design_vector(design))
         return np.asarray(centre).ravel(), float(radius)
+
+
+@cache
+def _legs() -> Description:
+    return describe(described(FiveBar.parameters))
