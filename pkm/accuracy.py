@@ -1,12 +1,13 @@
-"""Accuracy with real parts (issue 42): a described machine's error model, its pose error under tolerances, the
-widest tolerances within a budget, and calibration.
+"""Accuracy with real parts (issue 42): a machine's error model, its pose error under tolerances, the widest
+tolerances within a budget, and calibration.
 
-The error model expands the description per leg (:func:`expanded`): each leg's base and platform attachments
-and each of its lengths (a kind's proximal, distal, arm or rod; a chain joint's non-zero link, per component) get
-an error parameter of their own, default 0, so that the nominal machine is the same graphs at zero error; each
-actuated joint's zero offset (the joint's own less the joint the drive reads) is one more. The pose error
-Jacobian E = dx/dp at fixed actuated joints follows from the closure h(q_a, q_p, x, p) = 0: [H_p H_x]
-[dq_p; dx] = -dh/dp dp for the geometric errors, and the forward Jacobian's columns for the zero offsets;
+The error model expands the machine's legs in the description vocabulary (a described machine's description, or the
+legs a hand-derived machine gives: :meth:`pkm.Mechanism.described_legs`) per leg (:func:`expanded`): each leg's
+base and platform attachments and each of its lengths (a kind's proximal, distal, arm or rod; a chain joint's
+non-zero link, per component) get an error parameter of their own, default 0, so that the nominal machine is the same
+graphs at zero error; each actuated joint's zero offset (the joint's own less the joint the drive reads) is one
+more. The pose error Jacobian E = dx/dp at fixed actuated joints follows from the closure h(q_a, q_p, x, p) = 0:
+[H_p H_x] [dq_p; dx] = -dh/dp dp for the geometric errors, and the forward Jacobian's columns for the zero offsets;
 composed in CasADi and evaluated over batches like every other graph.
 
 Under tolerances |p_k| <= t_k the linearised worst case of each pose coordinate is sum_k |E_ik| t_k; under
@@ -113,14 +114,15 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian") -> tuple[dict
 
 
 class ErrorModel:
-    """A described machine's error model (module docstring): ``machine`` the expanded machine, ``parameters``
-    its geometric errors and the drives' zero offsets, in the order of E's columns."""
+    """A machine's error model (module docstring), from its legs in the description vocabulary
+    (:meth:`pkm.Mechanism.described_legs`): ``machine`` the expanded machine, ``parameters`` its geometric
+    errors and the drives' zero offsets, in the order of E's columns."""
 
     def __init__(self, mech: Any, attachments: str = "cartesian") -> None:
-        description = getattr(mech, "description", None)
+        description = mech.described_legs()
         if description is None:
-            raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), whose description pkm "
-                           "expands per leg; the hand-derived machines have no error model yet")
+            raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), or a hand-derived one "
+                           "that gives its legs in the description vocabulary, which pkm expands per leg")
         data, geometric = expanded(description.data, attachments)
         self.nominal = mech
         self.machine = mech.variant(data)
@@ -138,7 +140,8 @@ class ErrorModel:
     def design(self, design: Any = None, errors: Any = None) -> np.ndarray:
         """The expanded machine's design vector: the nominal design's values and the geometric errors (by name,
         0 where not given)."""
-        values = dict(self.nominal.design(design))
+        names = set(self.machine.parameter_names())
+        values = {k: v for k, v in self.nominal.design(design).items() if k in names}
         given = dict(errors or {})
         unknown = sorted(set(given) - set(self.names))
         if unknown:

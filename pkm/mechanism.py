@@ -148,6 +148,12 @@ class Mechanism:
             raise UnknownNameError(f"{self.name} region", name, self.region_names())
         return self.regions[name]
 
+    def described_legs(self) -> Any:
+        """The machine's legs in the description vocabulary (a :class:`pkm.spec.schema.Description`), where it has
+        them: a described machine's own description, or a hand-derived machine's legs that it gives; its error
+        model expands them per leg (:mod:`pkm.accuracy`) and builds them with ``variant``. None otherwise."""
+        return getattr(self, "description", None)
+
     def linkage(self, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> list[np.ndarray]:
         """The joints' points of each leg at one pose (base joint, the leg's joints, platform joint), for
         drawing, from the generated ``skeleton`` where the mechanism has one (NaN where the pose is out of

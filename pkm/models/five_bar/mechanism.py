@@ -22,6 +22,7 @@ from pkm.models.five_bar.legs import described
 from pkm.models.five_bar.spaces import GAO1998, LARA_MOLINA2016
 from pkm.models.five_bar.structure import structure
 from pkm.regions import Disc
+from pkm.spec.machine import variant
 from pkm.spec.schema import Description, describe
 from pkm.spec.stiffness import elastic_functions
 
@@ -116,6 +117,12 @@ class FiveBar(Mechanism):
         elements as a described machine's of the same legs (:mod:`pkm.models.five_bar.legs`)."""
         return GeneratedFunctions(self.name, parameters=self.parameter_names(), pose=self.pose_names,
                                   actuators=self.actuator_names, extra=lambda f: elastic_functions(_legs(), f))
+
+    variant = staticmethod(variant)
+
+    def described_legs(self) -> Description:
+        """Its two RR legs (:mod:`pkm.models.five_bar.legs`): its error model expands them."""
+        return _legs()
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """The intersection of the chains' annuli lies in |x| <= R - r3, |y| <= sqrt(R^2 - r3^2)."""
