@@ -16,6 +16,7 @@ import casadi as ca
 import numpy as np
 
 from pkm.compiled import kernel
+from pkm.compiled.emit import GROUP_SHARED
 
 REACH_TOLERANCE = 1e-12
 THREADS = max(1, min(os.cpu_count() or 1, 8))
@@ -64,7 +65,8 @@ def _evaluate(f: ca.Function, args: tuple[np.ndarray, ...], *, check: bool) -> t
     f = _dense(f)
     arrays = [np.asarray(a, dtype=float) for a in args]
     layout = _layout(f)
-    run = kernel(f, work=layout.instructions * _rows(arrays))
+    rows = any(a.ndim == 2 and f.name_in(i) in GROUP_SHARED for i, a in enumerate(arrays))
+    run = kernel(f, work=layout.instructions * _rows(arrays), rows=rows)
     if run is not None:
         return _compiled(f, layout, run, arrays)
     return interpreted(f, *arrays), not check or all(map(all_finite, arrays))

@@ -87,6 +87,31 @@ def test_the_work_of_earlier_processes_counts_towards_a_compile(fresh):
     assert compiled.Cache(fresh).rent(compiled.key(fn)) == 0
 
 
+@needs_compiler
+def test_a_batch_of_designs_runs_a_kernel_of_its_own_that_reads_them_row_by_row(fresh):
+    """A kernel reads the design once, shared by the batch; one row per design is a second kernel, compiled
+    where such a batch asks for it and checked against the interpreter with designs row by row; the first
+    refuses a design given per row."""
+    fn = _graph(0.5)
+    rng = np.random.default_rng(4)
+    x, designs = rng.uniform(-1, 1, (300, 3)), rng.uniform(0.5, 2.0, (300, 2))
+    price = compiled.price(fn.n_instructions())
+    shared_run = compiled.kernel(fn, work=price)
+    assert shared_run is not None
+    rows_run = compiled.kernel(fn, work=price, rows=True)
+    assert rows_run is not None
+    assert rows_run is not shared_run
+    before = _evaluations()["compiled"]
+    (shared,) = batch.evaluate(fn, x, designs[0])
+    (per_row,) = batch.evaluate(fn, x, designs)
+    assert _evaluations()["compiled"] == before + 2
+    np.testing.assert_allclose(shared, batch.interpreted(fn, x, designs[0])[0], rtol=1e-13, atol=1e-14)
+    np.testing.assert_allclose(per_row, batch.interpreted(fn, x, designs)[0], rtol=1e-13, atol=1e-14)
+    out = [np.empty((300, 3)), np.zeros((1, 1))]
+    with pytest.raises(ValueError, match="reads the design once"):
+        shared_run([3, 2], [([x, designs], out, 300, 300)], 1)
+
+
 def test_rent_records_are_added_under_a_lock_and_kept_to_their_limit(fresh, monkeypatch):
     from pkm.compiled import cache as cache_module
 
@@ -108,7 +133,7 @@ def test_a_graph_never_seen_runs_compiled_once_its_work_reaches_a_compiles(fresh
     design = np.array([1.5, 0.7])
     first = batch.evaluate(fn, x, design)
     assert _evaluations() == {"compiled": 0, "interpreter": {compiled.LITTLE_WORK: 1}}
-    done = compiled._entries[(fn, False)].interpreted
+    done = compiled._entries[(fn, False, False)].interpreted
     monkeypatch.setattr(compiled, "price", lambda _: done + 1)
     second = batch.evaluate(fn, x, design)
     assert _evaluations() == {"compiled": 1, "interpreter": {compiled.LITTLE_WORK: 1}}
@@ -204,10 +229,11 @@ from pkm import batch, compiled
 from test_compiled import _graph
 fn = _graph(0.5)
 x = np.random.default_rng(1).uniform(-1, 1, (8, 3))
-batch.evaluate(fn, x, np.array([1.5, 0.7]))
+batch.evaluate(fn, x, np.array([1.5, 0.7]))  # compiled where the other process's kernel is in the cache already
+before = compiled.status()["evaluations"]["compiled"]
 compiled.price = lambda _: 1
 batch.evaluate(fn, x, np.array([1.5, 0.7]))
-print(compiled.status()["evaluations"]["compiled"], compiled.key(fn))
+print(compiled.status()["evaluations"]["compiled"] - before, compiled.key(fn))
 """
     env = {**os.environ, "PKM_CACHE_DIR": str(fresh), "PYTHONPATH": str(Path(__file__).parent)}
     runs = [subprocess.Popen([sys.executable, "-c", script], env=env, stdout=subprocess.PIPE, text=True)

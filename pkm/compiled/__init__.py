@@ -219,13 +219,14 @@ def _emitter() -> str:
     return hashlib.sha256(Path(emit.__file__).read_bytes()).hexdigest()
 
 
-def key(fn: ca.Function, summed: bool = False) -> str:
-    """The cache key of ``fn``'s kernel: the sha256 of its serialised graph, whether it sums over the batch,
-    the emitter's source, the toolchain's fingerprint, the optimisation level for its size and kind and
-    CasADi's version."""
+def key(fn: ca.Function, summed: bool = False, rows: bool = False) -> str:
+    """The cache key of ``fn``'s kernel: the sha256 of its serialised graph, whether it sums over the batch or
+    reads the design row by row, the emitter's source, the toolchain's fingerprint, the optimisation level for its
+    size and kind and CasADi's version."""
     toolchain = _path().toolchain
     level = toolchain.optimisation(fn.n_instructions(), summed) if toolchain else ""
-    parts = [fn.serialize(), str(summed), _emitter(), toolchain.fingerprint if toolchain else "", level, ca.__version__]
+    parts = [fn.serialize(), str(summed), str(rows), _emitter(), toolchain.fingerprint if toolchain else "", level,
+             ca.__version__]
     return hashlib.sha256("\0".join(parts).encode()).hexdigest()
 
 
@@ -234,11 +235,11 @@ Run = Callable[[list[int], list[Chunk], int], None]
 
 
 class _Kernel:
-    """One function's kernel in this process: new, met once (not in the cache), compiling, ready, or off
-    with the reason."""
+    """One function's kernel in this process (summing, or reading the design row by row: :func:`kernel`): new,
+    met once (not in the cache), compiling, ready, or off with the reason."""
 
-    def __init__(self, fn: ca.Function, summed: bool):
-        self.fn, self.summed = fn, summed
+    def __init__(self, fn: ca.Function, summed: bool, rows: bool = False):
+        self.fn, self.summed, self.rows = fn, summed, rows
         self.run: Run | None = None
         self.future: Future | None = None
         self.reason, self.key = "", ""
@@ -275,7 +276,7 @@ class _Kernel:
         if self.fn.n_instructions() > MAX_INSTRUCTIONS:
             self._off("too large to compile", "")
             return
-        self.key = key(self.fn, self.summed)
+        self.key = key(self.fn, self.summed, self.rows)
         library = path.cache.find(self.key)
         if library is not None:
             self._load(library)
@@ -289,7 +290,7 @@ class _Kernel:
     def _compile(self) -> None:
         """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""
         path = _path()
-        source = emit.source(self.fn, self.summed)
+        source = emit.source(self.fn, self.summed, self.rows)
         toolchain, name, summed, instructions = path.toolchain, self.fn.name(), self.summed, self.fn.n_instructions()
 
         def build(folder: Path) -> dict:
@@ -324,13 +325,16 @@ class _Kernel:
             self._off("load error", f"{self.fn.name()}'s kernel did not load: {exc}", topic=self.key)
             return
         n_in, n_out, name = self.fn.n_in(), self.fn.n_out(), self.fn.name()
+        once = [] if self.summed or self.rows else sorted(emit.shared_inputs(self.fn))
 
         def run(strides: list[int], chunks: list[Chunk], threads: int) -> None:
             if len(strides) != n_in or any(len(c[0]) != n_in or len(c[1]) != n_out + 1 for c in chunks):
                 raise ValueError(f"{name}'s kernel takes {n_in} inputs and {n_out} outputs and a flag per chunk")
+            if any(strides[i] for i in once):
+                raise ValueError(f"{name}'s kernel reads the design once: one shared by the batch (stride 0)")
             runner.run(address, threads, strides, chunks)
 
-        error = _check(self.fn, self.summed, run)
+        error = _check(self.fn, self.summed, run, self.rows)
         if error:
             self._off("check failed", f"{name}'s kernel differs from the interpreter ({error})", topic=self.key)
             return
@@ -352,15 +356,15 @@ def _interpreted(fn: ca.Function, inputs: list[np.ndarray], shared: list[bool], 
     return [np.array([r[j] for r in rows]) for j in range(fn.n_out())]
 
 
-def _check(fn: ca.Function, summed: bool, run: Run) -> str:
+def _check(fn: ca.Function, summed: bool, run: Run, rows: bool = False) -> str:
     """Empty where ``run`` gives the interpreter's values at CHECK_ROWS random rows (the inputs named in
-    ``emit.GROUP_SHARED`` shared by the rows), else what differs: to CHECK_TOLERANCE of each output's largest
-    entry, or CHECK_SENSITIVITY times as far as the interpreter's value moves when the inputs are rounded once
-    more (CHECK_NUDGE, the largest of CHECK_NUDGES moves), where the function itself amplifies rounding (the
-    least eigenvalue of a stiffness whose largest is 1e9 times larger is known to 1e-7 of it)."""
+    ``emit.GROUP_SHARED`` shared by the rows, unless ``rows``), else what differs: to CHECK_TOLERANCE of each
+    output's largest entry, or CHECK_SENSITIVITY times as far as the interpreter's value moves when the inputs
+    are rounded once more (CHECK_NUDGE, the largest of CHECK_NUDGES moves), where the function itself amplifies
+    rounding (the least eigenvalue of a stiffness whose largest is 1e9 times larger is known to 1e-7 of it)."""
     rng = np.random.default_rng(0)
     n = CHECK_ROWS
-    shared = [fn.name_in(i) in emit.GROUP_SHARED for i in range(fn.n_in())]
+    shared = [fn.name_in(i) in emit.GROUP_SHARED and not rows for i in range(fn.n_in())]
     inputs = [rng.uniform(0.5, 1.5, size=fn.numel_in(i) if shared[i] else (n, fn.numel_in(i)))
               for i in range(fn.n_in())]
     want = _interpreted(fn, inputs, shared, n)
@@ -392,26 +396,29 @@ ENTRIES = 4096  # kernels a process keeps track of, the first met forgotten firs
 _entries: OrderedDict[tuple[ca.Function, bool], _Kernel] = OrderedDict()
 
 
-def _entry(fn: ca.Function, summed: bool) -> _Kernel:
-    entry = _entries.get((fn, summed))
+def _entry(fn: ca.Function, summed: bool, rows: bool = False) -> _Kernel:
+    rows = rows and not summed and bool(emit.shared_inputs(fn))  # one kernel where the design is read once
+    entry = _entries.get((fn, summed, rows))
     if entry is None:
         with _lock:
-            entry = _entries.setdefault((fn, summed), _Kernel(fn, summed))
+            entry = _entries.setdefault((fn, summed, rows), _Kernel(fn, summed, rows))
             while len(_entries) > ENTRIES:
                 _entries.popitem(last=False)
     return entry
 
 
-def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0) -> Run | None:
+def kernel(fn: ca.Function, summed: bool = False, *, work: int = 0, rows: bool = False) -> Run | None:
     """``run(strides, chunks, threads)`` evaluating ``fn`` compiled over the chunks of a batch, each chunk
     ``(inputs, outputs, n, group)``: n rows, inputs (n or 1, k_i) with the row strides ``strides``, outputs
     (n, k_j) and a flag (1, 1) that the kernel sets to 1 where an input entry it reads row by row is not
     finite, C order; the chunks on up to ``threads`` threads (the caller's and threads the runner keeps),
     without the GIL. With ``summed`` the kernel adds the sums of each output over consecutive groups of
-    ``group`` rows to the rows of (n / group, k_j) outputs instead. None where this evaluation runs on the
-    interpreter (module docstring; ``work``, its instructions times rows, counts towards the compile). Each
-    call counts as one evaluation in :func:`status`."""
-    entry = _entry(fn, summed)
+    ``group`` rows to the rows of (n / group, k_j) outputs instead. A kernel that is not summed reads the
+    inputs named in ``emit.GROUP_SHARED`` (the mode, the design) once, shared by the batch (stride 0); with
+    ``rows``, where a batch gives one per row, it is a kernel of its own, compiled where such batches ask for
+    it. None where this evaluation runs on the interpreter (module docstring; ``work``, its instructions times
+    rows, counts towards the compile). Each call counts as one evaluation in :func:`status`."""
+    entry = _entry(fn, summed, rows)
     run = entry.get(work)
     _evaluations["compiled" if run is not None else entry.reason] += 1
     return run

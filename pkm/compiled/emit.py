@@ -224,7 +224,12 @@ def _loop(fn: ca.Function, shared: set[int], summed: bool, indent: str) -> list[
 SYMBOL = "pkm_kernel"  # the one function a kernel's translation unit exports
 
 
-def source(fn: ca.Function, summed: bool = False) -> str:
+def shared_inputs(fn: ca.Function) -> set[int]:
+    """The inputs of ``fn`` named in GROUP_SHARED (the mode, the design), those with entries."""
+    return {i for i in range(fn.n_in()) if fn.name_in(i) in GROUP_SHARED and fn.nnz_in(i)}
+
+
+def source(fn: ca.Function, summed: bool = False, rows: bool = False) -> str:
     """The translation unit of ``fn``'s kernel: :data:`PRELUDE` and the function :data:`SYMBOL` that
     evaluates ``fn`` over a batch (module docstring), or with ``summed``
     adds the sums of each output over consecutive groups of ``group`` rows, in row order, to the rows of
@@ -233,29 +238,26 @@ def source(fn: ca.Function, summed: bool = False) -> str:
     The inputs named in GROUP_SHARED (the mode, the design) are read once, and what depends on them alone
     is computed once, before the loop over the rows: by a summing kernel once per group, from the group's
     first row (they are the same on every row of a group: one design per group); by one that is not summed
-    once per call where every one of them is shared by the batch (stride 0), else row by row."""
+    once per call, every one of them shared by the batch (stride 0), or with ``rows`` (a kernel of its own,
+    compiled where a batch gives one of them per row) row by row."""
     if not emittable(fn):
         raise ValueError(f"{fn.name()}: not an SX function with dense ports and known operations")
     n_in = [fn.nnz_in(i) for i in range(fn.n_in())]
     n_out = [fn.nnz_out(j) for j in range(fn.n_out())]
-    shared = {i for i in range(fn.n_in()) if fn.name_in(i) in GROUP_SHARED and n_in[i]}
+    shared = set() if rows and not summed else shared_inputs(fn)
+    once = "group" if summed else "call, the design shared by the batch" if shared else "call"
     lines = [
         PRELUDE,
-        f"/* {fn.name()}: {fn.n_instructions()} instructions, {len(_split(fn, shared)[0])} once per "
-        f"{'group' if summed else 'call where the design is shared'}; inputs {', '.join(fn.name_in())}; "
-        f"outputs {', '.join(fn.name_out())}{' summed over the batch' if summed else ''} */",
+        f"/* {fn.name()}: {fn.n_instructions()} instructions, {len(_split(fn, shared)[0])} once per {once}; "
+        f"inputs {', '.join(fn.name_in())}; outputs {', '.join(fn.name_out())}"
+        f"{' summed over the batch' if summed else ''} */",
         f"void {SYMBOL}(long n, long group, const double *const *in, const long *stride, "
         "double *const *out)",
         "{",
     ]
     lines.append("  double nonfinite[PKM_BLOCK] = {0};")
-    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and (i not in shared or not summed)]
+    lines += [f"  double a{i}[{k}][PKM_BLOCK];" for i, k in enumerate(n_in) if k and i not in shared]
     lines += [f"  double b{j}[{k}][PKM_BLOCK];" for j, k in enumerate(n_out) if k]
-    if summed or not shared:
-        lines += _loop(fn, shared if summed else set(), summed, "  ")
-    else:
-        condition = " && ".join(f"stride[{i}] == 0" for i in sorted(shared))
-        lines += [f"  if ({condition}) {{", *_loop(fn, shared, False, "    "), "  } else {",
-                  *_loop(fn, set(), False, "    "), "  }"]
+    lines += _loop(fn, shared, summed, "  ")
     lines.append(f"  for (long q = 0; q < PKM_BLOCK; ++q) if (nonfinite[q] != 0) out[{fn.n_out()}][0] = 1.;")
     return "\n".join([*lines, "}", ""])
