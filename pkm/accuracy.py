@@ -23,6 +23,7 @@ identifiability of each parameter (the stacked Jacobian's rank and singular valu
 from __future__ import annotations
 
 import copy
+import reprlib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -32,6 +33,7 @@ import numpy as np
 
 from pkm.batch import evaluate
 from pkm.errors import PkmError
+from pkm.indices import GlobalIndex, LocalIndex
 from pkm.kinematics import as_batch
 from pkm.spec.vocabulary import CHAIN, KINDS
 
@@ -173,6 +175,30 @@ class ErrorModel:
                                        for n in self.machine.parameter_names()])
         return ca.Function("pose_error_jacobian", [q, x, d], [full(q, x, expanded_design)], ["q", "x", "design"],
                            ["E"])
+
+    def index(self, tolerances: Any) -> LocalIndex:
+        """The linearised worst-case position error under ``tolerances`` (:meth:`widths`) as a local index of the
+        nominal machine, ``pose_error`` [m]: the largest over the pose's translational coordinates of
+        sum_k |E_ik| t_k, E read from the nominal machine's joints, pose and design (:meth:`nominal_function`), so
+        that maps, global indices with exact design gradients and task constraints take it like any other."""
+        widths = ca.DM(self.widths(tolerances)).T
+        moved = [k for k, unit in enumerate(self.nominal.pose_units) if unit == "m"]
+
+        def rows(E: ca.SX) -> ca.SX:
+            return ca.vertcat(*[ca.sum2(ca.fabs(E[i, :]) * widths) for i in moved])
+
+        return LocalIndex(
+            "pose_error", "the worst-case pose error over the translation, max_i sum_k |E_ik| t_k, under the "
+            f"tolerances {reprlib.repr(tolerances)}", "m", 0.0, np.inf, np.inf, lambda E: ca.mmax(rows(E)),
+            self.nominal_function(), ("E",), epigraph_upper=lambda E, t: t - rows(E), dimension=None, raw=True,
+        )
+
+    def global_index(self, tolerances: Any, reduce: str = "max") -> GlobalIndex:
+        """The region's largest (``reduce`` "max"; or "mean", "rms") worst-case position error under the
+        tolerances, a global index to be minimised (:meth:`index`; ``m.global_index(model.global_index(t),
+        design, region=...)``)."""
+        local = self.index(tolerances)
+        return GlobalIndex(f"pose_error_{reduce}", local, f"the region's {reduce} of {local.doc}", reduce, "min")
 
     def widths(self, tolerances: Any) -> np.ndarray:
         """The tolerances as E's columns: a number, every geometric error's in metres (the angles' and the drives'

@@ -133,7 +133,7 @@ def design_card(
     *,
     modes: Sequence[str] | None = None,
     region: str | Any | None = None,
-    index: str = "inverse_condition_f",
+    index: Any = "inverse_condition_f",
     axes: tuple[str, str] | None = None,
     held: Mapping[str, float] | None = None,
     pose: Sequence[float] | None = None,
@@ -141,7 +141,8 @@ def design_card(
     resolution: int = 81,
     units: Units | None = None,
 ) -> Card:
-    """The card of a design in ``modes`` (all by default): maps of ``index`` over the plane ``axes`` (the
+    """The card of a design in ``modes`` (all by default): maps of ``index`` (a local index's name, or the index:
+    an error model's ``pose_error``) over the plane ``axes`` (the
     other coordinates at ``held``, by default the region's centre or the workspace box's), the linkage at
     ``pose`` (by default the region's centre, else the plane's middle), and every global index the mechanism
     offers (or ``indices``) over ``region`` (its first parametrised region by default, or a region given as it

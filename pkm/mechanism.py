@@ -379,12 +379,14 @@ class Mechanism:
         return (fits and fn is not None and set(spec.arguments) <= set(fn.name_out())
                 and all(fn.numel_out(fn.index_out(a)) > 0 for a in spec.arguments))
 
-    def local_spec(self, name: str) -> LocalIndex:
-        """The local index by name, if this mechanism has the generated function it needs."""
-        spec = registry.local_index(name)
+    def local_spec(self, name: str | LocalIndex) -> LocalIndex:
+        """The local index by name (or one given as it is, such as an error model's ``pose_error``), if this
+        mechanism has the function it needs."""
+        spec = name if hasattr(name, "arguments") else registry.local_index(name)
         if not self._has(spec):
+            source = spec.source if isinstance(spec.source, str) else spec.source.name()
             raise PkmError(
-                f"local index {name} needs the {', '.join(spec.arguments)} of a {spec.source} model, "
+                f"local index {spec.name} needs the {', '.join(spec.arguments)} of a {source} model, "
                 f"which {self.name} does not have"
             )
         return spec
@@ -397,9 +399,12 @@ class Mechanism:
         velocity amplification): global indices over a trajectory region (:class:`pkm.regions.TrajectoryRegion`)."""
         return importlib.import_module("pkm.dynamics.quantities").trajectory_indices(self)
 
-    def global_spec(self, name: str) -> GlobalIndex:
+    def global_spec(self, name: str | GlobalIndex) -> GlobalIndex:
         """The global index by name, if this mechanism can evaluate its local index: a registered one, or one of
-        its :attr:`trajectory_quantities`."""
+        its :attr:`trajectory_quantities`; or one given as it is (an error model's ``pose_error_max``)."""
+        if hasattr(name, "reduce"):
+            self.local_spec(name.local)
+            return name
         try:
             spec = registry.global_index(name)
         except UnknownNameError:
@@ -408,7 +413,7 @@ class Mechanism:
             raise
         self.local_spec(spec.local.name)
         if spec.per is not None:
-            self.functions.require(spec.per, f"the global index {name}")
+            self.functions.require(spec.per, f"the global index {spec.name}")
         return spec
 
     def index_unit(self, name: Any) -> str:
@@ -436,8 +441,10 @@ class Mechanism:
             if self._has(i.local) and (i.per is None or i.per in self.functions)
         )
 
-    def local_index(self, name: str, pose: Any, design: DesignLike = None, *, mode: str | None = None) -> np.ndarray:
-        """A local index at each pose (N,); NaN where out of reach, its limit at singular poses."""
+    def local_index(self, name: str | LocalIndex, pose: Any, design: DesignLike = None, *, mode: str | None = None
+                    ) -> np.ndarray:
+        """A local index (by name, or given as it is) at each pose (N,); NaN where out of reach, its limit at
+        singular poses."""
         spec = self.local_spec(name)
         x, single = as_batch(pose, self.n_out, "pose", finite=False)
         (values,), finite = regions.index_values(
@@ -453,7 +460,7 @@ class Mechanism:
 
     def global_index(
         self,
-        name: str,
+        name: str | GlobalIndex,
         design: DesignLike = None,
         *,
         region: str | Any = "reachable",
@@ -478,7 +485,7 @@ class Mechanism:
         where = region if hasattr(region, "quadrature") else self.region(region)
         region = regions.region_name(where)
         if spec.local.source == regions.MOTION and not isinstance(where, regions.TrajectoryRegion):
-            raise PkmError(f"{name} is taken along a trajectory: region {region} is not one (a "
+            raise PkmError(f"{spec.name} is taken along a trajectory: region {region} is not one (a "
                            "pkm.regions.TrajectoryRegion, such as a mechanism's named move)")
         branch = self.working_mode(mode)
         allowed = getattr(where, "modes", None)

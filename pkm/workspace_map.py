@@ -38,7 +38,7 @@ class WorkspaceSlice:
     mechanism: Any
     design: Any
     mode: str
-    index: str
+    index: Any  # a local index's name, or the index (an error model's pose_error)
     axes: tuple[str, str]
     held: Mapping[str, float]
     u: np.ndarray
@@ -48,13 +48,17 @@ class WorkspaceSlice:
     region: str | None = None
     region_points: np.ndarray | None = None  # (k, 2): the region's nodes near the plane
 
+    @property
+    def index_name(self) -> str:
+        return getattr(self.index, "name", self.index)
+
     def metadata(self, units: Units | None = None) -> dict[str, Any]:
         """What the map is of; with ``units``, its numbers and their units' names in them."""
         m, units = self.mechanism, units or Units()
         named = dict(zip(m.pose_names, m.pose_units, strict=True))
         return {"mechanism": m.name, "design": {p.name: units.value(float(self.design[p.name]), p.unit)
                                                 for p in m.parameters},
-                "mode": self.mode, "index": self.index, "unit": units.convert(m.index_unit(self.index))[1],
+                "mode": self.mode, "index": self.index_name, "unit": units.convert(m.index_unit(self.index))[1],
                 "axes": list(self.axes), "held": {k: units.value(v, named[k]) for k, v in self.held.items()},
                 "region": self.region}
 
@@ -104,7 +108,8 @@ class WorkspaceSlice:
         held = ", ".join(f"{k} = {units.value(v, named[k]):.3g} {units.name(named[k])}" for k, v in self.held.items())
         ax.set_title(textwrap.fill(f"{m.name}, mode {self.mode}" + (f"; {held}" if held else ""), 60), fontsize=10)
         unit = units.convert(m.index_unit(self.index))[1]
-        figures.colour_bar(fig, filled, limits, ax=ax, label=f"{self.index}" + (f" [{unit}]" if unit != "-" else ""))
+        figures.colour_bar(fig, filled, limits, ax=ax,
+                           label=f"{self.index_name}" + (f" [{unit}]" if unit != "-" else ""))
         if ax.get_legend_handles_labels()[0]:
             figures.legends_below([ax], fontsize=8, ncols=3)
         return figures.save(fig, path, dpi=120)
@@ -165,14 +170,15 @@ def workspace_slice(
     mech: Any,
     design: Any = None,
     *,
-    index: str = "inverse_condition_f",
+    index: Any = "inverse_condition_f",
     mode: str | None = None,
     axes: tuple[str, str] | None = None,
     held: Mapping[str, float] | None = None,
     region: str | Any | None = None,
     resolution: int = RESOLUTION,
 ) -> WorkspaceSlice:
-    """The local index ``index`` over the plane of the pose coordinates ``axes`` (the first two by default)
+    """The local index ``index`` (a name, or the index: an error model's ``pose_error``) over the plane of the pose
+    coordinates ``axes`` (the first two by default)
     across the workspace box, the others at ``held`` (by default the box's centre), in working mode
     ``mode``; with ``region`` (a parametrised region of the mechanism, or one given as it is) its nodes near
     the plane. The plane's

@@ -155,6 +155,38 @@ def test_the_commands_print_the_tolerances_and_the_identified_errors(tmp_path, c
     assert "data violates" in capsys.readouterr().err
 
 
+def test_the_pose_error_is_a_local_index_a_map_and_a_global_index_with_its_gradient(tmp_path, capsys, rrr3):
+    """Under 10 um on every part: the local index pose_error is the largest translational worst case sum_k |E_ik|
+    t_k at task poses; a workspace map of it holds the index's values; its task mean has the design gradient of
+    its central differences and lies below the task maximum; pkm show --tolerances draws its maps."""
+    from pkm.workspace_map import workspace_slice
+
+    m, model = rrr3
+    index = model.index(1e-5)
+    poses = _task_poses(20, 5)
+    worst = np.abs(model.jacobian(poses)) @ model.widths(1e-5)
+    np.testing.assert_allclose(m.local_index(index, poses), worst[:, :2].max(axis=1), rtol=1e-12)
+    section = workspace_slice(m, index=index, resolution=15, held={"phi": 0.05})
+    finite = np.isfinite(section.values)
+    assert finite.sum() > 50
+    U, V = np.meshgrid(section.u, section.v, indexing="ij")
+    mapped = np.column_stack([U[finite], V[finite], np.full(finite.sum(), 0.05)])
+    np.testing.assert_allclose(section.values[finite], m.local_index(index, mapped), rtol=1e-12)
+    assert section.metadata()["index"] == "pose_error"
+    d = m.design(None)
+    mean, gradient = m.global_index(model.global_index(1e-5, "mean"), d, region="task", resolution=3,
+                                    gradient=True)
+    step = 1e-6 * d["R_b"]
+    ahead, behind = (m.global_index(model.global_index(1e-5, "mean"), {**d, "R_b": d["R_b"] + sign * step},
+                                    region="task", resolution=3) for sign in (1, -1))
+    assert gradient["R_b"] == pytest.approx((ahead - behind) / (2 * step), rel=1e-6)
+    assert mean < m.global_index(model.global_index(1e-5), d, region="task", resolution=3)
+    assert main(["show", "rrr3", "--tolerances", "1e-5", "--resolution", "15", "--mode", "left_left_left",
+                 "--out", str(tmp_path / "card")]) == 0
+    report = json.loads((tmp_path / "card" / "report.json").read_text())
+    assert report["maps"]["left_left_left"]["index"] == "pose_error"
+
+
 def test_a_pose_error_constraint_binds_exactly_where_active():
     """docs/tasks/rrr3_accurate.toml: the GCI maximised with the worst-case position error under 10 um tolerances
     at most 59.5 um over the task (the GCI's own optimum errs by more); at the optimum the constraint is active,

@@ -337,25 +337,15 @@ def _deflection(mech: Any, wrench: Any, field: str) -> LocalIndex:
 
 def _pose_error(mech: Any, value: Any, field: str) -> LocalIndex:
     """The linearised worst-case pose error under the tolerances, the largest over the translational coordinates
-    of sum_k |E_ik| t_k [m] (E = dx/dp, the error model's pose error Jacobian, :mod:`pkm.accuracy`)."""
+    of sum_k |E_ik| t_k [m] (E = dx/dp, the error model's pose error Jacobian;
+    :meth:`pkm.accuracy.ErrorModel.index`)."""
     if not (isinstance(value, Mapping) and set(value) == {"tolerances"}):
         raise _fail(field, "a table {tolerances = a number [m], every geometric error's, or a table by error "
                            "parameter}", value)
     try:
-        model = error_model(mech)
-        widths = ca.DM(model.widths(value["tolerances"])).T
+        return error_model(mech).index(value["tolerances"])
     except PkmError as exc:
         raise _fail(f"{field}.tolerances", str(exc).split(" violate: ", 1)[-1], value["tolerances"]) from None
-    moved = [k for k, unit in enumerate(mech.pose_units) if unit == "m"]
-
-    def rows(E: ca.SX) -> ca.SX:
-        return ca.vertcat(*[ca.sum2(ca.fabs(E[i, :]) * widths) for i in moved])
-
-    return LocalIndex(
-        "pose_error", f"the worst-case pose error over the translation, max_i sum_k |E_ik| t_k, under the tolerances "
-        f"{reprlib.repr(value['tolerances'])}", "m", 0.0, np.inf, np.inf, lambda E: ca.mmax(rows(E)),
-        model.nominal_function(), ("E",), epigraph_upper=lambda E, t: t - rows(E), dimension=None, raw=True,
-    )
 
 
 def _physical(mech: Any, what: Mapping[str, Any], bounds: tuple[float, float], field: str, *, region: Any,

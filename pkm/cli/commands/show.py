@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from pkm import io
-from pkm.cli.arguments import card_options, design_option, example, listed, map_resolution, units_option
+from pkm.cli.arguments import card_options, design_option, example, listed, map_resolution, number, units_option
 from pkm.cli.common import (
     design_in,
     emit,
@@ -35,6 +35,9 @@ def options(p: argparse.ArgumentParser) -> None:
     card_options(p, "the global indices and the map's nodes")
     example(p, "--index", default="inverse_condition_f", help="local index of the maps (default "
                                                               "inverse_condition_f); e.g. {local}")
+    p.add_argument("--tolerances", type=number, help="maps of the worst-case position error under this tolerance "
+                   "on every part's geometry (the error model's pose_error, docs/accuracy.md) instead of --index "
+                   "[m, or --units' length] (default: none, the maps of --index); e.g. 1e-5")
     p.add_argument("--plane", help="two pose coordinates of the maps (default: the first two); e.g. x,z")
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
@@ -57,8 +60,11 @@ def run(args: argparse.Namespace) -> None:
     if held is not None:
         named = dict(zip(m.pose_names, m.pose_units, strict=True))
         held = {k: v * units.scale(named.get(k, "-")) for k, v in held.items()}
+    index = args.index
+    if args.tolerances is not None:
+        index = m.error_model().index(args.tolerances * units.scale("m"))
     card = design_card(m, d, modes=modes, region=given_region(m, args.region) if args.region else None,
-                       index=args.index, axes=axes, held=held, resolution=args.resolution, units=units)
+                       index=index, axes=axes, held=held, resolution=args.resolution, units=units)
     folder = Path(args.out)
     written = io.write_result(folder, card.write)
     data = {**card.to_dict(), "files": [str(p) for p in written]}
