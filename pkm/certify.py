@@ -206,9 +206,9 @@ class _Domain:
 
 def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
             design: Any) -> _Domain:
-    if "collisions" in bounds and "collision" not in mech.functions:
-        raise PkmError(f"properties violates: collisions of a machine whose legs state their capsules; {mech.name}'s "
-                       "do not")
+    if "collisions" in bounds and ("collision" not in mech.functions or getattr(mech, "description", None) is None):
+        raise PkmError(f"properties violates: collisions of a described machine whose legs state their capsules; "
+                       f"{mech.name}'s do not")
     margins, q = _margins(mech, x, mode, design)
     capsules = _capsules(mech, q, x, u, design) if "collisions" in bounds else None
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]

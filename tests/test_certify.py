@@ -188,7 +188,7 @@ def test_collisions_are_certified_absent_in_one_mode_and_refuted_in_the_crossed_
     assert crossed.verdict == "refuted"
     pose = np.array(list(crossed.witnesses[0]["pose"].values()))
     assert capsules.local_index("collision_margin", pose, mode="in_in") < 0
-    with pytest.raises(PkmError, match="collisions of a machine whose legs state their capsules"):
+    with pytest.raises(PkmError, match="collisions of a described machine whose legs state their capsules"):
         pkm.load("five_bar").certify("miw", properties=("collisions",))
 
 
@@ -320,6 +320,33 @@ def test_the_deltas_capsules_are_coals_and_its_tasks_rim_is_certified_free_of_co
     assert checked >= 20 * 12
     rim = regions.Cylinder("rim", "the task's rim", fixed=((0.15, 0.0, -0.5), (0.03, 0.05)), axis=2)
     assert m.certify(rim, properties=("collisions",)).verdict == "proved"
+
+
+def test_the_2_ups_pus_legs_are_coals_capsules_and_their_margin_an_index_but_not_certified():
+    """The hand-derived 2-UPS-PU's legs as capsules of its leg diameter D: its collision margins (the legs U1S1,
+    U2S2 and OU0 pairwise) equal coal's capsule distances at 30 poses across its task, to 1e-12, and the collision
+    margin is their least, a local index like any other; certifying collisions asks for a described machine."""
+    import coal
+
+    from pkm.batch import evaluate
+
+    m = pkm.load("ups_pu")
+    d = m.design_vector(None)
+    radius = m.design(None)["D"] / 2
+    rng = np.random.default_rng(6)
+    poses = np.column_stack([rng.uniform(0.45, 0.6, 30), rng.uniform(-0.4, 0.4, 30), rng.uniform(-0.4, 0.4, 30)])
+    (margins,) = evaluate(m.functions["collision"], m.inverse_kinematics(poses, limits=False), poses, d)
+    (u0, s1, s2, u1, u2, _) = (p[..., 0] for p in evaluate(m.functions["joint_positions"], poses, d))
+    legs = [(u1, s1), (u2, s2), (np.zeros_like(u0), u0)]
+    for k in range(len(poses)):
+        for margin, (i, j) in zip(margins[k, :, 0], ((0, 1), (0, 2), (1, 2)), strict=True):
+            distance = coal.distance(*_capsule(legs[i][0][k], legs[i][1][k], radius),
+                                     *_capsule(legs[j][0][k], legs[j][1][k], radius),
+                                     coal.DistanceRequest(), coal.DistanceResult())
+            assert margin == pytest.approx(distance, abs=1e-12)
+    np.testing.assert_allclose(m.local_index("collision_margin", poses[:5]), margins[:5, :, 0].min(axis=1))
+    with pytest.raises(PkmError, match="collisions of a described machine"):
+        m.certify("task", properties=("collisions",))
 
 
 def test_a_certification_in_parallel_pieces_is_the_one_search(capsys):

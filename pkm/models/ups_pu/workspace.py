@@ -15,7 +15,9 @@ composed from the generated ``first_order`` and ``joint_positions``:
   z_p) and the platform universal joint U0 (z_p against Z).
 * link interference (eq. 13): the least distance between the segments U1S1, U2S2 and OU0, pairwise,
   less the leg diameter D (closest points of two segments, clamped to the segments; continuous and
-  piecewise smooth).
+  piecewise smooth): the legs as capsules of radius D / 2, also the machine's ``collision(q, x, design) ->
+  margins`` (:data:`COLLISIONS`) and ``capsules(design) -> radii``, so that the collision margin index, its maps
+  and its region extremes in syntheses read them like a described machine's.
 * the angles' range of eq. 6: pi/2 - |theta_i|, so that an angle is one turn of the platform, not an
   equivalent one several turns away (a tilt typed in degrees where radians go is out of reach).
 
@@ -46,6 +48,7 @@ MARGINS = (
     "legs_1_2", "legs_1_0", "legs_2_0",
     "theta1_range", "theta2_range",
 )
+COLLISIONS = ("legs_1_2", "legs_1_0", "legs_2_0")  # the legs' capsules (diameter D) pairwise: the collision margins
 PARALLEL = 1e-12  # [m^4] below this, two segments count as parallel
 DEG = math.pi / 180
 SMALL_TILT = 1e-6  # [rad] below this sin(gamma) / gamma is its Taylor polynomial
@@ -101,10 +104,13 @@ def functions(generated: Mapping[str, ca.Function], parameters: Sequence[str]) -
     theta2 = ca.asin(sinc * y[1])
     theta1 = -ca.asin(sinc * y[2] / ca.cos(theta2))
     height = value["task_height"]
+    legs = (margins[MARGINS.index(name)] for name in COLLISIONS)
     return {
         "workspace_margins": ca.Function(
             "workspace_margins", [q, x, d], [margins], ["q", "x", "design"], ["margins"]
         ),
+        "collision": ca.Function("collision", [q, x, d], [ca.vertcat(*legs)], ["q", "x", "design"], ["margins"]),
+        "capsules": ca.Function("capsules", [d], [ca.vertcat(*[diameter / 2] * 3)], ["design"], ["radii"]),
         "tilt_to_pose": ca.Function("tilt_to_pose", [y, d], [ca.vertcat(y[0], theta1, theta2)], ["y", "design"], ["x"]),
         "task_cylinder": ca.Function(
             "task_cylinder",
