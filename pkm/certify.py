@@ -22,6 +22,7 @@ reported. A sampled check (pkm's region extremes) is never called certified, nor
 
 from __future__ import annotations
 
+import functools
 import heapq
 import itertools
 import math
@@ -33,7 +34,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import regions
+from pkm import expressions, regions
 from pkm.errors import PkmError
 from pkm.indices.local import SINGULAR, WORKSPACE_MARGIN
 from pkm.intervals import ball, enclosure, span
@@ -126,6 +127,8 @@ class _Capsules:
     radii: np.ndarray
     at: ca.Function  # the points at u
     margin: ca.Function  # the collision margin at u, in floats
+    plates: list[tuple[int, int, list[int], float]]  # (leg, segment, the plate's vertices' rows, its radius)
+    plate_margins: Any  # the enclosure of the segments' margins to the plates over a box of u
 
     def _segments(self, balls: list[Any], i: int, a: int) -> tuple[list[Any], list[Any]]:
         row = self.first[i] + a
@@ -140,6 +143,12 @@ class _Capsules:
             (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
             gap = min(_piece_gap((p1, q1, k), (p2, q2, m)) for k in range(PIECES) for m in range(PIECES))
             clear = ball(gap, gap) - ball(self.radii[i], self.radii[i]) - ball(self.radii[j], self.radii[j])
+            least = min(least, float(clear.lower()) if clear.is_finite() else -math.inf)
+        for i, a, rows, radius in self.plates:
+            p, q = self._segments(balls, i, a)
+            plate = [functools.reduce(span, (balls[r + self.n * c] for r in rows)) for c in range(self.dim)]
+            gap = min(_plate_gap(p, q, k, plate) for k in range(PIECES))
+            clear = ball(gap, gap) - ball(self.radii[i], self.radii[i]) - ball(radius, radius)
             least = min(least, float(clear.lower()) if clear.is_finite() else -math.inf)
         return least
 
@@ -156,6 +165,9 @@ class _Capsules:
                                                                                           strict=True))
             margin = square.sqrt() - ball(self.radii[i], self.radii[i]) - ball(self.radii[j], self.radii[j])
             least = min(least, float(margin.upper()) if margin.is_finite() else math.inf)
+        if self.plates:
+            margins = self.plate_margins([[ball(c, c) for c in u]])[0]
+            least = min(least, *(float(m.upper()) if m.is_finite() else math.inf for m in margins))
         return least
 
 
@@ -170,6 +182,21 @@ def _piece_gap(first: tuple[list[Any], list[Any], int], second: tuple[list[Any],
         if not (one.is_finite() and two.is_finite()):
             return -math.inf
         gap = two.lower() - one.upper() if two > one else (one.lower() - two.upper() if one > two else None)
+        if gap is not None:
+            total = total + gap**2
+    return float(total.sqrt().lower())
+
+
+def _plate_gap(p: list[Any], q: list[Any], k: int, plate: list[Any]) -> float:
+    """A lower bound of the distance between piece k of segment p q and a plate within the box ``plate`` (per
+    coordinate the span of its vertices): the gap between the piece's box and it."""
+    total = ball(0.0, 0.0)
+    for c in range(len(p)):
+        piece = span(p[c] + (q[c] - p[c]) * k / PIECES, p[c] + (q[c] - p[c]) * (k + 1) / PIECES)
+        if not (piece.is_finite() and plate[c].is_finite()):
+            return -math.inf
+        gap = (plate[c].lower() - piece.upper() if plate[c] > piece
+               else (piece.lower() - plate[c].upper() if piece > plate[c] else None))
         if gap is not None:
             total = total + gap**2
     return float(total.sqrt().lower())
@@ -212,27 +239,42 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
     margins, q = _margins(mech, x, mode, design)
     capsules = _capsules(mech, q, x, u, design) if "collisions" in bounds else None
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
+    limits = [bounds[n] for n in bounds if n != "collisions" for _ in PROPERTIES[n][0]]
     g = ca.Function("certified", [u], [ca.vertcat(*(margins[i] for i in indices))])
     gradient = ca.Function("certified_gradient", [u], [ca.densify(ca.jacobian(g(u), u))])
     spanned = ca.Function("certified_design", [u], [design]) if isinstance(design, ca.SX) else None
     return _Domain(enclosure(g), enclosure(gradient), g, ca.Function("certified_pose", [u], [x]), indices,
-                   round_axes, np.array([bounds[n] for n in bounds if n != "collisions" for _ in PROPERTIES[n][0]]),
-                   capsules, spanned)
+                   round_axes, np.array(limits), capsules, spanned)
 
 
 def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _Capsules:
     """The legs' capsules at the joints q and the pose x(u)."""
-    from pkm.spec.collisions import pairs
+    from pkm.spec.collisions import pairs, plate_pairs, plate_vertices
     from pkm.spec.vocabulary import kind_of
 
     d = _as_casadi(design)
     points = mech.functions["skeleton"](q, x, d)
     counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
+    first = [sum(counts[:k]) for k in range(len(counts))]
     at = ca.Function("capsule_points", [u], [ca.densify(points)])
-    margin = ca.Function("capsule_margin", [u], [ca.mmin(mech.functions["collision"](q, x, d))])
-    return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description),
-                     [sum(counts[:k]) for k in range(len(counts))],
-                     _radii(mech, d, u), at, margin)
+    margins = mech.functions["collision"](q, x, d)
+    margin = ca.Function("capsule_margin", [u], [ca.mmin(margins)])
+    plate_margins = ca.Function("plate_margins", [u], [ca.densify(margins[len(pairs(mech.description)):])])
+    plates = mech.description.data.get("plates", {})
+    radii = {plate: _upper(ca.Function("plate_radius", [u], [ca.densify(ca.SX(expressions.evaluate(
+        tree, {p["name"]: d[k] for k, p in enumerate(mech.description.data["parameters"])}, expressions.CASADI)))]))
+        for plate, tree in plates.items()}
+    vertices = {plate: [first[i] + (counts[i] - 1 if plate == "platform" else 0) for i in plate_vertices(
+        mech.description, plate)] for plate in plates}
+    return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description), first,
+                     _radii(mech, d, u), at, margin,
+                     [(i, a, vertices[plate], radii[plate]) for i, a, plate in plate_pairs(mech.description)],
+                     enclosure(plate_margins))
+
+
+def _upper(fn: ca.Function) -> float:
+    """The largest value of a function of u over the whole box [-1, 1]^d (a design's spanning parameters)."""
+    return float(enclosure(fn)([[ball(-1.0, 1.0)] * fn.numel_in(0)])[0][0].upper())
 
 
 def _radii(mech: Any, design: Any, u: ca.SX) -> np.ndarray:

@@ -10,6 +10,7 @@ import re
 import tomllib
 import warnings
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -22,6 +23,7 @@ from pkm.cli import main
 from pkm.errors import PkmError, SingularityWarning
 from pkm.intervals import ball, enclosure
 from pkm.models.described import DESCRIPTIONS
+from pkm.spec.schema import DescriptionError
 
 
 def test_the_enclosure_of_a_graph_holds_its_values_over_the_box():
@@ -320,6 +322,79 @@ def test_the_deltas_capsules_are_coals_and_its_tasks_rim_is_certified_free_of_co
     assert checked >= 20 * 12
     rim = regions.Cylinder("rim", "the task's rim", fixed=((0.15, 0.0, -0.5), (0.03, 0.05)), axis=2)
     assert m.certify(rim, properties=("collisions",)).verdict == "proved"
+
+
+def _plate(points: list[np.ndarray], radius: float) -> tuple[Any, Any]:
+    """coal's convex plate of the polygon ``points`` (in order, in space), rounded by ``radius``."""
+    import coal
+
+    vertices, triangles = coal.StdVec_Vec3s(), coal.StdVec_Triangle()
+    for p in points:
+        vertices.append(np.asarray(p, dtype=float))
+    for k in range(1, len(points) - 1):
+        triangles.append(coal.Triangle(0, k, k + 1))
+    plate = coal.Convex(vertices, triangles)
+    plate.setSweptSphereRadius(radius)
+    return plate, coal.Transform3s()
+
+
+def _plate_margins_are_coals(m: pkm.Mechanism, poses: np.ndarray, radii: dict[str, float]) -> int:
+    """Each segment-plate pair's margin equals coal's distance between the segment's capsule and the plate (the
+    legs' joints at it, in space: z = 0 in the plane), to 1e-9; the number of pairs checked."""
+    import coal
+
+    from pkm.batch import evaluate
+    from pkm.spec.collisions import pairs, plate_pairs, plate_vertices
+
+    d = m.design_vector(None)
+    capsule = float(np.asarray(m.functions["capsules"](d)).ravel()[0])
+    checked = 0
+    for x in poses:
+        legs = [np.pad(leg, ((0, 0), (0, 3 - leg.shape[1]))) for leg in m.linkage(x)]
+        if not legs or not all(np.all(np.isfinite(leg)) for leg in legs):
+            continue
+        (margins,) = evaluate(m.functions["collision"], m.inverse_kinematics(x, passive=True), x, d)
+        for margin, (i, a, name) in zip(np.ravel(margins)[len(pairs(m.description)):], plate_pairs(m.description),
+                                        strict=True):
+            corners = [legs[k][-1 if name == "platform" else 0] for k in plate_vertices(m.description, name)]
+            distance = coal.distance(*_capsule(legs[i][a], legs[i][a + 1], capsule), *_plate(corners, radii[name]),
+                                     coal.DistanceRequest(), coal.DistanceResult())
+            assert margin == pytest.approx(distance, abs=1e-9)
+            checked += 1
+    return checked
+
+
+def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of_them_or_not():
+    """The Delta with 15 mm capsules and plates (the platform's joints' triangle rounded by 0.1 m, the base's by
+    0.05 m): each arm's margin to the platform and each rod's to the base equal coal's capsule-to-convex distances
+    at 30 poses up to the top of the workspace, to 1e-9; a cylinder in the middle of the task is proved free of
+    collisions, one near the top, where the rods reach the base plate, refuted with a witness whose margin is
+    negative. The 3-RRR's proximal links against its platform's triangle: coal's distances in the plane."""
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    radii = {"platform": 0.1, "base": 0.05}
+    m = pkm.load({**raw, "name": "delta_plates", "legs": {**raw["legs"], "capsule": "0.015"},
+                  "plates": {k: str(v) for k, v in radii.items()}})
+    rng = np.random.default_rng(7)
+    radius, angle = 0.15 * np.sqrt(rng.uniform(size=30)), rng.uniform(0, 2 * np.pi, 30)
+    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.6, -0.32, 30)])
+    assert _plate_margins_are_coals(m, poses, radii) >= 20 * 6
+    middle = regions.Cylinder("middle", "the task's middle", fixed=((0.0, 0.0, -0.45), (0.03, 0.03)), axis=2)
+    assert m.certify(middle, properties=("collisions",)).verdict == "proved"
+    top = m.certify(regions.Cylinder("top", "near the top", fixed=((0.0, 0.0, -0.325), (0.005, 0.005)), axis=2),
+                    properties=("collisions",))
+    assert top.verdict == "refuted"
+    assert top.witnesses[0]["collision_margin"] < 0
+    for plates, field in (({"platform": "0"}, "plates.platform violates: a positive radius"),
+                          ({"table": "0.1"}, "plates violates: a table of platform and/or base radii")):
+        with pytest.raises(DescriptionError, match=re.escape(field)):
+            pkm.load({**raw, "name": "delta_bad_plates", "legs": {**raw["legs"], "capsule": "0.015"}, "plates": plates})
+    with pytest.raises(DescriptionError, match="plates violates: the legs' capsules"):
+        pkm.load({**raw, "name": "delta_bad_plates", "plates": {"base": "0.1"}})
+    planar = tomllib.loads(DESCRIPTIONS["rrr3"].read_text())
+    rrr3 = pkm.load({**planar, "name": "rrr3_plate", "legs": {**planar["legs"], "capsule": "0.02"},
+                     "plates": {"platform": "0.01"}})
+    poses = np.column_stack([rng.uniform(-0.15, 0.15, (30, 2)), rng.uniform(-0.3, 0.3, 30)])
+    assert _plate_margins_are_coals(rrr3, poses, {"platform": 0.01}) >= 20 * 3
 
 
 def test_the_2_ups_pus_legs_are_coals_capsules_and_their_margin_an_index_but_not_certified():

@@ -30,6 +30,7 @@ EXAMPLES = {
         "name": "elbows", "doc": "a planar 3-RR, every field of the description", "frame": "planar",
         "home": [0, 0, 0], "characteristic_length": "r", "modes": {"first": [1, 1, 1], "second": [1, 1, -1]},
         "gravity": [0, -9.81], "platform": {"mass": 2.0, "centre": [0, 0], "inertia": 0.05},
+        "plates": {"platform": 0.01},
         "parameters": PARAMETERS, "conditions": [{"margin": "R - r", "doc": "the base larger than the platform"}],
         "regions": [{"name": "task", "doc": "a cylinder", "shape": "cylinder", "coordinates": ["x", "y", "phi"],
                      "centre": [0, 0, 0], "size": [0.1, 0.2], "axis": "phi"}],

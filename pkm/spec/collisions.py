@@ -3,16 +3,27 @@
 and for every pair of segments of two legs the distance between them less their two radii (negative where they
 overlap), composed in CasADi from the derived drawing (``skeleton``) and radii (``capsules``). Two segments
 that meet at a joint the legs share by their description (one base attachment, one platform attachment) are
-not a pair."""
+not a pair.
+
+Where the description states ``plates``, the platform and the base are plates too: the convex polygon of the
+legs' attachments to each (their joints in the drawing, in the angular order of the attachments about their
+centre at the default design; one vertex per distinct attachment), rounded by the plate's radius. Each segment
+of a leg but the one at the plate's own joint (a leg's last at the platform, its first at the base) is a pair
+with it: the least distance between the segment and the polygon (0 where they meet: an end inside it in the
+plane, the segment through it in space; else the least over the polygon's edges and, in space, over the
+segment's ends above it) less the two radii."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import casadi as ca
+import numpy as np
 
+from pkm import expressions
 from pkm.spec.schema import Description
-from pkm.spec.vocabulary import kind_of
+from pkm.spec.vocabulary import PLATES, kind_of
 
 DEGENERATE = 1e-18  # [m^2] a segment this short is a point
 
@@ -54,8 +65,81 @@ def pairs(description: Description) -> list[tuple[int, int, int, int]]:
     return out
 
 
+def plate_pairs(description: Description) -> list[tuple[int, int, str]]:
+    """The pairs (leg i, segment a, plate) of a leg's segment and a plate that may collide: every segment but the
+    one at the plate's own joint."""
+    legs, plates = description.data["legs"], description.data.get("plates", {})
+    counts = [kind_of(leg).points - 1 for leg in legs]
+    return [(i, a, plate) for plate in PLATES if plate in plates for i in range(len(legs)) for a in range(counts[i])
+            if a != (counts[i] - 1 if plate == "platform" else 0)]
+
+
+def plate_vertices(description: Description, plate: str) -> list[int]:
+    """The legs whose joints are the plate's vertices, in the angular order of their attachments about the
+    attachments' centre at the default design, one leg per distinct attachment."""
+    design = {p["name"]: p["default"] for p in description.data["parameters"]}
+    points = [np.array([float(expressions.evaluate(t, design)) for t in leg[plate][:2]])
+              for leg in description.data["legs"]]
+    centre = np.mean(points, axis=0)
+    order = sorted(range(len(points)), key=lambda k: math.atan2(*(points[k] - centre)[::-1]))
+    distinct: list[int] = []
+    for k in order:
+        if all(np.linalg.norm(points[k] - points[j]) > DISTINCT * (1 + np.linalg.norm(points[k])) for j in distinct):
+            distinct.append(k)
+    return distinct
+
+
+DISTINCT = 1e-9  # relative: two attachments this close are one vertex
+
+
+def _cross2(u: ca.SX, v: ca.SX) -> ca.SX:
+    return u[0] * v[1] - u[1] * v[0]
+
+
+def _least(values: list[ca.SX]) -> ca.SX:
+    out = values[0]
+    for v in values[1:]:
+        out = ca.fmin(out, v)
+    return out
+
+
+def polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
+    """The least distance between the segment p q and the convex polygon of ``vertices`` (in order; a segment for
+    two, a point for one), in the plane or in space (module docstring); NaN where a point is not finite (a leg
+    that does not reach), as a pair of segments' distance is."""
+    return _polygon_distance(p, q, vertices) + 0 * ca.sumsqr(ca.vertcat(p, q, *vertices))
+
+
+def _polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
+    m = len(vertices)
+    edges = [segment_distance(p, q, vertices[k], vertices[(k + 1) % m]) for k in range(m if m > 2 else 1)]
+    best = _least(edges)
+    if m < 3:
+        return best
+    if p.numel() == 2:  # the vertices turn anticlockwise (:func:`plate_vertices`; a rigid motion keeps that)
+
+        def inside(e: ca.SX) -> ca.SX:
+            return _least([_cross2(vertices[(k + 1) % m] - vertices[k], e - vertices[k]) for k in range(m)]) >= 0
+
+        return ca.if_else(ca.logic_or(inside(p), inside(q)), 0, best)
+    normal = sum((ca.cross(vertices[k], vertices[(k + 1) % m]) for k in range(1, m)),
+                 ca.cross(vertices[0], vertices[1 % m]))  # Newell's normal
+    n = normal / ca.norm_2(normal)
+
+    def above(e: ca.SX) -> ca.SX:
+        return _least([ca.dot(ca.cross(vertices[(k + 1) % m] - vertices[k], e - vertices[k]), n)
+                       for k in range(m)]) >= 0
+
+    sp, sq = ca.dot(n, p - vertices[0]), ca.dot(n, q - vertices[0])
+    through = p + (q - p) * sp / ca.if_else(sp == sq, 1, sp - sq)
+    faces = [ca.if_else(above(p), ca.fabs(sp), best), ca.if_else(above(q), ca.fabs(sq), best),
+             ca.if_else(ca.logic_and(sp * sq <= 0, above(through)), 0, best)]
+    return _least([best, *faces])
+
+
 def composed_collisions(description: Description, functions: Mapping[str, ca.Function]) -> ca.Function:
-    """``collision(q, x, design) -> margins``: each pair's distance less its radii [m] (:func:`pairs`)."""
+    """``collision(q, x, design) -> margins``: each pair's distance less its radii [m] (:func:`pairs`), then each
+    pair of a segment and a plate (:func:`plate_pairs`)."""
     skeleton, capsules = functions["skeleton"], functions["capsules"]
     q, x, d = (ca.SX.sym(skeleton.name_in(i), skeleton.size_in(i)) for i in range(3))
     points = skeleton(q, x, d)
@@ -65,5 +149,12 @@ def composed_collisions(description: Description, functions: Mapping[str, ca.Fun
     margins = [segment_distance(points[first[i] + a, :].T, points[first[i] + a + 1, :].T,
                                 points[first[j] + b, :].T, points[first[j] + b + 1, :].T) - radii[i] - radii[j]
                for i, a, j, b in pairs(description)]
+    plates = description.data.get("plates", {})
+    symbols = {p["name"]: d[k] for k, p in enumerate(description.data["parameters"])}
+    polygons = {plate: [points[first[i] + (counts[i] - 1 if plate == "platform" else 0), :].T
+                        for i in plate_vertices(description, plate)] for plate in plates}
+    margins += [polygon_distance(points[first[i] + a, :].T, points[first[i] + a + 1, :].T, polygons[plate])
+                - radii[i] - expressions.evaluate(plates[plate], symbols, expressions.CASADI)
+                for i, a, plate in plate_pairs(description)]
     return ca.Function("collision", [q, x, d], [ca.vertcat(*margins) if margins else ca.SX(0, 1)],
                        ["q", "x", "design"], ["margins"])

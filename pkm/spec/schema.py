@@ -42,6 +42,7 @@ from pkm.spec.vocabulary import (
     NAME_LENGTH,
     PARAMETER_FIELDS,
     PATTERN_FIELDS,
+    PLATES,
     PLATFORM_JOINT,
     POINT_BODY,
     REGION_FIELDS,
@@ -641,12 +642,23 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
             raise _fail("gravity", f"a vector of {2 if planar_frame else 3} expressions (the acceleration of "
                                    "gravity in the base frame, m/s^2)")
         data["gravity"] = [_expression(f"gravity[{k}]", g, names) for k, g in enumerate(gravity)]
+    if "plates" in raw:
+        data["plates"] = _plates(raw["plates"], names, legs)
     if data["platform"] is not None or any(map(_has_bodies, legs)) or gravity is not None:
         missing = [k for k, leg in enumerate(legs) if not _has_bodies(leg)]
         if missing:
             raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
     _check_values(data)
     return Description(data)
+
+
+def _plates(raw: Any, names: set[str], legs: list[dict[str, Any]]) -> dict[str, Any]:
+    """The plates {platform, base}: each a radius, the legs' capsules given."""
+    if not isinstance(raw, Mapping) or not raw or set(raw) - set(PLATES):
+        raise _fail("plates", f"a table of {' and/or '.join(PLATES)} radii")
+    if not all("capsule" in leg for leg in legs):
+        raise _fail("plates", "the legs' capsules (each leg's capsule radius), which meet the plates")
+    return {k: _expression(f"plates.{k}", raw[k], names) for k in PLATES if k in raw}
 
 
 NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
@@ -720,6 +732,9 @@ def _check_values(data: Mapping[str, Any]) -> None:
             raise _fail(field, f"a finite value at the default design; {expressions.text(tree)} is {number}")
         return number
 
+    for plate, tree in data.get("plates", {}).items():
+        if not value(f"plates.{plate}", tree) > 0:
+            raise _fail(f"plates.{plate}", "a positive radius at the default design")
     fields = [("home", data["home"]), ("characteristic_length", data["characteristic_length"]),
               ("gravity", data.get("gravity")), ("platform", data["platform"]),
               *((f"legs (leg {k + 1})", leg) for k, leg in enumerate(data["legs"]))]

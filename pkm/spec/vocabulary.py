@@ -81,7 +81,12 @@ DESCRIPTION_FIELDS = (
           "point (planar_point, spatial_point)"),
     Field("gravity", f"a list of expressions ({EACH}) [m/s^2]", "the acceleration of gravity in the base frame, "
           "for the bodies' weight in the inverse dynamics"),
+    Field("plates", "a table {platform, base} of expressions [m], each positive", "the platform and the base as "
+          "plates: each the convex polygon of the legs' attachments to it (in their angular order about their "
+          "centre at the default design), rounded by this radius; a leg's capsules that meet one collide (the "
+          "collision margin), its segments at the plate's own joints aside; needs the legs' capsules"),
 )
+PLATES = ("platform", "base")  # the plates a description may state
 PARAMETER_FIELDS = (
     Field("name", IDENTIFIER, "its name in the expressions, given once, other than "
           f"{', '.join(expressions.RESERVED)}", required=True),
