@@ -404,6 +404,8 @@ class Mechanism:
         its :attr:`trajectory_quantities`; or one given as it is (an error model's ``pose_error_max``)."""
         if hasattr(name, "reduce"):
             self.local_spec(name.local)
+            if name.per is not None:
+                self.functions.require(name.per, f"the global index {name.name}")
             return name
         try:
             spec = registry.global_index(name)

@@ -390,6 +390,13 @@ def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of
             pkm.load({**raw, "name": "delta_bad_plates", "legs": {**raw["legs"], "capsule": "0.015"}, "plates": plates})
     with pytest.raises(DescriptionError, match="plates violates: the legs' capsules"):
         pkm.load({**raw, "name": "delta_bad_plates", "plates": {"base": "0.1"}})
+    stewart = tomllib.loads(DESCRIPTIONS["stewart"].read_text())
+    corners = [[float(np.cos(a)), float(np.sin(a)), 0.05 if k == 5 else 0.0]
+               for k, a in enumerate(np.linspace(0, 2 * np.pi, 6, endpoint=False))]
+    tilted = {**stewart["legs"], "capsule": "0.015", "base": corners}
+    with pytest.raises(DescriptionError, match=re.escape("plates.base violates: the legs' base attachments in one "
+                                                         "plane")):
+        pkm.load({**stewart, "name": "stewart_bad_plates", "legs": tilted, "plates": {"base": "0.1"}})
     planar = tomllib.loads(DESCRIPTIONS["rrr3"].read_text())
     rrr3 = pkm.load({**planar, "name": "rrr3_plate", "legs": {**planar["legs"], "capsule": "0.02"},
                      "plates": {"platform": "0.01"}})
@@ -422,6 +429,7 @@ def test_the_2_ups_pus_legs_are_coals_capsules_and_their_margin_an_index_but_not
     np.testing.assert_allclose(m.local_index("collision_margin", poses[:5]), margins[:5, :, 0].min(axis=1))
     with pytest.raises(PkmError, match="collisions of a described machine"):
         m.certify("task", properties=("collisions",))
+    assert main(["certify", "ups_pu", "--region", "task", "--boxes", "20"]) == 0  # without collisions by default
 
 
 def test_a_certification_in_parallel_pieces_is_the_one_search(capsys):

@@ -289,6 +289,12 @@ def test_jacobi_sweeps_give_the_eigenvalues_of_a_symmetric_matrix_and_their_deri
         if reference[1] - reference[0] > 1e-3 * reference[-1]:
             v = np.linalg.eigh(A)[1][:, 0]
             assert rate == pytest.approx(v @ direction @ v, rel=1e-8, abs=1e-12 * np.abs(direction).max())
+    # already diagonal with equal entries in a plane (no rotation there, sqrt's argument 0): the smallest simple
+    # eigenvalue's derivative is its own, and where all coincide it is finite
+    direction = np.diag(np.arange(1.0, n + 1))
+    _, bottom, rate = (float(v) for v in extremes(np.diag([1.0, 2.0, 2.0, 4.0, 5.0, 6.0][:n]), direction))
+    assert (bottom, rate) == (1.0, 1.0)
+    assert np.isfinite(float(extremes(np.eye(n), direction)[2]))
 
 
 def test_the_3rrr_at_its_centred_pose_has_1_over_kappa_2_of_its_singular_values():

@@ -5,14 +5,14 @@ A local index is a CasADi function of matrices at one pose: the Jacobians J and 
 same graph serves the batched evaluation and the exact design gradients of the global indices. Gao
 1998's [J] is pkm's forward Jacobian J_f.
 
-Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formulas of Gao 1998 and,
-for 3 x 3, the largest eigenvalue of a symmetric matrix by the trigonometric solution of its cubic
-(Smith 1961) with the smallest from the adjugate (sigma_min(A) = |det A| / sigma_max(adj A)). Where
-both J and J_f enter, the smallest singular value of one is the inverse of the largest of the other.
-Those indices raise :class:`PkmError` on larger matrices, and a mechanism of more degrees of freedom does not
-offer them (``LocalIndex.dimension``); the Frobenius condition number and the determinants hold for any n. The
-eigenvalues of a symmetric matrix of 4 to 6 rows (a spatial platform's vibration) come from a fixed number of
-cyclic Jacobi sweeps written out (:func:`jacobi_eigenvalues`), differentiable like the closed forms.
+Singular values and eigenvalues are in closed form for n <= 3: the 2 x 2 formulas of Gao 1998 and, for 3 x 3,
+the largest eigenvalue of a symmetric matrix by the trigonometric solution of its cubic (Smith 1961) with the
+smallest from the adjugate (sigma_min(A) = |det A| / sigma_max(adj A)). Where both J and J_f enter, the smallest
+singular value of one is the inverse of the largest of the other. Those indices raise :class:`PkmError` on
+larger matrices (the elastic frequency's up to 6 x 6, below), and a mechanism of more degrees of freedom does
+not offer them (``LocalIndex.dimension``); the Frobenius condition number and the determinants hold for any n.
+The eigenvalues of a symmetric matrix of 4 to 6 rows (a spatial platform's vibration) come from a fixed number
+of cyclic Jacobi sweeps written out (:func:`jacobi_eigenvalues`), differentiable like the closed forms.
 
 A pose mixing metres and radians is normalised by the mechanism's characteristic length before any
 index is taken (see :mod:`pkm.regions.pipeline`).
@@ -33,7 +33,8 @@ from pkm.errors import PkmError
 MAX_DIMENSION = 3
 JACOBI_DIMENSION = 6  # the largest symmetric matrix whose eigenvalues are taken by Jacobi sweeps
 JACOBI_SWEEPS = 8  # cyclic sweeps: each squares the off-diagonal's relative size once it is small
-JACOBI_FLOOR = 1e-300  # the floor of a rotation's denominator: no rotation where the plane is already diagonal
+JACOBI_FLOOR = 1e-300  # under a rotation's square root: no rotation, and a finite derivative, where the plane is
+# already diagonal with equal entries
 ISOTROPIC = 1e-300  # floor of the deviatoric norm of a 3 x 3 matrix: keeps the closed form finite at A = a I
 
 
@@ -46,8 +47,9 @@ class LocalIndex:
     ``epigraph(*arguments, t)``, where given, is a smooth g with g >= 0 exactly where the index is >= t (value -
     t otherwise), and ``epigraph_upper`` one with g >= 0 exactly where it is <= t (t - value otherwise);
     ``dimension`` the largest matrices its formula takes (the closed forms of singular values and eigenvalues
-    stop at 3 x 3; None: any); ``raw`` takes the arguments as generated, in SI, where the index is a physical
-    quantity (an actuator effort, a joint angle) rather than a ratio of normalised matrices
+    stop at 3 x 3, the Jacobi sweeps at 6 x 6; None: any); ``raw`` takes the arguments as generated, in SI,
+    where the index is a physical quantity (an actuator effort, a joint angle) rather than a ratio of normalised
+    matrices
     (:mod:`pkm.regions.pipeline`); ``smooth``, where given, a smooth stand-in of the formula (same arguments)
     that an optimiser's quadrature integrates instead (a positive part smoothed), while every reported value
     takes the formula; a ``signed`` index (a margin) is defined beyond the reach, negative where a limit or the
@@ -90,7 +92,8 @@ def jacobi_eigenvalues(S: ca.SX, sweeps: int = JACOBI_SWEEPS) -> list[ca.SX]:
     for _ in range(sweeps):
         for p, q in itertools.combinations(range(n), 2):
             apq, d = a[p][q], a[q][q] - a[p][p]
-            t = 2 * apq * ca.if_else(d >= 0, 1, -1) / ca.fmax(ca.fabs(d) + ca.sqrt(d**2 + 4 * apq**2), JACOBI_FLOOR)
+            root = ca.sqrt(d**2 + 4 * apq**2 + JACOBI_FLOOR)  # the floor keeps sqrt's derivative finite at 0
+            t = 2 * apq * ca.if_else(d >= 0, 1, -1) / (ca.fabs(d) + root)
             c = 1 / ca.sqrt(1 + t**2)
             s = t * c
             a[p][p], a[q][q] = a[p][p] - t * apq, a[q][q] + t * apq

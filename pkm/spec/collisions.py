@@ -107,7 +107,7 @@ def polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
     """The least distance between the segment p q and the convex polygon of ``vertices`` (in order; a segment for
     two, a point for one), in the plane or in space (module docstring); NaN where a point is not finite (a leg
     that does not reach), as a pair of segments' distance is."""
-    return _polygon_distance(p, q, vertices) + 0 * ca.sumsqr(ca.vertcat(p, q, *vertices))
+    return ca.if_else(ca.sumsqr(ca.vertcat(p, q, *vertices)) < np.inf, _polygon_distance(p, q, vertices), np.nan)
 
 
 def _polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:

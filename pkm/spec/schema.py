@@ -661,6 +661,7 @@ def _plates(raw: Any, names: set[str], legs: list[dict[str, Any]]) -> dict[str, 
     return {k: _expression(f"plates.{k}", raw[k], names) for k in PLATES if k in raw}
 
 
+PLANE = 1e-9  # relative: attachments whose z agree to this lie in one plane
 NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
 # a leg's lengths and angles that must be positive
 POSITIVE = tuple(dict.fromkeys([*(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)),
@@ -735,6 +736,11 @@ def _check_values(data: Mapping[str, Any]) -> None:
     for plate, tree in data.get("plates", {}).items():
         if not value(f"plates.{plate}", tree) > 0:
             raise _fail(f"plates.{plate}", "a positive radius at the default design")
+        heights = [value(f"legs (leg {k + 1}).{plate}", leg[plate][2]) for k, leg in enumerate(data["legs"])
+                   if len(leg[plate]) == 3]
+        if heights and max(heights) - min(heights) > PLANE * (1 + max(map(abs, heights))):
+            raise _fail(f"plates.{plate}", f"the legs' {plate} attachments in one plane z = const (the plate's); their "
+                                           f"z spans {min(heights):g} to {max(heights):g} m")
     fields = [("home", data["home"]), ("characteristic_length", data["characteristic_length"]),
               ("gravity", data.get("gravity")), ("platform", data["platform"]),
               *((f"legs (leg {k + 1})", leg) for k, leg in enumerate(data["legs"]))]

@@ -67,9 +67,9 @@ def _beam(terms: ca.SX, start: ca.SX, end: ca.SX, c: ca.SX) -> ca.SX:
 def _leg(H_p: ca.SX, H_c: ca.SX, springs: ca.SX) -> ca.SX:
     """K_i = H_c^T G H_c, G the first block of [[S, H_p], [H_p^T, 0]]^-1 (module docstring), taken as
     N (N^T S N)^-1 N^T with N spanning the motions the free passive joints cannot make (H_p^T N = 0): with the
-    projector P = I - H_p (H_p^T H_p)^-1 H_p^T onto them, G = P (P S P + s (I - P))^-1 P, s = tr(S) / rows. S
-    itself is never inverted, whose inverse is as large as the stiffest element (a rigid beam beside a soft
-    drive) and would cancel in G to the leg's own stiffness."""
+    projector P = I - H_p (H_p^T H_p)^-1 H_p^T onto them, G = P (P S P + s (I - P))^-1 P, s = tr(S) / rows. Where
+    the leg has free passive joints S itself is not inverted, whose inverse is as large as the stiffest element
+    (a rigid beam beside a soft drive) and would cancel in G to the leg's own stiffness; without them G = S^-1."""
     rows, free = springs.size1(), H_p.size2()
     if free == 0:
         return H_c.T @ ca.solve(springs, H_c)

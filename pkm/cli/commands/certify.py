@@ -60,7 +60,8 @@ def run(args: argparse.Namespace) -> None:
     m = load_mechanism(args.mechanism)
     d = given_design(m, args.design)
     properties = ([p.strip() for p in args.properties.split(",") if p.strip()] if args.properties is not None else
-                  ["singularity", "limits", *(["collisions"] if "collision" in m.functions else [])])
+                  ["singularity", "limits", *(["collisions"] if "collision" in m.functions
+                                              and getattr(m, "description", None) is not None else [])])
     if not 0 < args.depth <= 40 or not 0 < args.boxes <= 10**7 or not 0 < args.seconds <= 3600:
         raise PkmError("--depth, --boxes and --seconds violate: within 1-40, 1-10^7 and 0-3600 s")
     budget = {"depth": args.depth, "max_boxes": args.boxes, "seconds": args.seconds}
