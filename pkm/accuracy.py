@@ -134,6 +134,7 @@ class ErrorModel:
         self.parameters = (*geometric, *offsets)
         self._geometric = [self.machine.parameter_names().index(e.name) for e in geometric]
         self.function = self._compose()
+        self._indices: dict[tuple[float, ...], LocalIndex] = {}
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -181,6 +182,12 @@ class ErrorModel:
         nominal machine, ``pose_error`` [m]: the largest over the pose's translational coordinates of
         sum_k |E_ik| t_k, E read from the nominal machine's joints, pose and design (:meth:`nominal_function`), so
         that maps, global indices with exact design gradients and task constraints take it like any other."""
+        key = tuple(self.widths(tolerances))
+        if key not in self._indices:  # one object per tolerances, so that the graphs built from it are kept
+            self._indices[key] = self._index(tolerances)
+        return self._indices[key]
+
+    def _index(self, tolerances: Any) -> LocalIndex:
         widths = ca.DM(self.widths(tolerances)).T
         moved = [k for k, unit in enumerate(self.nominal.pose_units) if unit == "m"]
 
