@@ -126,7 +126,7 @@ class ErrorModel:
             raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), or a hand-derived one "
                            "that gives its legs in the description vocabulary, which pkm expands per leg")
         data, geometric = expanded(description.data, attachments)
-        self.nominal = mech
+        self.nominal, self.attachments = mech, attachments
         self.machine = mech.variant(data)
         offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive: its joint less "
                                   "the joint the drive reads", k + 1)
@@ -225,6 +225,10 @@ class ErrorModel:
         (E,) = evaluate(self.function, q, x, d)
         return E[0] if single else E
 
+    def deviations(self, deviations: Any) -> np.ndarray:
+        """The deviations by name (0 where not given) as E's columns."""
+        return self._widths(deviations, "deviations")
+
     def _widths(self, values: Any, what: str) -> np.ndarray:
         if not isinstance(values, Mapping):
             raise PkmError(f"{what} violate: a table of numbers by error parameter; got {type(values).__name__}")
@@ -304,20 +308,33 @@ class ErrorModel:
                     samples: int = 200, seed: int = 0) -> dict[str, np.ndarray]:
         """The pose errors of ``samples`` machines drawn with independent Gaussian errors (the drives' offsets
         read as joint errors) at the nominal poses' actuated joints, their loops closed (MONTE_CARLO_ROWS machines
-        at a time, each a row of one batch): the sampled RMS of each pose coordinate (N, n_out) beside the
-        linearised one."""
+        at a time, each a row of one batch, each batch drawn from its own stream of ``seed``: :meth:`squares`):
+        the sampled RMS of each pose coordinate (N, n_out) beside the linearised one. :mod:`pkm.accuracy_parallel`
+        runs the batches on workers and gives the same numbers."""
         x, _ = as_batch(pose, self.nominal.n_out, "pose")
+        squares = sum((self.squares(x, deviations, design, mode=mode, batch=b, samples=samples, seed=seed)
+                       for b in range(batches(samples))), np.zeros(x.shape))
+        return self.sampled(x, squares, deviations, design, mode=mode, samples=samples)
+
+    def squares(self, x: np.ndarray, deviations: Any, design: Any = None, *, mode: str | None = None, batch: int,
+                samples: int, seed: int) -> np.ndarray:
+        """The summed squared pose errors (N, n_out) of batch ``batch`` of a Monte Carlo run of ``samples``
+        machines per pose: rows ``batch * MONTE_CARLO_ROWS`` on, drawn from the stream (seed, pose, batch)."""
         s = self._widths(deviations, "deviations")
         base = self.design(design)
         q = self.nominal.inverse_kinematics(x, design, mode=mode)
         z = self._configurations(x, base, mode)
-        rng = np.random.default_rng(seed)
-        squares = np.zeros(x.shape)
+        rows = min(MONTE_CARLO_ROWS, samples - batch * MONTE_CARLO_ROWS)
+        out = np.zeros(x.shape)
         for k in range(len(x)):
-            for first in range(0, samples, MONTE_CARLO_ROWS):
-                p = rng.normal(size=(min(MONTE_CARLO_ROWS, samples - first), len(s))) * s
-                rows = np.repeat(z[k : k + 1], len(p), axis=0), np.repeat(q[k : k + 1], len(p), axis=0)
-                squares[k] += np.sum(self._perturbed(*rows, p, base) ** 2, axis=0)
+            p = np.random.default_rng([seed, k, batch]).normal(size=(rows, len(s))) * s
+            at = np.repeat(z[k : k + 1], rows, axis=0), np.repeat(q[k : k + 1], rows, axis=0)
+            out[k] = np.sum(self._perturbed(*at, p, base) ** 2, axis=0)
+        return out
+
+    def sampled(self, x: np.ndarray, squares: np.ndarray, deviations: Any, design: Any = None, *,
+                mode: str | None = None, samples: int) -> dict[str, np.ndarray]:
+        """A Monte Carlo run's result from its summed squares: the sampled RMS beside the linearised one."""
         return {"sampled": np.sqrt(squares / samples), "linearised": self.rms(x, deviations, design, mode=mode)}
 
     def worst_case_checked(self, pose: Any, tolerances: Any, design: Any = None, *, mode: str | None = None
@@ -334,6 +351,11 @@ class ErrorModel:
                                  (np.sign(E) * t).reshape(-1, len(t)), base)
         return {"linearised": np.abs(E) @ t, "built": np.abs(np.diagonal(errors.reshape(len(x), n, n), axis1=1,
                                                                           axis2=2))}
+
+
+def batches(samples: int) -> int:
+    """The batches of a Monte Carlo run of ``samples`` machines per pose (MONTE_CARLO_ROWS each)."""
+    return -(-samples // MONTE_CARLO_ROWS)
 
 
 def error_model(mech: Any, attachments: str = "cartesian") -> ErrorModel:

@@ -75,6 +75,25 @@ def test_the_linearised_errors_are_a_million_machines_and_the_worst_vertexs(mach
     np.testing.assert_allclose(checked["built"][0, moved], checked["linearised"][0, moved], rtol=0.02)
 
 
+def test_a_monte_carlo_run_on_workers_is_the_serial_run(rrr3):
+    """The batches of a Monte Carlo run (three of 100,000 machines and fewer) on local processes: the serial run's
+    sampled RMS, each batch drawn from its own stream, to round-off (a worker may evaluate on the interpreter where
+    this process has a compiled kernel), and in this process exactly; a different seed draws other machines."""
+    from pkm import accuracy_parallel
+
+    model = rrr3[1]
+    deviations = dict.fromkeys(model.names, 1e-5)
+    poses = _task_poses(2, 12)
+    serial = model.monte_carlo(poses, deviations, samples=210_000, seed=3)
+    workers = accuracy_parallel.monte_carlo(model, poses, deviations, samples=210_000, seed=3, executor="processes")
+    np.testing.assert_allclose(workers["sampled"], serial["sampled"], rtol=1e-12)
+    here = accuracy_parallel.monte_carlo(model, poses, deviations, samples=210_000, seed=3, executor="serial")
+    np.testing.assert_array_equal(here["sampled"], serial["sampled"])
+    other = model.monte_carlo(poses, deviations, samples=210_000, seed=4)
+    assert not np.array_equal(other["sampled"], serial["sampled"])
+    np.testing.assert_allclose(other["sampled"], serial["sampled"], rtol=0.01)
+
+
 def test_the_widest_tolerances_meet_the_budget_and_each_binds(rrr3):
     """The worst case over the task poses at the budget; any one tolerance 1% wider exceeds it somewhere (the
     optimum of sum log t: no tolerance can grow alone)."""
