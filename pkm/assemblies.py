@@ -72,14 +72,41 @@ class Assemblies:
     failures: str = "real roots did not close"
 
 
-def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False, follow: bool = False
-                   ) -> Assemblies:
+def every_assembly(mech: Any, q_a: Any, design: Any = None, *, certify: bool = False, follow: bool = False,
+                   designs: Any = None) -> Assemblies:
     """Every real assembly of ``mech`` at the actuated joints ``q_a`` (n_act,) or (N, n_act); with ``certify``
-    each row's count checked against a certified count of the real roots (module docstring); with ``follow``
-    the rows are a path of the joints and each column of ``poses`` follows one configuration along it
-    (:func:`followed`)."""
-    found = _every_assembly(mech, q_a, design, certify=certify)
+    each row's count checked against a certified count of the real roots (module docstring); with ``designs`` (a
+    sequence of N designs, or an (N, n_p) array, in place of ``design``) row k at design k, the joints one row
+    for all or one per design; with ``follow`` the rows are a path of the joints or of the design and each column
+    of ``poses`` follows one configuration along it (:func:`followed`)."""
+    if designs is None:
+        found = _every_assembly(mech, q_a, design, certify=certify)
+    else:
+        found = _along_designs(mech, q_a, design, designs, certify=certify)
     return followed(found, mech) if follow else found
+
+
+def _along_designs(mech: Any, q_a: Any, design: Any, designs: Any, *, certify: bool) -> Assemblies:
+    """Every assembly of row k of the joints at design k, the rows stacked (NaN beyond a row's own)."""
+    if design is not None:
+        raise PkmError("design and designs violate: one of them (designs: one design per row of a path)")
+    vectors = [mech.design_vector(d) for d in (designs if not isinstance(designs, np.ndarray) else list(designs))]
+    qa, _ = as_batch(q_a, mech.n_act, "actuated joints")
+    if not vectors or len(qa) not in (1, len(vectors)):
+        raise PkmError(f"designs violate: a design per row of the actuated joints ({len(qa)} rows), or any number "
+                       f"of designs for one row of them; got {len(vectors)}")
+    rows = [_every_assembly(mech, qa[k if len(qa) > 1 else 0], d, certify=certify) for k, d in enumerate(vectors)]
+    width = max(r.poses.shape[1] for r in rows)
+
+    def padded(a: np.ndarray) -> np.ndarray:
+        extra = [(0, 0), (0, width - a.shape[1]), *[(0, 0)] * (a.ndim - 2)]
+        return np.pad(a, extra, constant_values=np.nan)
+
+    certified = None if rows[0].certified is None else np.concatenate([r.certified for r in rows])
+    return Assemblies(np.concatenate([padded(r.poses) for r in rows]), np.concatenate([padded(r.residuals)
+                                                                                         for r in rows]),
+                      np.concatenate([r.counts for r in rows]), max(r.bound for r in rows),
+                      np.concatenate([r.failed for r in rows]), rows[0].method, certified, rows[0].failures)
 
 
 def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assemblies:
@@ -469,7 +496,7 @@ def _certified(flint: Any, centres: np.ndarray, radii: np.ndarray, points: np.nd
 
 
 def followed(found: Assemblies, mech: Any) -> Assemblies:
-    """The assemblies of a path of actuated joints (consecutive rows) in columns that each follow one
+    """The assemblies of a path of actuated joints or of designs (consecutive rows) in columns that each follow one
     configuration: each row's assemblies go to the columns whose configurations, continued along their last
     step, are nearest (nearest pairs first; angles wrapped), one born where assemblies meet at a singularity
     to a column free there; so that column k names one assembly along the path, not a rank."""

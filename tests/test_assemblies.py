@@ -352,6 +352,36 @@ def test_along_a_path_of_the_joints_each_column_follows_one_assembly():
     assert len(set(column.tolist())) > 1
 
 
+def test_along_a_path_of_the_design_each_column_follows_one_assembly():
+    """The 3-RRR at fixed joints while its platform's radius grows from 70 % to 130 % of its default (121 designs),
+    where it has 2, 4 and 6 assemblies in turn: followed, the column of the pose at the default design holds one
+    configuration that moves by small steps, every column does, and the joints are its inverse kinematics at
+    each design; ranked (unfollowed), that configuration changes columns. A path gives one design per row, not a
+    design as well."""
+    m = pkm.load(str(DESCRIPTIONS["rrr3"]))
+    x0 = np.array([0.15, -0.1, 0.8])
+    q = m.inverse_kinematics(x0, mode="left_left_left")
+    default = m.design(None)
+    designs = [{**default, "r_p": v} for v in default["r_p"] * np.linspace(0.7, 1.3, 121)]
+    a = m.every_assembly(q, designs=designs, follow=True)
+    assert set(a.counts.tolist()) == {2, 4, 6}
+    (column,) = np.flatnonzero(np.all(np.abs(a.poses[60] - x0) < 1e-8, axis=1))
+    steps = np.abs(np.diff(a.poses, axis=0))
+    steps[..., 2] = np.abs(_wrapped(np.diff(a.poses[..., 2], axis=0)))
+    assert np.nanmax(steps) < 0.05
+    path = a.poses[:, column]
+    assert np.isfinite(path).all()
+    for k in range(0, 121, 12):
+        np.testing.assert_allclose(m.inverse_kinematics(path[k], designs[k], mode="left_left_left"), q, atol=1e-8)
+    ranked = m.every_assembly(q, designs=designs)
+    gaps = np.abs(ranked.poses - path[:, None, :]).max(axis=2)
+    assert len(set(np.argmin(np.where(np.isfinite(gaps), gaps, np.inf), axis=1).tolist())) > 1
+    with pytest.raises(PkmError, match="design and designs violate"):
+        m.every_assembly(q, default, designs=designs)
+    with pytest.raises(PkmError, match="designs violate: a design per row"):
+        m.every_assembly(np.stack([q, q]), designs=designs)
+
+
 POINT_RPR2 = {"name": "point_rpr2", "doc": "two RPR legs meeting at the platform's point", "frame": "planar_point",
               "home": [1, 1],
               "parameters": [{"name": "s", "default": 1.0, "lower": 0.001, "upper": 10, "unit": "m", "doc": "scale"}],
