@@ -1,7 +1,8 @@
 """A Monte Carlo run of an error model in parallel (:meth:`pkm.accuracy.ErrorModel.monte_carlo`): each batch of
 MONTE_CARLO_ROWS machines a task of :mod:`pkm.parallel` (local processes or a Dask cluster), the mechanism
 carried by its reference and loaded in the worker. Each batch draws from its own stream (the seed, the pose and
-the batch), so that the summed squares, joined in the batches' order, are the serial run's."""
+the batch), so that the summed squares, joined in the batches' order, are the serial run's: the same machines,
+to round-off (a batch may run on the interpreter in one process and compiled in another)."""
 
 from __future__ import annotations
 
