@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 3b8ed592f6fd5a51).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 3da79b69eee799d8).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "3b8ed592f6fd5a51"
+SOURCE_HASH = "3da79b69eee799d8"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "skeleton", "elastic", "leg_ends", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", "inertia_from_pose", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", "w_l", "t_l", )
 POSE = ("x", "y", )
@@ -406,14 +406,14 @@ def maximum_inscribed_circle():
 
 
 def skeleton():
-    """The points of the joints, chain by chain, for drawing the linkage and for its elastic elements.
+    """The points of the joints, leg by leg, for drawing the linkage and for its elastic elements.
 
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
         design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
-        points (6x2, column-major): O_i, A_i and P of each chain, one row each [m]
+        points (6x2, column-major): each leg's joints, one row each [m]
     """
     q = ca.SX.sym("q", 4)
     q_0 = q[0]
@@ -449,14 +449,14 @@ def skeleton():
 
 
 def elastic():
-    """The compliance of each chain's transmission and of each link, an aluminium square tube w_l x w_l x t_l.
+    """The compliance of each leg's drive and of each of its beams.
 
     Inputs:
         design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
-        drives (2x1, column-major): each chain's transmission compliance [rad/(N m)]
-        passive (2x1, column-major): each elbow's compliance, 0: free [rad/(N m)]
-        beams (4x5, column-major): each link's compliance terms at its end, clamped at its start, proximal then distal, chain by chain: axial, bending_uu, bending_uphi, bending_phiphi, torsion [SI]
+        drives (2x1, column-major): each leg's drive compliance [rad/(N m), m/N]
+        passive (2x1, column-major): each passive joint's compliance, 0: free [rad/(N m)]
+        beams (4x5, column-major): the aluminium square tubes w_l x w_l x t_l, proximal then distal, chain by chain: each beam's compliance terms at its end, clamped at its start: axial, bending_uu, bending_uphi, bending_phiphi, torsion [SI]
         bearings (2x1, column-major): the joints' bearings' compliance: rigid [m/N]
     """
     design = ca.SX.sym("design", 18)
@@ -502,14 +502,14 @@ def elastic():
 
 
 def leg_ends():
-    """The derivative of each chain's closure in the end effector's point.
+    """The derivative of each leg's closure in its platform joint's point.
 
     Inputs:
         q (4): [theta1, theta2, phi1, phi2] actuated then passive absolute link angles [rad]
         x (2): [x, y] end-effector position [m]
         design (18): [r1, r2, r3, m1, m2, c1, c2, g1, g2, k1, k2, j1, j2, fv, fc, vm, w_l, t_l] r1, r2, r3 [m]; m1, m2 [kg]; c1, c2, g1, g2 [-]; k1, k2 [N m/rad]; j1, j2 [kg m^2]; fv [N m s/rad], fc [N m], vm [N m s/rad]; w_l, t_l [m]
     Outputs:
-        H_c (4x2, column-major): each chain's closure's derivative in P [-]
+        H_c (4x2, column-major): each leg's closure's derivative in its platform joint [-]
     """
     q = ca.SX.sym("q", 4)
     q_0 = q[0]

@@ -1,13 +1,13 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 739bb0a1aaba3cb6).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 d6023a75117d7acc).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry of Wu's Fig. 1."""
 
 import casadi as ca
 
-SOURCE_HASH = "739bb0a1aaba3cb6"
-FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "inertia_from_pose", "inverse_dynamics_from_pose", )
-PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", )
+SOURCE_HASH = "d6023a75117d7acc"
+FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "skeleton", "elastic", "leg_ends", "inertia_from_pose", "inverse_dynamics_from_pose", )
+PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "g", "b_l", "t_l", "k_s", )
 POSE = ("x", "y", )
 ACTUATORS = ("q1", "q2", )
 
@@ -18,7 +18,7 @@ def inverse_kinematics():
     Inputs:
         x (2): [x, y] platform reference point O' [m]
         mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
         reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
@@ -29,7 +29,7 @@ def inverse_kinematics():
     mode = ca.SX.sym("mode", 2)
     mode_0 = mode[0]
     mode_1 = mode[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -53,6 +53,9 @@ def inverse_kinematics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 10 common subexpressions, 31 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
@@ -75,7 +78,7 @@ def forward_kinematics():
     Inputs:
         q_a (2): [q1, q2] slider positions [m]
         assembly (1): [sigma] +1 platform above the line through the links' slider ends, -1 below
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         x (2x1, column-major): platform position [m]
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
@@ -86,7 +89,7 @@ def forward_kinematics():
     q_a_1 = q_a[1]
     assembly = ca.SX.sym("assembly", 1)
     assembly_0 = assembly[0]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -110,6 +113,9 @@ def forward_kinematics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 12 common subexpressions, 36 operations
     _t0 = q_a_0 - q_a_1
     _t1 = design_1**2
@@ -135,7 +141,7 @@ def constraint():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         h (4x1, column-major): loop-closure residuals [m]
         H_q (4x4, column-major): dh/dq, actuated then passive [-, m/rad]
@@ -149,7 +155,7 @@ def constraint():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -173,6 +179,9 @@ def constraint():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 5 common subexpressions, 24 operations
     _t0 = design_0*ca.sin(q_2)
     _t1 = design_0*ca.cos(q_2)
@@ -191,7 +200,7 @@ def first_order():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         J (2x2, column-major): q_a_dot = J x_dot [-]
         J_f (2x2, column-major): x_dot = J_f q_a_dot [-]
@@ -207,7 +216,7 @@ def first_order():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -231,6 +240,9 @@ def first_order():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 13 common subexpressions, 28 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
@@ -259,7 +271,7 @@ def first_order_from_pose():
     Inputs:
         x (2): [x, y] platform reference point O' [m]
         mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
         reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
@@ -275,7 +287,7 @@ def first_order_from_pose():
     mode = ca.SX.sym("mode", 2)
     mode_0 = mode[0]
     mode_1 = mode[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -299,6 +311,9 @@ def first_order_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 17 common subexpressions, 49 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
@@ -331,12 +346,12 @@ def task_rectangle():
     """Task rectangle Q1Q2Q3Q4 of the design within the angle margins and the strokes (Wu Fig. 2).
 
     Inputs:
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         centre (2x1, column-major): centre of the task rectangle [m]
         half_size (2x1, column-major): half width b/2 and half height h/2 [m]
     """
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -360,6 +375,9 @@ def task_rectangle():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 5 common subexpressions, 31 operations
     _t0 = (1/2)*design_4
     _t1 = design_0**2
@@ -377,7 +395,7 @@ def partial_velocities():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         H (16x2, column-major): pivot partial velocities, 2 rows each [-]
         G (8x2, column-major): angular partial velocities, 1 row each [1/m]
@@ -390,7 +408,7 @@ def partial_velocities():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -414,6 +432,9 @@ def partial_velocities():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 6 common subexpressions, 21 operations
     _t0 = 1/ca.cos(q_2)
     _t1 = _t0*ca.sin(q_2)
@@ -433,7 +454,7 @@ def virtual_work():
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         M (2x2, column-major): task-space mass matrix of eq. 41 [kg]
         N (2x1, column-major): velocity-product and gravity forces at the sliders (eq. 41) [N]
@@ -450,7 +471,7 @@ def virtual_work():
     x_dot = ca.SX.sym("x_dot", 2)
     x_dot_0 = x_dot[0]
     x_dot_1 = x_dot[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -474,6 +495,9 @@ def virtual_work():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 53 common subexpressions, 186 operations
     _t0 = ca.sin(q_2)
     _t1 = _t0**2
@@ -542,7 +566,7 @@ def inverse_dynamics():
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
         x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         tau (2x1, column-major): slider driving forces F1, F2 [N]
     """
@@ -560,7 +584,7 @@ def inverse_dynamics():
     x_ddot = ca.SX.sym("x_ddot", 2)
     x_ddot_0 = x_ddot[0]
     x_ddot_1 = x_ddot[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -584,6 +608,9 @@ def inverse_dynamics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 51 common subexpressions, 194 operations
     _t0 = ca.sin(q_3)
     _t1 = ca.cos(q_3)
@@ -648,7 +675,7 @@ def lagrange_dynamics():
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
         x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         tau (2x1, column-major): slider driving forces F1, F2 [N]
         M_t (2x2, column-major): slider-space mass matrix Psi^T M Psi [kg]
@@ -669,7 +696,7 @@ def lagrange_dynamics():
     x_ddot = ca.SX.sym("x_ddot", 2)
     x_ddot_0 = x_ddot[0]
     x_ddot_1 = x_ddot[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -693,6 +720,9 @@ def lagrange_dynamics():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 90 common subexpressions, 249 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
@@ -798,7 +828,7 @@ def energy():
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         T (1x1, column-major): kinetic energy of every body [J]
         V (1x1, column-major): gravitational potential energy [J]
@@ -814,7 +844,7 @@ def energy():
     x_dot = ca.SX.sym("x_dot", 2)
     x_dot_0 = x_dot[0]
     x_dot_1 = x_dot[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -838,6 +868,9 @@ def energy():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 19 common subexpressions, 108 operations
     _t0 = x_dot_0**2
     _t1 = ca.cos(q_2)
@@ -869,7 +902,7 @@ def inertia():
     Inputs:
         q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         M_t (2x2, column-major): slider-space mass matrix [kg]
         M_w (2x2, column-major): task-space mass matrix M of eq. 41 [kg]
@@ -883,7 +916,7 @@ def inertia():
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -907,6 +940,9 @@ def inertia():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 40 common subexpressions, 128 operations
     _t0 = ca.sin(q_2)
     _t1 = ca.cos(q_2)
@@ -954,27 +990,25 @@ def inertia():
     return ca.Function("inertia", [q, x, design], [M_t, M_w, M_d], ["q", "x", "design"], ["M_t", "M_w", "M_d"])
 
 
-def inertia_from_pose():
-    """inverse_kinematics and inertia at its q, inertia with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call). inertia: Inertia matrices of a posture (Wu eqs. 41-43).
+def skeleton():
+    """The points of the joints, leg by leg, for drawing the linkage and for its elastic elements.
 
     Inputs:
+        q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
         x (2): [x, y] platform reference point O' [m]
-        mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
-        q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
-        reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
-        M_t (2x2, column-major): slider-space mass matrix [kg]
-        M_w (2x2, column-major): task-space mass matrix M of eq. 41 [kg]
-        M_d (2x2, column-major): Wu's inertia matrix (J^T)^-1 M of eq. 42: tau = M_d x_ddot [kg]
+        points (6x2, column-major): each leg's joints, one row each [m]
     """
+    q = ca.SX.sym("q", 4)
+    q_0 = q[0]
+    q_1 = q[1]
+    q_2 = q[2]
+    q_3 = q[3]
     x = ca.SX.sym("x", 2)
     x_0 = x[0]
     x_1 = x[1]
-    mode = ca.SX.sym("mode", 2)
-    mode_0 = mode[0]
-    mode_1 = mode[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -998,6 +1032,169 @@ def inertia_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 3 common subexpressions, 6 operations
+    _t0 = design_1 + design_2
+    _t1 = -_t0
+    _t2 = -1/2*design_3 + x_1
+    points = ca.reshape(ca.vertcat(_t1, _t1, -design_2 + x_0, _t0, _t0, design_2 + x_0, 0, q_0, _t2, 0, q_1, _t2), 6, 2)
+    return ca.Function("skeleton", [q, x, design], [points], ["q", "x", "design"], ["points"])
+
+
+def elastic():
+    """The compliance of each leg's drive and of each of its beams.
+
+    Inputs:
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
+    Outputs:
+        drives (2x1, column-major): each leg's drive compliance [rad/(N m), m/N]
+        passive (2x1, column-major): each passive joint's compliance, 0: free [rad/(N m)]
+        beams (2x5, column-major): the links, chain by chain (a parallelogram's two side by side): each beam's compliance terms at its end, clamped at its start: axial, bending_uu, bending_uphi, bending_phiphi, torsion [SI]
+        bearings (2x1, column-major): the joints' bearings' compliance: rigid [m/N]
+    """
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 9 common subexpressions, 39 operations
+    _t0 = 1/design_25
+    _t1 = design_23**2
+    _t2 = design_23 - 2*design_24
+    _t3 = _t2**2
+    _t4 = design_0**3
+    _t5 = design_23**4
+    _t6 = _t2**4
+    _t7 = design_0**2
+    _t8 = 1/(35000000000.0*_t5 - 35000000000.0*_t6)
+    drives = ca.reshape(ca.vertcat(_t0, _t0), 2, 1)
+    passive = ca.reshape(ca.vertcat(0, 0), 2, 1)
+    beams = ca.reshape(ca.vertcat(design_0/(420000000000.0*_t1 - 420000000000.0*_t3), design_0/(210000000000.0*_t1 - 210000000000.0*_t3), _t4/(105000000000.0*_t5 - 105000000000.0*_t6), _t4/(52500000000.0*_t5 - 52500000000.0*_t6), _t7/(70000000000.0*_t5 - 70000000000.0*_t6), _t7*_t8, _t8*design_0, design_0/(17500000000.0*_t5 - 17500000000.0*_t6), 0, 0), 2, 5)
+    bearings = ca.reshape(ca.vertcat(0, 0), 2, 1)
+    return ca.Function("elastic", [design], [drives, passive, beams, bearings], ["design"], ["drives", "passive", "beams", "bearings"])
+
+
+def leg_ends():
+    """The derivative of each leg's closure in its platform joint's point.
+
+    Inputs:
+        q (4): [q1, q2, theta1, theta2] slider positions [m], then link angles from the vertical [rad]
+        x (2): [x, y] platform reference point O' [m]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
+    Outputs:
+        H_c (4x2, column-major): each leg's closure's derivative in its platform joint [-]
+    """
+    q = ca.SX.sym("q", 4)
+    q_0 = q[0]
+    q_1 = q[1]
+    q_2 = q[2]
+    q_3 = q[3]
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
+    # 0 common subexpressions, 0 operations
+    H_c = ca.reshape(ca.vertcat(1, 0, 1, 0, 0, 1, 0, 1), 4, 2)
+    return ca.Function("leg_ends", [q, x, design], [H_c], ["q", "x", "design"], ["H_c"])
+
+
+def inertia_from_pose():
+    """inverse_kinematics and inertia at its q, inertia with the cosine and sine of each joint angle from the position vectors of the links (no trigonometric call). inertia: Inertia matrices of a posture (Wu eqs. 41-43).
+
+    Inputs:
+        x (2): [x, y] platform reference point O' [m]
+        mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
+    Outputs:
+        q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
+        reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
+        M_t (2x2, column-major): slider-space mass matrix [kg]
+        M_w (2x2, column-major): task-space mass matrix M of eq. 41 [kg]
+        M_d (2x2, column-major): Wu's inertia matrix (J^T)^-1 M of eq. 42: tau = M_d x_ddot [kg]
+    """
+    x = ca.SX.sym("x", 2)
+    x_0 = x[0]
+    x_1 = x[1]
+    mode = ca.SX.sym("mode", 2)
+    mode_0 = mode[0]
+    mode_1 = mode[1]
+    design = ca.SX.sym("design", 26)
+    design_0 = design[0]
+    design_1 = design[1]
+    design_2 = design[2]
+    design_3 = design[3]
+    design_4 = design[4]
+    design_5 = design[5]
+    design_6 = design[6]
+    design_7 = design[7]
+    design_8 = design[8]
+    design_9 = design[9]
+    design_10 = design[10]
+    design_11 = design[11]
+    design_12 = design[12]
+    design_13 = design[13]
+    design_14 = design[14]
+    design_15 = design[15]
+    design_16 = design[16]
+    design_17 = design[17]
+    design_18 = design[18]
+    design_19 = design[19]
+    design_20 = design[20]
+    design_21 = design[21]
+    design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 41 common subexpressions, 195 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0
@@ -1056,7 +1253,7 @@ def inverse_dynamics_from_pose():
         mode (2): [sigma1, sigma2] branch of each chain: +1 slider below its platform joint, -1 above
         x_dot (2): [x_dot, y_dot] platform velocity [m/s]
         x_ddot (2): [x_ddot, y_ddot] platform acceleration [m/s^2]
-        design (23): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]
+        design (26): [l, d1, d2, l2, qs, ql, theta_s, theta_l, m11, m21, m12, m22, m13, m23, m4, mN, I12, I22, I4, s12, s22, s4, g, b_l, t_l, k_s] l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; I12, I22, I4 [kg m^2]; s12, s22, s4 [m]; g [m/s^2]; b_l, t_l [m]; k_s [N/m]
     Outputs:
         q (4x1, column-major): q1, q2 [m], theta1, theta2 [rad]
         reach (4x1, column-major): l^2 - (x +- d1)^2 [m^2] and (q_i - qs)(ql - q_i) [m^2]; >= 0 where reachable
@@ -1074,7 +1271,7 @@ def inverse_dynamics_from_pose():
     x_ddot = ca.SX.sym("x_ddot", 2)
     x_ddot_0 = x_ddot[0]
     x_ddot_1 = x_ddot[1]
-    design = ca.SX.sym("design", 23)
+    design = ca.SX.sym("design", 26)
     design_0 = design[0]
     design_1 = design[1]
     design_2 = design[2]
@@ -1098,6 +1295,9 @@ def inverse_dynamics_from_pose():
     design_20 = design[20]
     design_21 = design[21]
     design_22 = design[22]
+    design_23 = design[23]
+    design_24 = design[24]
+    design_25 = design[25]
     # 65 common subexpressions, 276 operations
     _t0 = design_0**2
     _t1 = design_1 + x_0

@@ -43,6 +43,15 @@ class Parameter:
         name, factor = self.default_from
         return factor * values[name]
 
+    def table(self) -> dict[str, Any]:
+        """This parameter as a description's table (:mod:`pkm.spec.schema`), whose bounds are finite: an unbounded
+        side 1000 times the default's magnitude (and one) beyond it."""
+        reach = 1e3 * abs(self.default) + 1.0
+        return {"name": self.name, "default": self.default,
+                "lower": self.lower if math.isfinite(self.lower) else self.default - reach,
+                "upper": self.upper if math.isfinite(self.upper) else self.default + reach,
+                "unit": self.unit, "doc": self.doc}
+
     def check(self, value: float) -> None:
         if not math.isfinite(value):
             raise DesignError(f"design parameter {self.name} = {value} is not finite")

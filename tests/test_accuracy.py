@@ -35,11 +35,11 @@ def _task_poses(n: int, seed: int) -> np.ndarray:
 
 
 @pytest.mark.parametrize(("name", "pose"), [("rrr3", [0.05, -0.03, 0.1]), ("delta", [0.05, 0.02, -0.5]),
-                                            ("five_bar", [0.1, 1.5])])
+                                            ("five_bar", [0.1, 1.5]), ("slider_gantry", [0.05, 0.9])])
 def test_the_pose_error_jacobian_is_the_closed_loops_central_differences(name, pose):
     """Each column: a leg's attachment, length or drive zero moved by 1e-6 either way, the loops closed again at
-    the same actuated joints; to 1e-8 of the largest entry. The hand-derived five-bar's model expands the two RR
-    legs it gives, its nominal joints its own inverse kinematics'."""
+    the same actuated joints; to 1e-8 of the largest entry. The hand-derived five-bar's and slider gantry's models
+    expand the legs they give (two RR, two PRR), their nominal joints their own inverse kinematics'."""
     m = pkm.load(name)
     model = m.error_model()
     x = np.array(pose)

@@ -221,46 +221,58 @@ def test_the_bearings_are_the_frame_models_translational_springs_at_each_pin():
         pkm.load(raw)
 
 
-def test_the_hand_derived_five_bars_stiffness_is_its_legs_described():
+HAND_DERIVED = {  # a design away from the defaults, the drives, the region, the parameters of the gradient
+    "five_bar": ({"r1": 1.1, "r3": 0.7, "k1": 9e3, "k2": 1.4e4, "w_l": 0.03, "t_l": 0.0025}, ("k1", "k2"), "miw",
+                 ("w_l", "r2", "k1")),
+    "slider_gantry": ({"l": 0.6, "d2": 0.12, "b_l": 0.15, "t_l": 0.01, "k_s": 5e7}, ("k_s", "k_s"), "task",
+                      ("b_l", "l", "k_s")),
+    "slider_gantry_symmetric": ({"l": 0.6, "b_l": 0.15, "t_l": 0.012, "k_s": 8e7}, ("k_s", "k_s"), "task",
+                                ("t_l", "d1", "k_s")),
+}
+
+
+@pytest.mark.parametrize("name", sorted(HAND_DERIVED))
+def test_a_hand_derived_machines_stiffness_is_its_legs_described(name):
     """The hand-derived five-bar's elastic elements (its links the aluminium square tube w_l x t_l, its drives the
-    transmissions k1, k2) derived twice: its K equals the machine of its two RR legs described
-    (pkm.models.five_bar.legs) at a design away from the defaults, to 1e-12, in every working mode; its drives
-    alone are J^T diag(k1, k2) J with its own J; its elastic frequency is sqrt(lambda_min(K, M_w)) with its own
-    Lagrange model's M_w; the MIW mean of its least stiffness has the design gradient of its central
-    differences in the tube, a link and a drive."""
+    transmissions k1, k2) and the slider gantry's (its links the steel square tube b_l x t_l, the parallelogram's
+    two side by side, its sliders' drives k_s) derived twice: K equals the machine of their legs described
+    (pkm.models.<name>.legs) at a design away from the defaults, to 1e-12, in every working mode; the drives
+    alone are J^T diag(k) J with the machine's own J; the elastic frequency is sqrt(lambda_min(K, M_w)) with its
+    own dynamic model's M_w; the region mean of the least stiffness has the design gradient of its central
+    differences in the tube, a length and a drive."""
     from scipy.linalg import eigh
 
-    from pkm.models.five_bar.legs import described
-
-    m = pkm.load("five_bar")
-    design = {**m.design(None), "r1": 1.1, "r3": 0.7, "k1": 9e3, "k2": 1.4e4, "w_l": 0.03, "t_l": 0.0025}
-    twice = _load(described(m.parameters))
-    rng = np.random.default_rng(3)
-    centre, radius = m.maximum_inscribed_circle(design)
-    poses = centre + radius * np.sqrt(rng.uniform(size=(12, 1))) * np.column_stack(
-        [np.cos(angle := rng.uniform(0, 2 * np.pi, 12)), np.sin(angle)])
+    m = pkm.load(name)
+    changes, drives, region, varied = HAND_DERIVED[name]
+    design = {**m.design(None), **changes}
+    twice = _load(m.legs_description())
+    poses, _ = m.region(region).sample(m.functions, m.design_vector(design), 12, "mean")
+    poses = poses[np.random.default_rng(3).choice(len(poses), 12, replace=False)]
     for mode in m.modes:
         K = m.stiffness(poses, design, mode=mode)
         reached = np.all(np.isfinite(K), axis=(1, 2))
-        assert reached.sum() >= 6
+        if mode == m.modes[0]:
+            assert reached.sum() >= 6
+        if not reached.any():
+            continue
         want = twice.stiffness(poses[reached], twice.design({k: design[k] for k in twice.parameter_names()}),
                                mode=mode)
         np.testing.assert_allclose(K[reached], want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
         J = m.jacobian(poses[reached], design, mode=mode)
-        drives = np.einsum("nki,k,nkj->nij", J, [design["k1"], design["k2"]], J)
-        np.testing.assert_allclose(m.stiffness(poses[reached], design, mode=mode, actuators_only=True), drives,
+        alone = np.einsum("nki,k,nkj->nij", J, [design[k] for k in drives], J)
+        np.testing.assert_allclose(m.stiffness(poses[reached], design, mode=mode, actuators_only=True), alone,
                                    rtol=1e-10)
     K, M = m.stiffness(poses, design), m.inertia_matrix(poses, design)
     frequency = m.local_index("elastic_frequency", poses, design)
-    for k in range(len(poses)):
+    for k in np.flatnonzero(np.all(np.isfinite(K), axis=(1, 2))):
         assert frequency[k] == pytest.approx(np.sqrt(eigh(K[k], M[k], eigvals_only=True).min()), rel=1e-9)
-    value, gradient = m.global_index("stiffness_min_mean", design, region="miw", resolution=3, gradient=True)
+    value, gradient = m.global_index("stiffness_min_mean", design, region=region, resolution=3, gradient=True)
     assert value > 0
-    for name in ("w_l", "r2", "k1"):
-        step = 1e-6 * design[name]
-        ahead, behind = (m.global_index("stiffness_min_mean", {**design, name: design[name] + sign * step},
-                                        region="miw", resolution=3) for sign in (1, -1))
-        assert gradient[name] == pytest.approx((ahead - behind) / (2 * step), rel=1e-5)
+    for parameter in varied:
+        step = 1e-6 * design[parameter]
+        ahead, behind = (m.global_index("stiffness_min_mean", {**design, parameter: design[parameter] + sign * step},
+                                        region=region, resolution=3) for sign in (1, -1))
+        assert gradient[parameter] == pytest.approx((ahead - behind) / (2 * step), rel=1e-5)
 
 
 def test_a_passive_joints_list_has_one_entry_per_passive_joint():

@@ -44,3 +44,28 @@ def beam_terms(beam: dict[str, Any], length: sp.Expr, scalar: Any, *, planar: bo
     return [length / (young * area * count), length**3 / (3 * bend), length**2 / (2 * bend), length / bend,
             sp.Integer(0) if planar else length / (shear * torsion * count)]
 
+
+def add_hand_derived(spec: Any, *, joints: Any, pose: Any, design: Any, points: list[sp.Matrix],
+                     drives: list[sp.Expr], passive: int, terms: list[list[sp.Expr]], what: str) -> None:
+    """A hand-derived machine's ``skeleton`` (its legs' joints, ``points`` leg by leg), ``elastic`` (its drives'
+    compliances, ``passive`` free passive joints, its beams' compliance terms, rigid bearings) and ``leg_ends``
+    (each leg's closure's derivative in its platform joint, I: its closure is that joint less the chain's end), in
+    the conventions of a described machine of the same legs, whose stiffness composition reads them
+    (:func:`pkm.spec.stiffness.elastic_functions`); ``what`` names the beams in their outputs' docs."""
+    from symbolic.codegen import Output
+
+    dim = points[0].rows
+    spec.add("skeleton", (joints, pose, design),
+             (Output("points", sp.Matrix.hstack(*points).T, "each leg's joints, one row each [m]"),),
+             "The points of the joints, leg by leg, for drawing the linkage and for its elastic elements.")
+    spec.add("elastic", (design,),
+             (Output("drives", sp.Matrix(drives), "each leg's drive compliance [rad/(N m), m/N]"),
+              Output("passive", sp.zeros(passive, 1), "each passive joint's compliance, 0: free [rad/(N m)]"),
+              Output("beams", sp.Matrix(terms), f"{what}: each beam's compliance terms at its end, clamped at its "
+                     f"start: {', '.join(BEAM_TERMS)} [SI]"),
+              Output("bearings", sp.zeros(len(drives), 1), "the joints' bearings' compliance: rigid [m/N]")),
+             "The compliance of each leg's drive and of each of its beams.")
+    spec.add("leg_ends", (joints, pose, design),
+             (Output("H_c", sp.Matrix.vstack(*[sp.eye(dim)] * len(drives)), "each leg's closure's derivative in "
+                     "its platform joint [-]"),),
+             "The derivative of each leg's closure in its platform joint's point.")

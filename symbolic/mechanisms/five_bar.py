@@ -52,7 +52,7 @@ import sympy as sp
 
 from pkm.spec.vocabulary import MATERIALS
 from symbolic.codegen import ModuleSpec, Output, Port
-from symbolic.described.elastic import BEAM_TERMS, beam_terms
+from symbolic.described.elastic import add_hand_derived, beam_terms
 from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_from_pose, add_kinematics
 from symbolic.lagrange import Body, Chain, Friction, Model, Spring, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
@@ -261,23 +261,13 @@ def _add_elastic(spec: ModuleSpec) -> None:
     points = []
     for base, th in zip(BASES, (theta1, theta2), strict=True):
         points += [base, base + r1 * _e(th), P]
-    spec.add("skeleton", (JOINTS, POSE, DESIGN),
-             (Output("points", sp.Matrix.hstack(*points).T, "O_i, A_i and P of each chain, one row each [m]"),),
-             "The points of the joints, chain by chain, for drawing the linkage and for its elastic elements.")
     young, shear, density = MATERIALS[LINKS]
     tube = {"material": {"E": young, "G": shear, "density": density},
             "section": {"shape": "rect_tube", "b": w_l, "h": w_l, "t": t_l}}
-    terms = [beam_terms(tube, length, sp.sympify, planar=True, count=1) for _ in BASES for length in (r1, r2)]
-    spec.add("elastic", (DESIGN,),
-             (Output("drives", sp.Matrix([1 / k1, 1 / k2]), "each chain's transmission compliance [rad/(N m)]"),
-              Output("passive", sp.zeros(2, 1), "each elbow's compliance, 0: free [rad/(N m)]"),
-              Output("beams", sp.Matrix(terms), "each link's compliance terms at its end, clamped at its start, "
-                     f"proximal then distal, chain by chain: {', '.join(BEAM_TERMS)} [SI]"),
-              Output("bearings", sp.zeros(2, 1), "the joints' bearings' compliance: rigid [m/N]")),
-             "The compliance of each chain's transmission and of each link, an aluminium square tube w_l x w_l x t_l.")
-    spec.add("leg_ends", (JOINTS, POSE, DESIGN),
-             (Output("H_c", sp.Matrix.vstack(sp.eye(2), sp.eye(2)), "each chain's closure's derivative in P [-]"),),
-             "The derivative of each chain's closure in the end effector's point.")
+    add_hand_derived(spec, joints=JOINTS, pose=POSE, design=DESIGN, points=points, drives=[1 / k1, 1 / k2],
+                     passive=2, terms=[beam_terms(tube, length, sp.sympify, planar=True, count=1) for _ in BASES
+                                       for length in (r1, r2)],
+                     what="the aluminium square tubes w_l x w_l x t_l, proximal then distal, chain by chain")
 
 
 def chains() -> tuple[Chain, Chain]:

@@ -22,6 +22,10 @@ first order, the inertia matrices and the inverse dynamics are also emitted from
 w_i / l for the sine and cosine (``first_order_from_pose``, ``inertia_from_pose``,
 ``inverse_dynamics_from_pose``; J's row i is (u_i / w_i, 1)): no angle and no trigonometric call.
 
+Elastic elements (pkm's stiffness, :mod:`pkm.spec.stiffness`): each slider's drive a spring k_s along its column,
+each chain's link a steel square tube b_l x b_l x t_l clamped at its slider's joint (the parallelogram's two links
+side by side), in the conventions of a described machine of two PRR legs (pkm/models/slider_gantry/legs.py).
+
 Counterweight i hangs from a pulley on top of column i and moves opposite to slider i (its height is
 -q_i up to a constant). Gravity g acts along -y. Bodies and masses follow Wu's Table 2.
 """
@@ -32,7 +36,9 @@ from functools import cache
 
 import sympy as sp
 
+from pkm.spec.vocabulary import MATERIALS
 from symbolic.codegen import ModuleSpec, Output, Port
+from symbolic.described.elastic import add_hand_derived, beam_terms
 from symbolic.kinematics import ForwardKinematics, InverseKinematics, add_from_pose, add_kinematics
 from symbolic.lagrange import Body, Chain, chain_model, project, rate, stack
 from symbolic.loops import LoopClosure
@@ -45,6 +51,7 @@ m11, m21, m12, m22, m13, m23, m4, m_platform = sp.symbols("m11 m21 m12 m22 m13 m
 I12, I22, I4, s12, s22, s4 = sp.symbols("I12 I22 I4 s12 s22 s4", positive=True)
 m5, I5, s5 = sp.symbols("m5 I5 s5", positive=True)
 g = sp.Symbol("g", nonnegative=True)
+b_l, t_l, k_s = sp.symbols("b_l t_l k_s", positive=True)
 x, y = sp.symbols("x y", real=True)
 q1, q2, theta1, theta2 = sp.symbols("q1 q2 theta1 theta2", real=True)
 sigma1, sigma2, sigma = sp.symbols("sigma1 sigma2 sigma", real=True)
@@ -54,6 +61,8 @@ x_ddot, y_ddot = sp.symbols("x_ddot y_ddot", real=True)
 GEOMETRY = (ell, d1, d2, l2, qs, ql, theta_s, theta_l)
 INERTIAL = (m11, m21, m12, m22, m13, m23, m4, m_platform, I12, I22, I4, s12, s22, s4)
 EXTRA_LINK = (m5, I5, s5)
+ELASTIC_DESIGN = (b_l, t_l, k_s)
+LINKS = "steel"  # the links' material (pkm.spec.vocabulary.MATERIALS)
 
 POSE = Port("x", (x, y), "platform reference point O' [m]")
 JOINTS = Port("q", (q1, q2, theta1, theta2), "slider positions [m], then link angles from the vertical [rad]")
@@ -68,13 +77,13 @@ GRAVITY = sp.Matrix([0, -g, 0])
 
 
 def design_port(symmetric: bool) -> Port:
-    symbols = GEOMETRY + INERTIAL + (EXTRA_LINK if symmetric else ()) + (g,)
+    symbols = GEOMETRY + INERTIAL + (EXTRA_LINK if symmetric else ()) + (g,) + ELASTIC_DESIGN
     extra = "; m5 [kg], I5 [kg m^2], s5 [m] of link A4B4" if symmetric else ""
     return Port(
         "design",
         symbols,
         "l, d1, d2, l2, qs, ql [m]; theta_s, theta_l [rad]; m11, m21, m12, m22, m13, m23, m4, mN [kg]; "
-        f"I12, I22, I4 [kg m^2]; s12, s22, s4 [m]{extra}; g [m/s^2]",
+        f"I12, I22, I4 [kg m^2]; s12, s22, s4 [m]{extra}; g [m/s^2]; b_l, t_l [m]; k_s [N/m]",
     )
 
 
@@ -258,9 +267,30 @@ def module(symmetric: bool = False) -> ModuleSpec:
         "Task rectangle Q1Q2Q3Q4 of the design within the angle margins and the strokes (Wu Fig. 2).",
     )
     _add_dynamics(spec, symmetric)
+    _add_elastic(spec, symmetric)
     for name in ("inertia", "inverse_dynamics"):
         add_from_pose(spec, name, inverse=inverse, joints=JOINTS, pose=POSE, mode=MODE)
     return spec
+
+
+def _add_elastic(spec: ModuleSpec, symmetric: bool) -> None:
+    """The elastic elements of the two chains, in a described machine's conventions
+    (:func:`symbolic.described.elastic.add_hand_derived`): each chain's column foot (-+(d1 + d2), 0), its
+    slider's joint B_i and its platform joint A_i; each slider's drive a spring k_s along its column; each chain's
+    link of length l a steel square tube b_l x b_l x t_l clamped at B_i, the parallelogram's A1B1 and A3B3 (and
+    A2B2 and A4B4 in the symmetric variant) two such beams side by side."""
+    points = []
+    for side, q in ((-1, q1), (1, q2)):
+        points += [sp.Matrix([side * (d1 + d2), 0]), sp.Matrix([side * (d1 + d2), q]),
+                   P + sp.Matrix([side * d2, -l2 / 2])]
+    young, shear, density = MATERIALS[LINKS]
+    tube = {"material": {"E": young, "G": shear, "density": density},
+            "section": {"shape": "rect_tube", "b": b_l, "h": b_l, "t": t_l}}
+    add_hand_derived(spec, joints=JOINTS, pose=POSE, design=design_port(symmetric), points=points,
+                     drives=[1 / k_s, 1 / k_s], passive=2,
+                     terms=[beam_terms(tube, ell, sp.sympify, planar=True, count=count)
+                            for count in (2, 2 if symmetric else 1)],
+                     what="the links, chain by chain (a parallelogram's two side by side)")
 
 
 @cache

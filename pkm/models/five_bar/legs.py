@@ -7,7 +7,6 @@ as a described machine's (:func:`pkm.spec.stiffness.elastic_functions`); loaded 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -18,11 +17,8 @@ TUBE = {"material": "aluminium", "section": {"shape": "rect_tube", "b": "w_l", "
 
 
 def described(parameters: Sequence[Parameter]) -> dict[str, Any]:
-    """The five-bar as a description, its parameters those of ``parameters`` that it reads (:data:`NAMES`), an
-    unbounded one's upper bound 1000 times its default."""
-    tables = [{"name": p.name, "default": p.default, "lower": p.lower,
-               "upper": p.upper if math.isfinite(p.upper) else 1e3 * abs(p.default), "unit": p.unit, "doc": p.doc}
-              for p in parameters if p.name in NAMES]
+    """The five-bar as a description, its parameters those of ``parameters`` that it reads (:data:`NAMES`)."""
+    tables = [p.table() for p in parameters if p.name in NAMES]
     return {
         "name": "five_bar_legs",
         "doc": "the symmetric planar 5R as two RR legs, its links aluminium square tubes, its drives springs",

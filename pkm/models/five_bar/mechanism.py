@@ -9,22 +9,19 @@ OABC'D, OA'BCD and OA'BC'D, with A/A' the elbow of the chain at O and C/C' that 
 from __future__ import annotations
 
 import math
-from functools import cache, cached_property
 from typing import ClassVar
 
 import numpy as np
 
 from pkm.design import Condition, Parameter
 from pkm.design_space import DesignSpace
-from pkm.kinematics import Branch, FunctionTable, GeneratedFunctions
+from pkm.kinematics import Branch
 from pkm.mechanism import Mechanism
 from pkm.models.five_bar.legs import described
 from pkm.models.five_bar.spaces import GAO1998, LARA_MOLINA2016
 from pkm.models.five_bar.structure import structure
 from pkm.regions import Disc
-from pkm.spec.machine import variant
-from pkm.spec.schema import Description, describe
-from pkm.spec.stiffness import elastic_functions
+from pkm.spec.given_legs import GivenLegs
 
 
 def _optional(name, default, lower, unit, doc, *, closed=False, default_from=None):
@@ -69,7 +66,7 @@ ELASTIC_PARAMETERS = (
 )
 
 
-class FiveBar(Mechanism):
+class FiveBar(GivenLegs, Mechanism):
     name = "five_bar"
     doc = "symmetric planar 5R: two actuated proximal links, two distal links, end effector (x, y)"
     parameters = (
@@ -111,18 +108,10 @@ class FiveBar(Mechanism):
         )
     }
 
-    @cached_property
-    def functions(self) -> FunctionTable:
-        """The generated functions, with the stiffness and the elastic vibration composed from the chains' elastic
-        elements as a described machine's of the same legs (:mod:`pkm.models.five_bar.legs`)."""
-        return GeneratedFunctions(self.name, parameters=self.parameter_names(), pose=self.pose_names,
-                                  actuators=self.actuator_names, extra=lambda f: elastic_functions(_legs(), f))
-
-    variant = staticmethod(variant)
-
-    def described_legs(self) -> Description:
-        """Its two RR legs (:mod:`pkm.models.five_bar.legs`): its error model expands them."""
-        return _legs()
+    @classmethod
+    def legs_description(cls) -> dict:
+        """Its two RR legs (:mod:`pkm.models.five_bar.legs`)."""
+        return described(cls.parameters)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """The intersection of the chains' annuli lies in |x| <= R - r3, |y| <= sqrt(R^2 - r3^2)."""
@@ -135,8 +124,3 @@ class FiveBar(Mechanism):
         """Centre (0, y_MIC) and radius r_MIC of the maximum inscribed circle (Lara-Molina eqs. 10-12)."""
         centre, radius = self.functions["maximum_inscribed_circle"](self.design_vector(design))
         return np.asarray(centre).ravel(), float(radius)
-
-
-@cache
-def _legs() -> Description:
-    return describe(described(FiveBar.parameters))

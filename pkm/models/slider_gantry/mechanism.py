@@ -21,8 +21,10 @@ from pkm.dynamics.trajectories import Trajectory
 from pkm.errors import DesignError, check_real
 from pkm.kinematics import Branch, DesignLike
 from pkm.mechanism import Mechanism
+from pkm.models.slider_gantry.legs import described
 from pkm.models.slider_gantry.structure import structure
 from pkm.regions import Rectangle, trajectory_region
+from pkm.spec.given_legs import GivenLegs
 
 DEG = math.pi / 180
 INF = math.inf
@@ -103,6 +105,13 @@ GRAVITY = Parameter(
     "g", 9.8, 0.0, INF, "m/s^2", "gravitational acceleration along -y (Wu: 9.8); 0 for a horizontal machine",
     closed_lower=True, required=False,
 )
+ELASTIC = (
+    Parameter("b_l", 0.2, 0.0, INF, "m", "outer side of the links' steel square tube (their beams' section; a "
+              "200 x 200 x 20 mm tube of l = 0.6164 m weighs 70 kg, Wu's links 80 kg)", required=False),
+    Parameter("t_l", 0.02, 0.0, INF, "m", "wall of the links' square tube", required=False),
+    Parameter("k_s", 1e8, 0.0, INF, "N/m", "axial stiffness of each slider's drive along its column (a ball "
+              "screw's)", required=False),
+)
 
 
 def _pivot_inertia(link: str, inertia: str, mass: str, offset: str) -> Condition:
@@ -138,14 +147,15 @@ class TaskRectangle:
         return np.stack([c - half, c + half], axis=1)
 
 
-class SliderGantry(Mechanism):
+class SliderGantry(GivenLegs, Mechanism):
     name = "slider_gantry"
     doc = (
         "two-slider gantry of Wu 2008 Fig. 1: sliders on vertical columns, three equal links (A1B1B3A3 a "
         "parallelogram), counterweights, a translating platform (x, y)"
     )
-    parameters = (*GEOMETRY, *INERTIAL, GRAVITY)
-    conditions = CONDITIONS
+    parameters = (*GEOMETRY, *INERTIAL, GRAVITY, *ELASTIC)
+    conditions = (*CONDITIONS, Condition("2 t_l < b_l (the tube's walls within its side)",
+                                         lambda d: d["b_l"] - 2 * d["t_l"]))
     working_modes = (
         Branch("below", (1.0, 1.0), "both sliders below their platform joints: Wu's machine (eq. 2 with '-')",
                ("wu2008",)),
@@ -173,6 +183,12 @@ class SliderGantry(Mechanism):
             "and 6.67 m/s^2 (the trajectory quantities along it: pkm.Mechanism.trajectory_quantities)"),
     }
     structure = staticmethod(structure)
+    symmetric: ClassVar[bool] = False  # the right chain a parallelogram too (Wu section 6.3)
+
+    @classmethod
+    def legs_description(cls) -> dict:
+        """Its two PRR legs (:mod:`pkm.models.slider_gantry.legs`)."""
+        return described(cls.parameters, cls.symmetric)
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """|x| <= l - d1 (both links reach); y within the strokes plus or minus l and l2/2."""
@@ -213,6 +229,7 @@ class SliderGantry(Mechanism):
 
 class SliderGantrySymmetric(SliderGantry):
     name = "slider_gantry_symmetric"
+    symmetric: ClassVar[bool] = True
     doc = (
         "symmetric variant of Wu's gantry (section 6.3): the right chain also a parallelogram (link "
         "A4B4), equal sliders; kappa_D symmetric about the y axis"
@@ -229,5 +246,6 @@ class SliderGantrySymmetric(SliderGantry):
         ),
         *FOURTH_LINK,
         GRAVITY,
+        *ELASTIC,
     )
-    conditions = (*CONDITIONS, _pivot_inertia("link A4B4", "I5", "m5", "s5"))
+    conditions = (*SliderGantry.conditions, _pivot_inertia("link A4B4", "I5", "m5", "s5"))

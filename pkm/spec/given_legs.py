@@ -1,0 +1,45 @@
+"""A hand-derived mechanism whose legs are legs of the description vocabulary (:mod:`pkm.spec.vocabulary`) gives
+them as a description (:meth:`GivenLegs.legs_description`), and its generated model emits ``skeleton``,
+``elastic`` and ``leg_ends`` in a described machine's conventions (:func:`symbolic.described.elastic.add_hand_derived`):
+its stiffness and elastic vibration are then composed as a described machine's
+(:func:`pkm.spec.stiffness.elastic_functions`), and its error model (:mod:`pkm.accuracy`) expands those legs and
+builds them with :func:`pkm.spec.machine.variant`. The tests load the same legs as a description to derive the
+machine a second time."""
+
+from __future__ import annotations
+
+from functools import cache, cached_property
+from typing import Any
+
+from pkm.kinematics import FunctionTable, GeneratedFunctions
+from pkm.spec.machine import variant
+from pkm.spec.schema import Description, describe
+from pkm.spec.stiffness import elastic_functions
+
+
+class GivenLegs:
+    """The mixin of such a mechanism (before :class:`pkm.Mechanism` among its bases)."""
+
+    variant = staticmethod(variant)
+
+    @classmethod
+    def legs_description(cls) -> dict[str, Any]:
+        """The mechanism's legs as a description, its parameters the mechanism's that the legs read."""
+        raise NotImplementedError
+
+    def described_legs(self) -> Description:
+        return _described(type(self))
+
+    @cached_property
+    def functions(self) -> FunctionTable:
+        """The generated functions, with the stiffness and the elastic vibration composed from the legs' elastic
+        elements as a described machine's of the same legs."""
+        m: Any = self
+        return GeneratedFunctions(m.name, parameters=m.parameter_names(), pose=m.pose_names,
+                                  actuators=m.actuator_names,
+                                  extra=lambda f: elastic_functions(self.described_legs(), f))
+
+
+@cache
+def _described(cls: type) -> Description:
+    return describe(cls.legs_description())
