@@ -34,7 +34,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from pkm import expressions, regions
+from pkm import regions
 from pkm.errors import PkmError
 from pkm.indices.local import SINGULAR, WORKSPACE_MARGIN
 from pkm.intervals import ball, enclosure, span
@@ -249,7 +249,7 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
 
 def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _Capsules:
     """The legs' capsules at the joints q and the pose x(u)."""
-    from pkm.spec.collisions import pairs, plate_pairs, plate_vertices
+    from pkm.spec.collisions import pairs, plate_pairs, plate_radii, plate_rows
     from pkm.spec.vocabulary import kind_of
 
     d = _as_casadi(design)
@@ -260,30 +260,20 @@ def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _C
     margins = mech.functions["collision"](q, x, d)
     margin = ca.Function("capsule_margin", [u], [ca.mmin(margins)])
     plate_margins = ca.Function("plate_margins", [u], [ca.densify(margins[len(pairs(mech.description)):])])
-    plates = mech.description.data.get("plates", {})
-    radii = {plate: _upper(ca.Function("plate_radius", [u], [ca.densify(ca.SX(expressions.evaluate(
-        tree, {p["name"]: d[k] for k, p in enumerate(mech.description.data["parameters"])}, expressions.CASADI)))]))
-        for plate, tree in plates.items()}
-    vertices = {plate: [first[i] + (counts[i] - 1 if plate == "platform" else 0) for i in plate_vertices(
-        mech.description, plate)] for plate in plates}
+    plates = plate_radii(mech.description, d)
+    radii = dict(zip(plates, _radii(ca.vertcat(*plates.values()), u), strict=True)) if plates else {}
     return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description), first,
-                     _radii(mech, d, u), at, margin,
-                     [(i, a, vertices[plate], radii[plate]) for i, a, plate in plate_pairs(mech.description)],
-                     enclosure(plate_margins))
+                     _radii(mech.functions["capsules"](d), u), at, margin,
+                     [(i, a, plate_rows(mech.description, plate), radii[plate])
+                      for i, a, plate in plate_pairs(mech.description)], enclosure(plate_margins))
 
 
-def _upper(fn: ca.Function) -> float:
-    """The largest value of a function of u over the whole box [-1, 1]^d (a design's spanning parameters)."""
-    return float(enclosure(fn)([[ball(-1.0, 1.0)] * fn.numel_in(0)])[0][0].upper())
-
-
-def _radii(mech: Any, design: Any, u: ca.SX) -> np.ndarray:
-    """The capsules' radii: numbers, or where a radius follows a design parameter that spans a box, its largest
-    over the box (a bound that only widens the capsules: a proof stays a proof)."""
-    radii = mech.functions["capsules"](design)
+def _radii(radii: Any, u: ca.SX) -> np.ndarray:
+    """Capsules' or plates' radii: numbers, or where a radius follows a design parameter that spans a box, its
+    largest over the box (a bound that only widens them: a proof stays a proof)."""
     if isinstance(radii, ca.DM):
         return np.asarray(radii, dtype=float).ravel()
-    enclosed = enclosure(ca.Function("capsule_radii", [u], [ca.densify(radii)]))
+    enclosed = enclosure(ca.Function("radii", [u], [ca.densify(radii)]))
     return np.array([float(r.upper()) for r in enclosed([[ball(-1.0, 1.0)] * u.numel()])[0]])
 
 

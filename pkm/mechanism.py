@@ -105,10 +105,15 @@ class Mechanism:
 
     @cached_property
     def functions(self) -> FunctionTable:
-        """The generated CasADi functions of this mechanism, by name."""
-        return GeneratedFunctions(
-            self.name, parameters=self.parameter_names(), pose=self.pose_names, actuators=self.actuator_names
-        )
+        """The generated CasADi functions of this mechanism, by name, and those it composes from them
+        (:meth:`composed`)."""
+        return GeneratedFunctions(self.name, parameters=self.parameter_names(), pose=self.pose_names,
+                                  actuators=self.actuator_names, extra=self.composed)
+
+    def composed(self, _generated: Mapping[str, Any]) -> Mapping[str, Any]:
+        """The functions this mechanism composes in CasADi from its generated ones (what sympy would render
+        poorly: a segment distance, a 6 x 6 solve), by name; none by default."""
+        return {}
 
     def parameter_names(self) -> tuple[str, ...]:
         return tuple(p.name for p in self.parameters)

@@ -106,13 +106,6 @@ def jacobi_eigenvalues(S: ca.SX, sweeps: int = JACOBI_SWEEPS) -> list[ca.SX]:
     return [a[i][i] for i in range(n)]
 
 
-def _fmin(values: list[ca.SX]) -> ca.SX:
-    out = values[0]
-    for v in values[1:]:
-        out = ca.fmin(out, v)
-    return out
-
-
 def _adjugate(A: ca.SX) -> ca.SX:
     """The adjugate of a 3 x 3 matrix (transposed cofactors): adj(A) A = det(A) I."""
     rows = []
@@ -165,7 +158,7 @@ def symmetric_eigenvalues(S: ca.SX) -> tuple[ca.SX, ca.SX]:
     n = _check_square(S, JACOBI_DIMENSION)
     if n > 3:
         values = jacobi_eigenvalues(S)
-        return -_fmin([-v for v in values]), _fmin(values)
+        return ca.mmax(ca.vertcat(*values)), ca.mmin(ca.vertcat(*values))
     if n == 1:
         return S[0, 0], S[0, 0]
     if n == 2:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -92,15 +93,22 @@ def plate_vertices(description: Description, plate: str) -> list[int]:
 DISTINCT = 1e-9  # relative: two attachments this close are one vertex
 
 
+def plate_rows(description: Description, plate: str) -> list[int]:
+    """The rows of the drawing (``skeleton``) that are the plate's vertices, in order (:func:`plate_vertices`):
+    each such leg's last joint for the platform, its first for the base."""
+    counts = [kind_of(leg).points for leg in description.data["legs"]]
+    return [sum(counts[:i]) + (counts[i] - 1 if plate == "platform" else 0) for i in plate_vertices(description, plate)]
+
+
+def plate_radii(description: Description, d: Any) -> dict[str, Any]:
+    """Each stated plate's radius, an expression of the design vector ``d`` (symbols or numbers)."""
+    symbols = {p["name"]: d[k] for k, p in enumerate(description.data["parameters"])}
+    return {plate: expressions.evaluate(tree, symbols, expressions.CASADI)
+            for plate, tree in description.data.get("plates", {}).items()}
+
+
 def _cross2(u: ca.SX, v: ca.SX) -> ca.SX:
     return u[0] * v[1] - u[1] * v[0]
-
-
-def _least(values: list[ca.SX]) -> ca.SX:
-    out = values[0]
-    for v in values[1:]:
-        out = ca.fmin(out, v)
-    return out
 
 
 def polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
@@ -113,13 +121,14 @@ def polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
 def _polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
     m = len(vertices)
     edges = [segment_distance(p, q, vertices[k], vertices[(k + 1) % m]) for k in range(m if m > 2 else 1)]
-    best = _least(edges)
+    best = ca.mmin(ca.vertcat(*edges))
     if m < 3:
         return best
     if p.numel() == 2:  # the vertices turn anticlockwise (:func:`plate_vertices`; a rigid motion keeps that)
 
         def inside(e: ca.SX) -> ca.SX:
-            return _least([_cross2(vertices[(k + 1) % m] - vertices[k], e - vertices[k]) for k in range(m)]) >= 0
+            return ca.mmin(ca.vertcat(*[_cross2(vertices[(k + 1) % m] - vertices[k], e - vertices[k])
+                                        for k in range(m)])) >= 0
 
         return ca.if_else(ca.logic_or(inside(p), inside(q)), 0, best)
     normal = sum((ca.cross(vertices[k], vertices[(k + 1) % m]) for k in range(1, m)),
@@ -127,14 +136,14 @@ def _polygon_distance(p: ca.SX, q: ca.SX, vertices: list[ca.SX]) -> ca.SX:
     n = normal / ca.norm_2(normal)
 
     def above(e: ca.SX) -> ca.SX:
-        return _least([ca.dot(ca.cross(vertices[(k + 1) % m] - vertices[k], e - vertices[k]), n)
-                       for k in range(m)]) >= 0
+        return ca.mmin(ca.vertcat(*[ca.dot(ca.cross(vertices[(k + 1) % m] - vertices[k], e - vertices[k]), n)
+                                    for k in range(m)])) >= 0
 
     sp, sq = ca.dot(n, p - vertices[0]), ca.dot(n, q - vertices[0])
     through = p + (q - p) * sp / ca.if_else(sp == sq, 1, sp - sq)
     faces = [ca.if_else(above(p), ca.fabs(sp), best), ca.if_else(above(q), ca.fabs(sq), best),
              ca.if_else(ca.logic_and(sp * sq <= 0, above(through)), 0, best)]
-    return _least([best, *faces])
+    return ca.mmin(ca.vertcat(best, *faces))
 
 
 def composed_collisions(description: Description, functions: Mapping[str, ca.Function]) -> ca.Function:
@@ -149,12 +158,9 @@ def composed_collisions(description: Description, functions: Mapping[str, ca.Fun
     margins = [segment_distance(points[first[i] + a, :].T, points[first[i] + a + 1, :].T,
                                 points[first[j] + b, :].T, points[first[j] + b + 1, :].T) - radii[i] - radii[j]
                for i, a, j, b in pairs(description)]
-    plates = description.data.get("plates", {})
-    symbols = {p["name"]: d[k] for k, p in enumerate(description.data["parameters"])}
-    polygons = {plate: [points[first[i] + (counts[i] - 1 if plate == "platform" else 0), :].T
-                        for i in plate_vertices(description, plate)] for plate in plates}
+    plates = plate_radii(description, d)
+    polygons = {plate: [points[row, :].T for row in plate_rows(description, plate)] for plate in plates}
     margins += [polygon_distance(points[first[i] + a, :].T, points[first[i] + a + 1, :].T, polygons[plate])
-                - radii[i] - expressions.evaluate(plates[plate], symbols, expressions.CASADI)
-                for i, a, plate in plate_pairs(description)]
+                - radii[i] - plates[plate] for i, a, plate in plate_pairs(description)]
     return ca.Function("collision", [q, x, d], [ca.vertcat(*margins) if margins else ca.SX(0, 1)],
                        ["q", "x", "design"], ["margins"])

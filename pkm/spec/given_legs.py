@@ -8,10 +8,12 @@ machine a second time."""
 
 from __future__ import annotations
 
-from functools import cache, cached_property
+from collections.abc import Mapping
+from functools import cache
 from typing import Any
 
-from pkm.kinematics import FunctionTable, GeneratedFunctions
+import casadi as ca
+
 from pkm.spec.machine import variant
 from pkm.spec.schema import Description, describe
 from pkm.spec.stiffness import elastic_functions
@@ -30,14 +32,10 @@ class GivenLegs:
     def described_legs(self) -> Description:
         return _described(type(self))
 
-    @cached_property
-    def functions(self) -> FunctionTable:
-        """The generated functions, with the stiffness and the elastic vibration composed from the legs' elastic
-        elements as a described machine's of the same legs."""
-        m: Any = self
-        return GeneratedFunctions(m.name, parameters=m.parameter_names(), pose=m.pose_names,
-                                  actuators=m.actuator_names,
-                                  extra=lambda f: elastic_functions(self.described_legs(), f))
+    def composed(self, generated: Mapping[str, ca.Function]) -> dict[str, ca.Function]:
+        """The stiffness and the elastic vibration, composed from the legs' elastic elements as a described
+        machine's of the same legs."""
+        return elastic_functions(self.described_legs(), generated)
 
 
 @cache

@@ -11,8 +11,8 @@ its k-th real root in ascending order.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -26,7 +26,6 @@ from pkm.kinematics import (
     Branch,
     DesignLike,
     FunctionTable,
-    GeneratedFunctions,
     PolynomialRoots,
     as_batch,
     as_real,
@@ -223,20 +222,14 @@ class PassiveLeg(Mechanism):
         ),
     }
 
-    @cached_property
-    def functions(self) -> FunctionTable:
-        """The generated functions and the workspace margins composed from them."""
-        return GeneratedFunctions(
-            self.name,
-            parameters=self.parameter_names(),
-            pose=self.pose_names,
-            actuators=self.actuator_names,
-            extra=lambda generated: {
-                "region_margins": region_margins(generated),
-                "forward_refined": forward_refined(generated),
-                "leg_reach": leg_reach(generated),
-            },
-        )
+    def composed(self, generated: Mapping[str, ca.Function]) -> dict[str, ca.Function]:
+        """The workspace margins, the refined forward kinematics and the legs' reach, composed from the generated
+        functions."""
+        return {
+            "region_margins": region_margins(generated),
+            "forward_refined": forward_refined(generated),
+            "leg_reach": leg_reach(generated),
+        }
 
     def workspace_box(self, design: np.ndarray) -> np.ndarray:
         """x_c within +-(l_a + l_b), y_c from 0 to l_a + l_b: the passive leg is never longer than l_CM(theta)

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -25,7 +24,6 @@ from pkm.kinematics import (
     Branch,
     DesignLike,
     FunctionTable,
-    GeneratedFunctions,
     PolynomialRoots,
     as_batch,
     as_real,
@@ -187,17 +185,10 @@ class UpsPu(Mechanism):
     }
     structure = staticmethod(structure)
 
-    @cached_property
-    def functions(self) -> FunctionTable:
-        """The generated functions and the workspace margins composed from them."""
-        names = self.parameter_names()
-        return GeneratedFunctions(
-            self.name,
-            parameters=names,
-            pose=self.pose_names,
-            actuators=self.actuator_names,
-            extra=lambda generated: composed(generated, names),
-        )
+    def composed(self, generated: Mapping[str, ca.Function]) -> dict[str, ca.Function]:
+        """The workspace margins, the limited inverse kinematics, the actuator forces and the statics, composed
+        from the generated functions (:func:`composed`)."""
+        return composed(generated, self.parameter_names())
 
     def workspace_margins(self, pose: Any, design: DesignLike = None) -> dict[str, np.ndarray]:
         """The margins of the four constraints of Zhao section 5 and of the angles' range by name (see
