@@ -245,7 +245,10 @@ print(compiled.status()["evaluations"]["compiled"] - before, compiled.key(fn))
     assert outputs[1][1] == key
     entries = [e for e in fresh.glob("??/*") if json.loads((e / cache.META).read_text())["function"] != "runner"]
     assert [e.name for e in entries] == [key]
-    assert sorted(p.name for p in entries[0].iterdir()) == sorted(["kernel.c", cache.LIBRARY, cache.META])
+    assert sorted(p.name for p in entries[0].iterdir()) == sorted(["kernel.c", cache.LIBRARY, cache.META,
+                                                                    cache.CHECKED])
+    assert (entries[0] / cache.CHECKED).read_text() == json.loads((entries[0] / cache.META).read_text())["sha256"]
+    assert cache.Cache(fresh).checked(key)
     assert list((fresh / "tmp").iterdir()) == []
 
 
@@ -267,6 +270,25 @@ def test_a_truncated_or_corrupted_kernel_is_detected_and_rebuilt(fresh):
         for a, b in zip(batch.evaluate(fn, x, design), want, strict=True):
             np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
         assert _evaluations() == {"compiled": 1, "interpreter": {}}
+
+
+@needs_compiler
+def test_a_library_is_checked_against_the_interpreter_once_and_again_where_it_changed(fresh, monkeypatch):
+    fn = _graph(0.875)
+    checks = []
+    check = compiled._check
+    monkeypatch.setattr(compiled, "_check", lambda *a, **k: checks.append(1) or check(*a, **k))
+    compiled.build([(fn, False)])
+    entry = cache.Cache(fresh).entry(compiled.key(fn))
+    marks = []
+    for mark in (None, "", "0" * 64, None):  # as found: checked; no mark; a mark of another library; checked again
+        if mark is not None:
+            (entry / cache.CHECKED).write_text(mark)
+        compiled.reset()
+        compiled.build([(fn, False)])
+        marks.append(len(checks))
+    assert marks == [1, 2, 3, 3]
+    assert cache.Cache(fresh).checked(compiled.key(fn))
 
 
 def test_a_cache_that_cannot_be_written_falls_back_to_the_interpreter_with_one_warning(monkeypatch, tmp_path):

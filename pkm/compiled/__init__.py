@@ -1,8 +1,8 @@
 """The compiled path: any CasADi SX function pkm evaluates over a batch is emitted as C
 (:mod:`pkm.compiled.emit`), compiled at first use by the system C compiler (:mod:`pkm.compiled.toolchain`)
-into the per-user kernel cache (:mod:`pkm.compiled.cache`), loaded, checked once against CasADi's
-interpreter, and run by the runner extension (``_runner.c``, itself compiled into the cache) in place of
-the interpreter: same inputs, same (N, k) buffers, values equal to round-off.
+into the per-user kernel cache (:mod:`pkm.compiled.cache`), loaded, checked against CasADi's interpreter
+once per library (the cache records it), and run by the runner extension (``_runner.c``, itself compiled into
+the cache) in place of the interpreter: same inputs, same (N, k) buffers, values equal to round-off.
 
 :func:`kernel` is the one door: ``pkm.batch`` asks it for a function's kernel at every evaluation. A
 function whose kernel is in the cache runs compiled from its first evaluation. Otherwise its evaluations are
@@ -270,7 +270,7 @@ class _Kernel:
         if path.runner is None:
             self._off(path.label, path.reason, topic="path")
             return
-        if not emit.emittable(self.fn):
+        if not self.fn.is_a("SXFunction"):
             self._off("not an SX graph", "")
             return
         if self.fn.n_instructions() > MAX_INSTRUCTIONS:
@@ -289,6 +289,9 @@ class _Kernel:
 
     def _compile(self) -> None:
         """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""
+        if not emit.emittable(self.fn):
+            self._off("not an SX graph", "")
+            return
         path = _path()
         source = emit.source(self.fn, self.summed, self.rows)
         toolchain, name, summed, instructions = path.toolchain, self.fn.name(), self.summed, self.fn.n_instructions()
@@ -334,10 +337,13 @@ class _Kernel:
                 raise ValueError(f"{name}'s kernel reads the design once: one shared by the batch (stride 0)")
             runner.run(address, threads, strides, chunks)
 
-        error = _check(self.fn, self.summed, run, self.rows)
-        if error:
-            self._off("check failed", f"{name}'s kernel differs from the interpreter ({error})", topic=self.key)
-            return
+        cache = _path().cache
+        if not cache.checked(self.key):
+            error = _check(self.fn, self.summed, run, self.rows)
+            if error:
+                self._off("check failed", f"{name}'s kernel differs from the interpreter ({error})", topic=self.key)
+                return
+            cache.mark_checked(self.key)
         self.run, self.state, self.reason = run, "ready", ""
 
     def _off(self, reason: str, message: str, topic: str = "") -> None:

@@ -1,12 +1,13 @@
 """The kernel cache: compiled libraries by content, per user, shared by every process of that user.
 
 The cache is a folder, ``$PKM_CACHE_DIR`` or else ``$XDG_CACHE_HOME/pkm/kernels`` (``~/.cache/pkm/kernels``).
-An entry is a folder named by its key (the sha256 of everything its binary depends on: the graph, the
-emitter, the compiler and its flags, the instruction set, CasADi's version) holding the translation unit,
-the library and ``entry.json`` with the library's sha256. An entry is built in a folder of its own under
-``tmp/`` and renamed into place, which is atomic: a reader sees a whole entry or none. Builders of one
-key take its lock (``locks/<key>``) in turn, so that processes or Dask workers that meet the same kernel at
-once compile it once and all get it. An entry whose library does not match its sha256 (truncated,
+An entry is a folder named by its key (the sha256 of everything its binary depends on: the graph, the emitter,
+the compiler and its flags, the instruction set, CasADi's version) holding the translation unit, the library
+and ``entry.json`` with the library's sha256, and ``checked`` once a process has found the library to give the
+interpreter's values (that sha256 again: a later process loads it without checking). An entry is built in a
+folder of its own under ``tmp/`` and renamed into place, which is atomic: a reader sees a whole entry or none.
+Builders of one key take its lock (``locks/<key>``) in turn, so that processes or Dask workers that meet the
+same kernel at once compile it once and all get it. An entry whose library does not match its sha256 (truncated,
 corrupted) is removed and built again. The cache holds at most ``$PKM_CACHE_MB`` MiB (default
 :data:`LIMIT_MB`): after each build the entries used longest ago are removed until it fits.
 
@@ -23,6 +24,7 @@ import json
 import os
 import shutil
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -36,6 +38,7 @@ LIMIT_MB = 1024
 RENTS = 10_000  # rent records kept at most
 LIBRARY = "kernel.so"
 META = "entry.json"
+CHECKED = "checked"
 
 
 def location() -> Path:
@@ -100,6 +103,27 @@ class Cache:
         if entry.exists():
             self._remove(entry)
         return None
+
+    def checked(self, key: str) -> bool:
+        """Whether the library of ``key`` as it is now has passed the check against the interpreter."""
+        entry = self.entry(key)
+        try:
+            meta = json.loads((entry / META).read_text())
+            return (entry / CHECKED).read_text() == meta.get("sha256")
+        except (OSError, ValueError):
+            return False
+
+    def mark_checked(self, key: str) -> None:
+        """Record that the library of ``key`` passed the check (atomically; nothing where it cannot be
+        written)."""
+        entry = self.entry(key)
+        try:
+            digest = json.loads((entry / META).read_text())["sha256"]
+            staging = entry / f".{CHECKED}.{os.getpid()}.{threading.get_ident()}"
+            staging.write_text(digest)
+            os.replace(staging, entry / CHECKED)
+        except (OSError, ValueError, KeyError):
+            return
 
     def add(self, key: str, build: Callable[[Path], dict]) -> Path:
         """The library of ``key``, built by ``build(folder)`` unless another process has built it meanwhile.
