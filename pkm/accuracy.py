@@ -207,6 +207,17 @@ class ErrorModel:
         local = self.index(tolerances)
         return GlobalIndex(f"pose_error_{reduce}", local, f"the region's {reduce} of {local.doc}", reduce, "min")
 
+    def certified_worst_case(self, region: Any, tolerances: Any, design: Any = None, *, mode: str | None = None,
+                             gap: float = 0.05, **budget: Any) -> Any:
+        """The largest linearised worst-case position error (:meth:`index`) over the region, certified from both
+        sides within the relative ``gap``: a pose where it is found, and a bound proved over the whole region by
+        branch and prune on its graph's enclosures, or None where the budget (``depth``, ``max_boxes``,
+        ``seconds`` of each certification) proves none (:func:`pkm.certify_extreme.certified_extreme`)."""
+        from pkm.certify_extreme import certified_extreme
+
+        return certified_extreme(self.nominal, self.index(tolerances), region, design, sense="max", mode=mode,
+                                 gap=gap, **budget)
+
     def widths(self, tolerances: Any) -> np.ndarray:
         """The tolerances as E's columns: a number, every geometric error's in metres (the angles' and the drives'
         zero offsets' 0), or a table by error parameter (0 where not given)."""

@@ -584,6 +584,7 @@ class Mechanism:
     stiffness_units = _Delegate("pkm.stiffness")
     certify = _Delegate("pkm.certify")
     largest_region = _Delegate("pkm.certify")
+    certified_extreme = _Delegate("pkm.certify_extreme")
     error_model = _Delegate("pkm.accuracy")
 
 

@@ -1,10 +1,12 @@
 """``pkm certify``: a region's properties proved, refuted with a witness or left undecided (:mod:`pkm.certify`);
-with ``--around``, the largest certified disc or ball about a pose."""
+with ``--around``, the largest certified disc or ball about a pose; with ``--extreme``, a local index's largest or
+least value over the region certified from both sides (:mod:`pkm.certify_extreme`)."""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from pkm import certify_pieces, io, parallel
 from pkm.certify import DEPTH, MAX_BOXES, PROPERTIES, SECONDS
@@ -29,6 +31,15 @@ def options(p: argparse.ArgumentParser) -> None:
                                     "instead of the region (default: none); e.g. 0,0,-0.5")
     p.add_argument("--radius", type=float, default=1.0, help="with --around, the largest radius tried [m] "
                                                             "(default: 1)")
+    p.add_argument("--extreme", help="a local index: its largest value over the region certified from both sides "
+                                     "instead of the properties (a pose where it is found, a bound proved "
+                                     "everywhere; default: none); e.g. inverse_condition_f")
+    p.add_argument("--sense", choices=("max", "min"), default="max", help="with --extreme, its largest or its least "
+                                                                          "value (default: max)")
+    p.add_argument("--gap", type=float, default=0.05, help="with --extreme, the bound proved at most this far "
+                                                          "beyond the value found, relative (default: 0.05)")
+    p.add_argument("--tolerances", type=float, help="with --extreme pose_error, the tolerance on every part's "
+                                                    "geometry [m] (docs/accuracy.md; default: none); e.g. 1e-5")
     p.add_argument("--depth", type=int, default=DEPTH, help=f"halvings of a box at most (default: {DEPTH})")
     p.add_argument("--boxes", type=int, default=MAX_BOXES, help=f"boxes at most (default: {MAX_BOXES})")
     p.add_argument("--seconds", type=float, default=SECONDS, help=f"time at most (default: {SECONDS:g} s)")
@@ -55,8 +66,28 @@ def _designs(text: str | None) -> dict[str, list[str]] | None:
     return out
 
 
+def _extreme(m: Any, d: Any, args: argparse.Namespace, budget: dict[str, Any]) -> tuple[dict[str, Any], str]:
+    """--extreme: the index's extreme over the region, found at a pose and proved within the gap."""
+    index = args.extreme
+    if index == "pose_error":
+        if args.tolerances is None:
+            raise PkmError("--tolerances violates: given with --extreme pose_error (the tolerance on every part's "
+                           "geometry, m)")
+        index = m.error_model().index(args.tolerances)
+    found = m.certified_extreme(index, given_region(m, args.region), d, sense=args.sense, mode=args.mode,
+                                gap=args.gap, **budget)
+    word = "largest" if found.sense == "max" else "least"
+    proved = ("NOT PROVED: " + found.steps[-1]["verdict"] if found.proved is None else
+              f"proved {'<=' if found.sense == 'max' else '>='} {found.proved:.6g} {found.unit}")
+    text = (f"{m.name}: the {word} {found.index} over {found.region} in mode {found.mode}: {found.found:.6g} "
+            f"{found.unit} at {named(found.pose)}; {proved} ({len(found.steps)} certifications, "
+            f"{sum(s['boxes'] for s in found.steps)} boxes, {found.seconds:.2f} s)")
+    return found.as_dict(), text
+
+
 def run(args: argparse.Namespace) -> None:
-    """The verdict, the witnesses, the undecided volume and the time; or the largest certified radius."""
+    """The verdict, the witnesses, the undecided volume and the time; or the largest certified radius; or the
+    index's certified extreme."""
     m = load_mechanism(args.mechanism)
     d = given_design(m, args.design)
     properties = ([p.strip() for p in args.properties.split(",") if p.strip()] if args.properties is not None else
@@ -65,7 +96,9 @@ def run(args: argparse.Namespace) -> None:
     if not 0 < args.depth <= 40 or not 0 < args.boxes <= 10**7 or not 0 < args.seconds <= 3600:
         raise PkmError("--depth, --boxes and --seconds violate: within 1-40, 1-10^7 and 0-3600 s")
     budget = {"depth": args.depth, "max_boxes": args.boxes, "seconds": args.seconds}
-    if args.around:
+    if args.extreme is not None:
+        data, text = _extreme(m, d, args, budget)
+    elif args.around:
         (pose,) = given_poses([args.around], m.n_out)
         found = m.largest_region(pose, d, radius=args.radius, properties=properties, mode=args.mode,
                                  designs=_designs(args.designs),
