@@ -52,10 +52,16 @@ def figure(width: float, height: float) -> Figure:
 
 def save(fig: Figure, path: str | os.PathLike, *, dpi: int) -> Path:
     """Write ``fig`` to ``path`` atomically (:func:`pkm.io.atomic_write`) in the format its suffix names
-    (PNG without one), at ``dpi`` dots per inch; returns the path."""
+    (PNG without one), at ``dpi`` dots per inch; returns the path. The layout the figure was drawn with is kept
+    afterwards (its layout engine set to none): a later save in another format places nothing again, so its
+    axes are where the first format's are, and the constrained layout's passes, most of a save's time, are
+    paid once."""
     path = Path(path)
     kind = path.suffix[1:].lower() or "png"
-    return io.atomic_write(path, lambda tmp: fig.savefig(tmp, format=kind, dpi=dpi))
+    written = io.atomic_write(path, lambda tmp: fig.savefig(tmp, format=kind, dpi=dpi))
+    if fig.get_layout_engine() is not None:
+        fig.set_layout_engine("none")
+    return written
 
 
 @dataclass(frozen=True)
