@@ -2,7 +2,7 @@
 [--json PATH]``.
 
 The described 3-RRR's complete forward kinematics (``Mechanism.every_assembly``: the sextic in the platform
-angle from its compiled ``platform_circles``, the real companion matrices' eigenvalues batched on
+angle from its compiled ``platform_loci``, the real companion matrices' eigenvalues batched on
 ``pkm.batch.THREADS`` threads, every root polished)
 at the actuated joints of POSES random reachable poses, against the baseline in the same run: numpy's
 companion-matrix roots one pose at a time (``numpy.roots`` of the same sextic, whose coefficients pkm's own
@@ -62,17 +62,19 @@ def _one_at_a_time(m: Any, q: np.ndarray) -> np.ndarray:
     counts = np.zeros(len(q), dtype=int)
     (points,) = evaluate(m.functions["platform_points"], design)
     for k, row in enumerate(q):
-        centres, radii = evaluate(m.functions["platform_circles"], row[None], design)
+        loci = assemblies.Loci(*(v[..., 0] if v.shape[-1] == 1 else v
+                                 for v in evaluate(m.functions["platform_loci"], row[None], design)))
         samples = 2 * np.pi * np.arange(assemblies.SAMPLES) / assemblies.SAMPLES
-        f, *_ = assemblies._terms(samples[None], centres, radii[:, :, 0], points[0])
+        f, *_ = assemblies._terms(samples[None], loci, points[0])
         harmonics = np.fft.fft(f[0]) / assemblies.SAMPLES
         z = np.roots(harmonics[[j % assemblies.SAMPLES for j in range(3, -4, -1)]])
         phi = np.angle(z[np.abs(np.abs(z) - 1) <= assemblies.ON_CIRCLE])[None]
-        _, num, det, *_ = assemblies._terms(phi, centres, radii[:, :, 0], points[0])
+        _, num, det, *_ = assemblies._terms(phi, loci, points[0])
         x = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
         for _ in range(assemblies.NEWTON_STEPS):
-            x = assemblies._newton_step(x, centres, radii[:, :, 0], points[0])
-        counts[k] = int(np.sum(assemblies._residual(x, centres, radii[:, :, 0], points[0]) <= assemblies.CLOSURE))
+            x = assemblies._newton_step(x, loci, points[0])
+        offset, _ = assemblies._offsets(x, points[0])
+        counts[k] = int(np.sum(np.max(loci.residual(offset), axis=-1) <= assemblies.CLOSURE))
     return counts
 
 

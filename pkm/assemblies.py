@@ -2,30 +2,34 @@
 kinematics (issue 39).
 
 A planar machine whose every leg, its actuated joint given, puts its platform joint on a circle (an RR's elbow
-with its distal link, an RPR's base joint with its length, a PRR's slider with its link, a two-joint chain of
-those shapes: the derived ``platform_circles``) assembles where the platform's joints c_i (``platform_points``,
-in its frame) lie on the circles (B_i, r_i):
+with its distal link, an RPR's base joint with its length, a PRR's slider with its link, a two-joint chain whose
+passive joint is a revolute: about it) or on a line (a two-joint chain whose passive joint is a prismatic: the line
+it slides along) assembles where the platform's joints P_i = P + R(phi) c_i (``platform_points``, c_i in its frame)
+lie on those curves (the derived ``platform_loci``, :class:`Loci`):
 
-    g_i(x, y, phi) = |P + R(phi) c_i - B_i|^2 - r_i^2 = 0,   P = (x, y).
+    g_i(x, y, phi) = alpha_i |P_i|^2 + beta_i . P_i + gamma_i = 0,   P = (x, y),
 
-In the plane (three legs), g_2 - g_1 and g_3 - g_1 are linear in P: P = N(phi) / D(phi) by Cramer's rule, and
-g_1 at that P, times D^2, is a trigonometric polynomial f of degree 3 in phi (Gosselin, Sefrioui and Richard
-1994, the 3-RPR's sextic). It is found exactly from 8 samples (a discrete Fourier transform: its harmonics above
-the third vanish) and turned into the real sextic (1 + t^2)^3 f in t = tan(phi / 2) (:data:`HALF_ANGLE`), whose
-real roots (the real companion matrices' eigenvalues, batched, the rows in blocks on :data:`pkm.batch.THREADS`
-threads) are the real platform angles; phi = pi, where the sextic's degree drops, is tried where it does. Each is
-taken back to P, polished by Newton's method on the three g_i and kept where it closes them; at most 6. With a
-point pose in the plane (two legs), P is where two circles meet: at most 2; with a point pose in space whose
-legs each put it on a sphere (an R_parallelogram's elbow with its rods, a UPS's base joint with its length, a
-two-joint chain of those shapes), where three spheres meet: at most 2. With a pose of six coordinates and six such
-legs (each a sphere about the base), the real ends of a parameter homotopy's 40 paths (:mod:`pkm.homotopy`): at most
-40, a path that did not arrive reported in ``failed``.
+alpha_i 1 for a circle (beta_i = -2 B_i, gamma_i = |B_i|^2 - r_i^2) and 0 for a line (beta_i its unit normal).
 
-With ``certify``, each count is checked against a certified one (python-flint's ball arithmetic, :func:`real_roots`):
-the sextic in t = tan(phi / 2), (1 + t^2)^3 f, interpolated through seven integer t in ball arithmetic from the
-inputs as exact numbers, its complex roots isolated (``acb_poly.roots``), a root's ball that meets the real line
-proved real by a sign change of the polynomial across it, and a ball that does not, proved complex; a row
-whose roots cannot be isolated (a double root: two assemblies meeting at a singularity) is not certified.
+In the plane (three legs, a circle first where there is one), g_2 - alpha_2 g_1 and g_3 - alpha_3 g_1 are linear in
+P: P = N(phi) / D(phi) by Cramer's rule, and g_1 at that P, times D^2 (times D for three lines, D then constant),
+is a trigonometric polynomial f of degree 3 in phi (Gosselin, Sefrioui and Richard 1994, the 3-RPR's sextic;
+lines leave the degree at 3 or lower). It is found exactly from 8 samples (a discrete Fourier transform: its
+harmonics above the third vanish) and turned into the real sextic (1 + t^2)^3 f in t = tan(phi / 2)
+(:data:`HALF_ANGLE`), whose real roots (the real companion matrices' eigenvalues, batched, the rows in blocks on
+:data:`pkm.batch.THREADS` threads) are the real platform angles; phi = pi, where the sextic's degree drops, is
+tried where it does. Each is taken back to P, polished by Newton's method on the three g_i and kept where it closes
+them; at most 6. With a point pose in the plane (two legs), P is where two of the curves meet: at most 2; with a
+point pose in space whose legs each put it on a sphere (an R_parallelogram's elbow with its rods, a UPS's base joint
+with its length, a two-joint chain of those shapes: the derived ``platform_circles``), where three spheres meet: at
+most 2. With a pose of six coordinates and six such legs (each a sphere about the base), the real ends of a
+parameter homotopy's 40 paths (:mod:`pkm.homotopy`): at most 40, a path that did not arrive reported in
+``failed``.
+
+With ``certify``, each count is checked against a certified one (:func:`real_roots`): the sextic in t = tan(phi /
+2), (1 + t^2)^3 f, in exact rational arithmetic from the inputs as the exact numbers they are (its values at seven
+integer t, interpolated), its real roots isolated by python-flint (a real root's imaginary part exactly 0); a row
+with a multiple real root (two assemblies meeting at a singularity) is not certified.
 
 A mechanism with a closed form or a univariate polynomial of its own (:class:`pkm.kinematics.ClosedForm`,
 :class:`pkm.kinematics.PolynomialRoots`) has every assembly among its named ones; the others (seeded Newton
@@ -36,7 +40,8 @@ from __future__ import annotations
 
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
-from typing import Any
+from fractions import Fraction
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -112,40 +117,46 @@ def _along_designs(mech: Any, q_a: Any, design: Any, designs: Any, *, certify: b
 def _every_assembly(mech: Any, q_a: Any, design: Any, *, certify: bool) -> Assemblies:
     qa, _ = as_batch(q_a, mech.n_act, "actuated joints")
     d = mech.design_vector(design)
+    if "platform_loci" in mech.functions:
+        alpha, beta, gamma = evaluate(mech.functions["platform_loci"], qa, d)
+        (points,) = evaluate(mech.functions["platform_points"], d)
+        loci = Loci(alpha[:, :, 0], beta, gamma[:, :, 0])
+        order = np.argsort(-loci.alpha[0], kind="stable")  # a circle first where there is one: the pivot
+        loci, points = loci.legs(order), points[0][order]
+        scale = loci.scale(points)
+        if mech.n_out == 2:
+            _refuse_certify(certify, mech)
+            return _two_loci(loci, points, scale)
+        found = _three_loci(loci, points, scale)
+        if not certify:
+            return found
+        counts = [real_roots(loci.rows(slice(k, k + 1)), points) for k in range(len(qa))]
+        return replace(found, certified=np.array([n is not None and n == k for n, k in zip(
+            counts, found.counts, strict=True)]))
     if "platform_circles" in mech.functions:
         (centres, radii) = evaluate(mech.functions["platform_circles"], qa, d)
         (points,) = evaluate(mech.functions["platform_points"], d)
-        radii = np.abs(radii[:, :, 0])  # a signed length (a prismatic joint's) spans the same circle
+        radii = np.abs(radii[:, :, 0])  # a signed length (a prismatic joint's) spans the same sphere
         scale = np.maximum.reduce([np.max(np.abs(centres), axis=(1, 2)), np.max(radii, axis=1),
                                    np.full(len(qa), np.max(np.abs(points)))])
         scale = np.where(scale > 0, scale, 1.0)
-        if mech.n_out == 2:
-            _refuse_certify(certify, mech)
-            return _two_circles(centres[:, :, :2], radii, points[0], scale)
-        if centres.shape[2] == 3 and mech.n_out == 6:
-            _refuse_certify(certify, mech)
+        _refuse_certify(certify, mech)
+        if mech.n_out == 6:
             return _six_spheres(centres, radii, points[0], scale)
-        if centres.shape[2] == 3:
-            _refuse_certify(certify, mech)
-            return _three_spheres(centres, radii, points[0], scale)
-        found = _three_circles(centres, radii, points[0], scale)
-        if not certify:
-            return found
-        counts = [real_roots(c, r, points[0]) for c, r in zip(centres, radii, strict=True)]
-        return replace(found, certified=np.array([n is not None and n == k for n, k in zip(
-            counts, found.counts, strict=True)]))
+        return _three_spheres(centres, radii, points[0], scale)
     if isinstance(mech.forward, ClosedForm | PolynomialRoots):
         _refuse_certify(certify, mech)
         return _named(mech, qa, d)
     raise PkmError(f"mechanism {mech.name} violates: a mechanism whose complete forward kinematics pkm knows (a "
-                   "closed form or a polynomial of its own, or planar legs that each put the platform on a "
-                   "circle); its forward_kinematics finds the assemblies its seeds reach, not necessarily all")
+                   "closed form or a polynomial of its own, planar legs that each put the platform on a circle or "
+                   "a line, or spatial ones on spheres); its forward_kinematics finds the assemblies its seeds "
+                   "reach, not necessarily all")
 
 
 def _refuse_certify(certify: bool, mech: Any) -> None:
     if certify:
-        raise PkmError(f"certify violates: a planar machine of three legs on circles, whose sextic's real roots are "
-                       f"counted in ball arithmetic; {mech.name}'s assemblies come from another method")
+        raise PkmError(f"certify violates: a planar machine of three legs on circles or lines, whose sextic's real "
+                       f"roots are counted in ball arithmetic; {mech.name}'s assemblies come from another method")
 
 
 def _named(mech: Any, qa: np.ndarray, design: np.ndarray) -> Assemblies:
@@ -167,7 +178,71 @@ def _named(mech: Any, qa: np.ndarray, design: np.ndarray) -> Assemblies:
                       np.zeros(len(qa), int), f"{type(mech.forward).__name__}: every assembly mode")
 
 
-def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+class Loci(NamedTuple):
+    """The curves on which N rows of k legs put their platform joints P_i in the plane, their actuated joints
+    given (the derived ``platform_loci``): alpha |P_i|^2 + beta_i . P_i + gamma_i = 0, a circle (centre -beta / 2)
+    where alpha is 1, a line (beta its unit normal) where it is 0."""
+
+    alpha: np.ndarray  # (N, k)
+    beta: np.ndarray  # (N, k, 2)
+    gamma: np.ndarray  # (N, k)
+
+    def rows(self, which: Any) -> Loci:
+        return Loci(self.alpha[which], self.beta[which], self.gamma[which])
+
+    def legs(self, order: np.ndarray) -> Loci:
+        return Loci(self.alpha[:, order], self.beta[:, order], self.gamma[:, order])
+
+    def radii(self) -> np.ndarray:
+        """The circles' radii (N, k) (a line's a number of no meaning)."""
+        return np.sqrt(np.maximum(np.sum(self.beta**2, axis=-1) / 4 - self.gamma, 0.0))
+
+    def scale(self, points: np.ndarray) -> np.ndarray:
+        """Each row's size: its circles' farthest reach from the origin, its lines' distances, the platform's
+        joints'."""
+        reach = np.where(self.alpha > 0, np.linalg.norm(self.beta, axis=-1) / 2 + self.radii(), np.abs(self.gamma))
+        scale = np.maximum(np.max(reach, axis=1), np.max(np.abs(points)))
+        return np.where(scale > 0, scale, 1.0)
+
+    def residual(self, offset: np.ndarray) -> np.ndarray:
+        """The distance of each platform joint from its curve (..., k) at its offsets P_i (..., k, 2) (the rows'
+        axis first, broadcast)."""
+        shape = (len(self.alpha),) + (1,) * (offset.ndim - 3) + (self.alpha.shape[1],)
+        alpha, gamma = self.alpha.reshape(shape), self.gamma.reshape(shape)
+        beta = self.beta.reshape(*shape, 2)
+        radii = self.radii().reshape(shape)
+        circle = np.abs(np.linalg.norm(offset + beta / 2, axis=-1) - radii)
+        line = np.abs(np.sum(beta * offset, axis=-1) + gamma)
+        return np.where(alpha > 0, circle, line)
+
+
+def _two_loci(loci: Loci, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+    """P where P + c_1 and P + c_2 lie on their curves: two circles meet in 0, 1 or 2 points, a line and a
+    circle too, two lines in one (none where they are parallel)."""
+    if np.all(loci.alpha[0] > 0):
+        return _two_circles(-loci.beta / 2, loci.radii(), points, loci, scale)
+    line = 1 if loci.alpha[0, 0] > 0 else 0  # a circle first where there is one
+    other = 1 - line
+    normal = loci.beta[:, line]
+    foot = -(loci.gamma[:, line] + normal @ points[line])[:, None] * normal
+    along = np.stack([-normal[:, 1], normal[:, 0]], axis=1)
+    q = foot + points[other]
+    a = loci.alpha[:, other]
+    b = 2 * a * np.sum(q * along, axis=1) + np.sum(loci.beta[:, other] * along, axis=1)
+    c = a * np.sum(q**2, axis=1) + np.sum(loci.beta[:, other] * q, axis=1) + loci.gamma[:, other]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        square = b**2 - 4 * a * c
+        root = np.sqrt(np.where((square < 0) & (square >= -(SAME * scale) ** 2), 0.0, square))
+        t = np.where(a[:, None] > 0, np.stack([(-b + root) / (2 * a), (-b - root) / (2 * a)], axis=1),
+                     np.stack([-c / b, np.full_like(b, np.nan)], axis=1))
+    poses = foot[:, None, :] + t[..., None] * along[:, None, :]
+    poses[(a > 0) & (np.abs(root) <= SAME * scale), 1] = np.nan
+    return _closing(poses, lambda p: np.max(loci.residual(p[:, None, :] + points), axis=1), scale,
+                    method="two curves' intersection")
+
+
+def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, loci: Loci, scale: np.ndarray
+                 ) -> Assemblies:
     """P where P + c_1 and P + c_2 lie on their circles: the circles about B_i - c_i meet in 0, 1 or 2
     points."""
     b = centres - points[None, :, :]
@@ -183,7 +258,8 @@ def _two_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
     poses = np.stack([foot + across[:, None] * normal, foot - across[:, None] * normal], axis=1)
     tangent = np.abs(across) <= SAME * scale
     poses[tangent, 1] = np.nan
-    return _closing(poses, centres, radii, points, scale, method="two circles' intersection")
+    return _closing(poses, lambda p: np.max(loci.residual(p[:, None, :] + points), axis=1), scale,
+                    method="two circles' intersection")
 
 
 def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
@@ -207,7 +283,8 @@ def _three_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, s
     poses = np.stack([foot + z[:, None] * ez, foot - z[:, None] * ez], axis=1)
     poses[np.abs(z) <= SAME * scale, 1] = np.nan
     poses[j <= SAME * scale] = np.nan
-    return _closing(poses, centres, radii, points, scale, method="three spheres' intersection")
+    return _closing(poses, lambda p: _point_residual(p, centres, radii, points), scale,
+                    method="three spheres' intersection")
 
 
 SPATIAL_ANGLES = np.array([False, False, False, True, True, True])  # which coordinates of a spatial pose are angles
@@ -233,11 +310,10 @@ def _six_spheres(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, sca
                       failures="paths did not arrive (their ends at infinity or at a singular point)")
 
 
-def _closing(poses: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray, *,
-             method: str) -> Assemblies:
-    """A point pose's two candidates (N, 2, dim) kept where they close every leg to CLOSURE of the row's
-    size."""
-    residuals = np.stack([_point_residual(poses[:, s], centres, radii, points) for s in range(2)], axis=1)
+def _closing(poses: np.ndarray, residual: Any, scale: np.ndarray, *, method: str) -> Assemblies:
+    """A point pose's two candidates (N, 2, dim) kept where they close every leg (``residual(p)`` (N,) at the
+    candidates p (N, dim)) to CLOSURE of the row's size."""
+    residuals = np.stack([residual(poses[:, s]) for s in range(2)], axis=1)
     open_ = ~(residuals <= CLOSURE * scale[:, None])
     poses[open_] = np.nan
     residuals[open_] = np.nan
@@ -255,19 +331,26 @@ def _turned(phi: np.ndarray, points: np.ndarray) -> np.ndarray:
     return np.stack([cos * points[:, 0] - sin * points[:, 1], sin * points[:, 0] + cos * points[:, 1]], axis=-1)
 
 
-def _terms(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, ...]:
-    """At platform angles phi (N, M): f = |N|^2 + 2 D N.w_1 + D^2 (|w_1|^2 - r_1^2), N (N, M, 2), D (N, M),
-    w_i = R(phi) c_i - B_i (N, M, 3, 2), and the linear system m P = rhs of the circles' differences (its rows
-    (N, M, 2, 2), its right side (N, M, 2)) whose solution by Cramer's rule is N / D."""
-    w = _turned(phi, points) - centres[:, None, :, :]
-    power = np.sum(w**2, axis=-1) - radii[:, None, :] ** 2
-    m = 2 * (w[..., 1:, :] - w[..., :1, :])
-    rhs = -(power[..., 1:] - power[..., :1])
+def _terms(phi: np.ndarray, loci: Loci, points: np.ndarray) -> tuple[np.ndarray, ...]:
+    """At platform angles phi (N, M), with w_i = R(phi) c_i and each curve g_i = alpha_i |P + w_i|^2 + beta_i . (P
+    + w_i) + gamma_i = alpha_i |P|^2 + P . grad_i + const_i: the linear system m P = rhs of g_2 and g_3 less
+    alpha_i g_1 (the first curve a circle where there is one; its rows (N, M, 2, 2), its right side (N, M, 2))
+    whose solution by Cramer's rule is N / D, and f = D^2 g_1(N / D) = alpha_1 |N|^2 + D N . grad_1 + D^2 const_1
+    (for lines alone D g_1(N / D): D is then constant); returns f, N (N, M, 2), D (N, M), grad (N, M, 3, 2),
+    const (N, M, 3), m and rhs."""
+    w = _turned(phi, points)
+    alpha, gamma = loci.alpha[:, None, :], loci.gamma[:, None, :]
+    const = alpha * np.sum(w**2, axis=-1) + np.sum(loci.beta[:, None] * w, axis=-1) + gamma
+    grad = 2 * alpha[..., None] * w + loci.beta[:, None]
+    m = grad[..., 1:, :] - alpha[..., 1:, None] * grad[..., :1, :]
+    rhs = -(const[..., 1:] - alpha[..., 1:] * const[..., :1])
     det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
     num = np.stack([m[..., 1, 1] * rhs[..., 0] - m[..., 0, 1] * rhs[..., 1],
                     m[..., 0, 0] * rhs[..., 1] - m[..., 1, 0] * rhs[..., 0]], axis=-1)
-    f = np.sum(num**2, axis=-1) + 2 * det * np.sum(num * w[..., 0, :], axis=-1) + det**2 * power[..., 0]
-    return f, num, det, w, m, rhs
+    first = alpha[..., 0]  # 1 where the first curve is a circle; 0 where all are lines, then f = g_1(N / D) D
+    f = first * np.sum(num**2, axis=-1) + (first * det + 1 - first) * (np.sum(num * grad[..., 0, :], axis=-1)
+                                                                       + det * const[..., 0])
+    return f, num, det, grad, const, m, rhs
 
 
 def _half_angle_matrix() -> np.ndarray:
@@ -303,39 +386,36 @@ def _roots(coefficients: np.ndarray) -> np.ndarray:
     return np.where(real, out.real, np.nan)
 
 
-def _three_circles(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray) -> Assemblies:
-    """Every (x, y, phi) that puts each platform joint on its circle (module docstring), the rows in blocks on
+def _three_loci(loci: Loci, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+    """Every (x, y, phi) that puts each platform joint on its curve (module docstring), the rows in blocks on
     :data:`pkm.batch.THREADS` threads where there are BLOCK_ROWS of them at least (numpy's loops and LAPACK
     release Python's lock)."""
-    blocks = min(batch.THREADS, max(1, len(centres) // BLOCK_ROWS))
+    blocks = min(batch.THREADS, max(1, len(scale) // BLOCK_ROWS))
     if blocks == 1:
-        return _three_circles_block(centres, radii, points, scale)
-    edges = np.linspace(0, len(centres), blocks + 1).astype(int)
+        return _three_loci_block(loci, points, scale)
+    edges = np.linspace(0, len(scale), blocks + 1).astype(int)
     with ThreadPoolExecutor(blocks) as pool:
-        parts = list(pool.map(lambda k: _three_circles_block(centres[edges[k]:edges[k + 1]],
-                                                             radii[edges[k]:edges[k + 1]], points,
-                                                             scale[edges[k]:edges[k + 1]]), range(blocks)))
+        parts = list(pool.map(lambda k: _three_loci_block(loci.rows(slice(edges[k], edges[k + 1])), points,
+                                                          scale[edges[k]:edges[k + 1]]), range(blocks)))
     return Assemblies(*(np.concatenate([getattr(part, name) for part in parts]) for name in
                         ("poses", "residuals", "counts")), parts[0].bound,
                       np.concatenate([part.failed for part in parts]), parts[0].method)
 
 
-def _three_circles_block(centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray
-                         ) -> Assemblies:
-    n = len(centres)
+def _three_loci_block(loci: Loci, points: np.ndarray, scale: np.ndarray) -> Assemblies:
+    n = len(scale)
     samples = 2 * np.pi * np.arange(SAMPLES) / SAMPLES
-    f, *_ = _terms(np.broadcast_to(samples, (n, SAMPLES)), centres, radii, points)
+    f, *_ = _terms(np.broadcast_to(samples, (n, SAMPLES)), loci, points)
     harmonics = np.fft.fft(f, axis=1) / SAMPLES
     coefficients = (harmonics[:, [k % SAMPLES for k in range(-3, 4)]] @ HALF_ANGLE.T).real  # of t^0 .. t^6
     with np.errstate(divide="ignore", invalid="ignore"):
         phi = 2 * np.arctan(_roots(coefficients))
-        first, second = _positions(phi, centres, radii, points)
-        poses, residuals, closed = _polished(first, centres, radii, points, scale)
+        first, second = _positions(phi, loci, points)
+        poses, residuals, closed = _polished(first, loci, points, scale)
         mirrored = np.flatnonzero(np.any(np.isfinite(second[..., 0]), axis=1))
         if len(mirrored):  # rows with two assemblies at one angle: both candidates of each such root
             both = np.concatenate([first[mirrored], second[mirrored]], axis=1)
-            more, more_residuals, more_closed = _polished(both, centres[mirrored], radii[mirrored], points,
-                                                          scale[mirrored])
+            more, more_residuals, more_closed = _polished(both, loci.rows(mirrored), points, scale[mirrored])
             poses[mirrored], residuals[mirrored] = more[:, :6], more_residuals[:, :6]
             closed[mirrored] = np.any(more_closed.reshape(len(mirrored), 2, -1), axis=1)
     failed = np.sum(np.isfinite(phi) & ~closed, axis=1)
@@ -343,61 +423,64 @@ def _three_circles_block(centres: np.ndarray, radii: np.ndarray, points: np.ndar
                       "the sextic in the platform angle (Gosselin-Sefrioui-Richard), its roots polished")
 
 
-def _polished(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray, scale: np.ndarray
+def _polished(x: np.ndarray, loci: Loci, points: np.ndarray, scale: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Candidate poses (N, S, 3) polished by Newton's method; the distinct closed ones and their residuals, and
     which candidates closed."""
     for _ in range(NEWTON_STEPS):
-        x = _newton_step(x, centres, radii, points)
-    residual = _residual(x, centres, radii, points)
+        x = _newton_step(x, loci, points)
+    offset, _ = _offsets(x, points)
+    residual = np.max(loci.residual(offset), axis=-1)
     closed = residual <= CLOSURE * scale[:, None]
     poses, residuals = _distinct(np.where(closed[..., None], x, np.nan), np.where(closed, residual, np.nan), scale,
                                  ANGLE)
     return poses, residuals, closed
 
 
-def _positions(phi: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray]:
+def _positions(phi: np.ndarray, loci: Loci, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Candidate poses (N, 6, 3) for the platform angles phi (N, 6): the position by Cramer's rule, and NaN; where
-    the two differences' lines are nearly parallel (D(phi) near 0: two mirror assemblies at one angle), the two
-    points where the better of the two lines meets the first circle instead."""
-    _, num, det, w, m, rhs = _terms(phi, centres, radii, points)
+    the system's two lines are nearly parallel (D(phi) near 0: two mirror assemblies at one angle), the two
+    points where the better of the two lines meets the first curve, a circle, instead (where the curves are all
+    lines, a continuum or none: no candidate)."""
+    _, num, det, grad, const, m, rhs = _terms(phi, loci, points)
     lengths = np.linalg.norm(m, axis=-1)
     parallel = np.abs(det) <= PARALLEL * np.prod(lengths, axis=-1)
     first = np.concatenate([num / det[..., None], phi[..., None]], axis=-1)
     second = np.full_like(first, np.nan)
+    circle = np.broadcast_to(loci.alpha[:, None, 0] > 0, parallel.shape)
+    first[parallel & ~circle] = np.nan
+    parallel &= circle
     if parallel.any():
-        w, m, rhs, lengths = w[parallel], m[parallel], rhs[parallel], lengths[parallel]
-        r = np.broadcast_to(radii[:, None, :], (*parallel.shape, 3))[parallel]
+        # the first circle about -v with radius r: |P + v|^2 = r^2, v = w_1 + beta_1 / 2
+        v = (grad[..., 0, :] / 2)[parallel]
+        r2 = (np.sum(grad[..., 0, :] ** 2, axis=-1) / 4 - const[..., 0])[parallel]
+        m, rhs, lengths = m[parallel], rhs[parallel], lengths[parallel]
         best = np.argmax(lengths, axis=-1)
         n = m[np.arange(len(m)), best]
         d = rhs[np.arange(len(m)), best]
         norm2 = np.sum(n**2, axis=-1)
-        foot = -w[:, 0] + ((d + np.sum(n * w[:, 0], axis=-1)) / norm2)[:, None] * n
-        half = np.sqrt(np.maximum(r[:, 0] ** 2 - np.sum((foot + w[:, 0]) ** 2, axis=-1), 0.0) / norm2)
+        foot = -v + ((d + np.sum(n * v, axis=-1)) / norm2)[:, None] * n
+        half = np.sqrt(np.maximum(r2 - np.sum((foot + v) ** 2, axis=-1), 0.0) / norm2)
         across = np.stack([-n[:, 1], n[:, 0]], axis=-1) * half[:, None]
         first[parallel, :2], second[parallel, :2] = foot + across, foot - across
         second[parallel, 2] = phi[parallel]
     return first, second
 
 
-def _circle_terms(x: np.ndarray, centres: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The platform joints' offsets from their circles' centres (N, S, 3, 2) and their derivative in phi."""
+def _offsets(x: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The platform joints P_i at the poses x (N, S, 3): (N, S, 3, 2), and their derivative in phi."""
     turned = _turned(x[..., 2], points)
-    offset = x[..., None, :2] + turned - centres[:, None, :, :]
-    return offset, np.stack([-turned[..., 1], turned[..., 0]], axis=-1)
+    return x[..., None, :2] + turned, np.stack([-turned[..., 1], turned[..., 0]], axis=-1)
 
 
-def _residual(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:
-    offset, _ = _circle_terms(x, centres, points)
-    return np.max(np.abs(np.linalg.norm(offset, axis=-1) - radii[:, None, :]), axis=-1)
-
-
-def _newton_step(x: np.ndarray, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """One Newton step on g_i = |offset_i|^2 - r_i^2 in (x, y, phi); a singular step leaves the row."""
-    offset, turning = _circle_terms(x, centres, points)
-    g = np.sum(offset**2, axis=-1) - radii[:, None, :] ** 2
-    jacobian = 2 * np.concatenate([offset, np.sum(offset * turning, axis=-1, keepdims=True)], axis=-1)
+def _newton_step(x: np.ndarray, loci: Loci, points: np.ndarray) -> np.ndarray:
+    """One Newton step on the curves' g_i = alpha_i |P_i|^2 + beta_i . P_i + gamma_i in (x, y, phi); a singular
+    step leaves the row."""
+    offset, turning = _offsets(x, points)
+    alpha, gamma = loci.alpha[:, None, :], loci.gamma[:, None, :]
+    g = alpha * np.sum(offset**2, axis=-1) + np.sum(loci.beta[:, None] * offset, axis=-1) + gamma
+    grad = 2 * alpha[..., None] * offset + loci.beta[:, None]
+    jacobian = np.concatenate([grad, np.sum(grad * turning, axis=-1, keepdims=True)], axis=-1)
     finite = np.all(np.isfinite(jacobian), axis=(-2, -1)) & (np.abs(np.linalg.det(
         np.where(np.isfinite(jacobian), jacobian, 0.0))) > 0)
     step = np.zeros_like(x)
@@ -428,71 +511,56 @@ def _distinct(poses: np.ndarray, residuals: np.ndarray, scale: np.ndarray, angle
     return np.take_along_axis(poses, order[..., None], axis=1), np.take_along_axis(residuals, order, axis=1)
 
 
-CERTIFY_BITS = (128, 256, 512)  # the precisions the certified count tries in turn
 INTERPOLATION = tuple(range(-3, 4))  # the t = tan(phi / 2) the sextic is interpolated through
 
 
-def real_roots(centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> int | None:
-    """The certified number of real platform angles at which three platform joints ``points`` (3, 2) lie on the
-    circles (``centres`` (3, 2), ``radii`` (3,)), the inputs taken as exact numbers: the real roots of
-    (1 + t^2)^3 f(phi(t)) and phi = pi where its degree drops (module docstring); None where they cannot be
-    certified at CERTIFY_BITS."""
+def real_roots(loci: Loci, points: np.ndarray) -> int | None:
+    """The certified number of real platform angles at which three platform joints ``points`` (3, 2) lie on their
+    curves (one row of ``loci``), the inputs taken as the exact numbers they are: the sextic (1 + t^2)^3 f(phi(t))
+    in exact rational arithmetic (its values at seven integer t, interpolated), its real roots isolated by
+    python-flint (``fmpz_poly.complex_roots``: a real root's imaginary part exactly 0), and phi = pi where its
+    degree drops by one; None where a real root is multiple (assemblies meeting at a singularity) or the sextic
+    vanishes."""
     try:
         import flint
     except ImportError:
-        raise PkmError("certify violates: python-flint installed (pip install python-flint), whose ball "
+        raise PkmError("certify violates: python-flint installed (pip install python-flint), whose exact "
                        "arithmetic certifies the count") from None
-    previous = flint.ctx.prec
-    try:
-        for bits in CERTIFY_BITS:
-            flint.ctx.prec = bits
-            count = _certified(flint, centres, radii, points)
-            if count is not None:
-                return count
+    values = [_sextic_at(Fraction(t), loci, points) for t in INTERPOLATION]
+    sextic = flint.fmpq_poly(0)
+    for k, (t, value) in enumerate(zip(INTERPOLATION, values, strict=True)):
+        term = flint.fmpq_poly([flint.fmpq(value.numerator, value.denominator)])
+        for j, other in enumerate(INTERPOLATION):
+            if j != k:
+                term *= flint.fmpq_poly([-other, 1]) / (t - other)
+        sextic += term
+    if sextic.is_zero():
         return None
-    finally:
-        flint.ctx.prec = previous
+    dropped = 6 - sextic.degree()  # phi = pi a root of this multiplicity
+    roots = [m for root, m in sextic.numer().complex_roots() if root.imag == 0]
+    if dropped > 1 or any(m > 1 for m in roots):
+        return None
+    return len(roots) + dropped
 
 
-def _sextic_at(flint: Any, t: Any, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> Any:
-    """(1 + t^2)^3 f at t in ball arithmetic: cos and sin of phi(t) rational in t, f by Cramer's rule."""
-    arb = flint.arb
+def _sextic_at(t: Fraction, loci: Loci, points: np.ndarray) -> Fraction:
+    """(1 + t^2)^3 f at t, exactly (:func:`_terms`): cos and sin of phi(t) rational in t, the inputs the exact
+    values of their floats, f by Cramer's rule."""
     cos, sin = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
-    w = [(cos * arb(float(c[0])) - sin * arb(float(c[1])) - arb(float(b[0])),
-          sin * arb(float(c[0])) + cos * arb(float(c[1])) - arb(float(b[1]))) for c, b in zip(points, centres,
-                                                                                              strict=True)]
-    power = [u * u + v * v - arb(float(r)) ** 2 for (u, v), r in zip(w, radii, strict=True)]
-    m = [[2 * (w[k][0] - w[0][0]), 2 * (w[k][1] - w[0][1])] for k in (1, 2)]
-    rhs = [-(power[k] - power[0]) for k in (1, 2)]
+    alpha = [Fraction(float(a)) for a in loci.alpha[0]]
+    beta = [(Fraction(float(b[0])), Fraction(float(b[1]))) for b in loci.beta[0]]
+    w = [(cos * Fraction(float(c[0])) - sin * Fraction(float(c[1])),
+          sin * Fraction(float(c[0])) + cos * Fraction(float(c[1]))) for c in points]
+    const = [a * (u * u + v * v) + b[0] * u + b[1] * v + Fraction(float(g))
+             for a, b, (u, v), g in zip(alpha, beta, w, loci.gamma[0], strict=True)]
+    grad = [(2 * a * u + b[0], 2 * a * v + b[1]) for a, b, (u, v) in zip(alpha, beta, w, strict=True)]
+    m = [[grad[k][0] - alpha[k] * grad[0][0], grad[k][1] - alpha[k] * grad[0][1]] for k in (1, 2)]
+    rhs = [-(const[k] - alpha[k] * const[0]) for k in (1, 2)]
     det = m[0][0] * m[1][1] - m[0][1] * m[1][0]
     nx, ny = m[1][1] * rhs[0] - m[0][1] * rhs[1], m[0][0] * rhs[1] - m[1][0] * rhs[0]
-    f = nx * nx + ny * ny + 2 * det * (nx * w[0][0] + ny * w[0][1]) + det * det * power[0]
+    f = alpha[0] * (nx * nx + ny * ny) + (alpha[0] * det + 1 - alpha[0]) * (nx * grad[0][0] + ny * grad[0][1]
+                                                                           + det * const[0])
     return f * (1 + t * t) ** 3
-
-
-def _certified(flint: Any, centres: np.ndarray, radii: np.ndarray, points: np.ndarray) -> int | None:
-    ts = [flint.arb(t) for t in INTERPOLATION]
-    values = [_sextic_at(flint, t, centres, radii, points) for t in ts]
-    poly = flint.arb_poly.interpolate(ts, values)
-    coefficients = poly.coeffs()
-    lead = coefficients[6] if len(coefficients) > 6 else flint.arb(0)
-    if 0 in lead:
-        return None  # phi = pi a root, or the sextic's degree not certain
-    try:
-        roots = flint.acb_poly(coefficients).roots()
-    except ValueError:
-        return None  # a double root (assemblies meeting at a singularity) or too little precision
-    count = 0
-    for root in roots:
-        if 0 not in root.imag:
-            continue
-        lo, hi = root.real.lower(), root.real.upper()
-        at_lo, at_hi = poly(lo), poly(hi)
-        if at_lo * at_hi < 0:
-            count += 1
-        else:
-            return None
-    return count
 
 
 def followed(found: Assemblies, mech: Any) -> Assemblies:

@@ -77,20 +77,23 @@ SCAN = 40_001  # platform angles of the dense scan
 
 def _scanned(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
     """The platform angles of a planar machine's assemblies by a dense scan: at each angle the platform's
-    position from the differences of the circles' equations (a 2 x 2 solve), the first equation there times
-    the solve's determinant squared, its sign changes refined by bisection; in order."""
-    centres, radii = (np.asarray(v, dtype=float) for v in m.functions["platform_circles"](q_a, design))
+    position from the first curve's equation less each other's (alpha |P_i|^2 + beta_i . P_i + gamma_i: a 2 x 2
+    solve, the first curve a circle where there is one), the first equation there times the solve's determinant
+    squared, its sign changes refined by bisection; in order."""
+    alpha, beta, gamma = (np.asarray(v, dtype=float) for v in m.functions["platform_loci"](q_a, design))
     points = np.asarray(m.functions["platform_points"](design), dtype=float)
-    radii = radii.ravel()
+    order = np.argsort(-alpha.ravel(), kind="stable")
+    alpha, gamma, beta, points = alpha.ravel()[order], gamma.ravel()[order], beta[order], points[order]
 
     def first(phi: np.ndarray) -> np.ndarray:
         rotation = np.stack([np.cos(phi), -np.sin(phi), np.sin(phi), np.cos(phi)], axis=-1).reshape(-1, 2, 2)
-        w = np.einsum("nij,kj->nki", rotation, points) - centres
-        power = np.sum(w**2, axis=2) - radii**2
-        system = 2 * (w[:, 1:] - w[:, :1])
+        w = np.einsum("nij,kj->nki", rotation, points)
+        const = alpha * np.sum(w**2, axis=2) + np.sum(beta * w, axis=2) + gamma
+        grad = 2 * alpha[:, None] * w + beta
+        system = grad[:, 1:] - alpha[1:, None] * grad[:, :1]
         det = np.linalg.det(system)
-        position = np.linalg.solve(system, -(power[:, 1:] - power[:, :1])[..., None])[..., 0]
-        return (np.sum(position**2, axis=1) + 2 * np.sum(position * w[:, 0], axis=1) + power[:, 0]) * det**2
+        position = np.linalg.solve(system, -(const[:, 1:] - alpha[1:] * const[:, :1])[..., None])[..., 0]
+        return (alpha[0] * np.sum(position**2, axis=1) + np.sum(position * grad[:, 0], axis=1) + const[:, 0]) * det**2
 
     phi = np.linspace(-np.pi, np.pi, SCAN)
     values = first(phi)
@@ -156,6 +159,94 @@ def test_every_assembly_closes_gives_the_joints_back_and_none_is_missed(source):
     for row, k in enumerate(keep):
         angles = _scanned(m, q[k], design)
         np.testing.assert_allclose(np.sort(_poses(a, row)[:, 2]), angles, atol=1e-7)
+
+
+SLIDE = [{"type": "R", "actuated": True, "link": [0, "e"]}, {"type": "P", "axis": [1, 0]}]  # on a line it turns
+SLIDE_BRANCHES = {"plus": [2.852, 0.671], "minus": [0.2896, -0.671]}  # at C - A = (-0.7, 0) in the leg's frame
+LENGTHS = [{"name": "R", "default": 1.0, "lower": 0.1, "upper": 5, "unit": "m", "doc": "base circle"},
+           {"name": "r", "default": 0.3, "lower": 0.05, "upper": 5, "unit": "m", "doc": "platform circle"},
+           {"name": "e", "default": 0.2, "lower": 0.0, "upper": 5, "unit": "m",
+            "doc": "a slide's offset from its arm's joint"}]
+LINES3 = {"name": "slides3", "doc": "a planar 3-RPR with actuated base revolutes: each platform joint on a line its "
+          "arm turns", "frame": "planar", "home": [0, 0, 0], "characteristic_length": "r", "parameters": LENGTHS,
+          "legs": {"kind": "chain", "count": 3, "base": {"circle": "R", "start": "pi/2"},
+                   "platform": {"circle": "r", "start": "pi/2"}, "joints": SLIDE, "branches": SLIDE_BRANCHES}}
+MIXED3 = {"name": "rr2_slide", "doc": "two RR legs and a slide", "frame": "planar", "home": [0, 0, 0],
+          "characteristic_length": "r", "parameters": [*LENGTHS, {"name": "l", "default": 0.6, "lower": 0.1,
+                                                                 "upper": 5, "unit": "m", "doc": "RR links"}],
+          "legs": [{"kind": "RR", "count": 2, "base": {"circle": "R", "start": "pi/2"},
+                    "platform": {"circle": "r", "start": "pi/2"}, "proximal": "l", "distal": "l"},
+                   {"kind": "chain", "base": [["R*cos(-pi/6)", "R*sin(-pi/6)"]],
+                    "platform": [["r*cos(-pi/6)", "r*sin(-pi/6)"]], "turn": ["-pi/6"], "joints": SLIDE,
+                    "branches": SLIDE_BRANCHES}]}
+POINT_SLIDE = {"name": "rr_slide", "doc": "a planar point on an RR leg and a slide", "frame": "planar_point",
+               "home": [0, 0.8], "parameters": LENGTHS[2:],
+               "legs": [{"kind": "RR", "base": [[-0.5, 0]], "platform": [[0, 0]], "proximal": 0.6, "distal": 0.6},
+                        {"kind": "chain", "base": [[0.5, 0]], "platform": [[0, 0]], "joints": SLIDE,
+                         "branches": {"plus": [1.915, 0.922], "minus": [-0.799, -0.922]}}]}
+
+
+def _scanned_on_the_line(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarray:
+    """A planar point's assemblies whose second leg is a slide, by a dense scan along the slide's line: the first
+    leg's curve's equation at each of its points, its sign changes refined by bisection; in the order of x."""
+    alpha, beta, gamma = (np.asarray(v, dtype=float) for v in m.functions["platform_loci"](q_a, design))
+    alpha, gamma = alpha.ravel(), gamma.ravel()
+    foot, along = -gamma[1] * beta[1], np.array([-beta[1, 1], beta[1, 0]])
+
+    def first(t: np.ndarray) -> np.ndarray:
+        p = foot + t[:, None] * along
+        return alpha[0] * np.sum(p**2, axis=1) + p @ beta[0] + gamma[0]
+
+    t = np.linspace(-5, 5, SCAN)
+    values = first(t)
+    change = np.sign(values[:-1]) * np.sign(values[1:]) < 0
+    lo, hi = t[:-1][change], t[1:][change]
+    for _ in range(50):
+        mid = (lo + hi) / 2
+        left = np.sign(first(lo)) * np.sign(first(mid)) <= 0
+        lo, hi = np.where(left, lo, mid), np.where(left, mid, hi)
+    points = foot + ((lo + hi) / 2)[:, None] * along
+    return points[np.argsort(points[:, 0])]
+
+
+@pytest.mark.parametrize("raw", [LINES3, MIXED3, POINT_SLIDE], ids=lambda raw: raw["name"])
+def test_legs_on_lines_have_every_assembly_and_none_is_missed(raw):
+    """A leg whose passive joint is a prismatic puts its platform joint on a line (the derived platform_loci): at
+    random poses of random working modes the assemblies contain the pose, close, give the joints back through the
+    inverse kinematics in some mode, and are those a dense scan of the platform angle finds (in the plane; for a
+    point, of the slide's line), the count certified."""
+    m = _load(raw)
+    home = np.asarray(m.functions["home"](m.design().vector()), dtype=float).ravel()
+    alpha, *_ = m.functions["platform_loci"](m.inverse_kinematics(home), m.design().vector())
+    assert 0 in np.asarray(alpha).ravel()
+    rng = np.random.default_rng(8)
+    box = np.array([[-0.15, -0.15, -0.3], [0.15, 0.15, 0.3]])[:, : m.n_out] + ([0, 0.8] if m.n_out == 2 else 0)
+    x = rng.uniform(box[0], box[1], size=(60, m.n_out))
+    modes = [m.modes[k] for k in rng.integers(len(m.modes), size=60)]
+    q = np.array([m.inverse_kinematics(p, mode=mode) for p, mode in zip(x, modes, strict=True)])
+    keep = np.flatnonzero(np.isfinite(q).all(axis=1))[:12]
+    assert len(keep) == 12
+    a = m.every_assembly(q[keep], certify=m.n_out == 3)
+    if m.n_out == 3:
+        assert a.certified.all()
+    angles = np.array([u == "rad" for u in m.actuator_units])
+    design = m.design().vector()
+    for row, k in enumerate(keep):
+        found = _poses(a, row)
+        gap = found - x[k]
+        gap[:, 2:] = _wrapped(gap[:, 2:])
+        assert np.min(np.max(np.abs(gap), axis=1)) < 1e-8
+        assert np.nanmax(a.residuals[row]) < 1e-10
+        for pose in found:
+            back = np.array([m.inverse_kinematics(pose, mode=mode) for mode in m.modes])
+            gap = back - q[k]
+            gap[:, angles] = _wrapped(gap[:, angles])
+            assert np.nanmin(np.max(np.abs(gap), axis=1)) < 1e-8
+        if m.n_out == 3:
+            np.testing.assert_allclose(np.sort(found[:, 2]), _scanned(m, q[k], design), atol=1e-7)
+        else:
+            np.testing.assert_allclose(found[np.argsort(found[:, 0])], _scanned_on_the_line(m, q[k], design),
+                                       atol=1e-7)
 
 
 def test_the_five_bar_of_rr_legs_has_the_hand_derived_five_bars_assemblies():

@@ -83,6 +83,7 @@ class Leg:
     stated: tuple[tuple[str, sp.Expr], ...] = ()  # limits of its joints beside its reach (a cone), named
     circle: tuple[sp.Matrix, sp.Expr] | None = None  # its actuated joint given, the circle (in the plane) or the
     # sphere (in space) on which its platform joint lies: centre in the base frame, radius
+    line: tuple[sp.Matrix, sp.Matrix] | None = None  # or the line (in the plane): a point and a direction
     h_c: sp.Matrix | None = None  # the closure's derivative in the platform joint's point c, where the closure is
     # not the chain's end less c (whose derivative is -I)
 
@@ -211,19 +212,22 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     passive = [v for v in variables if v is not actuated]
     closed = None if leg.get("newton") else _closed_chain(leg["joints"], frame.T * (c - a), vector)
     circle = _chain_circle(leg["joints"], a, points, actuated, vector=vector, planar=planar)
+    line = None
+    if circle is None and planar and len(variables) == 2:
+        circle, line = _planar_locus(leg["joints"], variables, frames, point)
     if closed is None:
         first = [sp.Float(v) for v in seeds[0]]
         blend = first if sigma is None else [(1 + sigma) / 2 * p + (1 - sigma) / 2 * sp.Float(m)
                                              for p, m in zip(first, seeds[-1], strict=True)]
         return Leg(h, actuated, passive, dict(zip(variables, blend, strict=True)), [], sigma, side=side,
-                   joints=tuple(points[:-1]), end=point, frames=tuple(frames), circle=circle)
+                   joints=tuple(points[:-1]), end=point, frames=tuple(frames), circle=circle, line=line)
     solution, reach, signs = closed
     chosen = [_nearest_candidate(solution, signs, seed, angles, start) for seed in seeds]
     values = {s: chosen[0][i] if sigma is None else (1 + sigma) / 2 * chosen[0][i] + (1 - sigma) / 2 * chosen[-1][i]
               for i, s in enumerate(signs)}
     ik = {v: e.subs(values) for v, e in zip(variables, solution, strict=True)}
     return Leg(h, actuated, passive, ik, [m.subs(values) for m in reach], sigma, side=side,
-               joints=tuple(points[:-1]), frames=tuple(frames), circle=circle)
+               joints=tuple(points[:-1]), frames=tuple(frames), circle=circle, line=line)
 
 
 def _chain_circle(joints: list[dict[str, Any]], a: sp.Matrix, points: list[sp.Matrix], actuated: sp.Symbol, *,
@@ -243,6 +247,21 @@ def _chain_circle(joints: list[dict[str, Any]], a: sp.Matrix, points: list[sp.Ma
     if first["type"] in pointing and second["actuated"] and second["type"] == "P" and no_links:
         return a, actuated
     return None
+
+
+def _planar_locus(joints: list[dict[str, Any]], variables: list[sp.Symbol], frames: list[Any], end: sp.Matrix
+                  ) -> tuple[tuple[sp.Matrix, sp.Expr] | None, tuple[sp.Matrix, sp.Matrix] | None]:
+    """The circle or the line on which a planar two-joint chain's end lies, its actuated joint given, where
+    :func:`_chain_circle` names none: its passive joint a revolute, the circle about that joint (the end turns
+    rigidly about it); a prismatic, the line its slide draws (the end at zero slide, and the slide's
+    direction)."""
+    passive = next(j for j, joint in enumerate(joints) if not joint["actuated"])
+    s = variables[passive]
+    if joints[passive]["type"] == "P":
+        return None, (end.subs(s, 0), end.diff(s))
+    centre = frames[passive][0]
+    offset = (end - centre).subs(s, 0)
+    return (centre, sp.sqrt(sp.trigsimp(offset.dot(offset)))), None
 
 
 def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: list[float], angles: list[bool],

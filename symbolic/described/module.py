@@ -40,19 +40,51 @@ def _add_chain(spec: ModuleSpec, k: int, leg: Leg, ends: tuple[sp.Matrix, sp.Mat
 
 def _add_circles(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *, actuated: Port, design: Port
                  ) -> None:
-    """``platform_circles(q_a, design) -> (centres, radii)``: the circle (in the plane) or sphere (in space) on
-    which each leg's platform joint lies, its actuated joint given, and ``platform_points(design) -> points``:
+    """``platform_circles(q_a, design) -> (centres, radii)``: the sphere (in space) on which each leg's platform
+    joint lies, its actuated joint given, and ``platform_points(design) -> points``:
     each leg's platform joint in the platform frame; the complete forward kinematics of a machine whose every
     leg has one (:mod:`pkm.assemblies`)."""
     centres = sp.Matrix.vstack(*(leg.circle[0].T for leg in legs))
     spec.add("platform_circles", (actuated, design),
-             (Output("centres", centres, "each leg's circle's centre, one row each, in the base frame [m]"),
-              Output("radii", sp.Matrix([leg.circle[1] for leg in legs]), "each leg's circle's radius [m]")),
-             "The circle on which each leg's platform joint lies, its actuated joint given.")
+             (Output("centres", centres, "each leg's sphere's centre, one row each, in the base frame [m]"),
+              Output("radii", sp.Matrix([leg.circle[1] for leg in legs]), "each leg's sphere's radius [m]")),
+             "The sphere on which each leg's platform joint lies, its actuated joint given.")
+    _add_points(spec, platform, design)
+
+
+def _add_points(spec: ModuleSpec, platform: list[sp.Matrix], design: Port) -> None:
     spec.add("platform_points", (design,),
              (Output("points", sp.Matrix.vstack(*(c.T for c in platform)), "each leg's platform joint in the "
                      "platform frame, one row each [m]"),),
              "Each leg's platform joint in the platform frame.")
+
+
+def _add_loci(spec: ModuleSpec, legs: list[Leg], platform: list[sp.Matrix], *, actuated: Port, design: Port) -> None:
+    """``platform_loci(q_a, design) -> (alpha, beta, gamma)``: the curve on which each leg's platform joint P_i
+    lies in the plane, its actuated joint given, as alpha |P_i|^2 + beta . P_i + gamma = 0: a circle (B, r) with
+    alpha 1, beta -2 B, gamma |B|^2 - r^2; a line through p along v with alpha 0, beta its unit normal, gamma
+    -beta . p; and ``platform_points(design)`` (:func:`_add_circles`): a planar machine's complete forward
+    kinematics (:mod:`pkm.assemblies`)."""
+    alpha, beta, gamma = [], [], []
+    for leg in legs:
+        if leg.circle is not None:
+            centre, radius = leg.circle
+            alpha.append(sp.Integer(1))
+            beta.append((-2 * centre).T)
+            gamma.append(centre.dot(centre) - radius**2)
+        else:
+            point, along = leg.line
+            normal = sp.Matrix([-along[1], along[0]]) / sp.sqrt(along.dot(along))
+            alpha.append(sp.Integer(0))
+            beta.append(normal.T)
+            gamma.append(-normal.dot(point))
+    spec.add("platform_loci", (actuated, design),
+             (Output("alpha", sp.Matrix(alpha), "1 for a circle, 0 for a line, one row per leg"),
+              Output("beta", sp.Matrix.vstack(*beta), "the linear coefficients, one row per leg [m]"),
+              Output("gamma", sp.Matrix(gamma), "the constants, one row per leg [m^2 for a circle, m for a line]")),
+             "The circle or line on which each leg's platform joint P lies, its actuated joint given: "
+             "alpha |P|^2 + beta . P + gamma = 0.")
+    _add_points(spec, platform, design)
 
 
 def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[Leg], *, joints: Port, pose: Port,
@@ -207,9 +239,12 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  "The side of each two-branched leg's passive joints at a configuration.")
     for region in description.get("regions", []):
         _add_region(spec, region, design_port, vector(description["home"]), vector)
-    if all(leg.circle is not None for leg in legs) and (frame != "spatial" or len(legs) == 6):
-        _add_circles(spec, legs, [vector(leg["platform"]) for leg in description["legs"]], actuated=actuated,
-                     design=design_port)
+    platform = [vector(leg["platform"]) for leg in description["legs"]]
+    if frame in ("planar", "planar_point") and all(leg.circle is not None or leg.line is not None for leg in legs):
+        _add_loci(spec, legs, platform, actuated=actuated, design=design_port)
+    elif frame in ("spatial_point", "spatial") and all(leg.circle is not None for leg in legs) and \
+            (frame != "spatial" or len(legs) == 6):
+        _add_circles(spec, legs, platform, actuated=actuated, design=design_port)
     if all("capsule" in leg for leg in description["legs"]):
         spec.add("capsules", (design_port,),
                  (Output("radii", sp.Matrix([scalar(leg["capsule"]) for leg in description["legs"]]),
