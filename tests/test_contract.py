@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 from dataclasses import dataclass
+from functools import cache
 from types import SimpleNamespace
 
 import casadi as ca
@@ -42,13 +43,24 @@ class Case:
         return self.design.vector()
 
 
-@pytest.fixture(scope="module", params=[(n, s) for n in MECHANISMS for s in SEEDS], ids=lambda p: f"{p[0]}-{p[1]}")
-def case(request) -> Case:
-    name, seed = request.param
+@cache
+def _case(name: str, seed: int) -> Case:
     m = pkm.load(name)
     rng = np.random.default_rng(seed)
     design = random_design(m, rng, spread=SPREAD)
     return Case(m, design, {mode: reachable_poses(m, design, mode, rng, count=N_POSES) for mode in m.modes})
+
+
+@pytest.fixture(scope="module", params=[(n, s) for n in MECHANISMS for s in SEEDS], ids=lambda p: f"{p[0]}-{p[1]}")
+def case(request) -> Case:
+    return _case(*request.param)
+
+
+@pytest.fixture(scope="module", params=MECHANISMS, ids=lambda name: f"{name}-{SEEDS[0]}")
+def first_case(request) -> Case:
+    """The case of the first seed alone, for a property of the evaluation path that the design and the poses
+    (all that the seed changes) cannot reach: the same functions, chunks and threads run at every seed."""
+    return _case(request.param, SEEDS[0])
 
 
 def closed_joints(case: Case, mode: str, x: np.ndarray | None = None) -> np.ndarray:
@@ -82,23 +94,31 @@ def _angle_difference(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def test_forward_kinematics_returns_the_pose_in_some_assembly(case):
+    """FK(IK(x)) = x in some assembly mode, whose passive joints are IK's. The poses of every working mode go in
+    one batch (FK solves each row alone): a call per assembly mode (32 for the 3-RRR), not per working mode
+    and assembly mode (8 x 32)."""
     m = case.mech
-    for mode, x in case.poses.items():
-        q = closed_joints(case, mode)
-        errors = [
-            np.linalg.norm(m.forward_kinematics(q[:, : m.n_act], case.design, assembly=a) - x, axis=1)
-            for a in m.assemblies
-        ]
-        errors = np.where(np.isnan(errors), np.inf, errors)
-        best = errors.min(axis=0)
-        assert best.max() < 1e-9, f"mode {mode}: FK(IK(x)) misses x by {best.max():.3g}"
-        # and all joints: in the assembly mode that gives back x, FK's passive joints are IK's
-        passive = np.stack([m.forward_kinematics(q[:, : m.n_act], case.design, assembly=a, passive=True)
-                            for a in m.assemblies])
-        q_fk = passive[errors.argmin(axis=0), np.arange(len(x))]
-        assert q_fk.shape == q.shape
-        np.testing.assert_array_equal(q_fk[:, : m.n_act], q[:, : m.n_act])
-        np.testing.assert_allclose(_angle_difference(q_fk, q), 0.0, atol=1e-9, err_msg=f"mode {mode}")
+    x = np.concatenate(list(case.poses.values()))
+    q = np.concatenate([closed_joints(case, mode) for mode in case.poses])
+    mode_of = np.repeat(list(case.poses), [len(v) for v in case.poses.values()])
+    q_a = q[:, : m.n_act]
+    errors = np.stack([np.linalg.norm(m.forward_kinematics(q_a, case.design, assembly=a) - x, axis=1)
+                       for a in m.assemblies])
+    errors = np.where(np.isnan(errors), np.inf, errors)
+    best = errors.min(axis=0)
+    worst = int(best.argmax())
+    assert best[worst] < 1e-9, f"mode {mode_of[worst]}: FK(IK(x)) misses x by {best[worst]:.3g}"
+    # and all joints: in the assembly mode that gives back x, FK's passive joints are IK's
+    closest = errors.argmin(axis=0)
+    q_fk = np.full_like(q, np.nan)
+    for k in np.unique(closest):
+        joints = m.forward_kinematics(q_a, case.design, assembly=m.assemblies[k], passive=True)
+        assert joints.shape == q.shape
+        q_fk[closest == k] = joints[closest == k]
+    for mode in case.poses:
+        rows = mode_of == mode
+        np.testing.assert_array_equal(q_fk[rows, : m.n_act], q[rows, : m.n_act], err_msg=f"mode {mode}")
+        np.testing.assert_allclose(_angle_difference(q_fk[rows], q[rows]), 0.0, atol=1e-9, err_msg=f"mode {mode}")
 
 
 def test_jacobian_matches_central_differences_of_inverse_kinematics(case):
@@ -311,14 +331,17 @@ def _outputs(m: pkm.Mechanism, x: np.ndarray, design: pkm.Design, mode: str) -> 
 SINGLES = 4  # poses per mode evaluated one at a time
 
 
-def test_batch_equals_stacked_single_poses(case):
+def test_batch_equals_stacked_single_poses(first_case, monkeypatch):
     """Equal to round-off: a function's first evaluation runs on the interpreter and its later ones
-    compiled, and results kept from either (the forward polynomial's roots) may be reused."""
-    m, repeats = case.mech, 100  # 2400 poses: beyond the size where batches are evaluated by threads
-    for mode, x in case.poses.items():
-        batch = _outputs(m, x, case.design, mode)
-        singles = [_outputs(m, xi, case.design, mode) for xi in x[:SINGLES]]
-        big = _outputs(m, np.tile(x, (repeats, 1)), case.design, mode)
+    compiled, and results kept from either (the forward polynomial's roots) may be reused. On two threads
+    (a worker of the suite evaluates on one, tests/conftest.py), so that the tiled batch is split."""
+    monkeypatch.setattr("pkm.batch.THREADS", 2)
+    m, design = first_case.mech, first_case.design
+    repeats = 100  # 2400 poses: beyond the size where batches are evaluated by threads
+    for mode, x in first_case.poses.items():
+        batch = _outputs(m, x, design, mode)
+        singles = [_outputs(m, xi, design, mode) for xi in x[:SINGLES]]
+        big = _outputs(m, np.tile(x, (repeats, 1)), design, mode)
         for key, value in batch.items():
             assert value.shape[0] == len(x), key
             stacked = np.stack([s[key] for s in singles])
@@ -336,14 +359,24 @@ def _named_inputs(case: Case) -> dict[str, np.ndarray]:
     return port_inputs(m, case.design, x, mode, assembly)
 
 
+@cache
+def _with_jacobians(key: str, fn: ca.Function) -> tuple[ca.Function, ca.Function]:
+    """``fn`` with the Jacobian of each output in each input appended to its outputs, and the same outputs dense
+    and stacked column by column into one (read back with one conversion per call); built once per function,
+    shared by the seeds."""
+    ins = [ca.SX.sym(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
+    outs = fn.call(ins)
+    outs += [ca.jacobian(o, i) for o in outs for i in ins]
+    return ca.Function(key, ins, outs), ca.Function(key, ins, [ca.vertcat(*(ca.vec(ca.densify(o)) for o in outs))])
+
+
 def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
     """pkm.batch.evaluate (mapped, compiled where there is a compiler) against one CasADi call per point
-    (serial), sparse outputs included: equal to round-off."""
+    (serial), sparse outputs included: equal to round-off, each point's output within 1e-12 of its largest
+    finite entry (at least 1)."""
     inputs = _named_inputs(case)
     for key, fn in case.mech.functions.items():
-        ins = [ca.SX.sym(fn.name_in(i), fn.sparsity_in(i)) for i in range(fn.n_in())]
-        outs = fn.call(ins)
-        F = ca.Function(key, ins, outs + [ca.jacobian(o, i) for o in outs for i in ins])
+        F, stacked = _with_jacobians(key, fn)
         rng = np.random.default_rng(11)
         args = [
             rng.normal(size=(len(inputs["x"]), fn.numel_in(i))) if n.endswith(("_dot", "_ddot"))
@@ -351,12 +384,20 @@ def test_batch_evaluation_equals_casadi_calls_with_jacobians(case):
             for i, n in enumerate(fn.name_in())
         ]
         mapped = evaluate(F, *args)
-        for k in range(len(mapped[0])):
-            serial = F.call([a[k] if a.ndim == 2 else a for a in args])
-            for j, value in enumerate(serial):
-                want = np.array(ca.densify(value))
-                scale = max(1.0, float(np.max(np.abs(np.nan_to_num(want, posinf=0, neginf=0)), initial=0)))
-                np.testing.assert_allclose(mapped[j][k], want, rtol=1e-12, atol=1e-12 * scale, err_msg=f"{key}[{j}]")
+        serial = np.stack([stacked.call([a[k] if a.ndim == 2 else a for a in args])[0].full()[:, 0]
+                           for k in range(len(mapped[0]))])
+        first = 0
+        for j, got in enumerate(mapped):
+            rows, cols = F.size_out(j)
+            want = serial[:, first : first + rows * cols].reshape(len(serial), cols, rows).transpose(0, 2, 1)
+            first += rows * cols
+            assert got.shape == want.shape, f"{key}[{j}]"
+            finite = np.nan_to_num(want, nan=0, posinf=0, neginf=0).reshape(len(want), -1)
+            scale = np.maximum(1.0, np.max(np.abs(finite), axis=1, initial=0))[:, None, None]
+            close = np.isclose(got, want, rtol=1e-12, atol=1e-12 * scale, equal_nan=True)
+            bad = np.flatnonzero(~close.reshape(len(close), -1).all(axis=1))
+            assert not len(bad), f"{key}[{j}]: point {bad[0]}: {got[bad[0]]} != {want[bad[0]]}"
+        assert first == serial.shape[1]
 
 
 @pytest.mark.parametrize("name", MECHANISMS)
@@ -423,6 +464,18 @@ def test_registry_still_lists_mechanisms_after_loading_one():
     assert pkm.mechanisms() == MECHANISMS
 
 
+@cache
+def _compared_kernels(name: str) -> list:
+    """The catalogue's kernels of a mechanism but its point integrands, compiled (once per mechanism: the
+    catalogue does not depend on the design, and building it is most of a case's time)."""
+    from pkm import compiled
+    from pkm.catalogue import kernels
+
+    compared = [k for k in kernels(pkm.load(name)) if k.piece is None]
+    assert compiled.build([(k.function, k.summed) for k in compared])["interpreted"] == 0
+    return compared
+
+
 def test_compiled_kernels_agree_with_the_interpreter_to_1e_12(case):
     """Every kernel of the catalogue but the point integrands (tests/test_integrand.py) against CasADi's
     interpreter on the same batch, a kernel for every function, NaN (out of reach) exactly where the
@@ -435,12 +488,10 @@ def test_compiled_kernels_agree_with_the_interpreter_to_1e_12(case):
     test, which runs beside this one)."""
     from pkm import compiled
     from pkm.batch import interpreted
-    from pkm.catalogue import kernels
 
     if compiled.status()["path"] != "compiled":
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
-    compared = [k for k in kernels(case.mech) if k.piece is None]
-    assert compiled.build([(k.function, k.summed) for k in compared])["interpreted"] == 0
+    compared = _compared_kernels(case.mech.name)
     inputs = _named_inputs(case)
     rng = np.random.default_rng(12)
     far = np.full((3, case.mech.n_out), 1e3)  # out of reach: NaN through both paths

@@ -46,8 +46,9 @@ def test_integrand_kernels_agree_with_the_interpreter(name):
     if compiled.status()["path"] != "compiled":
         pytest.skip(f"the compiled path is off: {compiled.status()['reason']}")
     mech = pkm.load(name)
-    assert compiled.build([(k.function, k.summed) for k in integrands(mech)])["interpreted"] == 0
-    for integrand in integrands(mech):
+    catalogue = integrands(mech)
+    assert compiled.build([(k.function, k.summed) for k in catalogue])["interpreted"] == 0
+    for integrand in catalogue:
         fn = integrand.function
         assert compiled.kernel(fn, integrand.summed) is not None, fn.name()
         args = _inputs(mech, integrand)

@@ -32,6 +32,9 @@ MACHINES = {"RR": DESCRIPTIONS["rrr3"], "RPR": RPR3, "PRR": PRR3, "R_parallelogr
             "UPS": DESCRIPTIONS["stewart"]}
 
 
+HELD_OFF = 2  # poses at which each leg's chain is also held 5% off its actuated joint (every start tried there)
+
+
 def _raw(source):
     return tomllib.loads(source.read_text()) if hasattr(source, "read_text") else source
 
@@ -54,37 +57,56 @@ def test_the_schema_expands_each_kind_into_its_stated_chain(kind):
         assert tuple(j["type"] + "*" * j["actuated"] for j in leg["joints"]) == STATED[kind]
 
 
-def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+def _generators(axis: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cross-product matrix K of the unit vector along ``axis`` and K @ K: a turn by an angle about the axis
+    is I + sin(angle) K + (1 - cos(angle)) K @ K (Rodrigues' formula)."""
     u = axis / np.linalg.norm(axis)
     cross = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * cross + (1 - math.cos(angle)) * cross @ cross
+    return cross, cross @ cross
 
 
-def _numeric(joints: list[dict], design: dict, planar: bool) -> list[tuple[str, list[np.ndarray], np.ndarray]]:
+def _turn(generators: tuple[np.ndarray, np.ndarray], angle: float) -> np.ndarray:
+    cross, square = generators
+    return np.eye(3) + math.sin(angle) * cross + (1 - math.cos(angle)) * square
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    return _turn(_generators(axis), angle)
+
+
+Joint = tuple[str, list, np.ndarray]
+
+
+def _numeric(joints: list[dict], design: dict, planar: bool) -> list[Joint]:
     """A chain's joints as (type, axes, link) in numbers at the design, evaluated once per leg rather than at
-    each step of the least squares: a P's one axis, an R's or U's axes (a planar R's the z axis), a link."""
+    each step of the least squares: a P's one axis (a unit vector), an R's or U's axes (a planar R's the z axis)
+    by their :func:`_generators`, a link."""
 
     def vec(trees: list) -> np.ndarray:
         return np.array([float(expressions.evaluate(t, design)) for t in trees] + [0.0] * planar)
 
-    return [(joint["type"], [vec(joint["axis"])] if joint["type"] == "P" else
-             [np.array([0.0, 0.0, 1.0]) if planar else vec(axis) for axis in joint["axes"]], vec(joint["link"]))
-            for joint in joints]
+    def axes(joint: dict) -> list:
+        if joint["type"] == "P":
+            axis = vec(joint["axis"])
+            return [axis / np.linalg.norm(axis)]
+        return [_generators(np.array([0.0, 0.0, 1.0]) if planar else vec(axis)) for axis in joint["axes"]]
+
+    return [(joint["type"], axes(joint), vec(joint["link"])) for joint in joints]
 
 
-def _end(joints: list[tuple[str, list[np.ndarray], np.ndarray]], a: np.ndarray, values: np.ndarray) -> np.ndarray:
+def _end(joints: list[Joint], a: np.ndarray, values: np.ndarray) -> np.ndarray:
     """The end of a chain (its joints by :func:`_numeric`) from a (the base's frame, turn 0): a P slides along
     its axis, an R (U) turns about its axis (axes, the second in the frame the first turns), a parallelogram
     turns its link like a U and keeps the frame before it; each link in the frame of the joint it follows."""
     planar = a.size == 2
-    point, rotation, values = np.append(a, 0.0) if planar else a.copy(), np.eye(3), list(values)
+    point, rotation, values = np.append(a, 0.0) if planar else a.copy(), np.eye(3), iter(values)
     for kind, axes, link in joints:
         turned = rotation
         if kind == "P":
-            point = point + rotation @ axes[0] / np.linalg.norm(axes[0]) * values.pop(0)
+            point = point + rotation @ axes[0] * next(values)
         else:
-            for axis in axes:
-                turned = turned @ _rotation(axis, values.pop(0))
+            for generators in axes:
+                turned = turned @ _turn(generators, next(values))
         point = point + turned @ link
         if kind != "parallelogram":
             rotation = turned
@@ -105,7 +127,9 @@ def _platform_point(frame: str, x: np.ndarray, c: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("kind", sorted(STATED))
 def test_each_kinds_chain_closes_where_the_kind_reaches_with_its_actuated_joint(kind):
     """At poses the kind's closed form reaches, its actuated joint held, the chain's passive joints close it
-    (least squares from a few starts) to 1e-9 m; and held 5% off, they do not: the chain is the kind's."""
+    (least squares from a few starts) to 1e-9 m; and held 5% off at the first HELD_OFF of them, they do not: the
+    chain is the kind's. A chain that closes held off has more freedom than its kind, which its joints' types and
+    axes give it at every pose near home alike, so that the other poses check the closing alone."""
     m = pkm.load(_raw(MACHINES[kind]))
     data = m.description.data
     design = {name: m.design()[name] for name in m.parameter_names()}
@@ -116,7 +140,7 @@ def test_each_kinds_chain_closes_where_the_kind_reaches_with_its_actuated_joint(
     q = m.inverse_kinematics(x)
     reached = np.isfinite(q).all(axis=1)
     assert reached.sum() >= 6
-    for pose, joints in zip(x[reached][:6], q[reached][:6], strict=True):
+    for n, (pose, joints) in enumerate(zip(x[reached][:6], q[reached][:6], strict=True)):
         for k, leg in enumerate(data["legs"]):
             a = np.array([float(expressions.evaluate(t, design)) for t in leg["base"]])
             c = _platform_point(data["pose"]["frame"], pose,
@@ -125,10 +149,10 @@ def test_each_kinds_chain_closes_where_the_kind_reaches_with_its_actuated_joint(
             at = sum(sizes[: next(i for i, j in enumerate(leg["joints"]) if j["actuated"])])
             count = sum(sizes)
             chain = _numeric(leg["joints"], design, a.size == 2)
-            for actuated, closes in ((joints[k], True), (joints[k] * 1.05, False)):
+            for actuated, closes in ((joints[k], True), (joints[k] * 1.05, False))[: 2 if n < HELD_OFF else 1]:
 
                 def residual(passive, actuated=actuated, at=at, chain=chain, a=a, c=c):
-                    return _end(chain, a, np.insert(passive, at, actuated)) - c
+                    return _end(chain, a, np.concatenate((passive[:at], [actuated], passive[at:]))) - c
 
                 # the first start that closes the chain ends the search; held off, every start is tried
                 for start in rng.uniform(-math.pi, math.pi, size=(8, count - 1)):
