@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import casadi as ca
@@ -51,8 +52,10 @@ class Kernel:
     reduce: str = ""
 
 
-def kernels(mech: Any) -> list[Kernel]:
-    """Every kernel of a mechanism (module docstring), in a fixed order, each once."""
+@lru_cache(maxsize=16)
+def kernels(mech: Any) -> tuple[Kernel, ...]:
+    """Every kernel of a mechanism (module docstring), in a fixed order, each once; built once per mechanism
+    (kept for the last 16)."""
     out = [Kernel(name, mech.functions[name]) for name in sorted(mech.functions)
            if emittable(mech.functions[name])]
     fused = {index: index_pipeline(mech, (mech.local_spec(index),), reach=False) for index in mech.local_indices()}
@@ -88,7 +91,7 @@ def kernels(mech: Any) -> list[Kernel]:
         if identity not in seen:
             seen.add(identity)
             unique.append(kernel)
-    return unique
+    return tuple(unique)
 
 
 def _pairs(mech: Any) -> list[tuple[Any, Any, bool]]:
@@ -107,9 +110,11 @@ def _problem_pairs(problem: Any) -> list[tuple[Any, Any, bool]]:
     return [(q.index, q.region, problem.hessian == "exact") for q in problem.quantities.values()]
 
 
-def integrands(mech: Any) -> list[Kernel]:
-    """The point integrands of a mechanism (module docstring), in a fixed order."""
-    return _integrands(mech, _pairs(mech))
+@lru_cache(maxsize=16)
+def integrands(mech: Any) -> tuple[Kernel, ...]:
+    """The point integrands of a mechanism (module docstring), in a fixed order; built once per mechanism (kept
+    for the last 16)."""
+    return tuple(_integrands(mech, _pairs(mech)))
 
 
 def problem_integrands(problem: Any) -> list[Kernel]:
