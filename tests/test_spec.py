@@ -366,3 +366,33 @@ def test_a_condition_of_the_design_refuses_a_design_that_violates_it_naming_it()
                        ([{"margin": "l1", "colour": "red"}], "conditions[0].colour")):
         with pytest.raises(DescriptionError, match=re.escape(f"description field {field} violates")):
             describe({**raw, "conditions": bad})
+
+
+def test_a_seed_table_is_kept_beside_the_derived_module_and_read_back_by_a_later_process(monkeypatch):
+    """The first forward kinematics at a design searches its seeds and keeps them in the cache; a later process (its
+    tables and solutions in memory cleared) reads them back and finds the same assemblies without searching; a file
+    that cannot be read is searched again and replaced; another design has a table of its own."""
+    from pkm import kinematics
+    from pkm.spec import seeds
+
+    m = pkm.load(_raw("rrr3") | {"name": "rrr3_kept_seeds"})
+    store = m.forward.seeds.store
+    for old in store.parent.glob(f"{store.name}.seeds.*.npz"):
+        old.unlink()
+    kinematics._SOLUTIONS.clear()
+    seeds._SEED_TABLES.clear()
+    q = m.inverse_kinematics(np.array([[0.05, -0.02, 0.1], [-0.1, 0.04, -0.2]]))
+    first = m.forward_kinematics(q, assembly=m.assemblies[0])
+    (kept,) = store.parent.glob(f"{store.name}.seeds.*.npz")
+    search, searched = seeds.Seeds._configurations, []
+    monkeypatch.setattr(seeds.Seeds, "_configurations", lambda self, *a: searched.append(1) or search(self, *a))
+    for damage in (None, b"not a table"):
+        if damage is not None:
+            kept.write_bytes(damage)
+        seeds._SEED_TABLES.clear()
+        kinematics._SOLUTIONS.clear()
+        np.testing.assert_array_equal(m.forward_kinematics(q, assembly=m.assemblies[0]), first)
+    assert searched == [1]
+    assert np.load(kept)["groups"] > 0
+    m.forward_kinematics(q, {**m.design(), "l1": 0.62}, assembly=m.assemblies[0])
+    assert len(list(store.parent.glob(f"{store.name}.seeds.*.npz"))) == 2

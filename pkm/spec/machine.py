@@ -57,11 +57,16 @@ UNDEFINED = 3  # the derivation's exit status where an expression has no finite 
 RANK_TOLERANCE = 1e-9  # relative singular value below which the closure's Jacobian loses rank
 
 
+def _stem(description: Description) -> Path:
+    """Where a description's derived module and its seed tables are kept in the user's cache, less suffixes."""
+    return location() / "descriptions" / f"{description.name}_{description.key[:16]}"
+
+
 def module_path(description: Description) -> Path:
     """The derived module of a description in the user's cache, derived now where it is not there yet (a
     progress bar on a terminal meanwhile)."""
-    folder = location() / "descriptions"
-    target = folder / f"{description.name}_{description.key[:16]}.py"
+    target = _stem(description).with_suffix(".py")
+    folder = target.parent
     if target.exists():
         return target
     folder.mkdir(parents=True, exist_ok=True)
@@ -208,7 +213,7 @@ def mechanism_class(description: Description) -> type[Mechanism]:
     """The :class:`Mechanism` subclass of a description."""
     data = description.data
     pose_names, _ = FRAMES[data["pose"]["frame"]]
-    seeds = Seeds(data)
+    seeds = Seeds(data, _stem(description))
     parameters = tuple(Parameter(p["name"], p["default"], p["lower"], p["upper"], p["unit"], p["doc"],
                                  closed_lower=True) for p in data["parameters"])
     conditions = tuple(Condition(f"{c['doc']} ({expressions.text(c['margin'])} > 0)", expressions.function(c["margin"]))

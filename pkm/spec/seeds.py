@@ -3,15 +3,20 @@ assembly modes (:class:`Seeds`)."""
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
 import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from pkm.batch import evaluate
+from pkm.io import atomic_write
 from pkm.kinematics import FunctionTable
 from pkm.spec.vocabulary import (
     kind_of,
@@ -35,9 +40,12 @@ class Seeds:
     in its joints) and the sign of the type-II determinant det [H_p H_x]. The configurations are those of every
     branch of the legs where they assemble at random poses in the workspace box (:meth:`box`; a fixed
     seed), half of them, after the first round, found ones moved at random (so that a thin workspace fills
-    too), until there are SEED_COUNT; one table per design."""
+    too), until there are SEED_COUNT; one table per design, kept in this process for the last SEEDS_KEPT designs
+    and, where ``store`` is given, in the user's cache beside the derived module (its name the digest of the design,
+    the search's constants and this module's source), read back by a later process instead of searched again."""
 
     data: Mapping[str, Any]
+    store: Path | None = None  # where the tables are kept between processes: <store>.seeds.<digest>.npz
 
     @property
     def periodic(self) -> tuple[bool, ...]:
@@ -63,14 +71,25 @@ class Seeds:
         if key not in _SEED_TABLES:
             if len(_SEED_TABLES) >= SEEDS_KEPT:
                 _SEED_TABLES.pop(next(iter(_SEED_TABLES)))
-            q, x, signatures = self._configurations(functions, design)
-            n_act = len(self.data["legs"])
-            groups = {}
-            for signature in sorted(set(map(tuple, signatures.tolist()))):
-                mine = np.all(signatures == signature, axis=1)
-                groups[signature] = (q[mine, :n_act], np.hstack([q[mine, n_act:], x[mine]]))
+            path = self._path(design)
+            groups = _read(path)
+            if groups is None:
+                q, x, signatures = self._configurations(functions, design)
+                n_act = len(self.data["legs"])
+                groups = {}
+                for signature in sorted(set(map(tuple, signatures.tolist()))):
+                    mine = np.all(signatures == signature, axis=1)
+                    groups[signature] = (q[mine, :n_act], np.hstack([q[mine, n_act:], x[mine]]))
+                _write(path, groups)
             _SEED_TABLES[key] = (functions, groups)
         return _SEED_TABLES[key][1]
+
+    def _path(self, design: np.ndarray) -> Path | None:
+        if self.store is None:
+            return None
+        constants = repr((SEED_SAMPLES, SEED_COUNT, SEED_ROUNDS, SEED_STEP, BOX_MARGIN, BOX_SCALES)).encode()
+        digest = hashlib.sha256(design.tobytes() + constants + _source()).hexdigest()[:16]
+        return self.store.with_name(f"{self.store.name}.seeds.{digest}.npz")
 
     def _assembled(self, functions: FunctionTable, x: np.ndarray, design: np.ndarray) -> tuple[np.ndarray, ...]:
         """The configurations (q, x) of every branch of the legs at the poses x where they assemble."""
@@ -137,6 +156,39 @@ class Seeds:
             signature = self.signature(functions, q, x, design)
         regular = np.all(signature != 0.0, axis=1)
         return q[regular], x[regular], signature[regular]
+
+
+@lru_cache(maxsize=1)
+def _source() -> bytes:
+    return Path(__file__).read_bytes()
+
+
+def _read(path: Path | None) -> dict[tuple[float, ...], tuple[np.ndarray, ...]] | None:
+    """A seed table kept by an earlier process, or None (none kept, or not readable)."""
+    if path is None or not path.exists():
+        return None
+    try:
+        with np.load(path) as stored:
+            return {tuple(stored[f"signature{k}"].tolist()): (stored[f"actuated{k}"], stored[f"rest{k}"])
+                    for k in range(int(stored["groups"]))}
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def _write(path: Path | None, groups: dict[tuple[float, ...], tuple[np.ndarray, ...]]) -> None:
+    """Keep a seed table for later processes, atomically; nothing where the cache cannot be written."""
+    if path is None:
+        return
+    arrays = {"groups": np.array(len(groups))}
+    for k, (signature, (actuated, rest)) in enumerate(groups.items()):
+        arrays |= {f"signature{k}": np.array(signature), f"actuated{k}": actuated, f"rest{k}": rest}
+
+    def save(tmp: Path) -> None:
+        with open(tmp, "wb") as handle:
+            np.savez(handle, **arrays)
+
+    with contextlib.suppress(OSError):
+        atomic_write(path, save)
 
 
 _SEED_TABLES: dict[tuple, tuple[FunctionTable, dict[tuple[float, ...], tuple[np.ndarray, ...]]]] = {}
