@@ -148,17 +148,15 @@ def test_the_virtual_joint_method_is_the_frame_model(machine, request):
     poses = home + rng.uniform(-0.15, 0.15, (40, m.n_out)) * (1 if machine == "five_bar" else [1, 1, 1.5])
     checked = 0
     for mode in m.modes:
-        for pose in poses:
-            K = m.stiffness(pose, mode=mode)
-            if not np.all(np.isfinite(K)):
-                continue
-            legs = m.linkage(pose, mode=mode)
-            want = frame_stiffness(legs, pose, turning=m.n_out == 3)
-            np.testing.assert_allclose(K, want, rtol=0, atol=1e-9 * np.abs(want).max())
-            J = m.jacobian(pose, mode=mode)
-            drives = m.stiffness(pose, mode=mode, actuators_only=True)
-            np.testing.assert_allclose(drives, DRIVE * J.T @ J, rtol=0, atol=1e-9 * np.abs(drives).max())
-            assert np.linalg.eigvalsh(drives - K).min() > -1e-9 * np.abs(drives).max()
+        K = m.stiffness(poses, mode=mode)
+        reached = np.all(np.isfinite(K), axis=(1, 2))
+        J = m.jacobian(poses[reached], mode=mode)
+        drives = m.stiffness(poses[reached], mode=mode, actuators_only=True)
+        for pose, K_k, J_k, drives_k in zip(poses[reached], K[reached], J, drives, strict=True):
+            want = frame_stiffness(m.linkage(pose, mode=mode), pose, turning=m.n_out == 3)
+            np.testing.assert_allclose(K_k, want, rtol=0, atol=1e-9 * np.abs(want).max())
+            np.testing.assert_allclose(drives_k, DRIVE * J_k.T @ J_k, rtol=0, atol=1e-9 * np.abs(drives_k).max())
+            assert np.linalg.eigvalsh(drives_k - K_k).min() > -1e-9 * np.abs(drives_k).max()
             checked += 1
     assert checked >= 40
 
@@ -190,13 +188,14 @@ def _assert_the_frame_model(m: pkm.Mechanism, other: pkm.Mechanism, frame: dict,
     home = np.asarray(m.functions["home"](m.design_vector(None))).ravel()
     checked = 0
     for mode in m.modes:
-        for pose in home + rng.uniform(-0.15, 0.15, (15, 2)):
-            K = m.stiffness(pose, mode=mode)
-            if not np.all(np.isfinite(K)):
-                continue
+        poses = home + rng.uniform(-0.15, 0.15, (15, 2))
+        K = m.stiffness(poses, mode=mode)
+        in_reach = np.all(np.isfinite(K), axis=(1, 2))
+        for pose, K_k, other_k in zip(poses[in_reach], K[in_reach], other.stiffness(poses[in_reach], mode=mode),
+                                      strict=True):
             want = frame_stiffness(m.linkage(pose, mode=mode), pose, turning=False, **frame)
-            np.testing.assert_allclose(K, want, rtol=0, atol=1e-9 * np.abs(want).max())
-            gap = K - other.stiffness(pose, mode=mode)
+            np.testing.assert_allclose(K_k, want, rtol=0, atol=1e-9 * np.abs(want).max())
+            gap = K_k - other_k
             assert np.linalg.eigvalsh(gap if stiffer else -gap).min() > 0
             checked += 1
     assert checked >= 20
