@@ -71,18 +71,19 @@ def _circle(x: Any, y: Any) -> tuple[Any, Any] | None:
     return None
 
 
-def expanded(data: dict[str, Any], attachments: str = "cartesian") -> tuple[dict[str, Any], list[ErrorParameter]]:
+def expanded(data: dict[str, Any], attachments: str = "cartesian", axes: bool = False
+             ) -> tuple[dict[str, Any], list[ErrorParameter]]:
     """The normalised description with an error parameter added to each leg's attachments and lengths, and
     those parameters: an attachment's errors along x, y and z, or with ``attachments="polar"``, where it is
     placed on a circle, of its circle's radius [m] and its angle on it [rad] (a tower's radius and angle) and
-    along z."""
+    along z; with ``axes``, each drive axis's two tilts (:func:`_tilted`)."""
     if attachments not in ATTACHMENTS:
         raise PkmError(f"attachments violates: one of {', '.join(ATTACHMENTS)}; got {attachments!r}")
     out = copy.deepcopy(dict(data))
     out["legs"] = [copy.deepcopy(leg) for leg in data["legs"]]  # each its own: legs of one table share their joints
     out["name"] = f"{data['name']}_errors" if attachments == "cartesian" else f"{data['name']}_{attachments}_errors"
     out["doc"] = f"{data['doc']}, each leg's geometry with errors of its own"
-    axes = "xyz"
+    named = "xyz"
     errors: list[ErrorParameter] = []
 
     def add(name: str, doc: str, leg: int, unit: str = "m") -> str:
@@ -93,7 +94,7 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian") -> tuple[dict
         for end in ("base", "platform"):
             circle = _circle(*leg[end][:2]) if attachments == "polar" and len(leg[end]) == 3 else None
             if circle is None:
-                leg[end] = [_plus(t, add(f"e_{end}{k}_{axes[c]}", f"leg {k}'s {end} attachment along {axes[c]}", k))
+                leg[end] = [_plus(t, add(f"e_{end}{k}_{named[c]}", f"leg {k}'s {end} attachment along {named[c]}", k))
                             for c, t in enumerate(leg[end])]
                 continue
             rho = _plus(circle[0], add(f"e_{end}{k}_radius", f"leg {k}'s {end} attachment's circle radius", k))
@@ -107,12 +108,42 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian") -> tuple[dict
         for j, joint in enumerate(leg["joints"]):
             link = joint.get("link", [])
             if leg["kind"] == CHAIN and any(not (isinstance(c, int | float) and c == 0) for c in link):
-                joint["link"] = [_plus(t, add(f"e_link{k}_{j + 1}{axes[c]}", f"leg {k}'s link {j + 1} along "
-                                                                             f"{axes[c]} of its joint's frame", k))
+                joint["link"] = [_plus(t, add(f"e_link{k}_{j + 1}{named[c]}", f"leg {k}'s link {j + 1} along "
+                                                                             f"{named[c]} of its joint's frame", k))
                                  for c, t in enumerate(link)]
+        if axes:
+            _tilted(leg, k, add)
     out["parameters"] = [*out["parameters"], *({"name": e.name, "default": 0.0, "lower": -SPAN, "upper": SPAN,
                                                "unit": e.unit, "doc": e.doc} for e in errors)]
     return out, errors
+
+
+def _cross(a: list[Any], b: list[Any]) -> list[Any]:
+    return [["-", ["*", a[(i + 1) % 3], b[(i + 2) % 3]], ["*", a[(i + 2) % 3], b[(i + 1) % 3]]] for i in range(3)]
+
+
+def _turned(u: list[Any], v: list[Any], angle: str) -> list[Any]:
+    """u cos(angle) + v sin(angle), entry by entry (u turned towards v, both unit and at right angles)."""
+    return [["+", ["*", x, ["cos", angle]], ["*", y, ["sin", angle]]] for x, y in zip(u, v, strict=True)]
+
+
+def _tilted(leg: dict[str, Any], k: int, add: Any) -> None:
+    """An R_parallelogram's drive axis a with errors of its own (its arm's zero direction z, n = a x z): turned
+    about z by e_axis<k>_zero, a' = a cos - n sin, then about the normal of a' and z by e_axis<k>_normal, a'' = a'
+    cos + z sin, z' = z cos - a' sin, its arm, rods and parallelogram turned with it: exact rotations, so that the
+    axis stays a unit vector at right angles to the zero direction, which the derivation then never normalises
+    (a chain's axes are normalised by it, and tilted ones made a chain machine's derivation exceed its limit)."""
+    if leg["kind"] != "R_parallelogram":
+        return
+    a, z = leg["axis"], leg["zero"]
+    about_zero = add(f"e_axis{k}_zero", f"leg {k}'s drive axis turned about its arm's zero direction", k, "rad")
+    about_normal = add(f"e_axis{k}_normal", f"leg {k}'s drive axis turned towards its arm's zero direction", k, "rad")
+    first = _turned(a, [["neg", c] for c in _cross(a, z)], about_zero)
+    axis, zero = _turned(first, z, about_normal), _turned(z, [["neg", c] for c in first], about_normal)
+    leg["axis"], leg["zero"] = axis, zero
+    arm, rods = leg["joints"]
+    arm["axes"], arm["link"] = [axis], [["*", leg["arm"], c] for c in zero]
+    rods["axes"], rods["link"] = [axis, _cross(zero, axis)], [["*", leg["rod"], c] for c in zero]
 
 
 class ErrorModel:
@@ -120,13 +151,13 @@ class ErrorModel:
     (:meth:`pkm.Mechanism.described_legs`): ``machine`` the expanded machine, ``parameters`` its geometric
     errors and the drives' zero offsets, in the order of E's columns."""
 
-    def __init__(self, mech: Any, attachments: str = "cartesian") -> None:
+    def __init__(self, mech: Any, attachments: str = "cartesian", axes: bool = False) -> None:
         description = mech.described_legs()
         if description is None:
             raise PkmError(f"mechanism {mech.name} violates: a described machine (pkm.spec), or a hand-derived one "
                            "that gives its legs in the description vocabulary, which pkm expands per leg")
-        data, geometric = expanded(description.data, attachments)
-        self.nominal, self.attachments = mech, attachments
+        data, geometric = expanded(description.data, attachments, axes)
+        self.nominal, self.attachments, self.axes = mech, attachments, axes
         self.machine = mech.variant(data)
         offsets = [ErrorParameter(f"e_zero{k + 1}", unit, f"the zero offset of leg {k + 1}'s drive: its joint less "
                                   "the joint the drive reads", k + 1)
@@ -369,10 +400,11 @@ def batches(samples: int) -> int:
     return -(-samples // MONTE_CARLO_ROWS)
 
 
-def error_model(mech: Any, attachments: str = "cartesian") -> ErrorModel:
+def error_model(mech: Any, attachments: str = "cartesian", axes: bool = False) -> ErrorModel:
     """The mechanism's error model (:class:`ErrorModel`): each attachment's errors along x, y and z, or with
-    ``attachments="polar"``, where it is placed on a circle, of the circle's radius and its angle on it."""
-    return ErrorModel(mech, attachments)
+    ``attachments="polar"``, where it is placed on a circle, of the circle's radius and its angle on it; with
+    ``axes``, each drive axis's two tilts as well (:func:`expanded`: the R_parallelogram legs')."""
+    return ErrorModel(mech, attachments, axes)
 
 
 @dataclass
@@ -591,7 +623,13 @@ def _nearest_assembly(mech: Any, joints: np.ndarray, measured: np.ndarray, desig
 
 
 def _bounded_step(E: np.ndarray, r: np.ndarray, p: np.ndarray, limit: np.ndarray, weight: float) -> np.ndarray:
-    """The step s minimising |E s - r|^2 + weight |p + s|^2 with |p + s| <= limit (IPOPT)."""
+    """The step s minimising |E s - r|^2 + weight |p + s|^2 with |p + s| <= limit: the least-squares step of the
+    stacked system [E; sqrt(weight) I] s = [r; -sqrt(weight) p] where it keeps within the bounds (the problem is
+    convex: a minimiser inside them is theirs too), else IPOPT's."""
+    root = np.sqrt(weight)
+    free = np.linalg.lstsq(np.vstack([E, root * np.eye(len(p))]), np.concatenate([r, -root * p]), rcond=None)[0]
+    if np.all(np.abs(p + free) <= limit):
+        return free
     step = ca.SX.sym("step", len(p))
     residual = ca.DM(E) @ step - ca.DM(r)
     solver = ca.nlpsol("calibration", "ipopt", {"x": step, "f": ca.sumsqr(residual) + weight * ca.sumsqr(p + step)},

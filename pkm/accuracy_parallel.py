@@ -30,7 +30,7 @@ def monte_carlo(model: ErrorModel, pose: Any, deviations: Any, design: Any = Non
                        "for a Monte Carlo run in parallel")
     x, _ = as_batch(pose, m.n_out, "pose")
     widths = dict(zip(model.names, model.deviations(deviations).tolist(), strict=True))
-    tasks = [Draws(reference, model.attachments, x.tolist(), widths, m.design_vector(design).tolist(),
+    tasks = [Draws(reference, model.attachments, model.axes, x.tolist(), widths, m.design_vector(design).tolist(),
                    m.working_mode(mode).name, samples, seed, b) for b in range(batches(samples))]
     with parallel.executor("processes" if executor is None and parallel.scheduler() is None else executor,
                            tasks=len(tasks)) as pool:
@@ -41,11 +41,12 @@ def monte_carlo(model: ErrorModel, pose: Any, deviations: Any, design: Any = Non
 @dataclass(frozen=True)
 class Draws:
     """One batch of a Monte Carlo run, as a worker takes it: the mechanism by its reference
-    (:func:`pkm.registry.reference`), the error model's attachments, the poses, the deviations by name, the
+    (:func:`pkm.registry.reference`), the error model's attachments and axes, the poses, the deviations by name, the
     nominal design vector, the working mode, the run's samples and seed, and the batch."""
 
     mechanism: str
     attachments: str
+    axes: bool
     poses: list[list[float]]
     deviations: dict[str, float]
     design: list[float]
@@ -60,6 +61,6 @@ class Draws:
 
 def draw(task: Draws) -> np.ndarray:
     """A worker's batch: its summed squared pose errors (N, n_out)."""
-    model = error_model(resolve(task.mechanism), task.attachments)
+    model = error_model(resolve(task.mechanism), task.attachments, task.axes)
     return model.squares(np.array(task.poses), task.deviations, np.array(task.design), mode=task.mode,
                          batch=task.batch, samples=task.samples, seed=task.seed)

@@ -28,6 +28,8 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--attachments", choices=ATTACHMENTS, default="cartesian",
                    help="the attachments' errors along x, y, z, or (polar) of their circle's radius and angle where "
                         "placed on one (default: cartesian)")
+    p.add_argument("--axes", action="store_true",
+                   help="the drive axes' tilts too (an R_parallelogram leg's: two angles per arm; default: off)")
     p.add_argument("--parameters", help="the error parameters identified, comma-separated (default: all); the others "
                                         "held at 0")
     p.add_argument("--out", help="folder for calibration.json (default: none); e.g. calibrated")
@@ -69,7 +71,7 @@ def run(args: argparse.Namespace) -> None:
     d = given_design(m, args.design)
     q, x = _read(args.data, m.actuator_names, m.pose_names)
     chosen = None if args.parameters is None else [n.strip() for n in args.parameters.split(",")]
-    found = calibrate(m.error_model(args.attachments), q, x, d, mode=args.mode, parameters=chosen)
+    found = calibrate(m.error_model(args.attachments, args.axes), q, x, d, mode=args.mode, parameters=chosen)
     data = {"mechanism": m.name, "measurements": len(q), **found.__dict__}
     lines = [f"{m.name}: {len(q)} measurements, residual RMS {found.rms_before:.3g} -> {found.rms_after:.3g} "
              f"({found.iterations} steps); {found.rank} of {len(found.errors)} parameters identified"]
