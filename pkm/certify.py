@@ -138,16 +138,21 @@ class _Capsules:
     def lower(self, lo: np.ndarray, hi: np.ndarray) -> float:
         """The least margin's lower bound over the box."""
         (balls,) = self.points([[ball(a, b) for a, b in zip(lo, hi, strict=True)]])
+        boxes: dict[tuple[int, int], list[list[Any]]] = {}
+
+        def pieces(i: int, a: int) -> list[list[Any]]:
+            if (i, a) not in boxes:
+                boxes[i, a] = _pieces(*self._segments(balls, i, a))
+            return boxes[i, a]
+
         least = math.inf
         for i, a, j, b in self.pairs:
-            (p1, q1), (p2, q2) = self._segments(balls, i, a), self._segments(balls, j, b)
-            gap = min(_piece_gap((p1, q1, k), (p2, q2, m)) for k in range(PIECES) for m in range(PIECES))
+            gap = min(_box_gap(one, two) for one in pieces(i, a) for two in pieces(j, b))
             clear = ball(gap, gap) - ball(self.radii[i], self.radii[i]) - ball(self.radii[j], self.radii[j])
             least = min(least, float(clear.lower()) if clear.is_finite() else -math.inf)
         for i, a, rows, radius in self.plates:
-            p, q = self._segments(balls, i, a)
             plate = [functools.reduce(span, (balls[r + self.n * c] for r in rows)) for c in range(self.dim)]
-            gap = min(_plate_gap(p, q, k, plate) for k in range(PIECES))
+            gap = min(_box_gap(one, plate) for one in pieces(i, a))
             clear = ball(gap, gap) - ball(self.radii[i], self.radii[i]) - ball(radius, radius)
             least = min(least, float(clear.lower()) if clear.is_finite() else -math.inf)
         return least
@@ -171,32 +176,21 @@ class _Capsules:
         return least
 
 
-def _piece_gap(first: tuple[list[Any], list[Any], int], second: tuple[list[Any], list[Any], int]) -> float:
-    """A lower bound of the distance between piece k of segment p q and piece m of segment r w (``first`` (p, q,
-    k), ``second`` (r, w, m)): the gap between their boxes (each the union of its ends' balls)."""
-    (p, q, k), (r, w, m) = first, second
-    total = ball(0.0, 0.0)
-    for c in range(len(p)):
-        one = span(p[c] + (q[c] - p[c]) * k / PIECES, p[c] + (q[c] - p[c]) * (k + 1) / PIECES)
-        two = span(r[c] + (w[c] - r[c]) * m / PIECES, r[c] + (w[c] - r[c]) * (m + 1) / PIECES)
-        if not (one.is_finite() and two.is_finite()):
-            return -math.inf
-        gap = two.lower() - one.upper() if two > one else (one.lower() - two.upper() if one > two else None)
-        if gap is not None:
-            total = total + gap**2
-    return float(total.sqrt().lower())
+def _pieces(p: list[Any], q: list[Any]) -> list[list[Any]]:
+    """The boxes of the PIECES pieces of the segment p q (its ends enclosed per coordinate): each per coordinate the
+    union of its ends' balls."""
+    return [[span(p[c] + (q[c] - p[c]) * k / PIECES, p[c] + (q[c] - p[c]) * (k + 1) / PIECES) for c in range(len(p))]
+            for k in range(PIECES)]
 
 
-def _plate_gap(p: list[Any], q: list[Any], k: int, plate: list[Any]) -> float:
-    """A lower bound of the distance between piece k of segment p q and a plate within the box ``plate`` (per
-    coordinate the span of its vertices): the gap between the piece's box and it."""
+def _box_gap(one: list[Any], two: list[Any]) -> float:
+    """A lower bound of the distance between two boxes (per coordinate a ball): the gap between them, -inf where
+    one is not finite."""
     total = ball(0.0, 0.0)
-    for c in range(len(p)):
-        piece = span(p[c] + (q[c] - p[c]) * k / PIECES, p[c] + (q[c] - p[c]) * (k + 1) / PIECES)
-        if not (piece.is_finite() and plate[c].is_finite()):
+    for a, b in zip(one, two, strict=True):
+        if not (a.is_finite() and b.is_finite()):
             return -math.inf
-        gap = (plate[c].lower() - piece.upper() if plate[c] > piece
-               else (piece.lower() - plate[c].upper() if piece > plate[c] else None))
+        gap = b.lower() - a.upper() if b > a else (a.lower() - b.upper() if a > b else None)
         if gap is not None:
             total = total + gap**2
     return float(total.sqrt().lower())
