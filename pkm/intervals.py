@@ -14,6 +14,7 @@ or an undecided choice with one is not finite either.
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -129,14 +130,12 @@ def _square(a: Any) -> Any:
 def _operations() -> dict[int, Callable[..., Any]]:
     arb = _flint().arb
     return {
-        ca.OP_ASSIGN: lambda a: a, ca.OP_ADD: lambda a, b: a + b, ca.OP_SUB: lambda a, b: a - b,
-        ca.OP_MUL: lambda a, b: a * b, ca.OP_DIV: lambda a, b: a / b, ca.OP_NEG: lambda a: -a,
-        ca.OP_EXP: lambda a: a.exp(), ca.OP_LOG: lambda a: a.log(), ca.OP_POW: lambda a, b: a**b,
-        ca.OP_CONSTPOW: lambda a, b: a**b, ca.OP_SQRT: lambda a: a.sqrt(), ca.OP_SQ: _square,
-        ca.OP_TWICE: lambda a: 2 * a, ca.OP_SIN: lambda a: a.sin(), ca.OP_COS: lambda a: a.cos(),
-        ca.OP_TAN: lambda a: a.tan(), ca.OP_ASIN: lambda a: a.asin(), ca.OP_ACOS: lambda a: a.acos(),
-        ca.OP_ATAN: lambda a: a.atan(), ca.OP_ATAN2: arb.atan2,
-        ca.OP_SINH: lambda a: a.sinh(), ca.OP_COSH: lambda a: a.cosh(), ca.OP_TANH: lambda a: a.tanh(),
+        ca.OP_ASSIGN: lambda a: a, ca.OP_ADD: operator.add, ca.OP_SUB: operator.sub, ca.OP_MUL: operator.mul,
+        ca.OP_DIV: operator.truediv, ca.OP_NEG: operator.neg, ca.OP_EXP: arb.exp, ca.OP_LOG: arb.log,
+        ca.OP_POW: operator.pow, ca.OP_CONSTPOW: operator.pow, ca.OP_SQRT: arb.sqrt, ca.OP_SQ: _square,
+        ca.OP_TWICE: lambda a: 2 * a, ca.OP_SIN: arb.sin, ca.OP_COS: arb.cos, ca.OP_TAN: arb.tan, ca.OP_ASIN: arb.asin,
+        ca.OP_ACOS: arb.acos, ca.OP_ATAN: arb.atan, ca.OP_ATAN2: arb.atan2, ca.OP_SINH: arb.sinh, ca.OP_COSH: arb.cosh,
+        ca.OP_TANH: arb.tanh,
         ca.OP_LT: lambda a, b: _less(a, b, True), ca.OP_LE: lambda a, b: _less(a, b, False),
         ca.OP_EQ: lambda a, b: _truth(a == b, a != b), ca.OP_NE: lambda a, b: _truth(a != b, a == b),
         ca.OP_NOT: lambda a: 1 - _truth_of(a), ca.OP_AND: lambda a, b: _minimum(_truth_of(a), _truth_of(b)),
@@ -185,7 +184,7 @@ def enclosure(fn: ca.Function) -> Callable[[Sequence[Sequence[Any]]], list[list[
         for at, port, entry in reads:
             work[at] = inputs[port][entry]
         for function, a, b, at in steps:
-            work[at] = function(work[a]) if b < 0 else function(work[a], work[b])
+            work[at] = function(work[a], work[b]) if b >= 0 else function(work[a])
         outputs = [[arb(0)] * n for n in shapes]
         for port, entry, at in writes:
             outputs[port][entry] = work[at]
