@@ -56,12 +56,14 @@ def test_eval_and_export_take_the_result_design(files, capsys, tmp_path):
 
 def test_show_compare_and_atlas_take_the_task_region(files, capsys, tmp_path):
     task, result, _ = files
+    # the maps at a coarse resolution: the region and the design read are the point here
     card = _json(capsys, ["show", "five_bar", "--region", str(task), "--design", str(result), "--mode", "out_out",
-                          "--out", str(tmp_path / "card")])
+                          "--resolution", "11", "--out", str(tmp_path / "card")])
     assert card["region"] == "task"
     assert card["placement"]["centre"] == pytest.approx([0.0, 1.4])
     both = _json(capsys, ["compare", "five_bar", "--region", str(task), "--design", str(result), "--design",
-                          "r1=1.2,r2=1.0", "--mode", "out_out", "--out", str(tmp_path / "compare")])
+                          "r1=1.2,r2=1.0", "--mode", "out_out", "--resolution", "11", "--out",
+                          str(tmp_path / "compare")])
     assert len(both["designs"]) == 2
     atlas = _json(capsys, ["atlas", "five_bar", "gci", "--region", str(task), "--axes", "r1=1:1.4,r2=0.8:1.2",
                            "--resolution", "5", "--modes", "out_out", "--out", str(tmp_path / "atlas")])
@@ -75,8 +77,9 @@ def test_synth_and_pareto_take_the_task_file(files, capsys):
     synth = _json(capsys, ["synth", str(task)])
     assert synth["problem"] == "five_bar.my_disc"
     assert synth["design"] == pytest.approx(record["design"], rel=1e-6)
+    # at a fixed resolution, unpolished: the problem read is the point here (tests/test_pareto.py polishes)
     front = _json(capsys, ["pareto", str(task), "--secondary", "inverse_condition_f_min", "--points", "3",
-                           "--baselines", ""])
+                           "--resolution", "4", "--baselines", ""])
     assert front["problem"] == "five_bar.my_disc"
     assert len(front["points"]) >= 2
 
