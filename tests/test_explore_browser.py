@@ -88,13 +88,12 @@ def server():
     running.shutdown()
 
 
-@pytest.fixture
-def page(browser):
-    """A page whose requests to anywhere but this machine are aborted; ``page.blocked`` lists them."""
+def _open(browser):
+    """A page whose requests to anywhere but this machine are aborted; ``page.blocked`` lists them and
+    ``page.errors`` its uncaught errors."""
     context = browser.new_context(viewport={"width": 1400, "height": 1000})
     opened = context.new_page()
-    opened.blocked = []
-    errors = []
+    opened.blocked, opened.errors = [], []
 
     def local_only(route):
         parts = urlsplit(route.request.url)
@@ -105,13 +104,66 @@ def page(browser):
             route.abort()
 
     def record(error):  # playwright wraps a listener in attributes that a builtin method cannot take
-        errors.append(error)
+        opened.errors.append(error)
 
     opened.route("**/*", local_only)
     opened.on("pageerror", record)
+    return opened
+
+
+@pytest.fixture
+def page(browser):
+    """A page of its own (a context of its own), closed after the test."""
+    opened = _open(browser)
     yield opened
-    context.close()
-    assert errors == []
+    opened.context.close()
+    assert opened.errors == []
+
+
+@pytest.fixture(scope="module")
+def server_page(browser, server):
+    opened = _open(browser)
+    opened.goto(server.url)
+    opened.wait_for_function(LOADED, timeout=60_000)
+    yield opened
+    opened.context.close()
+
+
+@pytest.fixture(scope="module")
+def busy_state(browser):
+    state = {}
+    yield state
+    if state:
+        state["server"].shutdown()
+        state["page"].context.close()
+
+
+@pytest.fixture
+def busy(busy_state, browser):
+    """A server whose atlas (lambda_e at 81 x 81 designs) is computed long enough to be cancelled or stopped,
+    and a page for it, kept for the next test: the cancel test leaves the server serving and the stop test, after
+    it, loads the page from the same address (a second load of plotly's script from one address is a quarter of
+    the first) and stops it; a test that finds the server stopped starts another."""
+    if not busy_state or busy_state["server"].explorer.closed:
+        if busy_state:
+            busy_state["server"].shutdown()
+        busy_state["server"] = serve("five_bar", index="lambda_e", resolution=81, map_resolution=48)
+    if "page" not in busy_state:
+        busy_state["page"] = _open(browser)
+    page = busy_state["page"]
+    before = len(page.errors)
+    yield busy_state["server"], page
+    assert page.errors[before:] == []
+
+
+@pytest.fixture
+def loaded(server_page):
+    """The module server's page, loaded once (each load is about a second of plotly's script in chromium) and
+    shared by the tests that read it and point at it, in this order: the titles, the pose out of reach, then the
+    click, which changes the index; each test's uncaught errors are checked after it."""
+    before = len(server_page.errors)
+    yield server_page
+    assert server_page.errors[before:] == []
 
 
 def _design(atlas: dict, node: tuple[int, int]) -> dict[str, float]:
@@ -130,10 +182,65 @@ def _assert_map_is_the_local_index(mech, shown: dict) -> None:
     assert np.isfinite(expected).sum() > 50
 
 
-def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, tmp_path):
+def _hover(page, plot: str, u: float, v: float) -> str:
+    """The tooltip of the plot at (u, v) of its axes."""
+    page.mouse.move(0, 0)
+    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 0", arg=plot)
+    point = page.evaluate(PIXEL, [plot, u, v])
+    page.mouse.move(point["x"], point["y"])
+    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 1", arg=plot)
+    return page.evaluate(TOOLTIPS, plot)[0]
+
+
+def _wait(page, event: threading.Event, timeout: float) -> bool:
+    """Wait for an event of the server's threads while playwright serves the page (its routes run in this
+    thread): whether it came within ``timeout`` seconds."""
+    deadline = time.monotonic() + timeout
+    while not event.is_set() and time.monotonic() < deadline:
+        page.wait_for_timeout(20)
+    return event.is_set()
+
+
+def test_the_titles_clear_the_mode_bar_and_the_held_placeholders_fit(loaded):
+    page = loaded
+    for plot in ("atlas", "map"):
+        title, bar = page.evaluate(TITLE_AND_MODE_BAR, plot)
+        apart = title[2] <= bar[0] or bar[2] <= title[0] or title[3] <= bar[1] or bar[3] <= title[1]
+        assert apart, f"the {plot}'s title {title} overlaps its mode bar {bar}"
+    placeholders = page.evaluate(PLACEHOLDERS)
+    assert placeholders, "five_bar's masses follow the chart of Gao's space"
+    for name, needed, room in placeholders:
+        assert needed <= room, f"the placeholder of {name} needs {needed:.0f} px of {room:.0f}"
+
+
+def test_a_pose_out_of_reach_under_the_pointer_says_so_and_gaps_show_no_value(loaded):
+    page = loaded
+    shown = page.evaluate("(() => { const m = window.pkmExplore.map; return {u: m.u, v: m.v, z: m.z, "
+                          "index: m.index}; })()")
+    z = np.array(shown["z"], dtype=float)
+    inner = np.zeros_like(z, dtype=bool)
+    inner[2:-2, 2:-2] = True
+    gap = np.argwhere(np.isnan(z) & inner)[0]
+    reached = np.argwhere(np.isfinite(z) & inner)[len(np.argwhere(np.isfinite(z) & inner)) // 2]
+    tooltip = _hover(page, "map", shown["u"][gap[1]], shown["v"][gap[0]])
+    assert tooltip.endswith("out of reach")
+    assert shown["index"] not in tooltip
+    page.wait_for_function("document.getElementById('map-note').textContent.includes('is out of reach in mode')")
+    assert "no drawing" not in page.inner_text("#map-note")
+    tooltip = _hover(page, "map", shown["u"][reached[1]], shown["v"][reached[0]])
+    assert re.search(rf"{shown['index']} [0-9.e-]+$", tooltip), tooltip
+    page.wait_for_function("!document.getElementById('map-note').textContent.includes('out of reach')")
+    page.wait_for_function("document.getElementById('map-note').textContent.includes('2 real assemblies at these "
+                           "joints')")
+    assert "other assemblies at these joints" in page.inner_text("#map-note")
+    atlas = page.evaluate("window.pkmExplore.atlas")
+    assert atlas["designs"][0][0] is None
+    assert _hover(page, "atlas", atlas["u"][0], atlas["v"][0]).endswith("outside the design space")
+
+
+def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(loaded, tmp_path):
+    page = loaded
     five_bar = pkm.load("five_bar")
-    page.goto(server.url)
-    page.wait_for_function(LOADED, timeout=60_000)
     page.wait_for_function("window.pkmExplore.optimum", timeout=60_000)
     assert "optimum of five_bar.max_gci_miw" in page.inner_text("#atlas-note")
     atlas = page.evaluate("window.pkmExplore.atlas")
@@ -161,6 +268,9 @@ def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, t
     assert (shown_map["index"], shown_map["mode"]) == ("inverse_condition_f", mode)
     _assert_map_is_the_local_index(five_bar, shown_map)
 
+    # the pointer off the atlas: the new index's atlas is laid out anew and its cells move (30 px at 1400 x 1000),
+    # so a pointer left on the clicked cell would hover the next one and, a moment later, show its design
+    page.mouse.move(0, 0)
     page.select_option("#index", "gamma_max")
     page.wait_for_function("window.pkmExplore.atlas.index === 'gamma_max' && window.pkmExplore.map.index === "
                            "'velocity_max'", timeout=60_000)
@@ -175,66 +285,26 @@ def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(page, server, t
     assert page.blocked == []
 
 
-def _hover(page, plot: str, u: float, v: float) -> str:
-    """The tooltip of the plot at (u, v) of its axes."""
-    page.mouse.move(0, 0)
-    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 0", arg=plot)
-    point = page.evaluate(PIXEL, [plot, u, v])
-    page.mouse.move(point["x"], point["y"])
-    page.wait_for_function(f"(id) => ({TOOLTIPS})(id).length === 1", arg=plot)
-    return page.evaluate(TOOLTIPS, plot)[0]
+def test_cancel_stops_the_atlas_in_flight_and_the_page_goes_on(busy, monkeypatch):
+    """The Cancel button, shown while the atlas is computed: the server cancels it (not an error on the page),
+    and the page then draws the atlas of another index."""
+    running, page = busy
+    started, ended = watch_atlas(monkeypatch)
+    page.goto(running.url)
+    assert _wait(page, started, 120), "the page asked for its atlas"
+    assert page.is_visible("#cancel")
+    page.click("#cancel")
+    page.wait_for_function("document.getElementById('status').textContent.includes('cancelled')")
+    assert _wait(page, ended, 5), "the atlas of lambda_e at 81 x 81 designs was cancelled"
+    assert page.evaluate("window.pkmExplore.errors") == []
+    assert not page.is_visible("#cancel")
+    page.select_option("#index", "gci")
+    page.wait_for_function("window.pkmExplore.drawn.atlas >= 1", timeout=60_000)
+    assert not running.explorer.closed
 
 
-def _wait(page, event: threading.Event, timeout: float) -> bool:
-    """Wait for an event of the server's threads while playwright serves the page (its routes run in this
-    thread): whether it came within ``timeout`` seconds."""
-    deadline = time.monotonic() + timeout
-    while not event.is_set() and time.monotonic() < deadline:
-        page.wait_for_timeout(20)
-    return event.is_set()
-
-
-def test_the_titles_clear_the_mode_bar_and_the_held_placeholders_fit(page, server):
-    page.goto(server.url)
-    page.wait_for_function(LOADED, timeout=60_000)
-    for plot in ("atlas", "map"):
-        title, bar = page.evaluate(TITLE_AND_MODE_BAR, plot)
-        apart = title[2] <= bar[0] or bar[2] <= title[0] or title[3] <= bar[1] or bar[3] <= title[1]
-        assert apart, f"the {plot}'s title {title} overlaps its mode bar {bar}"
-    placeholders = page.evaluate(PLACEHOLDERS)
-    assert placeholders, "five_bar's masses follow the chart of Gao's space"
-    for name, needed, room in placeholders:
-        assert needed <= room, f"the placeholder of {name} needs {needed:.0f} px of {room:.0f}"
-
-
-def test_a_pose_out_of_reach_under_the_pointer_says_so_and_gaps_show_no_value(page, server):
-    page.goto(server.url)
-    page.wait_for_function(LOADED, timeout=60_000)
-    shown = page.evaluate("(() => { const m = window.pkmExplore.map; return {u: m.u, v: m.v, z: m.z, "
-                          "index: m.index}; })()")
-    z = np.array(shown["z"], dtype=float)
-    inner = np.zeros_like(z, dtype=bool)
-    inner[2:-2, 2:-2] = True
-    gap = np.argwhere(np.isnan(z) & inner)[0]
-    reached = np.argwhere(np.isfinite(z) & inner)[len(np.argwhere(np.isfinite(z) & inner)) // 2]
-    tooltip = _hover(page, "map", shown["u"][gap[1]], shown["v"][gap[0]])
-    assert tooltip.endswith("out of reach")
-    assert shown["index"] not in tooltip
-    page.wait_for_function("document.getElementById('map-note').textContent.includes('is out of reach in mode')")
-    assert "no drawing" not in page.inner_text("#map-note")
-    tooltip = _hover(page, "map", shown["u"][reached[1]], shown["v"][reached[0]])
-    assert re.search(rf"{shown['index']} [0-9.e-]+$", tooltip), tooltip
-    page.wait_for_function("!document.getElementById('map-note').textContent.includes('out of reach')")
-    page.wait_for_function("document.getElementById('map-note').textContent.includes('2 real assemblies at these "
-                           "joints')")
-    assert "other assemblies at these joints" in page.inner_text("#map-note")
-    atlas = page.evaluate("window.pkmExplore.atlas")
-    assert atlas["designs"][0][0] is None
-    assert _hover(page, "atlas", atlas["u"][0], atlas["v"][0]).endswith("outside the design space")
-
-
-def test_stop_server_cancels_the_atlas_in_flight_and_the_page_says_stopped(page, monkeypatch):
-    running = serve("five_bar", index="lambda_e", resolution=81, map_resolution=48)
+def test_stop_server_cancels_the_atlas_in_flight_and_the_page_says_stopped(busy, monkeypatch):
+    running, page = busy
     started, ended = watch_atlas(monkeypatch)
     page.goto(running.url)
     assert _wait(page, started, 120), "the page asked for its atlas"
@@ -249,26 +319,6 @@ def test_stop_server_cancels_the_atlas_in_flight_and_the_page_says_stopped(page,
     assert page.evaluate("window.pkmExplore.errors") == []
     assert page.is_disabled("#stop")
     assert page.is_disabled("#index")
-    running.shutdown()
-
-
-def test_cancel_stops_the_atlas_in_flight_and_the_page_goes_on(page, monkeypatch):
-    """The Cancel button, shown while the atlas is computed: the server cancels it (not an error on the page),
-    and the page then draws the atlas of another index."""
-    running = serve("five_bar", index="lambda_e", resolution=81, map_resolution=48)
-    started, ended = watch_atlas(monkeypatch)
-    page.goto(running.url)
-    assert _wait(page, started, 120), "the page asked for its atlas"
-    assert page.is_visible("#cancel")
-    page.click("#cancel")
-    page.wait_for_function("document.getElementById('status').textContent.includes('cancelled')")
-    assert _wait(page, ended, 5), "the atlas of lambda_e at 81 x 81 designs was cancelled"
-    assert page.evaluate("window.pkmExplore.errors") == []
-    assert not page.is_visible("#cancel")
-    page.select_option("#index", "gci")
-    page.wait_for_function("window.pkmExplore.drawn.atlas >= 1", timeout=60_000)
-    assert not running.explorer.closed
-    running.shutdown()
 
 
 def test_the_static_export_shows_the_atlas_and_a_card_offline(page, server, tmp_path):

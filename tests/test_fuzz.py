@@ -4,10 +4,11 @@ a result or with its own error, never with a traceback or Python's, numpy's or C
 Properties: in-process ``pkm.cli.main`` and the real ``pkm`` executable exit with 0, 1 or 2 and print no
 traceback, and a ``--json`` run that exits 0 or 1 prints valid JSON (when it prints); the API returns or
 raises a :class:`pkm.PkmError` or :class:`pkm.ComputationError`, and an empty batch gives an empty result.
-Hypothesis runs derandomized (a fixed seed). Inputs: 600 command lines of the eight commands with junk and
-edge values for every option (the scheduler's included), and for ``eval`` and ``index`` with each registered
-mechanism's own pose width, parameters, bounds, modes, indices and regions; 250 token soups, 400 API calls
-drawn from each mechanism's widths and names, and 24 runs of the executable: 1,274 in all.
+Hypothesis runs derandomized (a fixed seed), the generated cases ten to an example. Inputs: 600 command lines
+of the eight commands with junk and edge values for every option (the scheduler's included), and for ``eval``
+and ``index`` with each registered mechanism's own pose width, parameters, bounds, modes, indices and regions;
+250 token soups, 400 API calls drawn from each mechanism's widths and names, and 24 listed command lines (4
+run by the executable, 20 in-process): 1,274 in all.
 Atlases, sweeps, syntheses and reproductions always carry one value they must refuse before any work
 (their runs on valid input are tested in test_cli.py, test_atlas.py and test_reproduce.py).
 """
@@ -37,6 +38,7 @@ from pkm.cli import main
 from pkm.errors import ComputationError, PkmError
 
 MECHANISMS = {name: pkm.load(name) for name in pkm.mechanisms()}
+PER_EXAMPLE = 10  # cases drawn in one hypothesis example (which costs half a millisecond of its own: seeding, records)
 PKM = Path(sys.executable).with_name("pkm")
 
 
@@ -139,25 +141,25 @@ def command_line(folder: Path) -> st.SearchStrategy[list[str]]:
             option("--pose-resolution", count), option("--tolerance", fraction), option("--min-points", count),
             option("--min-fraction", fraction), option("--executor", st.sampled_from(["auto", "serial", "x"])),
             outs(folder)]
+    # a mechanism's own poses, designs and modes: its widths and names, values at their edges (each mechanism's
+    # strategies built once, here: a strategy built in a flatmap is built and validated again at every draw)
+    own_eval = {name: build("eval", [st.just(name)], [
+        st.lists(option("--pose", own_pose(mech)), max_size=3).map(lambda ps: [t for p in ps for t in p]),
+        option("--design", own_design(mech)), option("--mode", own(mech.modes)), flag("--strict"),
+    ]) for name, mech in sorted(MECHANISMS.items())}
+    own_index = {name: build("index", [st.just(name), own(mech.global_indices())], [
+        option("--design", own_design(mech)), option("--mode", own(mech.modes)),
+        option("--region", own(mech.region_names())),
+        st.sampled_from(["2", "3"]).map(lambda r: ["--resolution", r]), flag("--gradient"),
+    ]) for name, mech in sorted(MECHANISMS.items())}
     return st.one_of(
         build("list", [], []),
         build("eval", [named("mechanism")], [
             st.lists(option("--pose", pose_text), max_size=3).map(lambda ps: [t for p in ps for t in p]),
             option("--design", design_text), option("--mode", named("mode")), flag("--strict"),
         ]),
-        # a mechanism's own poses, designs and modes: its widths and names, values at their edges
-        st.sampled_from(sorted(MECHANISMS)).flatmap(lambda name: build("eval", [st.just(name)], [
-            st.lists(option("--pose", own_pose(MECHANISMS[name])), max_size=3).map(
-                lambda ps: [t for p in ps for t in p]),
-            option("--design", own_design(MECHANISMS[name])), option("--mode", own(MECHANISMS[name].modes)),
-            flag("--strict"),
-        ])),
-        st.sampled_from(sorted(MECHANISMS)).flatmap(lambda name: build("index", [st.just(name), own(
-            MECHANISMS[name].global_indices())], [
-            option("--design", own_design(MECHANISMS[name])), option("--mode", own(MECHANISMS[name].modes)),
-            option("--region", own(MECHANISMS[name].region_names())),
-            st.sampled_from(["2", "3"]).map(lambda r: ["--resolution", r]), flag("--gradient"),
-        ])),
+        st.sampled_from(sorted(MECHANISMS)).flatmap(own_eval.__getitem__),
+        st.sampled_from(sorted(MECHANISMS)).flatmap(own_index.__getitem__),
         build("build", [junk.filter(lambda k: k not in MECHANISMS)], []),
         build("index", [named("mechanism"), named("index")], [
             option("--design", design_text), option("--mode", named("mode")), option("--region", named("region")),
@@ -220,18 +222,20 @@ def folder(tmp_path_factory):
 
 
 def test_the_commands_answer_junk_with_an_exit_status_and_one_line(folder):
-    @fuzz(600)
-    @given(command_line(folder))
-    def check(argv):
-        check_cli(argv, *run_cli(argv))
+    @fuzz(600 // PER_EXAMPLE)
+    @given(st.lists(command_line(folder), min_size=PER_EXAMPLE, max_size=PER_EXAMPLE))
+    def check(argvs):
+        for argv in argvs:
+            check_cli(argv, *run_cli(argv))
 
     check()
 
 
-@fuzz(250)
-@given(st.lists(st.sampled_from(TOKENS) | text, max_size=6))
-def test_token_soup_gets_an_exit_status_and_no_traceback(argv):
-    check_cli(argv, *run_cli(argv))
+@fuzz(250 // PER_EXAMPLE)
+@given(st.lists(st.lists(st.sampled_from(TOKENS) | text, max_size=6), min_size=PER_EXAMPLE, max_size=PER_EXAMPLE))
+def test_token_soup_gets_an_exit_status_and_no_traceback(argvs):
+    for argv in argvs:
+        check_cli(argv, *run_cli(argv))
 
 
 # ---- the API ----------------------------------------------------------------------------------------
@@ -350,30 +354,33 @@ def api_call(draw, mech):
     return None, lambda: pkm.design.parse_design(text_design)
 
 
-@fuzz(400)
+@fuzz(400 // PER_EXAMPLE)
 @given(st.data())
 def test_the_api_answers_junk_with_a_result_or_its_own_error(data):
-    mech = MECHANISMS[data.draw(st.sampled_from(sorted(MECHANISMS)))]
-    x, call = api_call(data.draw, mech)
-    try:
-        result = call()
-    except (PkmError, ComputationError):
-        return
-    if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 2 and len(x) == 0:
-        assert all(len(a) == 0 for a in (result.values() if isinstance(result, dict) else [result])
-                   if isinstance(a, np.ndarray))
+    for _ in range(PER_EXAMPLE):
+        mech = MECHANISMS[data.draw(st.sampled_from(sorted(MECHANISMS)))]
+        x, call = api_call(data.draw, mech)
+        try:
+            result = call()
+        except (PkmError, ComputationError):
+            continue
+        if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 2 and len(x) == 0:
+            assert all(len(a) == 0 for a in (result.values() if isinstance(result, dict) else [result])
+                       if isinstance(a, np.ndarray))
 
 
 # ---- the executable ---------------------------------------------------------------------------------
 
+# the console script: version, a success in JSON, input refused by argparse and by pkm (each run is mostly the
+# interpreter's start-up; what the script adds to main is the same for every command line)
 EXECUTABLE_RUNS = [
-    ["--version"], ["--help"], [], ["list", "--color"],
-    ["eval", "five_bar", "--pose", "-0.3,1.9", "--json"], ["eval", "five_bar", "--pose", "3,3", "--strict"],
-    ["eval", "five_bar", "--pose", "nan,1", "--json"], ["eval", "six_bar", "--pose", "0,1"],
-    ["index", "five_bar", "gci", "--region", "miw", "--resolution", "2", "--gradient", "--json"],
+    ["--version"], ["eval", "five_bar", "--pose", "-0.3,1.9", "--json"], ["list", "--color"],
     ["synth", "five_bar.max_gci_miw", "--starts", "0", "--json"],
 ]
 LISTED_RUNS = [
+    ["--help"], [], ["eval", "five_bar", "--pose", "3,3", "--strict"],
+    ["eval", "five_bar", "--pose", "nan,1", "--json"], ["eval", "six_bar", "--pose", "0,1"],
+    ["index", "five_bar", "gci", "--region", "miw", "--resolution", "2", "--gradient", "--json"],
     ["eval", "--help"], ["eval", "five_bar", "--pose", "0.1,1.5,2"], ["eval", "five_bar", "--pose", "3,3", "--json"],
     ["eval", "five_bar", "--pose", "0.1,1.5", "--design", "r1=1e308"],
     ["eval", "five_bar", "--pose", "0.1,1.5", "--design", "r1=1,r1=2", "--json"],
@@ -386,14 +393,14 @@ LISTED_RUNS = [
 ]
 
 
-@pytest.mark.parametrize("argv", LISTED_RUNS, ids=" ".join)
+@pytest.mark.parametrize("argv", LISTED_RUNS, ids=lambda argv: " ".join(argv) or "(no arguments)")
 def test_listed_command_lines_answer_with_an_exit_status_and_one_line(argv, folder):
     check_cli(argv, *run_cli(argv))
 
 
 def test_the_executable_answers_with_an_exit_status_and_no_traceback(tmp_path):
-    """The console script itself, two runs at a time (each is mostly interpreter start-up): a success, input
-    refused, a failure, help and version; the other listed command lines run in-process."""
+    """The console script itself, two runs at a time (each is mostly interpreter start-up): version, a success,
+    input refused by argparse and by pkm; the other listed command lines run in-process."""
 
     def run(argv: list[str]) -> subprocess.CompletedProcess:
         return subprocess.run([str(PKM), *argv], cwd=tmp_path, capture_output=True, text=True, timeout=120,
