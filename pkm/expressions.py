@@ -20,6 +20,7 @@ import math
 import warnings
 from collections.abc import Callable, Collection, Mapping
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import casadi as ca
@@ -59,9 +60,22 @@ class ExpressionError(PkmError):
 
 def parse(text: str) -> Tree:
     """The tree of ``text``: :class:`ExpressionError` where it is not arithmetic of names, numbers and
-    :data:`FUNCTIONS` within :data:`LIMITS`, or a constant part of it has no finite real value."""
+    :data:`FUNCTIONS` within :data:`LIMITS`, or a constant part of it has no finite real value. A text's tree is
+    kept (the last PARSED texts' trees; each call gets a copy of its own)."""
     if not isinstance(text, str):
         raise ExpressionError("text")
+    return _copied(_parsed(text))
+
+
+PARSED = 4096  # texts whose trees parse keeps
+
+
+def _copied(tree: Tree) -> Tree:
+    return [tree[0], *map(_copied, tree[1:])] if isinstance(tree, list) else tree
+
+
+@lru_cache(maxsize=PARSED)
+def _parsed(text: str) -> Tree:
     if len(text) > LIMITS["characters"]:
         raise ExpressionError(f"at most {LIMITS['characters']} characters (this has {len(text)})")
     try:
@@ -71,7 +85,9 @@ def parse(text: str) -> Tree:
                               f"{', '.join(FUNCTIONS)}); it is not") from None
     count = [0]
     tree = _tree(node, 0, count)
-    _constant(tree)
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        _constant(tree)
     return tree
 
 
@@ -108,7 +124,7 @@ def _tree(node: ast.AST, depth: int, count: list[int]) -> Tree:
 
 def _constant(tree: Tree) -> float | None:
     """The value of a tree without names (None where it has names), every constant part checked finite and
-    real, a constant exponent within the limit."""
+    real, a constant exponent within the limit (numpy's warnings silenced by the caller)."""
     if isinstance(tree, int | float):
         return float(tree)
     if isinstance(tree, str):
@@ -119,9 +135,7 @@ def _constant(tree: Tree) -> float | None:
         raise ExpressionError(f"exponents of at most {LIMITS['exponent']:g} in magnitude; {values[1]:g} is not")
     if any(v is None for v in values):
         return None
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        value = float(_apply(op, [np.float64(v) for v in values], NUMPY.functions))
+    value = float(_apply(op, [np.float64(v) for v in values], NUMPY.functions))
     if not math.isfinite(value):
         raise ExpressionError(f"a finite real value in every constant part; {text(tree)} has none")
     return value
