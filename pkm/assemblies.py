@@ -340,17 +340,19 @@ def _terms(phi: np.ndarray, loci: Loci, points: np.ndarray) -> tuple[np.ndarray,
     const (N, M, 3), m and rhs."""
     w = _turned(phi, points)
     alpha, gamma = loci.alpha[:, None, :], loci.gamma[:, None, :]
-    const = alpha * np.sum(w**2, axis=-1) + np.sum(loci.beta[:, None] * w, axis=-1) + gamma
-    grad = 2 * alpha[..., None] * w + loci.beta[:, None]
+    beta = loci.beta[:, None]
+    u, v = w[..., 0], w[..., 1]  # the sums over two coordinates written out: numpy's reductions cost more
+    const = alpha * (u * u + v * v) + beta[..., 0] * u + beta[..., 1] * v + gamma
+    grad = 2 * alpha[..., None] * w + beta
     m = grad[..., 1:, :] - alpha[..., 1:, None] * grad[..., :1, :]
     rhs = -(const[..., 1:] - alpha[..., 1:] * const[..., :1])
     det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
-    num = np.stack([m[..., 1, 1] * rhs[..., 0] - m[..., 0, 1] * rhs[..., 1],
-                    m[..., 0, 0] * rhs[..., 1] - m[..., 1, 0] * rhs[..., 0]], axis=-1)
+    nx = m[..., 1, 1] * rhs[..., 0] - m[..., 0, 1] * rhs[..., 1]
+    ny = m[..., 0, 0] * rhs[..., 1] - m[..., 1, 0] * rhs[..., 0]
     first = alpha[..., 0]  # 1 where the first curve is a circle; 0 where all are lines, then f = g_1(N / D) D
-    f = first * np.sum(num**2, axis=-1) + (first * det + 1 - first) * (np.sum(num * grad[..., 0, :], axis=-1)
-                                                                       + det * const[..., 0])
-    return f, num, det, grad, const, m, rhs
+    f = first * (nx * nx + ny * ny) + (first * det + 1 - first) * (nx * grad[..., 0, 0] + ny * grad[..., 0, 1]
+                                                                   + det * const[..., 0])
+    return f, np.stack([nx, ny], axis=-1), det, grad, const, m, rhs
 
 
 def _half_angle_matrix() -> np.ndarray:
@@ -478,9 +480,12 @@ def _newton_step(x: np.ndarray, loci: Loci, points: np.ndarray) -> np.ndarray:
     step leaves the row."""
     offset, turning = _offsets(x, points)
     alpha, gamma = loci.alpha[:, None, :], loci.gamma[:, None, :]
-    g = alpha * np.sum(offset**2, axis=-1) + np.sum(loci.beta[:, None] * offset, axis=-1) + gamma
-    grad = 2 * alpha[..., None] * offset + loci.beta[:, None]
-    jacobian = np.concatenate([grad, np.sum(grad * turning, axis=-1, keepdims=True)], axis=-1)
+    beta = loci.beta[:, None]
+    u, v = offset[..., 0], offset[..., 1]
+    g = alpha * (u * u + v * v) + beta[..., 0] * u + beta[..., 1] * v + gamma
+    grad = 2 * alpha[..., None] * offset + beta
+    turns = grad[..., 0] * turning[..., 0] + grad[..., 1] * turning[..., 1]
+    jacobian = np.concatenate([grad, turns[..., None]], axis=-1)
     finite = np.all(np.isfinite(jacobian), axis=(-2, -1)) & (np.abs(np.linalg.det(
         np.where(np.isfinite(jacobian), jacobian, 0.0))) > 0)
     step = np.zeros_like(x)
@@ -526,10 +531,17 @@ def real_roots(loci: Loci, points: np.ndarray) -> int | None:
     except ImportError:
         raise PkmError("certify violates: python-flint installed (pip install python-flint), whose exact "
                        "arithmetic certifies the count") from None
-    values = [_sextic_at(Fraction(t), loci, points) for t in INTERPOLATION]
+
+    def exact(value: float) -> Any:
+        ratio = Fraction(float(value))
+        return flint.fmpq(ratio.numerator, ratio.denominator)
+
+    rows = Loci(*(np.vectorize(exact, otypes=[object])(v) for v in loci.rows(0)))
+    corners = np.vectorize(exact, otypes=[object])(points)
+    values = [_sextic_at(flint.fmpq(t), rows, corners) for t in INTERPOLATION]
     sextic = flint.fmpq_poly(0)
     for k, (t, value) in enumerate(zip(INTERPOLATION, values, strict=True)):
-        term = flint.fmpq_poly([flint.fmpq(value.numerator, value.denominator)])
+        term = flint.fmpq_poly([value])
         for j, other in enumerate(INTERPOLATION):
             if j != k:
                 term *= flint.fmpq_poly([-other, 1]) / (t - other)
@@ -543,16 +555,14 @@ def real_roots(loci: Loci, points: np.ndarray) -> int | None:
     return len(roots) + dropped
 
 
-def _sextic_at(t: Fraction, loci: Loci, points: np.ndarray) -> Fraction:
-    """(1 + t^2)^3 f at t, exactly (:func:`_terms`): cos and sin of phi(t) rational in t, the inputs the exact
-    values of their floats, f by Cramer's rule."""
+def _sextic_at(t: Any, loci: Loci, points: np.ndarray) -> Any:
+    """(1 + t^2)^3 f at t, exactly (:func:`_terms`): cos and sin of phi(t) rational in t, f by Cramer's rule; t,
+    one row of ``loci`` and ``points`` exact rationals (python-flint's fmpq)."""
     cos, sin = (1 - t * t) / (1 + t * t), 2 * t / (1 + t * t)
-    alpha = [Fraction(float(a)) for a in loci.alpha[0]]
-    beta = [(Fraction(float(b[0])), Fraction(float(b[1]))) for b in loci.beta[0]]
-    w = [(cos * Fraction(float(c[0])) - sin * Fraction(float(c[1])),
-          sin * Fraction(float(c[0])) + cos * Fraction(float(c[1]))) for c in points]
-    const = [a * (u * u + v * v) + b[0] * u + b[1] * v + Fraction(float(g))
-             for a, b, (u, v), g in zip(alpha, beta, w, loci.gamma[0], strict=True)]
+    alpha, beta = loci.alpha, loci.beta
+    w = [(cos * c[0] - sin * c[1], sin * c[0] + cos * c[1]) for c in points]
+    const = [a * (u * u + v * v) + b[0] * u + b[1] * v + g
+             for a, b, (u, v), g in zip(alpha, beta, w, loci.gamma, strict=True)]
     grad = [(2 * a * u + b[0], 2 * a * v + b[1]) for a, b, (u, v) in zip(alpha, beta, w, strict=True)]
     m = [[grad[k][0] - alpha[k] * grad[0][0], grad[k][1] - alpha[k] * grad[0][1]] for k in (1, 2)]
     rhs = [-(const[k] - alpha[k] * const[0]) for k in (1, 2)]
