@@ -371,7 +371,8 @@ def test_a_condition_of_the_design_refuses_a_design_that_violates_it_naming_it()
 def test_a_seed_table_is_kept_beside_the_derived_module_and_read_back_by_a_later_process(monkeypatch):
     """The first forward kinematics at a design searches its seeds and keeps them in the cache; a later process (its
     tables and solutions in memory cleared) reads them back and finds the same assemblies without searching; a file
-    that cannot be read is searched again and replaced; another design has a table of its own."""
+    that cannot be read is searched again and replaced; another design has a table of its own, and beyond
+    SEEDS_STORED tables the oldest is removed."""
     from pkm import kinematics
     from pkm.spec import seeds
 
@@ -396,3 +397,8 @@ def test_a_seed_table_is_kept_beside_the_derived_module_and_read_back_by_a_later
     assert np.load(kept)["groups"] > 0
     m.forward_kinematics(q, {**m.design(), "l1": 0.62}, assembly=m.assemblies[0])
     assert len(list(store.parent.glob(f"{store.name}.seeds.*.npz"))) == 2
+    monkeypatch.setattr(seeds, "SEEDS_STORED", 2)
+    m.forward_kinematics(q, {**m.design(), "l1": 0.64}, assembly=m.assemblies[0])
+    left = list(store.parent.glob(f"{store.name}.seeds.*.npz"))
+    assert len(left) == 2
+    assert kept not in left  # the oldest removed

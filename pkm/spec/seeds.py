@@ -27,7 +27,8 @@ SEED_SAMPLES = 16384  # random poses per round of the search for seeds (and per 
 SEED_COUNT = 32768  # configurations that seed the forward kinematics, at least (unless SEED_ROUNDS run out)
 SEED_ROUNDS = 32
 SEED_STEP = 1 / 32  # after the first round, half the poses are found ones moved by this share of the box
-SEEDS_KEPT = 8  # seed tables kept (one per design)
+SEEDS_KEPT = 8  # seed tables kept in a process (one per design)
+SEEDS_STORED = 8  # seed tables kept in the cache per description (3-5 MB each), the oldest removed first
 BOX_MARGIN = 0.05  # an estimated workspace box grows by this share of its width on each side
 BOX_SCALES = 4  # sizes of the boxes about the home pose where the workspace box is looked for
 
@@ -41,8 +42,9 @@ class Seeds:
     branch of the legs where they assemble at random poses in the workspace box (:meth:`box`; a fixed
     seed), half of them, after the first round, found ones moved at random (so that a thin workspace fills
     too), until there are SEED_COUNT; one table per design, kept in this process for the last SEEDS_KEPT designs
-    and, where ``store`` is given, in the user's cache beside the derived module (its name the digest of the design,
-    the search's constants and this module's source), read back by a later process instead of searched again."""
+    and, where ``store`` is given, in the user's cache beside the derived module for the last SEEDS_STORED designs
+    (its name the digest of the design, the search's constants and this module's source), read back by a later
+    process instead of searched again."""
 
     data: Mapping[str, Any]
     store: Path | None = None  # where the tables are kept between processes: <store>.seeds.<digest>.npz
@@ -189,6 +191,9 @@ def _write(path: Path | None, groups: dict[tuple[float, ...], tuple[np.ndarray, 
 
     with contextlib.suppress(OSError):
         atomic_write(path, save)
+        kept = sorted(path.parent.glob(f"{path.name.split('.seeds.')[0]}.seeds.*.npz"), key=lambda f: f.stat().st_mtime)
+        for old in kept[: max(0, len(kept) - SEEDS_STORED)]:
+            old.unlink(missing_ok=True)
 
 
 _SEED_TABLES: dict[tuple, tuple[FunctionTable, dict[tuple[float, ...], tuple[np.ndarray, ...]]]] = {}
