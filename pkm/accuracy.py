@@ -578,20 +578,28 @@ def select_poses(model: ErrorModel, candidates: Any, count: int, design: Any = N
     information = np.einsum("nri,nrj->nij", E, E)
     eps = 1e-12 * max(float(np.trace(information.sum(axis=0))), 1e-300)
 
+    ridge = eps * np.eye(E.shape[2])
+
     def score(chosen: list[int]) -> float:
-        return float(np.linalg.slogdet(information[chosen].sum(axis=0) + eps * np.eye(E.shape[2]))[1])
+        return float(np.linalg.slogdet(information[chosen].sum(axis=0) + ridge)[1])
+
+    def scores(others: list[int], pool: np.ndarray) -> np.ndarray:
+        """The score of ``others`` with each candidate of ``pool`` added, in one batch."""
+        return np.linalg.slogdet(information[others].sum(axis=0) + information[pool] + ridge)[1]
 
     chosen: list[int] = []
     for _ in range(count):
-        chosen.append(max((c for c in usable if c not in chosen), key=lambda c: score([*chosen, c])))
+        pool = np.array([c for c in usable if c not in chosen])
+        chosen.append(int(pool[np.argmax(scores(chosen, pool))]))
     improved = True
     while improved:
         improved = False
         best = score(chosen)
         for k in range(len(chosen)):
-            for c in usable:
-                if c not in chosen and score([*chosen[:k], c, *chosen[k + 1:]]) > best + 1e-9:
-                    chosen[k], best, improved = c, score([*chosen[:k], c, *chosen[k + 1:]]), True
+            pool = np.array([c for c in usable if c not in chosen])
+            for c, value in zip(pool, scores(chosen[:k] + chosen[k + 1:], pool), strict=True):
+                if value > best + 1e-9:  # each candidate in turn against the best so far, as one by one
+                    chosen[k], best, improved = int(c), float(value), True
     sv = np.linalg.svd(information[chosen].sum(axis=0), compute_uv=False)
     return Selection([int(c) for c in chosen], score(chosen), float(sv[0] / sv[-1]) if sv[-1] > 0 else np.inf)
 
