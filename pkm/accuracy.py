@@ -589,14 +589,14 @@ def select_poses(model: ErrorModel, candidates: Any, count: int, design: Any = N
 
     chosen: list[int] = []
     for _ in range(count):
-        pool = np.array([c for c in usable if c not in chosen])
+        pool = np.array([c for c in usable if c not in chosen], dtype=int)
         chosen.append(int(pool[np.argmax(scores(chosen, pool))]))
     improved = True
     while improved:
         improved = False
         best = score(chosen)
         for k in range(len(chosen)):
-            pool = np.array([c for c in usable if c not in chosen])
+            pool = np.array([c for c in usable if c not in chosen], dtype=int)
             for c, value in zip(pool, scores(chosen[:k] + chosen[k + 1:], pool), strict=True):
                 if value > best + 1e-9:  # each candidate in turn against the best so far, as one by one
                     chosen[k], best, improved = int(c), float(value), True
