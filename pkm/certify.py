@@ -66,11 +66,14 @@ class Certificate:
     seconds: float = 0.0
     stopped: str = ""  # why the search stopped short (the box or time budget), "" where it ran out of boxes
     designs: dict[str, list[float]] = field(default_factory=dict)  # the parameters that span intervals
+    cells: dict[str, list[list[list[float]]]] = field(default_factory=dict)  # the boxes proved and those left
+    # undecided, each [lower corner, upper corner] in the reference coordinates (:func:`plot_certificate`)
 
     def as_dict(self) -> dict[str, Any]:
-        return {k: getattr(self, k) for k in ("mechanism", "region", "mode", "design", "designs", "properties",
-                                              "verdict", "witnesses", "undecided", "boxes", "depth", "seconds",
-                                              "stopped")}
+        return {**{k: getattr(self, k) for k in ("mechanism", "region", "mode", "design", "designs", "properties",
+                                                 "verdict", "witnesses", "undecided", "boxes", "depth", "seconds",
+                                                 "stopped")},
+                "cells": {state: len(boxes) for state, boxes in self.cells.items()}}
 
 
 def _round_axes(shape: Any) -> list[int]:
@@ -397,15 +400,20 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
     order = itertools.count()  # the heap's tie-break: first pushed, first taken
     queue = [(-float(np.prod(hi - lo)), next(order), lo, hi, level)]
     undecided, boxes, reached, stopped, witnesses = 0.0, 0, 0, "", []
+    cells: dict[str, list[list[list[float]]]] = {"proved": [], "undecided": []}
     while queue:
         if boxes >= max_boxes or time.perf_counter() - began > seconds:
             stopped = f"the budget of {max_boxes} boxes or {seconds:g} s"
             undecided += sum(float(np.prod((hi - lo) / 2)) for _, _, lo, hi, _ in queue)
+            cells["undecided"] += [[lo.tolist(), hi.tolist()] for _, _, lo, hi, _ in queue]
             break
         _, _, lo, hi, level = heapq.heappop(queue)
         boxes += 1
         reached = max(reached, level)
-        if _outside(lo, hi, domain.round_axes) or _proved(domain, lo, hi):
+        if _outside(lo, hi, domain.round_axes):
+            continue
+        if _proved(domain, lo, hi):
+            cells["proved"].append([lo.tolist(), hi.tolist()])
             continue
         centre = (lo + hi) / 2
         if _inside(centre, domain.round_axes) and _refuted(domain, centre):
@@ -413,12 +421,85 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
             break
         if level >= depth:
             undecided += float(np.prod((hi - lo) / 2))
+            cells["undecided"].append([lo.tolist(), hi.tolist()])
             continue
         for part in halves(lo, hi):
             heapq.heappush(queue, (-float(np.prod(part[1] - part[0])), next(order), *part, level + 1))
     verdict = "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided")
     return {"verdict": verdict, "witnesses": witnesses, "undecided": undecided, "boxes": boxes, "depth": reached,
-            "seconds": time.perf_counter() - began, "stopped": stopped}
+            "seconds": time.perf_counter() - began, "stopped": stopped, "cells": cells}
+
+
+CELL_COLOURS = {"proved": "tab:green", "undecided": "tab:orange"}
+WORKSPACE_RESOLUTION = 121  # nodes a side of the workspace drawn under a certification's boxes
+
+
+def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any, design: Any = None) -> Any:
+    """The certification's boxes over the workspace (the mode's reach, grey, in the plane of the pose's first two
+    coordinates, the others at the region's centre) and the region: the proved ones green, those left undecided
+    orange (each box's corners in its first two reference coordinates, the others at
+    its middle, mapped to the pose; a region of more coordinates, or spanning designs, drawn as its projection),
+    each witness a red cross, the region's outline (its reference square's or disc's edge, mapped); a PNG or SVG
+    by the path's suffix (:func:`pkm.figures.save`)."""
+    from matplotlib.collections import PolyCollection
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import MaxNLocator
+
+    from pkm import figures
+    from pkm.workspace_map import workspace_slice
+
+    task = checked(mech, region, design if design is not None else certificate.design,
+                   properties=tuple(certificate.properties), mode=certificate.mode,
+                   threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
+    piece = task.shape.pieces()[0]
+    u = ca.SX.sym("u", task.dimension)
+    at = _spanned(mech, task.design, task.spans, u[piece.dimension:]) if task.spans else ca.DM(task.design)
+    pose = ca.Function("certified_pose", [u], [piece.to_pose(mech.functions, at, u[: piece.dimension])])
+
+    def mapped(points: np.ndarray) -> np.ndarray:
+        return np.asarray(pose.map(len(points))(points.T), dtype=float).T[:, :2]
+
+    fig = figures.figure(6.4, 6.4)
+    ax = fig.subplots()
+    whole = np.asarray(pose(np.zeros(task.dimension)), dtype=float).ravel()
+    held = {n: float(v) for n, v in zip(mech.pose_names[2:], whole[2:], strict=True)}
+    reach = workspace_slice(mech, mech.design_dict(task.design), index=mech.local_indices()[0], mode=task.mode,
+                            axes=tuple(mech.pose_names[:2]), held=held, resolution=WORKSPACE_RESOLUTION)
+    ax.contourf(reach.u, reach.v, np.isfinite(reach.values).T.astype(float), levels=[0.5, 1.5], colors=["0.88"])
+    handles = [Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"
+                                               + "".join(f", {n} = {v:.3g}" for n, v in held.items()) + ")")]
+    for state, colour in CELL_COLOURS.items():
+        boxes = np.asarray(certificate.cells.get(state, []), dtype=float).reshape(-1, 2, task.dimension)
+        if len(boxes):
+            corners = np.repeat(((boxes[:, 0] + boxes[:, 1]) / 2)[:, None], 4, axis=1)
+            for k, (i, j) in enumerate(((0, 0), (1, 0), (1, 1), (0, 1))):
+                corners[:, k, 0], corners[:, k, 1] = boxes[:, i, 0], boxes[:, j, 1]
+            polygons = mapped(corners.reshape(-1, task.dimension)).reshape(-1, 4, 2)
+            ax.add_collection(PolyCollection(polygons, facecolors=colour, edgecolors="white", linewidths=0.2,
+                                             alpha=0.8))
+        handles.append(Patch(facecolor=colour, label=f"{state} ({len(boxes)} boxes)"))
+    angle = np.linspace(0, 2 * np.pi, 181)
+    edge = (np.column_stack([np.cos(angle), np.sin(angle)]) if _round_axes(task.shape)[:2] == [0, 1]
+            else np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]], dtype=float))
+    outline = np.zeros((len(edge), task.dimension))
+    outline[:, :2] = edge
+    ax.plot(*mapped(outline).T, color="k", linewidth=1.0, label="the region")
+    for k, w in enumerate(certificate.witnesses):
+        ax.plot(*[w["pose"][n] for n in mech.pose_names[:2]], marker="x", color="tab:red", markersize=10,
+                linestyle="none", label="" if k else "witness (refuted)")
+    names = dict(zip(mech.pose_names, mech.pose_units, strict=True))
+    ax.set_xlabel(f"{mech.pose_names[0]} [{names[mech.pose_names[0]]}]")
+    ax.set_ylabel(f"{mech.pose_names[1]} [{names[mech.pose_names[1]]}]")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.xaxis.set_major_locator(MaxNLocator(5))
+    ax.yaxis.set_major_locator(MaxNLocator(6))
+    ax.legend(handles=[*handles, *ax.get_legend_handles_labels()[0]], fontsize=8, loc="upper center",
+              bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
+    properties = ", ".join(f"{p} >= {v:g}" for p, v in certificate.properties.items())
+    ax.set_title(f"{mech.name}: {properties} over {certificate.region}, mode {certificate.mode}: "
+                 f"{certificate.verdict}", fontsize=9, wrap=True)
+    return figures.save(fig, path, dpi=120)
 
 
 @dataclass

@@ -87,11 +87,13 @@ def certify_piece(piece: Piece) -> dict[str, Any]:
 
 
 def joined(parts: list[dict[str, Any]], started: float) -> dict[str, Any]:
-    """The boxes' searches as one."""
+    """The boxes' searches as one (their cells together)."""
     witnesses = [w for part in parts for w in part["witnesses"]]
     undecided = sum(part["undecided"] for part in parts)
     stopped = sorted({part["stopped"] for part in parts if part["stopped"]})
     return {"verdict": "refuted" if witnesses else ("proved" if undecided == 0.0 else "undecided"),
             "witnesses": witnesses, "undecided": undecided, "boxes": sum(part["boxes"] for part in parts),
             "depth": max(part["depth"] for part in parts), "seconds": time.perf_counter() - started,
-            "stopped": "; ".join(stopped)}
+            "stopped": "; ".join(stopped),
+            "cells": {state: [box for part in parts for box in part["cells"][state]]
+                      for state in ("proved", "undecided")}}

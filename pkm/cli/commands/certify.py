@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from pkm import certify_pieces, io, parallel
-from pkm.certify import DEPTH, MAX_BOXES, PROPERTIES, SECONDS
+from pkm.certify import DEPTH, MAX_BOXES, PROPERTIES, SECONDS, plot_certificate
 from pkm.cli.arguments import design_option, listed, scheduled
 from pkm.cli.common import emit, given_design, given_poses, given_region, load_mechanism, named
 from pkm.errors import PkmError
@@ -48,7 +48,8 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--executor", choices=parallel.EXECUTORS, default="serial",
                    help="where the search runs: serial (one search, the default), processes (its box cut into "
                         "pieces, a local process for each in turn) or auto (a Dask scheduler if set); e.g. processes")
-    p.add_argument("--out", help="folder for certify.json (default: none); e.g. certified")
+    p.add_argument("--out", help="folder for certify.json, and for a region's certification certify.png and .svg: its "
+                                 "boxes over the workspace (default: none); e.g. certified")
     design_option(p)
     scheduled(p)
 
@@ -96,6 +97,7 @@ def run(args: argparse.Namespace) -> None:
     if not 0 < args.depth <= 40 or not 0 < args.boxes <= 10**7 or not 0 < args.seconds <= 3600:
         raise PkmError("--depth, --boxes and --seconds violate: within 1-40, 1-10^7 and 0-3600 s")
     budget = {"depth": args.depth, "max_boxes": args.boxes, "seconds": args.seconds}
+    drawn = None  # a certification of the region, whose boxes --out draws
     if args.extreme is not None:
         data, text = _extreme(m, d, args, budget)
     elif args.around:
@@ -118,7 +120,7 @@ def run(args: argparse.Namespace) -> None:
         where = "auto" if parallel.scheduler() else args.executor  # a Dask scheduler set takes the work
         found = m.certify(region, d, **options) if where == "serial" else \
             certify_pieces.certify(m, region, d, executor=where, **options)
-        data = found.as_dict()
+        data, drawn = found.as_dict(), found
         spanned = "".join(f", {n} in [{lo:g}, {hi:g}]" for n, (lo, hi) in found.designs.items())
         text = (f"{m.name}: {', '.join(f'{p} >= {v:g}' for p, v in found.properties.items())} over "
                 f"{found.region}{spanned} in mode {found.mode}: {found.verdict.upper()} ({found.boxes} boxes, depth "
@@ -130,6 +132,12 @@ def run(args: argparse.Namespace) -> None:
             at = "".join(f", {n} = {w['design'][n]:.6g}" for n in found.designs)
             text += f"\n  witness {named(w['pose'])}{at}: {named(values)}"
     if args.out:
-        text += "\nwrote " + ", ".join(str(p) for p in io.write_result(
-            Path(args.out), lambda folder: [io.write_text(folder / "certify.json", io.to_json(data))]))
+        def write(folder: Path) -> list[Path]:
+            written = [io.write_text(folder / "certify.json", io.to_json(data))]
+            if drawn is not None:
+                written += [plot_certificate(m, given_region(m, args.region), drawn, folder / f"certify.{suffix}", d)
+                            for suffix in ("png", "svg")]
+            return written
+
+        text += "\nwrote " + ", ".join(str(p) for p in io.write_result(Path(args.out), write))
     emit(args, data, text)
