@@ -29,7 +29,7 @@ import math
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import casadi as ca
 import numpy as np
@@ -434,20 +434,19 @@ CELL_COLOURS = {"proved": "tab:green", "undecided": "tab:orange"}
 WORKSPACE_RESOLUTION = 121  # nodes a side of the workspace drawn under a certification's boxes
 
 
-def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any, design: Any = None) -> Any:
-    """The certification's boxes over the workspace (the mode's reach, grey, in the plane of the pose's first two
-    coordinates, the others at the region's centre) and the region: the proved ones green, those left undecided
-    orange (each box's corners in its first two reference coordinates, the others at
-    its middle, mapped to the pose; a region of more coordinates, or spanning designs, drawn as its projection),
-    each witness a red cross, the region's outline (its reference square's or disc's edge, mapped); a PNG or SVG
-    by the path's suffix (:func:`pkm.figures.save`)."""
-    from matplotlib.collections import PolyCollection
-    from matplotlib.patches import Patch
-    from matplotlib.ticker import MaxNLocator
+class CertificateDrawing(NamedTuple):
+    """A certification in the plane of the pose's first two coordinates: its boxes by state (each a quadrilateral,
+    (n, 4, 2)), the region's outline (k, 2) and the witnesses' positions (w, 2)."""
 
-    from pkm import figures
-    from pkm.workspace_map import workspace_slice
+    cells: dict[str, np.ndarray]
+    outline: np.ndarray
+    witnesses: np.ndarray
 
+
+def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design: Any = None) -> CertificateDrawing:
+    """Each box's corners in its first two reference coordinates (the others at its middle) mapped to the pose's first
+    two coordinates (a region of more coordinates, or spanning designs, as its projection), the region's reference
+    square or disc edge mapped, and the witnesses' poses."""
     task = checked(mech, region, design if design is not None else certificate.design,
                    properties=tuple(certificate.properties), mode=certificate.mode,
                    threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
@@ -459,34 +458,72 @@ def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any
     def mapped(points: np.ndarray) -> np.ndarray:
         return np.asarray(pose.map(len(points))(points.T), dtype=float).T[:, :2]
 
-    fig = figures.figure(6.4, 6.4)
-    ax = fig.subplots()
-    whole = np.asarray(pose(np.zeros(task.dimension)), dtype=float).ravel()
-    held = {n: float(v) for n, v in zip(mech.pose_names[2:], whole[2:], strict=True)}
-    reach = workspace_slice(mech, mech.design_dict(task.design), index=mech.local_indices()[0], mode=task.mode,
-                            axes=tuple(mech.pose_names[:2]), held=held, resolution=WORKSPACE_RESOLUTION)
-    ax.contourf(reach.u, reach.v, np.isfinite(reach.values).T.astype(float), levels=[0.5, 1.5], colors=["0.88"])
-    handles = [Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"
-                                               + "".join(f", {n} = {v:.3g}" for n, v in held.items()) + ")")]
-    for state, colour in CELL_COLOURS.items():
+    cells = {}
+    for state in CELL_COLOURS:
         boxes = np.asarray(certificate.cells.get(state, []), dtype=float).reshape(-1, 2, task.dimension)
-        if len(boxes):
-            corners = np.repeat(((boxes[:, 0] + boxes[:, 1]) / 2)[:, None], 4, axis=1)
-            for k, (i, j) in enumerate(((0, 0), (1, 0), (1, 1), (0, 1))):
-                corners[:, k, 0], corners[:, k, 1] = boxes[:, i, 0], boxes[:, j, 1]
-            polygons = mapped(corners.reshape(-1, task.dimension)).reshape(-1, 4, 2)
-            ax.add_collection(PolyCollection(polygons, facecolors=colour, edgecolors="white", linewidths=0.2,
-                                             alpha=0.8))
-        handles.append(Patch(facecolor=colour, label=f"{state} ({len(boxes)} boxes)"))
+        corners = np.repeat(((boxes[:, 0] + boxes[:, 1]) / 2)[:, None], 4, axis=1)
+        for k, (i, j) in enumerate(((0, 0), (1, 0), (1, 1), (0, 1))):
+            corners[:, k, 0], corners[:, k, 1] = boxes[:, i, 0], boxes[:, j, 1]
+        cells[state] = mapped(corners.reshape(-1, task.dimension)).reshape(-1, 4, 2) if len(boxes) else \
+            np.zeros((0, 4, 2))
     angle = np.linspace(0, 2 * np.pi, 181)
     edge = (np.column_stack([np.cos(angle), np.sin(angle)]) if _round_axes(task.shape)[:2] == [0, 1]
             else np.array([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, -1]], dtype=float))
     outline = np.zeros((len(edge), task.dimension))
     outline[:, :2] = edge
-    ax.plot(*mapped(outline).T, color="k", linewidth=1.0, label="the region")
-    for k, w in enumerate(certificate.witnesses):
-        ax.plot(*[w["pose"][n] for n in mech.pose_names[:2]], marker="x", color="tab:red", markersize=10,
-                linestyle="none", label="" if k else "witness (refuted)")
+    witnesses = np.array([[w["pose"][n] for n in mech.pose_names[:2]] for w in certificate.witnesses]).reshape(-1, 2)
+    return CertificateDrawing(cells, mapped(outline), witnesses)
+
+
+def draw_certificate(ax: Any, drawing: CertificateDrawing, scales: tuple[float, float] = (1.0, 1.0), *,
+                     filled: bool = True) -> list[Any]:
+    """The drawing on ``ax`` (its coordinates divided by ``scales``): the boxes by state (filled, or outlined
+    over a map), the outline, the witnesses; the legend's handles of the boxes."""
+    from matplotlib.collections import PolyCollection
+    from matplotlib.patches import Patch
+
+    scale = np.asarray(scales)
+    handles = []
+    for state, colour in CELL_COLOURS.items():
+        polygons = drawing.cells[state] / scale
+        if len(polygons):
+            ax.add_collection(PolyCollection(polygons, facecolors=colour if filled or state != "proved" else "none",
+                                             edgecolors="white" if filled else colour,
+                                             linewidths=0.2 if filled else 0.4, alpha=0.8 if filled else 0.6))
+        handles.append(Patch(facecolor=colour, label=f"{state} ({len(polygons)} boxes)"))
+    ax.plot(*(drawing.outline / scale).T, color="k", linewidth=1.0, label="the region")
+    for k, point in enumerate(drawing.witnesses / scale):
+        ax.plot(*point, marker="x", color="tab:red", markersize=10, linestyle="none",
+                label="" if k else "witness (refuted)")
+    return handles
+
+
+def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any, design: Any = None) -> Any:
+    """The certification's boxes (:func:`certificate_drawing`) over the workspace (the mode's reach, grey, in the
+    plane of the pose's first two coordinates, the others at the region's centre): the proved ones green, those
+    left undecided orange, each witness a red cross, the region's outline; a PNG or SVG by the path's suffix
+    (:func:`pkm.figures.save`)."""
+    from matplotlib.patches import Patch
+    from matplotlib.ticker import MaxNLocator
+
+    from pkm import figures
+    from pkm.workspace_map import workspace_slice
+
+    drawing = certificate_drawing(mech, region, certificate, design)
+    fig = figures.figure(6.4, 6.4)
+    ax = fig.subplots()
+    d = mech.design_vector(design if design is not None else certificate.design)
+    task = checked(mech, region, d, properties=tuple(certificate.properties), mode=certificate.mode,
+                   threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
+    piece = task.shape.pieces()[0]
+    centre = np.asarray(piece.to_pose(mech.functions, ca.DM(d), ca.DM.zeros(piece.dimension)), dtype=float).ravel()
+    held = {n: float(v) for n, v in zip(mech.pose_names[2:], centre[2:], strict=True)}
+    reach = workspace_slice(mech, mech.design_dict(d), index=mech.local_indices()[0], mode=task.mode,
+                            axes=tuple(mech.pose_names[:2]), held=held, resolution=WORKSPACE_RESOLUTION)
+    ax.contourf(reach.u, reach.v, np.isfinite(reach.values).T.astype(float), levels=[0.5, 1.5], colors=["0.88"])
+    handles = [Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"
+                                               + "".join(f", {n} = {v:.3g}" for n, v in held.items()) + ")")]
+    handles += draw_certificate(ax, drawing)
     names = dict(zip(mech.pose_names, mech.pose_units, strict=True))
     ax.set_xlabel(f"{mech.pose_names[0]} [{names[mech.pose_names[0]]}]")
     ax.set_ylabel(f"{mech.pose_names[1]} [{names[mech.pose_names[1]]}]")
