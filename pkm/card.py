@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -41,6 +41,7 @@ class Card:
     units: Units = field(default_factory=Units)  # every number of the card's files in them
     singular: dict[str, list[str]] = field(default_factory=dict)  # the singularities the pose is at, per mode
     assemblies: AssembliesAtPose | None = None  # every assembly at the pose's actuated joints in the first mode
+    certified: dict[str, Any] = field(default_factory=dict)  # the region certified per mode (pkm.certify)
 
     def to_dict(self) -> dict[str, Any]:
         m, units = self.mechanism, self.units
@@ -56,6 +57,7 @@ class Card:
             "maps": {mode: s.metadata(units) for mode, s in self.maps.items()},
             "global_indices": self.indices,
             "assemblies": None if self.assemblies is None else self.assemblies.summary(m, units),
+            "certified": {mode: c.as_dict() for mode, c in self.certified.items()},
         }
 
     def markdown(self, figures: Mapping[str, str], assemblies: str | None = None) -> str:
@@ -77,6 +79,13 @@ class Card:
             value = "NaN" if not math.isfinite(row["value"]) else f"{row['value']:.6g}"
             lines.append(f"| {row['index']} | {row['mode']} | {value} | {row['unit']} | {row['resolution']} | "
                          f"{row['accuracy']:.1e} |")
+        if self.certified:
+            lines += ["", f"## Certified over {self.region}", "", "| mode | properties | verdict | boxes | undecided | "
+                      "witness |", "|---|---|---|---|---|---|"]
+            for mode, c in self.certified.items():
+                properties = ", ".join(f"{p} >= {v:g}" for p, v in c.properties.items())
+                witness = ", ".join(f"{k} = {v:.6g}" for k, v in c.witnesses[0]["pose"].items()) if c.witnesses else ""
+                lines.append(f"| {mode} | {properties} | {c.verdict} | {c.boxes} | {c.undecided:.3g} | {witness} |")
         lines += ["", "## Workspace", ""]
         for mode, name in figures.items():
             lines += [f"![{m.name} {mode}]({name})", ""]
@@ -140,6 +149,7 @@ def design_card(
     indices: Sequence[str] | None = None,
     resolution: int = 81,
     units: Units | None = None,
+    certify: bool = False,
 ) -> Card:
     """The card of a design in ``modes`` (all by default): maps of ``index`` (a local index's name, or the index:
     an error model's ``pose_error``) over the plane ``axes`` (the
@@ -149,7 +159,9 @@ def design_card(
     is: a task file's, :func:`pkm.synthesis.designer.task_of`), and every assembly at the actuated joints of the
     linkage's pose in the first of ``modes`` (:func:`pkm.drawn_assemblies.assemblies_at_pose`). The maps' options are
     checked before anything is computed (:func:`pkm.workspace_map.check_plane`). With ``units``, every number of
-    the card's files (its table, its report and its figures' axes) is in them (:class:`pkm.units.Units`)."""
+    the card's files (its table, its report and its figures' axes) is in them (:class:`pkm.units.Units`). With
+    ``certify``, the region is certified in each mode (:meth:`pkm.Mechanism.certify`, its default properties) and,
+    where the maps' plane is the pose's first two coordinates, its boxes drawn over each mode's map."""
     units = units or Units()
     axes, _, resolution = check_plane(mech, axes=axes, held=held, resolution=resolution)
     design = mech.design(design)
@@ -183,8 +195,18 @@ def design_card(
                          "accuracy": float(value.accuracy) / scale if math.isfinite(value.accuracy) else float("nan")})
     if placement is not None:
         placement = placement_in(mech, where, placement, units)
+    certified = {}
+    if certify:
+        if region in ("reachable", "assembled"):
+            raise PkmError(f"region {region} violates: a parametrised region to certify (a sampled one is not)")
+        from pkm.certify import certificate_drawing
+
+        for mode in chosen:
+            certified[mode] = mech.certify(region, design, mode=mode)
+            if tuple(axes) == tuple(names[:2]):
+                maps[mode] = replace(maps[mode], certified=certificate_drawing(mech, region, certified[mode], design))
     return Card(mech, design, region_name(where), maps, pose, rows, placement, units,
-                {mode: types for mode, types in singular.items() if types}, assemblies)
+                {mode: types for mode, types in singular.items() if types}, assemblies, certified)
 
 
 @dataclass

@@ -29,7 +29,7 @@ import math
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -430,23 +430,15 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
             "seconds": time.perf_counter() - began, "stopped": stopped, "cells": cells}
 
 
-CELL_COLOURS = {"proved": "tab:green", "undecided": "tab:orange"}
 WORKSPACE_RESOLUTION = 121  # nodes a side of the workspace drawn under a certification's boxes
 
 
-class CertificateDrawing(NamedTuple):
-    """A certification in the plane of the pose's first two coordinates: its boxes by state (each a quadrilateral,
-    (n, 4, 2)), the region's outline (k, 2) and the witnesses' positions (w, 2)."""
-
-    cells: dict[str, np.ndarray]
-    outline: np.ndarray
-    witnesses: np.ndarray
-
-
-def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design: Any = None) -> CertificateDrawing:
+def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design: Any = None) -> Any:
     """Each box's corners in its first two reference coordinates (the others at its middle) mapped to the pose's first
     two coordinates (a region of more coordinates, or spanning designs, as its projection), the region's reference
-    square or disc edge mapped, and the witnesses' poses."""
+    square or disc edge mapped, and the witnesses' poses (:class:`pkm.workspace_map.CellsDrawing`)."""
+    from pkm.workspace_map import CellsDrawing
+
     task = checked(mech, region, design if design is not None else certificate.design,
                    properties=tuple(certificate.properties), mode=certificate.mode,
                    threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
@@ -459,7 +451,7 @@ def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design
         return np.asarray(pose.map(len(points))(points.T), dtype=float).T[:, :2]
 
     cells = {}
-    for state in CELL_COLOURS:
+    for state in ("proved", "undecided"):
         boxes = np.asarray(certificate.cells.get(state, []), dtype=float).reshape(-1, 2, task.dimension)
         corners = np.repeat(((boxes[:, 0] + boxes[:, 1]) / 2)[:, None], 4, axis=1)
         for k, (i, j) in enumerate(((0, 0), (1, 0), (1, 1), (0, 1))):
@@ -472,30 +464,7 @@ def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design
     outline = np.zeros((len(edge), task.dimension))
     outline[:, :2] = edge
     witnesses = np.array([[w["pose"][n] for n in mech.pose_names[:2]] for w in certificate.witnesses]).reshape(-1, 2)
-    return CertificateDrawing(cells, mapped(outline), witnesses)
-
-
-def draw_certificate(ax: Any, drawing: CertificateDrawing, scales: tuple[float, float] = (1.0, 1.0), *,
-                     filled: bool = True) -> list[Any]:
-    """The drawing on ``ax`` (its coordinates divided by ``scales``): the boxes by state (filled, or outlined
-    over a map), the outline, the witnesses; the legend's handles of the boxes."""
-    from matplotlib.collections import PolyCollection
-    from matplotlib.patches import Patch
-
-    scale = np.asarray(scales)
-    handles = []
-    for state, colour in CELL_COLOURS.items():
-        polygons = drawing.cells[state] / scale
-        if len(polygons):
-            ax.add_collection(PolyCollection(polygons, facecolors=colour if filled or state != "proved" else "none",
-                                             edgecolors="white" if filled else colour,
-                                             linewidths=0.2 if filled else 0.4, alpha=0.8 if filled else 0.6))
-        handles.append(Patch(facecolor=colour, label=f"{state} ({len(polygons)} boxes)"))
-    ax.plot(*(drawing.outline / scale).T, color="k", linewidth=1.0, label="the region")
-    for k, point in enumerate(drawing.witnesses / scale):
-        ax.plot(*point, marker="x", color="tab:red", markersize=10, linestyle="none",
-                label="" if k else "witness (refuted)")
-    return handles
+    return CellsDrawing(cells, mapped(outline), witnesses)
 
 
 def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any, design: Any = None) -> Any:
@@ -507,7 +476,7 @@ def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any
     from matplotlib.ticker import MaxNLocator
 
     from pkm import figures
-    from pkm.workspace_map import workspace_slice
+    from pkm.workspace_map import draw_cells, workspace_slice
 
     drawing = certificate_drawing(mech, region, certificate, design)
     fig = figures.figure(6.4, 6.4)
@@ -521,9 +490,9 @@ def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any
     reach = workspace_slice(mech, mech.design_dict(d), index=mech.local_indices()[0], mode=task.mode,
                             axes=tuple(mech.pose_names[:2]), held=held, resolution=WORKSPACE_RESOLUTION)
     ax.contourf(reach.u, reach.v, np.isfinite(reach.values).T.astype(float), levels=[0.5, 1.5], colors=["0.88"])
-    handles = [Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"
-                                               + "".join(f", {n} = {v:.3g}" for n, v in held.items()) + ")")]
-    handles += draw_certificate(ax, drawing)
+    workspace = Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"
+                                               + "".join(f", {n} = {v:.3g}" for n, v in held.items()) + ")")
+    draw_cells(ax, drawing)
     names = dict(zip(mech.pose_names, mech.pose_units, strict=True))
     ax.set_xlabel(f"{mech.pose_names[0]} [{names[mech.pose_names[0]]}]")
     ax.set_ylabel(f"{mech.pose_names[1]} [{names[mech.pose_names[1]]}]")
@@ -531,7 +500,7 @@ def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any
     ax.autoscale_view()
     ax.xaxis.set_major_locator(MaxNLocator(5))
     ax.yaxis.set_major_locator(MaxNLocator(6))
-    ax.legend(handles=[*handles, *ax.get_legend_handles_labels()[0]], fontsize=8, loc="upper center",
+    ax.legend(handles=[workspace, *ax.get_legend_handles_labels()[0]], fontsize=8, loc="upper center",
               bbox_to_anchor=(0.5, -0.12), ncol=2, frameon=False)
     properties = ", ".join(f"{p} >= {v:g}" for p, v in certificate.properties.items())
     ax.set_title(f"{mech.name}: {properties} over {certificate.region}, mode {certificate.mode}: "

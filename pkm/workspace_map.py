@@ -14,7 +14,7 @@ import textwrap
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -28,6 +28,39 @@ MAX_RESOLUTION = 2001  # 4 million poses, a few hundred MB of arrays; odd, so th
 REGION_RESOLUTION = 8  # of the region's quadrature whose nodes are drawn
 NEAR = 0.02  # a region's node is drawn where its held coordinates lie within this share of the box's width
 POSITION = ("x", "y", "z")  # pose coordinates that are the columns of a linkage's points
+
+
+class CellsDrawing(NamedTuple):
+    """A certification's boxes in the plane of the pose's first two coordinates
+    (:func:`pkm.certify.certificate_drawing`): its boxes by state, each a quadrilateral ((n, 4, 2), "proved" and
+    "undecided"), the region's outline (k, 2) and the witnesses' positions (w, 2)."""
+
+    cells: dict[str, np.ndarray]
+    outline: np.ndarray
+    witnesses: np.ndarray
+
+
+CELL_COLOURS = {"proved": "tab:green", "undecided": "tab:orange"}
+
+
+def draw_cells(ax: Any, drawing: CellsDrawing, scales: tuple[float, float] = (1.0, 1.0), *,
+               filled: bool = True) -> None:
+    """The drawing on ``ax`` (its coordinates divided by ``scales``), each part labelled for a legend: the boxes by
+    state (filled, or outlined over a map), the outline, the witnesses."""
+    from matplotlib.collections import PolyCollection
+
+    scale = np.asarray(scales)
+    for state, colour in CELL_COLOURS.items():
+        polygons = drawing.cells[state] / scale
+        if len(polygons):
+            ax.add_collection(PolyCollection(polygons, facecolors=colour if filled or state != "proved" else "none",
+                                             edgecolors="white" if filled else colour,
+                                             linewidths=0.2 if filled else 0.4, alpha=0.8 if filled else 0.6,
+                                             label=f"{state} ({len(polygons)} boxes)"))
+    ax.plot(*(drawing.outline / scale).T, color="k", linewidth=1.0, label="the region")
+    for k, point in enumerate(drawing.witnesses / scale):
+        ax.plot(*point, marker="x", color="tab:red", markersize=10, linestyle="none",
+                label="" if k else "witness (refuted)")
 
 
 @dataclass(frozen=True)
@@ -47,6 +80,7 @@ class WorkspaceSlice:
     singular: Mapping[str, np.ndarray] = field(default_factory=dict)
     region: str | None = None
     region_points: np.ndarray | None = None  # (k, 2): the region's nodes near the plane
+    certified: CellsDrawing | None = None  # a certification of the region drawn over the map
 
     @property
     def index_name(self) -> str:
@@ -74,7 +108,8 @@ class WorkspaceSlice:
     def plot(self, path: str | os.PathLike, *, linkage: Sequence[np.ndarray] = (), units: Units | None = None
              ) -> Path:
         """The map: the index's colours (robust limits), the type-I (black) and type-II (red) singularity
-        curves, the region's nodes near the plane (white dots), axes to scale where both are lengths; with
+        curves, the region's nodes near the plane (white dots), a certification's boxes where the map has one
+        (outlined: proved green, undecided orange, witnesses red), axes to scale where both are lengths; with
         ``linkage`` (each leg's joint points, :meth:`pkm.Mechanism.linkage`) the legs and the platform drawn
         in the plane's coordinates where they are positions; with ``units`` every axis and value in them."""
         m, units = self.mechanism, units or Units()
@@ -100,6 +135,8 @@ class WorkspaceSlice:
             ax.plot(self.region_points[:, 0] / su, self.region_points[:, 1] / sv, "o", markerfacecolor="white",
                     markeredgecolor="k", markeredgewidth=0.3, markersize=3, linestyle="none",
                     label=f"region {self.region} (nodes near the plane)")
+        if self.certified is not None:
+            draw_cells(ax, self.certified, (su, sv), filled=False)
         self._draw_linkage(ax, linkage, (su, sv))
         ax.set_xlabel(f"{self.axes[0]} [{units.name(named[self.axes[0]])}]")
         ax.set_ylabel(f"{self.axes[1]} [{units.name(named[self.axes[1]])}]")

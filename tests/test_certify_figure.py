@@ -65,3 +65,29 @@ def test_pkm_certify_out_draws_the_boxes_over_the_workspace(tmp_path, monkeypatc
     m, found = miw
     assert plot_certificate(m, "miw", found, tmp_path / "again.png") == Path(tmp_path / "again.png")
     assert problems == []
+
+
+def test_pkm_show_certify_draws_the_boxes_over_each_modes_map(tmp_path, capsys, monkeypatch, miw):
+    """The card certifies its region in each mode, as pkm certify does, reports each verdict and draws the boxes
+    over the mode's map, every text readable; a sampled region is refused by name."""
+    m, found = miw
+    problems = []
+    save = figures.save
+    monkeypatch.setattr(figures, "save", lambda fig, path, *, dpi: problems.extend(figures.text_problems(fig))
+                        or save(fig, path, dpi=dpi))
+    assert main(["show", "five_bar", "--region", "miw", "--mode", "out_out", "--certify", "--resolution", "41",
+                 "--out", str(tmp_path)]) == 0
+    assert (f"certified over miw in mode out_out: UNDECIDED ({found.boxes} boxes; {found.undecided:.3g} of the "
+            "region's box undecided)") in capsys.readouterr().out
+    report = json.loads((tmp_path / "report.json").read_text())["certified"]["out_out"]
+    assert (report["verdict"], report["boxes"], report["cells"]) == ("undecided", found.boxes,
+                                                                      {s: len(b) for s, b in found.cells.items()})
+    assert "## Certified over miw" in (tmp_path / "report.md").read_text()
+    assert problems == []
+    from pkm.card import design_card
+
+    card = design_card(m, region="miw", modes=["out_out"], resolution=21, certify=True)
+    drawn = card.maps["out_out"].certified
+    assert {s: len(p) for s, p in drawn.cells.items()} == {s: len(b) for s, b in found.cells.items()}
+    with pytest.raises(pkm.errors.PkmError, match="region reachable violates: a parametrised region to certify"):
+        design_card(m, region="reachable", modes=["out_out"], resolution=21, certify=True)

@@ -41,6 +41,8 @@ def options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plane", help="two pose coordinates of the maps (default: the first two); e.g. x,z")
     p.add_argument("--held", help="values of the other pose coordinates (default: the region's centre); e.g. "
                                   "z=-0.5")
+    p.add_argument("--certify", action="store_true", help="certify the region in each mode (singularities and "
+                   "limits, pkm certify) and draw its boxes over the maps (default: off)")
     map_resolution(p, default=81, suggested=121)
     p.add_argument("--out", required=True, help="folder for report.json, report.md, the maps and "
                                                 "assemblies.png, .svg (no default); e.g. card")
@@ -64,7 +66,8 @@ def run(args: argparse.Namespace) -> None:
     if args.tolerances is not None:
         index = m.error_model().index(args.tolerances * units.scale("m"))
     card = design_card(m, d, modes=modes, region=given_region(m, args.region) if args.region else None,
-                       index=index, axes=axes, held=held, resolution=args.resolution, units=units)
+                       index=index, axes=axes, held=held, resolution=args.resolution, units=units,
+                       certify=args.certify)
     folder = Path(args.out)
     written = io.write_result(folder, card.write)
     data = {**card.to_dict(), "files": [str(p) for p in written]}
@@ -75,6 +78,9 @@ def run(args: argparse.Namespace) -> None:
               f"singularity in mode {mode}" for mode, types in card.singular.items()]
     if card.assemblies is not None:
         lines.append(card.assemblies.text())
+    lines += [f"certified over {card.region} in mode {mode}: {c.verdict.upper()} ({c.boxes} boxes"
+              + (f"; {c.undecided:.3g} of the region's box undecided" if c.undecided else "") + ")"
+              for mode, c in card.certified.items()]
     lines += [f"{r['index']} ({r['mode']}) = {r['value']:.6g}{unit_text(r['unit'])} (resolution {r['resolution']}, "
               f"accuracy {r['accuracy']:.1e})" for r in card.indices]
     lines.append(f"wrote {len(written)} files to {io.kept_path(folder)}")
