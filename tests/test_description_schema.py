@@ -65,7 +65,8 @@ EXAMPLES = {
         "legs": [
             {"kind": "R_parallelogram", "count": 1, "base": [["R", 0, 0]], "platform": [["r", 0, 0]], "arm": "l",
              "rod": "2*l", "axis": [0, 1, 0], "zero": [1, 0, 0], "range": [-1, 1],
-             "bodies": {"rotor": 1e-4, "arm": BODY, "rod": {"mass": 0.1}}, "elastic": ELASTIC, "capsule": 0.02},
+             "bodies": {"rotor": 1e-4, "arm": BODY, "rod": {"mass": 0.1}},
+             "elastic": {**ELASTIC, "tilts": ["5e3", 0, 0]}, "capsule": 0.02},
             {"kind": "UPS", "count": 1, "base": [[0, "R", 0]], "platform": [[0, "r", 0]], "cone": "pi/4",
              "range": [0.1, 2],
              "bodies": {"rotor": 0.1, "cylinder": BODY, "piston": BODY}, "elastic": ELASTIC, "capsule": 0.02},

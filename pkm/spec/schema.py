@@ -478,7 +478,7 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
     """A leg's elastic elements: its material ({E, G, density} trees), section ({shape, its dimensions}), drive
     stiffness (or None: rigid) and per beam its material and section, each the leg's where not given."""
     if not isinstance(raw, Mapping):
-        raise _fail(where, "a table {material, section, drive, passive, bearings, beams}")
+        raise _fail(where, "a table {material, section, drive, passive, bearings, tilts, beams}")
     _check_fields(raw, ELASTIC_FIELDS, where, "a leg's elastic elements")
     spatial = len(leg["joints"][0]["link"]) == 3
     material = _material(raw["material"], f"{where}.material", names)
@@ -508,13 +508,14 @@ def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> d
             raise _fail(f"{where}.passive", f"a list of {count} expressions, one per passive joint variable of the "
                                             "leg in order (0 for a free one)")
         out["passive"] = [_expression(f"{where}.passive[{j}]", t, names) for j, t in enumerate(given)]
-    if "bearings" in raw:
-        count = kind_of(leg).points
-        given = raw["bearings"]
-        if not isinstance(given, list) or len(given) != count:
-            raise _fail(f"{where}.bearings", f"a list of {count} expressions, one per joint the leg draws from the "
-                                             "base, the platform's included")
-        out["bearings"] = [_expression(f"{where}.bearings[{j}]", t, names) for j, t in enumerate(given)]
+    for name, allowed in (("bearings", True), ("tilts", spatial)):  # tilts in space alone
+        if name in raw:
+            count, given = kind_of(leg).points, raw[name]
+            if not allowed or not isinstance(given, list) or len(given) != count:
+                raise _fail(f"{where}.{name}", f"{'' if name == 'bearings' else 'in space, '}a list of {count} "
+                                               "expressions, one per joint the leg draws from the base, the "
+                                               "platform's included")
+            out[name] = [_expression(f"{where}.{name}[{j}]", t, names) for j, t in enumerate(given)]
     return out
 
 
@@ -683,11 +684,12 @@ def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
 def _check_elastic(elastic: Mapping[str, Any], where: str, value: Any) -> None:
     """Every number of a leg's elastic elements positive at the default design, a tube's wall within its
     section."""
-    free = {f"{where}.passive[{j}]" for j, t in enumerate(elastic.get("passive", [])) if is_free(t)}
+    free = {f"{where}.{name}[{j}]" for name in ("passive", "tilts") for j, t in enumerate(elastic.get(name, []))
+            if is_free(t)}
     for field, tree in _trees(elastic, where):
         if field not in free and not value(field, tree) > 0:
-            raise _fail(field, "a positive value at the default design" + (", or 0 (free)" if ".passive[" in field
-                                                                           else ""))
+            raise _fail(field, "a positive value at the default design" + (
+                ", or 0 (free)" if ".passive[" in field else ", or 0 (rigid)" if ".tilts[" in field else ""))
     for b, beam in enumerate(elastic["beams"]):
         section = beam["section"]
         if "t" in section:

@@ -11,7 +11,9 @@ the chain's end less c, or a distance), a small motion closes where H_a dq_a + H
 0, H_theta the chain end's motion under each beam's deflection (a twist at E: dc = du + dphi x (c - E)). The
 springs' compliance seen at the chain's end, S = H_a k_a^-1 H_a^T + sum_p H_p k_p^-1 H_p^T + sum_b H_theta,b C_b
 H_theta,b^T + (sum_j k_j^-1) H_c H_c^T (each joint's bearing a translational spring k_j: its translation moves the
-chain beyond it, and c, by as much), and the free passive joints (H_p their columns) give the leg's stiffness at c,
+chain beyond it, and c, by as much) + sum_j t_j^-1 [c - p_j]x (I - a_j a_j^T) [c - p_j]x^T (in space, a revolute's
+bearing tilt springs t_j at its point p_j about the two axes across its own a_j: a small turn w of the chain beyond
+it moves c by w x (c - p_j)), and the free passive joints (H_p their columns) give the leg's stiffness at c,
 
     K_i = H_c^T G H_c,   G the first block of [[S, H_p], [H_p^T, 0]]^-1,
 
@@ -89,6 +91,7 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
     H_c = ends(q, x, d)
     points = skeleton(q, x, d)
     drives, compliances, terms, bearings = elastic(d)
+    tilt_axes, tilts = functions["bearing_tilts"](q, x, d) if "bearing_tilts" in functions else (None, None)
     data = description.data
     frame = data["pose"]["frame"]
     legs = data["legs"]
@@ -119,6 +122,11 @@ def composed_stiffness(description: Description, functions: Mapping[str, ca.Func
             flexed = flexed + _beam(terms[beam, :].T, own[:, j], own[:, j + 1], c)
             beam += 1
         flexed = flexed + bearings[k] * (H_c[rows, :] @ H_c[rows, :].T)
+        if tilts is not None:
+            for j in range(kind_of(leg).points):
+                row = first - kind_of(leg).points + j
+                arm, axis = _cross(c - own[:, j]), tilt_axes[row, :].T
+                flexed = flexed + tilts[row] * (arm @ (ca.SX.eye(3) - axis @ axis.T) @ arm.T)
         if turning:
             offset = c - origin
             A = ca.horzcat(ca.SX.eye(2), ca.vertcat(-offset[1], offset[0])) if dim == 2 else \

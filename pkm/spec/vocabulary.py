@@ -150,13 +150,17 @@ ELASTIC_FIELDS = (
     Field("bearings", "a list of expressions [N/m], one per joint the leg draws from the base (the platform's "
           "included), each positive", "each joint's bearing as a translational spring at the joint: a revolute's "
           "radial stiffness in the plane, the same in every direction in space (its tilt rigid); rigid where absent"),
+    Field("tilts", "a list of expressions [N m/rad], one per joint the leg draws from the base (the platform's "
+          "included), each positive, or 0", "in space, each revolute's bearing tilt stiffness: its rotation about "
+          "the two axes across its own at the joint, a spring each (a chain's revolutes, a kind's first joint where "
+          "it is one); 0, absent, or a joint that is not such a revolute: rigid"),
     Field("beams", "a list of tables {material, section}", "each beam of the leg in order from the base (its links "
           "after a revolute, a universal joint or a parallelogram, whose rods count twice), each field optional: "
           "where given, it replaces the leg's"),
 )
 BEAM_FIELDS = (Field("material", ELASTIC_FIELDS[0].holds, "the beam's material; the leg's by default"),
                Field("section", ELASTIC_FIELDS[1].holds, "the beam's section; the leg's by default"))
-ELASTIC = Field("elastic", "a table {material, section, drive, passive, bearings, beams} (Elastic elements)",
+ELASTIC = Field("elastic", "a table {material, section, drive, passive, bearings, tilts, beams} (Elastic elements)",
                 "the leg's elastic elements: its links as Euler-Bernoulli beams clamped at their joints, its drive, "
                 "its passive joints and its joints' bearings as springs; where one leg has them every leg does")
 BEAM_JOINTS = ("R", "U", "parallelogram")  # a chain joint whose non-zero link is a beam

@@ -10,7 +10,7 @@ from typing import Any
 
 import sympy as sp
 
-from pkm.spec.vocabulary import beams, passive_stiffness, rods
+from pkm.spec.vocabulary import beams, kind_of, passive_stiffness, rods
 from symbolic import codegen
 from symbolic.codegen import ModuleSpec, Output, Port
 from symbolic.described.bodies import Kinetic, chain_bodies, leg_bodies, mass_matrix, platform_bodies
@@ -114,11 +114,39 @@ def _add_elastic(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[L
               Output("bearings", sp.Matrix(bearings), "each leg's joints' bearings' translational compliances "
                      "summed, 0 where rigid [m/N]")),
              "The compliance of each leg's drive, passive joints, beams and bearings.")
+    if any("tilts" in leg["elastic"] for leg in described):
+        _add_tilts(spec, described, legs, joints=joints, pose=pose, design=design, vector=vector, scalar=scalar)
     blocks = [-sp.eye(dim) if leg.h_c is None else leg.h_c for leg in legs]
     spec.add("leg_ends", (joints, pose, design),
              (Output("H_c", sp.Matrix.vstack(*blocks), "each leg's closure's derivative in its platform joint's "
                      "point, the legs' rows stacked [-]"),),
              "The derivative of each leg's closure in its platform joint's point.")
+
+
+def _add_tilts(spec: ModuleSpec, described: list[dict[str, Any]], legs: list[Leg], *, joints: Port, pose: Port,
+               design: Port, vector: Any, scalar: Any) -> None:
+    """``bearing_tilts(q, x, design) -> (axes, compliances)``: each joint a leg draws, its revolute's axis in the base
+    frame at the configuration and its bearing's tilt compliance (a chain's revolutes; a kind's first joint where it
+    is one, its axis given in the base frame), a zero axis and compliance where it has none."""
+    axes, compliances = [], []
+    for leg, derived in zip(described, legs, strict=True):
+        for j, stiffness in enumerate(leg["elastic"].get("tilts", [0] * kind_of(leg).points)):
+            joint = leg["joints"][j] if j < len(leg["joints"]) else None
+            revolute = joint is not None and joint["type"] == "R" and (bool(derived.frames) or j == 0)
+            if not revolute or (isinstance(stiffness, int | float) and stiffness == 0):
+                axes.append(sp.zeros(1, 3))
+                compliances.append(sp.Integer(0))
+                continue
+            local = vector(joint["axes"][0])
+            turned = derived.frames[j][1] if derived.frames else sp.eye(3)
+            axes.append((turned * local / sp.sqrt(local.dot(local))).T)
+            compliances.append(1 / scalar(stiffness))
+    spec.add("bearing_tilts", (joints, pose, design),
+             (Output("axes", sp.Matrix.vstack(*axes), "each drawn joint's revolute axis in the base frame, zero where "
+                     "it has no tilt spring [-]"),
+              Output("compliances", sp.Matrix(compliances), "each drawn joint's bearing tilt compliance, 0 where "
+                     "rigid [rad/(N m)]")),
+             "The revolutes' axes and their bearings' tilt compliances, joint by joint as the legs draw them.")
 
 
 def _add_region(spec: ModuleSpec, region: dict[str, Any], design_port: Port, home: sp.Matrix, vector: Any) -> None:
