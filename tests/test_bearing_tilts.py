@@ -1,8 +1,9 @@
 """A revolute's bearing tilt stiffness in space (issue 40): the Delta's drive bearings as tilt springs across their
-axes. Derived twice: with everything else near rigid (its compliance 1e-14 of the tilts'), the compliance K^-1 is the
-drive axes' tilt columns of the error model E (issue 42: the same rotations of each arm's frame, the loops closed at fixed drives) weighted by the
-tilt compliances, E_t diag(1/t) E_t^T; a Delta of chains (each arm a revolute, its forearm a parallelogram) has the
-kind's stiffness; tilts are refused in the plane and in a list of the wrong length."""
+axes. Derived twice: with everything else near rigid (its compliance 1e-14 of the tilts'), the compliance K^-1 is
+the drive axes' tilt columns of the error model E (issue 42: the same rotations of each arm's frame, the loops
+closed at fixed drives) weighted by the tilt compliances, E_t diag(1/t) E_t^T; a Delta of chains (each arm a
+revolute, its forearm a parallelogram) has the kind's stiffness; tilts are refused in the plane and in a list of the
+wrong length."""
 
 from __future__ import annotations
 
