@@ -338,13 +338,19 @@ def checked(mech: Any, region: Any, design: Any = None, *, properties: Sequence[
                 _spans(mech, designs))
 
 
-def prepared(mech: Any, task: Task) -> _Domain:
-    """The domain of a certification: the region's reference coordinates and the spanning design parameters'."""
+def placed(mech: Any, task: Task) -> tuple[ca.SX, Any, ca.SX]:
+    """A certification's reference coordinates u (the region's, then the spanning design parameters'), the design
+    at u and the pose x(u)."""
     piece = task.shape.pieces()[0]
     u = ca.SX.sym("u", task.dimension)
     at = _spanned(mech, task.design, task.spans, u[piece.dimension:]) if task.spans else ca.DM(task.design)
-    return _domain(mech, piece.to_pose(mech.functions, at, u[: piece.dimension]), u, _round_axes(task.shape),
-                   bounds=task.bounds, mode=task.mode, design=at)
+    return u, at, piece.to_pose(mech.functions, at, u[: piece.dimension])
+
+
+def prepared(mech: Any, task: Task) -> _Domain:
+    """The domain of a certification: the region's reference coordinates and the spanning design parameters'."""
+    u, at, x = placed(mech, task)
+    return _domain(mech, x, u, _round_axes(task.shape), bounds=task.bounds, mode=task.mode, design=at)
 
 
 def _spans(mech: Any, designs: Mapping[str, Sequence[float]] | None) -> dict[str, tuple[float, float]]:
@@ -433,19 +439,25 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
 WORKSPACE_RESOLUTION = 121  # nodes a side of the workspace drawn under a certification's boxes
 
 
+def _task_of(mech: Any, region: Any, certificate: Certificate, design: Any = None) -> Task:
+    """The task a certificate answered, at ``design`` (the certificate's by default)."""
+    return checked(mech, region, design if design is not None else certificate.design,
+                   properties=tuple(certificate.properties), mode=certificate.mode,
+                   threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
+
+
 def certificate_drawing(mech: Any, region: Any, certificate: Certificate, design: Any = None) -> Any:
     """Each box's corners in its first two reference coordinates (the others at its middle) mapped to the pose's first
     two coordinates (a region of more coordinates, or spanning designs, as its projection), the region's reference
     square or disc edge mapped, and the witnesses' poses (:class:`pkm.workspace_map.CellsDrawing`)."""
+    return _drawing(mech, _task_of(mech, region, certificate, design), certificate)
+
+
+def _drawing(mech: Any, task: Task, certificate: Certificate) -> Any:
     from pkm.workspace_map import CellsDrawing
 
-    task = checked(mech, region, design if design is not None else certificate.design,
-                   properties=tuple(certificate.properties), mode=certificate.mode,
-                   threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
-    piece = task.shape.pieces()[0]
-    u = ca.SX.sym("u", task.dimension)
-    at = _spanned(mech, task.design, task.spans, u[piece.dimension:]) if task.spans else ca.DM(task.design)
-    pose = ca.Function("certified_pose", [u], [piece.to_pose(mech.functions, at, u[: piece.dimension])])
+    u, _, x = placed(mech, task)
+    pose = ca.Function("certified_pose", [u], [x])
 
     def mapped(points: np.ndarray) -> np.ndarray:
         return np.asarray(pose.map(len(points))(points.T), dtype=float).T[:, :2]
@@ -478,16 +490,14 @@ def plot_certificate(mech: Any, region: Any, certificate: Certificate, path: Any
     from pkm import figures
     from pkm.workspace_map import draw_cells, workspace_slice
 
-    drawing = certificate_drawing(mech, region, certificate, design)
+    task = _task_of(mech, region, certificate, design)
+    drawing = _drawing(mech, task, certificate)
     fig = figures.figure(6.4, 6.4)
     ax = fig.subplots()
-    d = mech.design_vector(design if design is not None else certificate.design)
-    task = checked(mech, region, d, properties=tuple(certificate.properties), mode=certificate.mode,
-                   threshold=certificate.properties.get("singularity"), designs=certificate.designs or None)
-    piece = task.shape.pieces()[0]
-    centre = np.asarray(piece.to_pose(mech.functions, ca.DM(d), ca.DM.zeros(piece.dimension)), dtype=float).ravel()
+    u, _, x = placed(mech, task)
+    centre = np.asarray(ca.Function("centre", [u], [x])(np.zeros(task.dimension)), dtype=float).ravel()
     held = {n: float(v) for n, v in zip(mech.pose_names[2:], centre[2:], strict=True)}
-    reach = workspace_slice(mech, mech.design_dict(d), index=mech.local_indices()[0], mode=task.mode,
+    reach = workspace_slice(mech, mech.design_dict(task.design), index=mech.local_indices()[0], mode=task.mode,
                             axes=tuple(mech.pose_names[:2]), held=held, resolution=WORKSPACE_RESOLUTION)
     ax.contourf(reach.u, reach.v, np.isfinite(reach.values).T.astype(float), levels=[0.5, 1.5], colors=["0.88"])
     workspace = Patch(facecolor="0.88", label=f"the workspace (mode {task.mode}"

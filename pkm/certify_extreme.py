@@ -20,7 +20,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import regions
-from pkm.certify import DEPTH, MAX_BOXES, SECONDS, _Domain, _inside, _round_axes, checked, search
+from pkm.certify import DEPTH, MAX_BOXES, SECONDS, _Domain, _inside, _round_axes, checked, placed, search
 from pkm.errors import PkmError
 from pkm.intervals import enclosure
 
@@ -65,17 +65,14 @@ def certified_extreme(mech: Any, index: Any, region: Any, design: Any = None, *,
         raise PkmError(f"gap violates: a relative gap in (0, 1); got {gap!r}")
     spec = mech.local_spec(index)
     task = checked(mech, region, design, properties=("limits",), mode=mode)
-    piece = task.shape.pieces()[0]
-    u = ca.SX.sym("u", piece.dimension)
-    d = ca.DM(task.design)
-    x = piece.to_pose(mech.functions, d, u)
+    u, d, x = placed(mech, task)
     (value,) = regions.pipeline(mech, (spec,))(x, ca.DM(mech.working_mode(task.mode).signs), d)[3:]
     sign = 1.0 if sense == "min" else -1.0  # the certified graph: at least its limit where the bound holds
     g = ca.Function("certified", [u], [sign * value])
     slope = enclosure(ca.Function("certified_gradient", [u], [ca.densify(ca.jacobian(g(u), u))]))
     pose, round_axes = ca.Function("certified_pose", [u], [x]), _round_axes(task.shape)
     started = time.perf_counter()
-    at, least = _sampled(g, piece.dimension, round_axes)
+    at, least = _sampled(g, task.dimension, round_axes)
     found = sign * least
     steps: list[dict[str, Any]] = []
     proved = None

@@ -289,11 +289,12 @@ class _Kernel:
 
     def _compile(self) -> None:
         """Emit the kernel here (CasADi's objects stay on this thread) and compile it in the background."""
-        if not emit.emittable(self.fn):
+        try:
+            source = emit.source(self.fn, self.summed, self.rows)
+        except ValueError:  # not emittable: ports not dense, or an operation the emitter does not know
             self._off("not an SX graph", "")
             return
         path = _path()
-        source = emit.source(self.fn, self.summed, self.rows)
         toolchain, name, summed, instructions = path.toolchain, self.fn.name(), self.summed, self.fn.n_instructions()
 
         def build(folder: Path) -> dict:
