@@ -27,7 +27,7 @@ import heapq
 import itertools
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -286,14 +286,16 @@ def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, flo
 
 def certify(mech: Any, region: Any, design: Any = None, *, properties: Sequence[str] = ("singularity", "limits"),
             mode: str | None = None, threshold: float | None = None, depth: int = DEPTH, max_boxes: int = MAX_BOXES,
-            seconds: float = SECONDS, designs: Mapping[str, Sequence[float]] | None = None) -> Certificate:
+            seconds: float = SECONDS, designs: Mapping[str, Sequence[float]] | None = None,
+            progress: Callable[[int, int], None] | None = None) -> Certificate:
     """Each property proved, refuted or left undecided over the region (a name or a region of the mechanism)
     at the design in the working mode (module docstring); ``threshold`` the least singularity margin; with
     ``designs`` ({parameter: [lower, upper]}), at every design whose parameters lie in those intervals (the
-    others the design's): the box searched spans them too, and a witness names its design. In parallel over
-    boxes: :func:`pkm.certify_pieces.certify`."""
+    others the design's): the box searched spans them too, and a witness names its design; ``progress(boxes,
+    max_boxes)`` is called before each box is examined (an exception it raises stops the search). In parallel
+    over boxes: :func:`pkm.certify_pieces.certify`."""
     task = checked(mech, region, design, properties=properties, mode=mode, threshold=threshold, designs=designs)
-    found = search(mech, prepared(mech, task), depth=depth, max_boxes=max_boxes, seconds=seconds)
+    found = search(mech, prepared(mech, task), depth=depth, max_boxes=max_boxes, seconds=seconds, progress=progress)
     return task.certificate(mech, found)
 
 
@@ -397,9 +399,10 @@ def halves(lo: np.ndarray, hi: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray
 
 
 def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: float,
-            start: tuple[np.ndarray, np.ndarray, int] | None = None) -> dict[str, Any]:
+            start: tuple[np.ndarray, np.ndarray, int] | None = None,
+            progress: Callable[[int, int], None] | None = None) -> dict[str, Any]:
     """Branch and prune over [-1, 1]^d (or the box ``start``: its corners and its level), the largest box first
-    (module docstring)."""
+    (module docstring); ``progress(boxes, max_boxes)`` before each box."""
     dim = domain.g.numel_in(0)
     lo, hi, level = start if start is not None else (np.full(dim, -1.0), np.full(dim, 1.0), 0)
     began = time.perf_counter()
@@ -413,6 +416,8 @@ def search(mech: Any, domain: _Domain, *, depth: int, max_boxes: int, seconds: f
             undecided += sum(float(np.prod((hi - lo) / 2)) for _, _, lo, hi, _ in queue)
             cells["undecided"] += [[lo.tolist(), hi.tolist()] for _, _, lo, hi, _ in queue]
             break
+        if progress is not None:
+            progress(boxes, max_boxes)
         _, _, lo, hi, level = heapq.heappop(queue)
         boxes += 1
         reached = max(reached, level)

@@ -150,6 +150,43 @@ def test_the_map_is_the_local_index_at_its_poses_with_singularity_curves_and_the
     assert np.all(np.abs(radius - placement["size"][0]) < step)
 
 
+def test_the_certification_is_pkm_certify_with_its_boxes_in_the_pose_plane(server, five_bar):
+    """The page's certification of a region: the verdict and counts of Mechanism.certify at the design and mode,
+    and its boxes, outline and witnesses as pkm certify draws them (certificate_drawing)."""
+    from pkm.certify import certificate_drawing
+
+    data = get(server, "certify", design=DESIGN_TEXT, mode=MODE, region="miw")
+    design = five_bar.design(DESIGN, partial=True)
+    found = five_bar.certify("miw", design, mode=MODE, seconds=api.CERTIFY_SECONDS)
+    drawing = certificate_drawing(five_bar, "miw", found, design)
+    assert (data["verdict"], data["boxes"], data["mode"]) == (found.verdict, found.boxes, MODE)
+    assert data["plane"] == ["x", "y"]
+    assert data["undecided"] == pytest.approx(found.undecided)
+    assert {state: len(boxes) for state, boxes in data["cells"].items()} == found.as_dict()["cells"]
+    for state, boxes in drawing.cells.items():
+        np.testing.assert_allclose(np.array(data["cells"][state]).reshape(-1, 4, 2), boxes)
+    np.testing.assert_allclose(data["outline"], drawing.outline)
+    assert len(data["points"]) == len(found.witnesses)
+    assert sum(map(len, data["cells"].values())) > 10
+
+
+def test_a_certification_is_cancelled_between_its_boxes():
+    explorer = Explorer(pkm.load("five_bar"))
+    boxes, check = [], explorer._check_open
+
+    def cancel_at_ten(*progress: int) -> None:
+        if progress:
+            boxes.append(progress[0])
+            if progress[0] == 10:
+                explorer.cancel()
+        check()
+
+    explorer._check_open = cancel_at_ten
+    with pytest.raises(api.CancelledError, match="at the page's request"):
+        explorer.handle("certify", {"design": DESIGN_TEXT, "mode": MODE, "region": "miw"})
+    assert boxes[-1] == 10
+
+
 def test_the_map_of_a_spatial_machine_is_a_plane_section_and_its_linkage_projects_onto_it():
     delta = pkm.load("delta")
     explorer = Explorer(delta, resolution=3, map_resolution=12)
@@ -248,6 +285,9 @@ BAD = [
     ("linkage?pose=0.1", "pose", None),
     ("linkage?pose=0.1,nan", "pose", None),
     ("optimum?problem=no_such_problem", "problem", None),
+    ("certify?region=reachable", "region", None),
+    ("certify?properties=singularity,no_such_property", "properties", None),
+    ("certify?seconds=0", "seconds", None),
 ]
 
 

@@ -1,7 +1,8 @@
 """``pkm explore``'s page in a real headless browser: Debian's chromium driven by playwright, every request to an
 address other than 127.0.0.1 aborted (and counted: there must be none). A click on an atlas cell shows that
 cell's design in the card and a workspace map whose values are ``Mechanism.local_index`` at the map's poses;
-hovering shows a design; the index selector recomputes the atlas and the map; the static export opens with the
+hovering shows a design; the index selector recomputes the atlas and the map; the Certify button draws the region's
+certified boxes over the map; the static export opens with the
 network blocked and shows the atlas and a card. The plots' titles clear plotly's mode bar, the held parameters'
 placeholders fit their inputs, a tooltip over a gap of a map shows no value, a pose out of reach under the pointer
 says so, and the stop button stops the server with the atlas it was computing.
@@ -283,6 +284,26 @@ def test_a_click_on_the_atlas_shows_that_design_its_map_and_card(loaded, tmp_pat
     assert (tmp_path / "explore.png").stat().st_size > 20_000
     assert page.evaluate("window.pkmExplore.errors") == []
     assert page.blocked == []
+
+
+def test_certify_draws_the_regions_boxes_over_the_map(loaded):
+    """The Certify button: the region certified at the shown design and mode (Mechanism.certify's verdict and
+    boxes), its proved and undecided boxes drawn over the map in the pose's plane, the verdict in the status."""
+    page = loaded
+    five_bar = pkm.load("five_bar")
+    page.click("#certify")
+    page.wait_for_function("window.pkmExplore.drawn.certified >= 1", timeout=60_000)
+    shown = page.evaluate("window.pkmExplore.certified.answer")
+    design, mode = page.evaluate("window.pkmExplore.design"), page.evaluate("window.pkmExplore.mode")
+    found = five_bar.certify(shown["region"], five_bar.design(design, partial=True), mode=mode, seconds=10)
+    assert (shown["verdict"], shown["boxes"], shown["mode"]) == (found.verdict, found.boxes, mode)
+    traces = page.evaluate("Array.from(document.getElementById('map').data, (t) => t.name)")
+    drawn = {name.split(" (")[0]: name for name in traces if name and name.split(" (")[0] in ("proved", "undecided")}
+    counts = found.as_dict()["cells"]
+    assert drawn == {state: f"{state} ({n} boxes)" for state, n in counts.items() if n}
+    assert f"{found.verdict} ({found.boxes} boxes" in page.inner_text("#status")
+    assert f"certified: {found.verdict}, {counts['proved']} boxes proved" in page.inner_text("#map-note")
+    assert page.evaluate("window.pkmExplore.errors") == []
 
 
 def test_cancel_stops_the_atlas_in_flight_and_the_page_goes_on(busy, monkeypatch):

@@ -46,6 +46,8 @@ CARD_RESOLUTION = 32  # poses per axis of the card's own map (the page draws the
 AXIS_SPAN = 0.5  # default axes without a design space: each parameter's default times 1 -/+ this
 SAMPLED = ("reachable", "assembled")  # the sampled regions, which have no nodes or placement to draw
 ENCODINGS = ("list", "base64")
+CERTIFY_SECONDS = 10  # a certification's time budget by default (the page waits for it)
+MAX_CERTIFY = 120
 
 FIELDS = {
     "mechanism": (),
@@ -54,6 +56,7 @@ FIELDS = {
     "card": ("design", "mode", "region", "index", "indices", "resolution"),
     "map": ("design", "mode", "index", "plane", "held", "region", "resolution", "arrays"),
     "linkage": ("design", "mode", "pose", "plane"),
+    "certify": ("design", "mode", "region", "properties", "seconds"),
 }
 
 
@@ -266,6 +269,8 @@ class Explorer:
         defaults = {k: v for k, v in self.defaults.items() if k in known}
         if endpoint in ("map", "card") and "resolution" in known:
             defaults["resolution"] = self.defaults["map_resolution"] if endpoint == "map" else str(CARD_RESOLUTION)
+        if endpoint == "certify":
+            defaults["seconds"] = str(CERTIFY_SECONDS)
         if "space" in fields or "axes" in fields:
             defaults.pop("space", None)
             defaults.pop("axes", None)
@@ -579,6 +584,35 @@ class Explorer:
             "assemblies": None if every is None else {
                 **every.summary(mech), "legs": every.legs,
                 "projected": None if columns is None else [[leg[:, columns] for leg in drawn] for drawn in every.legs]},
+        }
+
+    def _certify(self, fields: Mapping[str, str]) -> dict[str, Any]:
+        """The region certified at the design in the mode (:meth:`pkm.Mechanism.certify`; ``properties`` a comma
+        list, by default its singularity and limits), within ``seconds``: the certificate and its boxes, outline and
+        witnesses in the plane of the pose's first two coordinates (:func:`pkm.certify.certificate_drawing`)."""
+        from pkm.certify import PROPERTIES, certificate_drawing
+
+        mech = self.mechanism
+        design, mode, region = self._design(fields), self._mode(fields), self._region(fields)
+        if region in SAMPLED:
+            raise RequestError("region", f"region {region} violates: a parametrised region to certify (a sampled "
+                                         "one has no boxes)")
+        names = [t.strip() for t in fields.get("properties", "singularity,limits").split(",") if t.strip()]
+        unknown = [n for n in names if n not in PROPERTIES]
+        if unknown or not names:
+            raise RequestError("properties", f"properties violates: some of {', '.join(PROPERTIES)}; got "
+                                             f"{reprlib.repr(','.join(unknown)) if unknown else 'none'}")
+        seconds = self._integer(fields, "seconds", 1, MAX_CERTIFY)
+        with self._turn(), blame("region"):
+            found = mech.certify(region, design, mode=mode, properties=names, seconds=seconds,
+                                 progress=self._check_open)
+            drawing = certificate_drawing(mech, region, found, design)
+        return {
+            **found.as_dict(),
+            "plane": list(mech.pose_names[:2]),
+            "cells": {state: boxes.tolist() for state, boxes in drawing.cells.items()},
+            "outline": drawing.outline.tolist(),
+            "points": drawing.witnesses.tolist(),
         }
 
 

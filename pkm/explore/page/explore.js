@@ -16,8 +16,8 @@
   // click on the atlas to its map drawn (ms).
   const state = {
     static: offline !== null, stopped: false, meta: null, atlas: null, optimum: null, mode: null, clicked: null,
-    shown: null, design: null, map: null, card: null, linkage: null, pose: null, followed: false, timings: [],
-    errors: [], drawn: { atlas: 0, map: 0, card: 0 }, seq: { atlas: 0, map: 0, card: 0 },
+    shown: null, design: null, map: null, card: null, linkage: null, pose: null, followed: false, certified: null,
+    timings: [], errors: [], drawn: { atlas: 0, map: 0, card: 0, certified: 0 }, seq: { atlas: 0, map: 0, card: 0 },
   };
   window.pkmExplore = state;
 
@@ -457,6 +457,7 @@
         x: m.region_points.map((p) => p[0]), y: m.region_points.map((p) => p[1]),
         marker: { color: "white", size: 4, line: { color: "black", width: 0.5 } } });
     }
+    traces.push(...certifiedTraces());
     const link = state.linkage;
     const every = link && link.mode === m.mode && link.assemblies;
     if (every && every.projected) {
@@ -485,6 +486,64 @@
     return traces;
   }
 
+  // the certification of the map's design, mode and region, where the map's plane is the pose's first two
+  // coordinates: its boxes outlined (proved green, undecided orange) and its witnesses
+  function shownCertificate() {
+    const c = state.certified;
+    const m = state.map;
+    return c && m && c.key === certifyKey() && m.axes.join(",") === c.answer.plane.join(",") ? c.answer : null;
+  }
+
+  function certifiedTraces() {
+    const c = shownCertificate();
+    if (!c) return [];
+    const traces = [];
+    const colours = { proved: ["#2ca02c", "rgba(44, 160, 44, 0.3)"], undecided: ["#ff7f0e", "rgba(255, 127, 14, 0.5)"] };
+    for (const [cell, [colour, fill]] of Object.entries(colours)) {
+      const boxes = c.cells[cell].map((corners) => [...corners, corners[0]]);
+      if (boxes.length) {
+        traces.push({ ...polyline(boxes), name: `${cell} (${boxes.length} boxes)`, fill: "toself", fillcolor: fill,
+          line: { color: colour, width: 0.5 } });
+      }
+    }
+    if (c.points.length) {
+      traces.push({ type: "scatter", mode: "markers", name: "witness (refuted)", hoverinfo: "skip",
+        x: c.points.map((p) => p[0]), y: c.points.map((p) => p[1]),
+        marker: { symbol: "x", size: 11, color: "#d62728" } });
+    }
+    return traces;
+  }
+
+  function certifyKey() {
+    return state.design && state.atlas ? `${designText(state.design)}|${state.mode}|${state.atlas.region}` : null;
+  }
+
+  async function certify() {
+    const key = certifyKey();
+    if (!key) return;
+    status(`certifying region ${state.atlas.region} ...`);
+    $("certify").disabled = true;
+    $("cancel").hidden = false;
+    let answer;
+    try {
+      answer = await api("certify", { design: designText(state.design), mode: state.mode, region: state.atlas.region },
+        "certify");
+    } catch (error) {
+      failed(error);
+      return;
+    } finally {
+      $("certify").disabled = false;
+      $("cancel").hidden = true;
+    }
+    state.certified = { key, answer };
+    const volume = answer.undecided > 0 ? `, undecided volume ${fmt(answer.undecided)} of the reference box` : "";
+    const stopped = answer.stopped ? ` (stopped at ${answer.stopped})` : "";
+    status(`region ${answer.region} in mode ${answer.mode}: ${answer.verdict} (${answer.boxes} boxes, depth
+      ${answer.depth}${volume}, ${fmt(answer.seconds)} s${stopped})`.replace(/\s+/g, " "));
+    if (state.map) await drawMap();
+    state.drawn.certified += 1;
+  }
+
   async function drawMap() {
     const m = state.map;
     const sameUnits = m.axis_units[0] === m.axis_units[1];
@@ -506,6 +565,13 @@
       const every = link.assemblies;
       const failed = every.failed ? ` (${every.failed} ${every.failures})` : "";
       notes.push(`${every.count} real assemblies at these joints${failed}`);
+    }
+    const c = shownCertificate();
+    if (c) {
+      notes.push(`certified: ${c.verdict}, ${c.cells.proved.length} boxes proved, ${c.cells.undecided.length} undecided, `
+        + `${c.points.length} witnesses`);
+    } else if (state.certified && state.certified.key === certifyKey()) {
+      notes.push(`the certification's boxes are drawn in the plane ${state.certified.answer.plane.join(", ")}`);
     }
     if (link && link.singular && link.singular.length) {
       notes.push(`SINGULAR (${link.singular.join(" and ")}): the indices there are their limits`);
@@ -647,6 +713,7 @@
       $("region").disabled = true;
       $("plane").disabled = true;
       $("stop").hidden = true;
+      $("certify").hidden = true;
     }
     $("index").addEventListener("change", () => loadAtlas());
     $("region").addEventListener("change", () => loadAtlas());
@@ -658,6 +725,7 @@
     $("plane").addEventListener("change", () => { if (state.shown) select(state.shown, false); });
     $("stop").addEventListener("click", stop);
     $("cancel").addEventListener("click", cancel);
+    $("certify").addEventListener("click", certify);
     await Plotly.newPlot("atlas", [], {}, PLOT);
     await Plotly.newPlot("map", [], {}, PLOT);
     bindAtlas();
