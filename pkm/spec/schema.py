@@ -22,24 +22,31 @@ from typing import Any
 import casadi as ca
 
 from pkm import expressions, io
-from pkm.errors import PkmError
+from pkm.spec.checks import (
+    DescriptionError,
+    check_fields,
+    choice,
+    compose,
+    expression,
+    fail,
+    identifier,
+    number,
+    text,
+    trees,
+)
+from pkm.spec.elastic_schema import check_elastic, elastic
 from pkm.spec.vocabulary import (
-    BEAM_FIELDS,
     BODY_FIELDS,
     CHAIN,
     CHAIN_JOINTS,
     CONDITION_FIELDS,
     CONE,
     DESCRIPTION_FIELDS,
-    ELASTIC_FIELDS,
     FRAMES,
     IDENTIFIER,
-    IDENTIFIER_PATTERN,
     JOINTS,
     KINDS,
     LENGTH,
-    MATERIALS,
-    NAME_LENGTH,
     PARAMETER_FIELDS,
     PATTERN_FIELDS,
     PLATES,
@@ -47,23 +54,14 @@ from pkm.spec.vocabulary import (
     POINT_BODY,
     REGION_FIELDS,
     ROTOR,
-    SECTIONS,
     SHAPES,
-    TEXT_LENGTH,
     Field,
-    beams,
-    is_free,
     kind_of,
     leg_fields,
-    passive_angles,
 )
 
 SUFFIX = ".toml"  # a mechanism name with it is a description file
 ROOT = Path(__file__).resolve().parents[2]
-
-
-class DescriptionError(PkmError):
-    """A machine description that names an unknown field or violates a condition."""
 
 
 @dataclass(frozen=True)
@@ -94,107 +92,42 @@ def _tool_versions() -> dict[str, str]:
     return {"casadi": ca.__version__, "symbolic": digest}
 
 
-def _fail(field: str, condition: str) -> DescriptionError:
-    return DescriptionError(f"description field {field} violates: {condition}")
-
-
-def _check_fields(table: Mapping[str, Any], fields: Sequence[Field], where: str, what: str) -> None:
-    """A field of ``table`` that ``fields`` does not hold, or a required one that it lacks, refused by name."""
-    names = [f.name for f in fields]
-    extra = sorted(set(table) - set(names), key=str)
-    if extra:
-        raise _fail(f"{where}.{extra[0]}" if where else str(extra[0]), f"a known field of {what} ({', '.join(names)})")
-    for f in fields:
-        if f.required and f.name not in table:
-            raise _fail(f"{where}.{f.name}" if where else f.name, f"given ({f.doc})")
-
-
-def _expression(field: str, text: Any, names: set[str]) -> expressions.Tree:
-    """An expression of the parameters (and pi and :data:`pkm.expressions.FUNCTIONS`), as its tree."""
-    if isinstance(text, bool) or not isinstance(text, int | float | str):
-        raise _fail(field, "a number or an expression of the parameters")
-    if not isinstance(text, str):
-        if not math.isfinite(text):
-            raise _fail(field, f"a finite number; got {text!r}")
-        return float(text)
-    try:
-        tree = expressions.parse(text)
-    except expressions.ExpressionError as exc:
-        raise _fail(field, f"{exc}; got {reprlib.repr(text)}") from None
-    unknown = expressions.unknown_names(tree, names)
-    if unknown:
-        raise _fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names "
-                           f"{reprlib.repr(unknown)}")
-    return tree
-
-
-def _compose(field: str, template: str, names: set[str], **parts: expressions.Tree) -> expressions.Tree:
-    """The tree of ``template`` with the trees ``parts`` put in for their names in braces."""
-    return _expression(field, template.format(**{k: f"({expressions.text(v)})" for k, v in parts.items()}), names)
-
-
-def _choice(field: str, value: Any, options: Sequence[str]) -> str:
-    """``value`` where it is one of ``options`` (text), else :class:`DescriptionError` naming ``field``."""
-    if not isinstance(value, str) or value not in options:
-        raise _fail(field, f"one of {', '.join(options)}; got {reprlib.repr(value)}")
-    return value
-
-
-def _text(field: str, value: Any) -> str:
-    """A text field (a doc, a unit): text of at most :data:`TEXT_LENGTH` characters."""
-    if not isinstance(value, str) or len(value) > TEXT_LENGTH:
-        raise _fail(field, f"text of at most {TEXT_LENGTH} characters")
-    return value
-
-
-def _identifier(name: Any) -> bool:
-    """Whether ``name`` is a name a derived module's functions can carry (CasADi's rule): a letter, then letters,
-    digits and single underscores, not ending in one."""
-    return isinstance(name, str) and len(name) <= NAME_LENGTH and IDENTIFIER_PATTERN.fullmatch(name) is not None
-
-
-def _number(field: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise _fail(field, "a finite number")
-    return float(value)
-
-
 def _parameters(raw: Any) -> list[dict[str, Any]]:
     table = f"{{{', '.join(f.name for f in PARAMETER_FIELDS)}}}"
     if not isinstance(raw, list) or not raw:
-        raise _fail("parameters", f"a non-empty list of {table}")
+        raise fail("parameters", f"a non-empty list of {table}")
     out, seen = [], set()
     for k, p in enumerate(raw):
         where = f"parameters[{k}]"
         if not isinstance(p, Mapping):
-            raise _fail(where, f"a table {table}")
-        _check_fields(p, PARAMETER_FIELDS, where, "a parameter")
+            raise fail(where, f"a table {table}")
+        check_fields(p, PARAMETER_FIELDS, where, "a parameter")
         name = p.get("name")
-        if not _identifier(name) or name in expressions.RESERVED:
-            raise _fail(f"{where}.name", f"{IDENTIFIER}, other than "
+        if not identifier(name) or name in expressions.RESERVED:
+            raise fail(f"{where}.name", f"{IDENTIFIER}, other than "
                                          f"{', '.join(expressions.RESERVED)}")
         if name in seen:
-            raise _fail(f"{where}.name", f"a name not given before; {name} is")
+            raise fail(f"{where}.name", f"a name not given before; {name} is")
         seen.add(name)
-        lower, upper = _number(f"{where}.lower", p["lower"]), _number(f"{where}.upper", p["upper"])
-        default = _number(f"{where}.default", p.get("default"))
+        lower, upper = number(f"{where}.lower", p["lower"]), number(f"{where}.upper", p["upper"])
+        default = number(f"{where}.default", p.get("default"))
         if not lower < upper:
-            raise _fail(f"{where}", f"lower < upper; got {lower:g}, {upper:g}")
+            raise fail(f"{where}", f"lower < upper; got {lower:g}, {upper:g}")
         if not lower <= default < upper:
-            raise _fail(f"{where}.default", f"{lower:g} <= default < {upper:g}; got {default:g}")
-        unit, doc = _text(f"{where}.unit", p.get("unit", "-")), _text(f"{where}.doc", p.get("doc", ""))
+            raise fail(f"{where}.default", f"{lower:g} <= default < {upper:g}; got {default:g}")
+        unit, doc = text(f"{where}.unit", p.get("unit", "-")), text(f"{where}.doc", p.get("doc", ""))
         out.append({"name": name, "default": default, "lower": lower, "upper": upper, "unit": unit, "doc": doc})
     return out
 
 
 def _angles(pattern: Mapping[str, Any], count: int, field: str, names: set[str]) -> list[expressions.Tree]:
-    start = _expression(f"{field}.start", pattern.get("start", 0), names)
+    start = expression(f"{field}.start", pattern.get("start", 0), names)
     if "pairs" not in pattern:
-        return [_compose(f"{field}.start", f"{{start}} + 2*pi*{i}/{count}", names, start=start) for i in range(count)]
+        return [compose(f"{field}.start", f"{{start}} + 2*pi*{i}/{count}", names, start=start) for i in range(count)]
     if count % 2:
-        raise _fail(f"{field}.pairs", f"an even count of legs; got {count}")
-    apart = _expression(f"{field}.pairs", pattern["pairs"], names)
-    return [_compose(f"{field}.pairs", f"{{start}} + 2*pi*{i // 2}/{count // 2} {'-' if i % 2 == 0 else '+'} "
+        raise fail(f"{field}.pairs", f"an even count of legs; got {count}")
+    apart = expression(f"{field}.pairs", pattern["pairs"], names)
+    return [compose(f"{field}.pairs", f"{{start}} + 2*pi*{i // 2}/{count // 2} {'-' if i % 2 == 0 else '+'} "
                      "{apart}/2", names, start=start, apart=apart) for i in range(count)]
 
 
@@ -202,19 +135,19 @@ def _points(raw: Any, count: int, dim: int, field: str, names: set[str]
             ) -> tuple[list[list[expressions.Tree]], list[expressions.Tree] | None]:
     """``count`` points of ``dim`` expressions, and the circle's angles where a pattern gave them."""
     if isinstance(raw, Mapping):
-        _check_fields(raw, PATTERN_FIELDS, field, "a pattern")
-        radius = _expression(f"{field}.circle", raw["circle"], names)
+        check_fields(raw, PATTERN_FIELDS, field, "a pattern")
+        radius = expression(f"{field}.circle", raw["circle"], names)
         angles = _angles(raw, count, field, names)
-        plane = [[_compose(f"{field}.circle", f"{{r}}*{f}({{a}})", names, r=radius, a=a) for f in ("cos", "sin")]
+        plane = [[compose(f"{field}.circle", f"{{r}}*{f}({{a}})", names, r=radius, a=a) for f in ("cos", "sin")]
                  for a in angles]
         return [p + [0] * (dim - 2) for p in plane], angles
     if not isinstance(raw, list) or len(raw) != count:
-        raise _fail(field, f"a list of {count} points (one per leg) or a pattern {{circle, start, pairs}}")
+        raise fail(field, f"a list of {count} points (one per leg) or a pattern {{circle, start, pairs}}")
     points = []
     for i, point in enumerate(raw):
         if not isinstance(point, list) or len(point) != dim:
-            raise _fail(f"{field}[{i}]", f"a point of {dim} coordinates")
-        points.append([_expression(f"{field}[{i}][{j}]", c, names) for j, c in enumerate(point)])
+            raise fail(f"{field}[{i}]", f"a point of {dim} coordinates")
+        points.append([expression(f"{field}[{i}][{j}]", c, names) for j, c in enumerate(point)])
     return points, None
 
 
@@ -222,29 +155,29 @@ def _body(raw: Any, field: str, names: set[str], *, centre: int, inertia: int) -
     """A body {mass, centre (``centre`` expressions: 0 for none, 1 a distance, 2 or 3 a point), inertia
     (``inertia`` expressions: 0 for none)}: mass required, the others 0 by default."""
     if not isinstance(raw, Mapping):
-        raise _fail(field, f"a table {{{', '.join(f.name for f in BODY_FIELDS)}}}")
+        raise fail(field, f"a table {{{', '.join(f.name for f in BODY_FIELDS)}}}")
     counts = {"centre": centre, "inertia": inertia}
-    _check_fields(raw, [f for f in BODY_FIELDS if counts.get(f.name, 1)], field, "this body")
-    out: dict[str, Any] = {"mass": _expression(f"{field}.mass", raw["mass"], names)}
+    check_fields(raw, [f for f in BODY_FIELDS if counts.get(f.name, 1)], field, "this body")
+    out: dict[str, Any] = {"mass": expression(f"{field}.mass", raw["mass"], names)}
     for key, count in (("centre", centre), ("inertia", inertia)):
         if not count:
             continue
         value = raw.get(key, [0] * count if count > 1 else 0)
         if count == 1:
-            out[key] = _expression(f"{field}.{key}", value, names)
+            out[key] = expression(f"{field}.{key}", value, names)
         else:
             if not isinstance(value, list) or len(value) != count:
-                raise _fail(f"{field}.{key}", f"a list of {count} expressions")
-            out[key] = [_expression(f"{field}.{key}[{j}]", v, names) for j, v in enumerate(value)]
+                raise fail(f"{field}.{key}", f"a list of {count} expressions")
+            out[key] = [expression(f"{field}.{key}[{j}]", v, names) for j, v in enumerate(value)]
     return out
 
 
 def _leg_bodies(raw: Any, kind: str, field: str, names: set[str]) -> dict[str, Any]:
     fields = (ROTOR, *KINDS[kind].bodies)
     if not isinstance(raw, Mapping):
-        raise _fail(field, f"a table of the {kind} leg's rotor and bodies ({', '.join(f.name for f in fields)})")
-    _check_fields(raw, fields, field, f"a {kind} leg's bodies")
-    out: dict[str, Any] = {"rotor": _expression(f"{field}.rotor", raw.get("rotor", 0), names)}
+        raise fail(field, f"a table of the {kind} leg's rotor and bodies ({', '.join(f.name for f in fields)})")
+    check_fields(raw, fields, field, f"a {kind} leg's bodies")
+    out: dict[str, Any] = {"rotor": expression(f"{field}.rotor", raw.get("rotor", 0), names)}
     for body in KINDS[kind].bodies:
         if body.name in raw:
             extent = int(body.holds != POINT_BODY)
@@ -255,43 +188,43 @@ def _leg_bodies(raw: Any, kind: str, field: str, names: set[str]) -> dict[str, A
 def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
     tables = [raw] if isinstance(raw, Mapping) else raw
     if not isinstance(tables, list) or not tables:
-        raise _fail("legs", "a table or a list of tables")
+        raise fail("legs", "a table or a list of tables")
     planar = frame.startswith("planar")
     dim = 2 if planar else 3
     legs = []
     for t, table in enumerate(tables):
         where = "legs" if isinstance(raw, Mapping) else f"legs[{t}]"
         if not isinstance(table, Mapping):
-            raise _fail(where, "a table")
-        kind = _choice(f"{where}.kind", table.get("kind"), (*KINDS, CHAIN))
+            raise fail(where, "a table")
+        kind = choice(f"{where}.kind", table.get("kind"), (*KINDS, CHAIN))
         if kind == CHAIN:
             legs += _chain_legs(table, where, frame, names)
             continue
         space, lengths = KINDS[kind].space, KINDS[kind].lengths
         if (space == "planar") != planar:
-            raise _fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
+            raise fail(f"{where}.kind", f"a {'planar' if planar else 'spatial'} leg in a {frame} frame; {kind} is "
                                           f"{space}")
         count, base, angles, platform = _attachments(table, where, leg_fields(kind), f"a {kind} leg", dim=dim,
                                                       names=names)
         for i in range(count):
             leg = {"kind": kind, "base": base[i], "platform": platform[i],
-                   **{n: _expression(f"{where}.{n}", table[n], names) for n in lengths}}
+                   **{n: expression(f"{where}.{n}", table[n], names) for n in lengths}}
             if "range" in table:
                 bounds = table["range"]
                 if not isinstance(bounds, list) or len(bounds) != 2:
-                    raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
-                leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
+                    raise fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
+                leg["range"] = [expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
             if "cone" in table:
-                leg["cone"] = _expression(f"{where}.cone", table["cone"], names)
+                leg["cone"] = expression(f"{where}.cone", table["cone"], names)
             if "bodies" in table:
                 leg["bodies"] = _leg_bodies(table["bodies"], kind, f"{where}.bodies", names)
             if kind == "PRR":
                 if not isinstance(table["axis"], list) or len(table["axis"]) != 2:
-                    raise _fail(f"{where}.axis", "a direction of 2 expressions")
-                leg["axis"] = [_expression(f"{where}.axis[{j}]", c, names) for j, c in enumerate(table["axis"])]
+                    raise fail(f"{where}.axis", "a direction of 2 expressions")
+                leg["axis"] = [expression(f"{where}.axis[{j}]", c, names) for j, c in enumerate(table["axis"])]
             if kind == "R_parallelogram":
                 if angles is None and ("axis" not in table or "zero" not in table):
-                    raise _fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
+                    raise fail(f"{where}.axis", "given with zero where the base is not a circle pattern")
                 a = angles[i] if angles is not None else None
                 leg["axis"] = [["neg", ["sin", a]], ["cos", a], 0] if table.get("axis", "tangent") == "tangent" \
                     else _vector(table["axis"], 3, f"{where}.axis", names)
@@ -302,10 +235,10 @@ def _legs(raw: Any, frame: str, names: set[str]) -> list[dict[str, Any]]:
     for name in ("elastic", "capsule"):
         given = [name in leg for leg in legs]
         if any(given) and not all(given):
-            raise _fail(f"legs.{name}", f"given on every leg where it is on one; leg {given.index(False) + 1} has none")
+            raise fail(f"legs.{name}", f"given on every leg where it is on one; leg {given.index(False) + 1} has none")
     for k, leg in enumerate(legs):
         if "elastic" in leg and leg["elastic"]["drive"] is None and not leg["elastic"]["beams"]:
-            raise _fail("legs.elastic", f"a drive or a beam on every leg; leg {k + 1} has neither and would be "
+            raise fail("legs.elastic", f"a drive or a beam on every leg; leg {k + 1} has neither and would be "
                                         "rigid")
     return legs
 
@@ -315,10 +248,10 @@ def _attachments(table: Mapping[str, Any], where: str, fields: Sequence[Field], 
                                            list[list[expressions.Tree]]]:
     """A leg table's fields checked against ``fields``, its count of legs, their base attachments (with the
     circle's angles where a pattern gives them) and their platform attachments."""
-    _check_fields(table, fields, where, what)
+    check_fields(table, fields, where, what)
     count = table.get("count", 1)
     if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 12:
-        raise _fail(f"{where}.count", "an integer from 1 to 12")
+        raise fail(f"{where}.count", "an integer from 1 to 12")
     base, angles = _points(table.get("base"), count, dim, f"{where}.base", names)
     platform, _ = _points(table.get("platform"), count, dim, f"{where}.platform", names)
     return count, base, angles, platform
@@ -326,23 +259,23 @@ def _attachments(table: Mapping[str, Any], where: str, fields: Sequence[Field], 
 
 def _vector(raw: Any, dim: int, field: str, names: set[str]) -> list[expressions.Tree]:
     if not isinstance(raw, list) or len(raw) != dim:
-        raise _fail(field, f"a vector of {dim} expressions")
-    return [_expression(f"{field}[{j}]", c, names) for j, c in enumerate(raw)]
+        raise fail(field, f"a vector of {dim} expressions")
+    return [expression(f"{field}[{j}]", c, names) for j, c in enumerate(raw)]
 
 
 def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, Any]:
     types = tuple(t for t in CHAIN_JOINTS if dim == 3 or JOINTS[t].planar)
     if not isinstance(raw, Mapping):
-        raise _fail(field, "a table {type, axis or axes, link, actuated}")
-    kind = _choice(f"{field}.type", raw.get("type"), types)
-    _check_fields(raw, JOINTS[kind].fields, field, f"a chain's {kind} joint")
+        raise fail(field, "a table {type, axis or axes, link, actuated}")
+    kind = choice(f"{field}.type", raw.get("type"), types)
+    check_fields(raw, JOINTS[kind].fields, field, f"a chain's {kind} joint")
     actuated = raw.get("actuated", False)
     if not isinstance(actuated, bool):
-        raise _fail(f"{field}.actuated", "true or false")
+        raise fail(f"{field}.actuated", "true or false")
     if actuated and kind not in ("R", "P"):
-        raise _fail(f"{field}.actuated", f"an actuated R or P joint; a {kind} joint is passive")
+        raise fail(f"{field}.actuated", f"an actuated R or P joint; a {kind} joint is passive")
     if "rotor" in raw and not actuated:
-        raise _fail(f"{field}.rotor", "on the actuated joint only (its rotor)")
+        raise fail(f"{field}.rotor", "on the actuated joint only (its rotor)")
     out = {"type": kind, "actuated": actuated,
            "link": _vector(raw.get("link", [0] * dim), dim, f"{field}.link", names)}
     if kind == "P":
@@ -350,16 +283,16 @@ def _chain_joint(raw: Any, field: str, dim: int, names: set[str]) -> dict[str, A
     elif kind == "R":
         out["axes"] = [[0, 0, 1] if dim == 2 else _vector(raw.get("axis", [0, 0, 1]), 3, f"{field}.axis", names)]
         if dim == 2 and "axis" in raw:
-            raise _fail(f"{field}.axis", "absent: a planar revolute turns about z")
+            raise fail(f"{field}.axis", "absent: a planar revolute turns about z")
     else:
         axes = raw.get("axes")
         if not isinstance(axes, list) or len(axes) != 2:
-            raise _fail(f"{field}.axes", f"the {kind} joint's two axes, the second in the frame the first turns")
+            raise fail(f"{field}.axes", f"the {kind} joint's two axes, the second in the frame the first turns")
         out["axes"] = [_vector(axis, 3, f"{field}.axes[{j}]", names) for j, axis in enumerate(axes)]
     if "body" in raw:
         out["body"] = _body(raw["body"], f"{field}.body", names, centre=dim, inertia=1 if dim == 2 else 3)
     if "rotor" in raw:
-        out["rotor"] = _expression(f"{field}.rotor", raw["rotor"], names)
+        out["rotor"] = expression(f"{field}.rotor", raw["rotor"], names)
     return out
 
 
@@ -367,14 +300,14 @@ def _conditions(raw: Any, names: set[str]) -> list[dict[str, Any]]:
     """Validity conditions of the design: each {margin, doc}, the margin an expression of the parameters that is
     positive where the condition holds."""
     if not isinstance(raw, list):
-        raise _fail("conditions", "a list of {margin, doc}")
+        raise fail("conditions", "a list of {margin, doc}")
     out = []
     for k, condition in enumerate(raw):
         if not isinstance(condition, Mapping):
-            raise _fail(f"conditions[{k}]", "a table {margin, doc}: the margin positive where the design is valid")
-        _check_fields(condition, CONDITION_FIELDS, f"conditions[{k}]", "a condition")
-        doc = _text(f"conditions[{k}].doc", condition.get("doc", "a valid design"))
-        out.append({"margin": _expression(f"conditions[{k}].margin", condition["margin"], names), "doc": doc})
+            raise fail(f"conditions[{k}]", "a table {margin, doc}: the margin positive where the design is valid")
+        check_fields(condition, CONDITION_FIELDS, f"conditions[{k}]", "a condition")
+        doc = text(f"conditions[{k}].doc", condition.get("doc", "a valid design"))
+        out.append({"margin": expression(f"conditions[{k}].margin", condition["margin"], names), "doc": doc})
     return out
 
 
@@ -390,20 +323,20 @@ def _chain_joints(raw: Any, where: str, dim: int, names: set[str]) -> list[dict[
     joint's type and fields, the platform's spherical joint ending a spatial chain (dropped), exactly one actuated
     joint, and as many joint variables as the closure at the platform's point joint has equations."""
     if not isinstance(raw, list) or not raw:
-        raise _fail(where, "a list of the chain's joints from the base")
+        raise fail(where, "a list of the chain's joints from the base")
     if dim == 3 and isinstance(raw[-1], Mapping) and raw[-1].get("type") == PLATFORM_JOINT:
         last = f"{where}[{len(raw) - 1}]"
-        _check_fields(raw[-1], JOINTS[PLATFORM_JOINT].fields, last, "the platform's spherical joint")
+        check_fields(raw[-1], JOINTS[PLATFORM_JOINT].fields, last, "the platform's spherical joint")
         if raw[-1].get("actuated", False) is not False:
-            raise _fail(last, "the platform's spherical joint: passive")
+            raise fail(last, "the platform's spherical joint: passive")
         raw = raw[:-1]
     joints = [_chain_joint(j, f"{where}[{i}]", dim, names) for i, j in enumerate(raw)]
     actuated = sum(j["actuated"] for j in joints)
     if actuated != 1:
-        raise _fail(where, f"exactly one actuated joint; got {actuated}")
+        raise fail(where, f"exactly one actuated joint; got {actuated}")
     variables = sum(CHAIN_JOINTS[j["type"]] for j in joints)
     if variables != dim:
-        raise _fail(where, f"{dim} joint variables (R and P one each, U two), as many as the closure at the "
+        raise fail(where, f"{dim} joint variables (R and P one each, U two), as many as the closure at the "
                            f"platform's point joint has equations; got {variables}")
     return joints
 
@@ -434,24 +367,24 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
     joints = _chain_joints(table.get("joints"), f"{where}.joints", dim, names)
     branches = table.get("branches")
     if not isinstance(branches, Mapping) or not 1 <= len(branches) <= 2:
-        raise _fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
+        raise fail(f"{where}.branches", "one or two seeds by name, each the joints' values at the home pose")
     seeds = []
     for name, values in branches.items():
-        if not _identifier(name):
-            raise _fail(f"{where}.branches.{reprlib.repr(name)}", IDENTIFIER)
+        if not identifier(name):
+            raise fail(f"{where}.branches.{reprlib.repr(name)}", IDENTIFIER)
         if not isinstance(values, list) or len(values) != dim:
-            raise _fail(f"{where}.branches.{name}", f"a list of {dim} joint values (the U's two in order)")
-        seeds.append([name, [_number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]])
+            raise fail(f"{where}.branches.{name}", f"a list of {dim} joint values (the U's two in order)")
+        seeds.append([name, [number(f"{where}.branches.{name}[{j}]", v) for j, v in enumerate(values)]])
     turns = table.get("turn")
     if turns is None:
         turns = angles if angles is not None else [0] * count
     elif not isinstance(turns, list) or len(turns) != count:
-        raise _fail(f"{where}.turn", f"a list of {count} angles, one per leg")
+        raise fail(f"{where}.turn", f"a list of {count} angles, one per leg")
     else:
-        turns = [_expression(f"{where}.turn[{i}]", t, names) for i, t in enumerate(turns)]
+        turns = [expression(f"{where}.turn[{i}]", t, names) for i, t in enumerate(turns)]
     newton = table.get("newton", False)
     if not isinstance(newton, bool):
-        raise _fail(f"{where}.newton", "true or false")
+        raise fail(f"{where}.newton", "true or false")
     legs = []
     for i in range(count):
         leg = {"kind": CHAIN, "base": base[i], "platform": platform[i], "joints": joints, "branches": seeds,
@@ -459,8 +392,8 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
         if "range" in table:
             bounds = table["range"]
             if not isinstance(bounds, list) or len(bounds) != 2:
-                raise _fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
-            leg["range"] = [_expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
+                raise fail(f"{where}.range", "a pair [lower, upper] of the actuated joint")
+            leg["range"] = [expression(f"{where}.range[{j}]", b, names) for j, b in enumerate(bounds)]
         legs.append(_with_elements(leg, table, where, names))
     return legs
 
@@ -468,80 +401,10 @@ def _chain_legs(table: Mapping[str, Any], where: str, frame: str, names: set[str
 def _with_elements(leg: dict[str, Any], table: Mapping[str, Any], where: str, names: set[str]) -> dict[str, Any]:
     """A normalised leg (its chain's joints known) with its table's elastic elements and capsule, where given."""
     if "elastic" in table:
-        leg["elastic"] = _elastic(table["elastic"], f"{where}.elastic", names, leg)
+        leg["elastic"] = elastic(table["elastic"], f"{where}.elastic", names, leg)
     if "capsule" in table:
-        leg["capsule"] = _expression(f"{where}.capsule", table["capsule"], names)
+        leg["capsule"] = expression(f"{where}.capsule", table["capsule"], names)
     return leg
-
-
-def _elastic(raw: Any, where: str, names: set[str], leg: Mapping[str, Any]) -> dict[str, Any]:
-    """A leg's elastic elements: its material ({E, G, density} trees), section ({shape, its dimensions}), drive
-    stiffness (or None: rigid) and per beam its material and section, each the leg's where not given."""
-    if not isinstance(raw, Mapping):
-        raise _fail(where, "a table {material, section, drive, passive, bearings, tilts, beams}")
-    _check_fields(raw, ELASTIC_FIELDS, where, "a leg's elastic elements")
-    spatial = len(leg["joints"][0]["link"]) == 3
-    material = _material(raw["material"], f"{where}.material", names)
-    section = _section(raw["section"], f"{where}.section", names, spatial=spatial)
-    given = raw.get("beams", [])
-    count = len(beams(leg))
-    if not isinstance(given, list) or len(given) > count:
-        raise _fail(f"{where}.beams", f"a list of at most {count} tables {{material, section}}, one per beam of the "
-                                      "leg in order")
-    per_beam = []
-    for b in range(count):
-        table = given[b] if b < len(given) else {}
-        field = f"{where}.beams[{b}]"
-        if not isinstance(table, Mapping):
-            raise _fail(field, "a table {material, section}")
-        _check_fields(table, BEAM_FIELDS, field, "a beam")
-        per_beam.append({"material": _material(table["material"], f"{field}.material", names)
-                         if "material" in table else material,
-                         "section": _section(table["section"], f"{field}.section", names, spatial=spatial)
-                         if "section" in table else section})
-    drive = _expression(f"{where}.drive", raw["drive"], names) if "drive" in raw else None
-    out = {"beams": per_beam, "drive": drive}
-    if "passive" in raw:
-        count = len(passive_angles(leg))
-        given = raw["passive"]
-        if not isinstance(given, list) or len(given) != count:
-            raise _fail(f"{where}.passive", f"a list of {count} expressions, one per passive joint variable of the "
-                                            "leg in order (0 for a free one)")
-        out["passive"] = [_expression(f"{where}.passive[{j}]", t, names) for j, t in enumerate(given)]
-    for name, allowed in (("bearings", True), ("tilts", spatial)):  # tilts in space alone
-        if name in raw:
-            count, given = kind_of(leg).points, raw[name]
-            if not allowed or not isinstance(given, list) or len(given) != count:
-                raise _fail(f"{where}.{name}", f"{'' if name == 'bearings' else 'in space, '}a list of {count} "
-                                               "expressions, one per joint the leg draws from the base, the "
-                                               "platform's included")
-            out[name] = [_expression(f"{where}.{name}[{j}]", t, names) for j, t in enumerate(given)]
-    return out
-
-
-def _material(raw: Any, where: str, names: set[str]) -> dict[str, expressions.Tree]:
-    if isinstance(raw, str):
-        if raw not in MATERIALS:
-            raise _fail(where, f"one of {', '.join(MATERIALS)}, or a table {{E, G, density}}; got {reprlib.repr(raw)}")
-        return dict(zip(("E", "G", "density"), MATERIALS[raw], strict=True))
-    if not isinstance(raw, Mapping) or set(raw) != {"E", "G", "density"}:
-        raise _fail(where, f"one of {', '.join(MATERIALS)}, or a table {{E, G, density}}")
-    return {k: _expression(f"{where}.{k}", raw[k], names) for k in ("E", "G", "density")}
-
-
-def _section(raw: Any, where: str, names: set[str], *, spatial: bool) -> dict[str, Any]:
-    if not isinstance(raw, Mapping) or raw.get("shape") not in SECTIONS:
-        raise _fail(f"{where}.shape", f"one of {', '.join(SECTIONS)}")
-    shape = raw["shape"]
-    dimensions = SECTIONS[shape]
-    if set(raw) != {"shape", *dimensions}:
-        raise _fail(where, f"a {shape} section's shape and dimensions {', '.join(dimensions)}")
-    out = {"shape": shape, **{k: _expression(f"{where}.{k}", raw[k], names) for k in dimensions}}
-    pair = {"rect_tube": ("b", "h"), "given": ("I_y", "I_z")}.get(shape)
-    if spatial and pair and out[pair[0]] != out[pair[1]]:
-        raise _fail(where, f"in space a section whose bending does not depend on its orientation: {pair[0]} the "
-                           f"same as {pair[1]}")
-    return out
 
 
 def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dict[str, Any]]:
@@ -551,38 +414,38 @@ def _regions(raw: Any, pose_names: tuple[str, ...], names: set[str]) -> list[dic
         return []
     table = f"{{{', '.join(f.name for f in REGION_FIELDS)}}}"
     if not isinstance(raw, list):
-        raise _fail("regions", f"a list of tables {table}")
+        raise fail("regions", f"a list of tables {table}")
     out, seen = [], set()
     for k, region in enumerate(raw):
         where = f"regions[{k}]"
         if not isinstance(region, Mapping):
-            raise _fail(where, f"a table {table}")
-        _check_fields(region, REGION_FIELDS, where, "a region")
+            raise fail(where, f"a table {table}")
+        check_fields(region, REGION_FIELDS, where, "a region")
         name = region.get("name")
-        if not _identifier(name) or name in seen or name in ("reachable", "assembled"):
-            raise _fail(f"{where}.name", f"{IDENTIFIER}, not given before, other "
+        if not identifier(name) or name in seen or name in ("reachable", "assembled"):
+            raise fail(f"{where}.name", f"{IDENTIFIER}, not given before, other "
                                          "than reachable and assembled")
         seen.add(name)
-        shape = _choice(f"{where}.shape", region.get("shape"), tuple(SHAPES))
+        shape = choice(f"{where}.shape", region.get("shape"), tuple(SHAPES))
         dimension, sizes, _ = SHAPES[shape]
         coordinates = region.get("coordinates", list(pose_names[:dimension]))
         if (not isinstance(coordinates, list) or len(coordinates) != dimension
                 or not all(isinstance(c, str) and c in pose_names for c in coordinates)
                 or len(set(coordinates)) != dimension):
-            raise _fail(f"{where}.coordinates", f"{dimension} distinct pose coordinates ({', '.join(pose_names)})")
+            raise fail(f"{where}.coordinates", f"{dimension} distinct pose coordinates ({', '.join(pose_names)})")
         for field, count in (("centre", dimension), ("size", sizes)):
             if not isinstance(region.get(field), list) or len(region[field]) != count:
-                raise _fail(f"{where}.{field}", f"a list of {count} expressions of the parameters")
+                raise fail(f"{where}.{field}", f"a list of {count} expressions of the parameters")
         if "axis" in region and shape != "cylinder":
-            raise _fail(f"{where}.axis", f"absent: only a cylinder has an axis; this region is a {shape}")
-        axis = _choice(f"{where}.axis", region.get("axis", coordinates[-1]), coordinates) if shape == "cylinder" \
+            raise fail(f"{where}.axis", f"absent: only a cylinder has an axis; this region is a {shape}")
+        axis = choice(f"{where}.axis", region.get("axis", coordinates[-1]), coordinates) if shape == "cylinder" \
             else None
-        doc = _text(f"{where}.doc", region.get("doc", name))
+        doc = text(f"{where}.doc", region.get("doc", name))
         out.append({
             "name": name, "doc": doc, "shape": shape,
             "coordinates": [pose_names.index(c) for c in coordinates],
-            "centre": [_expression(f"{where}.centre[{j}]", c, names) for j, c in enumerate(region["centre"])],
-            "size": [_expression(f"{where}.size[{j}]", c, names) for j, c in enumerate(region["size"])],
+            "centre": [expression(f"{where}.centre[{j}]", c, names) for j, c in enumerate(region["centre"])],
+            "size": [expression(f"{where}.size[{j}]", c, names) for j, c in enumerate(region["size"])],
             "axis": None if axis is None else coordinates.index(axis),
         })
     return out
@@ -593,42 +456,42 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     if isinstance(raw, Description):
         return raw
     if not isinstance(raw, Mapping):
-        raise _fail("(the description)", "a mapping or a TOML file")
-    _check_fields(raw, DESCRIPTION_FIELDS, "", "a description")
+        raise fail("(the description)", "a mapping or a TOML file")
+    check_fields(raw, DESCRIPTION_FIELDS, "", "a description")
     name = raw.get("name")
-    if not _identifier(name):
-        raise _fail("name", IDENTIFIER)
-    frame = _choice("frame", raw.get("frame"), tuple(FRAMES))
+    if not identifier(name):
+        raise fail("name", IDENTIFIER)
+    frame = choice("frame", raw.get("frame"), tuple(FRAMES))
     parameters = _parameters(raw.get("parameters"))
     names = {p["name"] for p in parameters}
     legs = _legs(raw.get("legs"), frame, names)
     pose_names, units = FRAMES[frame]
     actuated = len(legs)
     if actuated != len(pose_names):
-        raise _fail("legs", f"one actuated joint per pose coordinate: {len(pose_names)} legs for the {frame} frame; "
+        raise fail("legs", f"one actuated joint per pose coordinate: {len(pose_names)} legs for the {frame} frame; "
                             f"got {actuated}")
     home = raw.get("home")
     if not isinstance(home, list) or len(home) != len(pose_names):
-        raise _fail("home", f"a pose of {len(pose_names)} values ({', '.join(pose_names)})")
+        raise fail("home", f"a pose of {len(pose_names)} values ({', '.join(pose_names)})")
     branched = sum(kind_of(leg).branched for leg in legs)
     modes = raw.get("modes", {})
     if not isinstance(modes, Mapping):
-        raise _fail("modes", "a table of names -> sign lists")
+        raise fail("modes", "a table of names -> sign lists")
     for mode, signs in modes.items():
-        if not (_identifier(mode) and isinstance(signs, list) and len(signs) == max(branched, 1)
+        if not (identifier(mode) and isinstance(signs, list) and len(signs) == max(branched, 1)
                 and all(type(s) is int and s in (1, -1) for s in signs)):
-            raise _fail(f"modes.{reprlib.repr(mode)}", f"a name ({IDENTIFIER}) "
+            raise fail(f"modes.{reprlib.repr(mode)}", f"a name ({IDENTIFIER}) "
                                                        f"of a list of {max(branched, 1)} signs, each 1 or -1")
     length = raw.get("characteristic_length")
     planar_frame = frame.startswith("planar")
     data = {
         "name": name,
-        "doc": _text("doc", raw.get("doc", name)),
+        "doc": text("doc", raw.get("doc", name)),
         "pose": {"frame": frame, "units": list(units)},
         "parameters": parameters,
         "legs": legs,
-        "home": [_expression(f"home[{k}]", h, names) for k, h in enumerate(home)],
-        "characteristic_length": None if length is None else _expression("characteristic_length", length, names),
+        "home": [expression(f"home[{k}]", h, names) for k, h in enumerate(home)],
+        "characteristic_length": None if length is None else expression("characteristic_length", length, names),
         "modes": {k: list(v) for k, v in modes.items()},
         "regions": _regions(raw.get("regions"), pose_names, names),
         "platform": None if "platform" not in raw else _body(
@@ -640,15 +503,15 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
     gravity = raw.get("gravity")
     if gravity is not None:
         if not isinstance(gravity, list) or len(gravity) != (2 if planar_frame else 3):
-            raise _fail("gravity", f"a vector of {2 if planar_frame else 3} expressions (the acceleration of "
+            raise fail("gravity", f"a vector of {2 if planar_frame else 3} expressions (the acceleration of "
                                    "gravity in the base frame, m/s^2)")
-        data["gravity"] = [_expression(f"gravity[{k}]", g, names) for k, g in enumerate(gravity)]
+        data["gravity"] = [expression(f"gravity[{k}]", g, names) for k, g in enumerate(gravity)]
     if "plates" in raw:
         data["plates"] = _plates(raw["plates"], names, legs)
     if data["platform"] is not None or any(map(_has_bodies, legs)) or gravity is not None:
         missing = [k for k, leg in enumerate(legs) if not _has_bodies(leg)]
         if missing:
-            raise _fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
+            raise fail(f"legs (leg {missing[0] + 1})", "bodies for every leg where any body is given")
     _check_values(data)
     return Description(data)
 
@@ -656,54 +519,23 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
 def _plates(raw: Any, names: set[str], legs: list[dict[str, Any]]) -> dict[str, Any]:
     """The plates {platform, base}: each a radius, the legs' capsules given."""
     if not isinstance(raw, Mapping) or not raw or set(raw) - set(PLATES):
-        raise _fail("plates", f"a table of {' and/or '.join(PLATES)} radii")
+        raise fail("plates", f"a table of {' and/or '.join(PLATES)} radii")
     if not all("capsule" in leg for leg in legs):
-        raise _fail("plates", "the legs' capsules (each leg's capsule radius), which meet the plates")
-    return {k: _expression(f"plates.{k}", raw[k], names) for k in PLATES if k in raw}
+        raise fail("plates", "the legs' capsules (each leg's capsule radius), which meet the plates")
+    return {k: expression(f"plates.{k}", raw[k], names) for k in PLATES if k in raw}
 
 
 PLANE = 1e-9  # relative: attachments whose z agree to this lie in one plane
-NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
 # a leg's lengths and angles that must be positive
 POSITIVE = tuple(dict.fromkeys([*(f.name for kind in KINDS.values() for f in kind.fields if f.holds in (LENGTH, CONE)),
                                  "capsule"]))
 DIRECTIONS = ("axis", "zero", "axes")  # a leg's or a joint's directions, which must not vanish
 
 
-def _trees(value: Any, field: str) -> list[tuple[str, Any]]:
-    """Every expression of a normalised leg (or a part of one) with its field, its other data left out."""
-    if value is None:
-        return []
-    if isinstance(value, Mapping):
-        return [t for k, v in value.items() if k not in NOT_EXPRESSIONS for t in _trees(v, f"{field}.{k}")]
-    if isinstance(value, list) and not expressions.is_operation(value):
-        return [t for j, v in enumerate(value) for t in _trees(v, f"{field}[{j}]")]
-    return [(field, value)]
-
-
-def _check_elastic(elastic: Mapping[str, Any], where: str, value: Any) -> None:
-    """Every number of a leg's elastic elements positive at the default design, a tube's wall within its
-    section."""
-    free = {f"{where}.{name}[{j}]" for name in ("passive", "tilts") for j, t in enumerate(elastic.get(name, []))
-            if is_free(t)}
-    for field, tree in _trees(elastic, where):
-        if field not in free and not value(field, tree) > 0:
-            raise _fail(field, "a positive value at the default design" + (
-                ", or 0 (free)" if ".passive[" in field else ", or 0 (rigid)" if ".tilts[" in field else ""))
-    for b, beam in enumerate(elastic["beams"]):
-        section = beam["section"]
-        if "t" in section:
-            sides = [value(f"{where}.beams[{b}].section.{k}", section[k]) for k in ("d", "b", "h") if k in section]
-            wall = value(f"{where}.beams[{b}].section.t", section["t"])
-            if not 2 * wall < min(sides):
-                raise _fail(f"{where}.beams[{b}].section.t", f"a wall thinner than half the section ({min(sides):g} "
-                                                              f"m); got {wall:g} m")
-
-
 def _within_a_turn(field: str, name: str, angle: float) -> None:
     """An angle of a description within a turn either way, else the error asks whether it is in degrees."""
     if abs(angle) > 2 * math.pi:
-        raise _fail(field, f"an angle in radians within a turn (|{name}| <= 2 pi); {angle:g} rad is beyond it: in "
+        raise fail(field, f"an angle in radians within a turn (|{name}| <= 2 pi); {angle:g} rad is beyond it: in "
                            f"degrees? ({angle:g} deg = {math.radians(angle):.6g} rad)")
 
 
@@ -716,11 +548,11 @@ def _check_frame(where: str, axis: list[float], zero: list[float]) -> None:
     for name, direction in (("axis", axis), ("zero", zero)):
         length = math.hypot(*direction)
         if abs(length - 1) > FRAME_TOLERANCE:
-            raise _fail(f"{where}.{name}", f"a unit direction at the default design; its length is {length:.6g}: "
+            raise fail(f"{where}.{name}", f"a unit direction at the default design; its length is {length:.6g}: "
                                            "divide it by that")
     dot = sum(a * z for a, z in zip(axis, zero, strict=True))
     if abs(dot) > FRAME_TOLERANCE:
-        raise _fail(f"{where}.zero", f"perpendicular to axis at the default design; axis . zero = {dot:.6g}")
+        raise fail(f"{where}.zero", f"perpendicular to axis at the default design; axis . zero = {dot:.6g}")
 
 
 def _check_values(data: Mapping[str, Any]) -> None:
@@ -730,24 +562,24 @@ def _check_values(data: Mapping[str, Any]) -> None:
     design = {p["name"]: p["default"] for p in data["parameters"]}
 
     def value(field: str, tree: Any) -> float:
-        number = float(expressions.evaluate(tree, design))
-        if not math.isfinite(number):
-            raise _fail(field, f"a finite value at the default design; {expressions.text(tree)} is {number}")
-        return number
+        got = float(expressions.evaluate(tree, design))
+        if not math.isfinite(got):
+            raise fail(field, f"a finite value at the default design; {expressions.text(tree)} is {got}")
+        return got
 
     for plate, tree in data.get("plates", {}).items():
         if not value(f"plates.{plate}", tree) > 0:
-            raise _fail(f"plates.{plate}", "a positive radius at the default design")
+            raise fail(f"plates.{plate}", "a positive radius at the default design")
         heights = [value(f"legs (leg {k + 1}).{plate}", leg[plate][2]) for k, leg in enumerate(data["legs"])
                    if len(leg[plate]) == 3]
         if heights and max(heights) - min(heights) > PLANE * (1 + max(map(abs, heights))):
-            raise _fail(f"plates.{plate}", f"the legs' {plate} attachments in one plane z = const (the plate's); their "
+            raise fail(f"plates.{plate}", f"the legs' {plate} attachments in one plane z = const (the plate's); their "
                                            f"z spans {min(heights):g} to {max(heights):g} m")
     fields = [("home", data["home"]), ("characteristic_length", data["characteristic_length"]),
               ("gravity", data.get("gravity")), ("platform", data["platform"]),
               *((f"legs (leg {k + 1})", leg) for k, leg in enumerate(data["legs"]))]
     for field, part in fields:
-        for where, tree in ([] if part is None else _trees(part, field)):
+        for where, tree in ([] if part is None else trees(part, field)):
             value(where, tree)
     names = FRAMES[data["pose"]["frame"]][0]
     for j, (name, unit) in enumerate(zip(names, data["pose"]["units"], strict=True)):
@@ -760,16 +592,16 @@ def _check_values(data: Mapping[str, Any]) -> None:
             for j, bound in enumerate((low, high)):
                 _within_a_turn(f"{where}.range[{j}]", "the actuated joint's bound", bound)
             if high - low > 2 * math.pi:
-                raise _fail(f"{where}.range", f"a revolute joint's range of a turn at most; [{low:g}, {high:g}] rad "
+                raise fail(f"{where}.range", f"a revolute joint's range of a turn at most; [{low:g}, {high:g}] rad "
                                               f"spans {high - low:g} rad: in degrees?")
         for name in POSITIVE:
             if name in leg and not value(f"{where}.{name}", leg[name]) > 0:
-                raise _fail(f"{where}.{name}", "a positive value at the default design")
+                raise fail(f"{where}.{name}", "a positive value at the default design")
         if "elastic" in leg:
-            _check_elastic(leg["elastic"], f"{where}.elastic", value)
+            check_elastic(leg["elastic"], f"{where}.elastic", value)
         if "range" in leg and not value(f"{where}.range[0]", leg["range"][0]) < value(f"{where}.range[1]",
                                                                                       leg["range"][1]):
-            raise _fail(f"{where}.range", "lower < upper at the default design")
+            raise fail(f"{where}.range", "lower < upper at the default design")
         parts = [(where, leg), *((f"{where}.joints[{j}]", joint) for j, joint in enumerate(leg.get("joints", ())))]
         for at, part in parts:
             for name in DIRECTIONS:
@@ -777,7 +609,7 @@ def _check_values(data: Mapping[str, Any]) -> None:
                 for d, direction in enumerate(directions if name == "axes" else [directions] if directions else []):
                     vector = [value(f"{at}.{name}", c) for c in direction]
                     if not any(vector):
-                        raise _fail(f"{at}.{name}" + (f"[{d}]" if name == "axes" else ""),
+                        raise fail(f"{at}.{name}" + (f"[{d}]" if name == "axes" else ""),
                                     "a direction (not zero) at the default design")
         if leg["kind"] == "R_parallelogram":
             _check_frame(where, [value(f"{where}.axis", c) for c in leg["axis"]],
@@ -785,12 +617,12 @@ def _check_values(data: Mapping[str, Any]) -> None:
     for k, region in enumerate(data["regions"]):
         for j, size in enumerate(region["size"]):
             if not value(f"regions[{k}].size[{j}]", size) > 0:
-                raise _fail(f"regions[{k}].size[{j}]", "a positive size at the default design")
+                raise fail(f"regions[{k}].size[{j}]", "a positive size at the default design")
         for j, centre in enumerate(region["centre"]):
             value(f"regions[{k}].centre[{j}]", centre)
     for k, condition in enumerate(data.get("conditions", ())):
         if not value(f"conditions[{k}].margin", condition["margin"]) > 0:
-            raise _fail(f"conditions[{k}].margin", f"positive at the default design ({condition['doc']})")
+            raise fail(f"conditions[{k}].margin", f"positive at the default design ({condition['doc']})")
 
 
 def read(path: str | os.PathLike) -> Description:

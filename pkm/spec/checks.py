@@ -1,0 +1,96 @@
+"""The checks of a description's fields that the schema's parts share (:mod:`pkm.spec.schema`,
+:mod:`pkm.spec.elastic_schema`): each refuses a field with :class:`DescriptionError`, naming it and the violated
+condition."""
+
+from __future__ import annotations
+
+import math
+import reprlib
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from pkm import expressions
+from pkm.errors import PkmError
+from pkm.spec.vocabulary import IDENTIFIER_PATTERN, NAME_LENGTH, TEXT_LENGTH, Field
+
+NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
+
+
+class DescriptionError(PkmError):
+    """A machine description that names an unknown field or violates a condition."""
+
+
+def fail(field: str, condition: str) -> DescriptionError:
+    return DescriptionError(f"description field {field} violates: {condition}")
+
+
+def check_fields(table: Mapping[str, Any], fields: Sequence[Field], where: str, what: str) -> None:
+    """A field of ``table`` that ``fields`` does not hold, or a required one that it lacks, refused by name."""
+    names = [f.name for f in fields]
+    extra = sorted(set(table) - set(names), key=str)
+    if extra:
+        raise fail(f"{where}.{extra[0]}" if where else str(extra[0]), f"a known field of {what} ({', '.join(names)})")
+    for f in fields:
+        if f.required and f.name not in table:
+            raise fail(f"{where}.{f.name}" if where else f.name, f"given ({f.doc})")
+
+
+def expression(field: str, given: Any, names: set[str]) -> expressions.Tree:
+    """An expression of the parameters (and pi and :data:`pkm.expressions.FUNCTIONS`), as its tree."""
+    if isinstance(given, bool) or not isinstance(given, int | float | str):
+        raise fail(field, "a number or an expression of the parameters")
+    if not isinstance(given, str):
+        if not math.isfinite(given):
+            raise fail(field, f"a finite number; got {given!r}")
+        return float(given)
+    try:
+        tree = expressions.parse(given)
+    except expressions.ExpressionError as exc:
+        raise fail(field, f"{exc}; got {reprlib.repr(given)}") from None
+    unknown = expressions.unknown_names(tree, names)
+    if unknown:
+        raise fail(field, f"an expression of the parameters ({', '.join(sorted(names))}); it names "
+                           f"{reprlib.repr(unknown)}")
+    return tree
+
+
+def compose(field: str, template: str, names: set[str], **parts: expressions.Tree) -> expressions.Tree:
+    """The tree of ``template`` with the trees ``parts`` put in for their names in braces."""
+    return expression(field, template.format(**{k: f"({expressions.text(v)})" for k, v in parts.items()}), names)
+
+
+def choice(field: str, value: Any, options: Sequence[str]) -> str:
+    """``value`` where it is one of ``options`` (text), else :class:`DescriptionError` naming ``field``."""
+    if not isinstance(value, str) or value not in options:
+        raise fail(field, f"one of {', '.join(options)}; got {reprlib.repr(value)}")
+    return value
+
+
+def text(field: str, value: Any) -> str:
+    """A text field (a doc, a unit): text of at most :data:`TEXT_LENGTH` characters."""
+    if not isinstance(value, str) or len(value) > TEXT_LENGTH:
+        raise fail(field, f"text of at most {TEXT_LENGTH} characters")
+    return value
+
+
+def identifier(name: Any) -> bool:
+    """Whether ``name`` is a name a derived module's functions can carry (CasADi's rule): a letter, then letters,
+    digits and single underscores, not ending in one."""
+    return isinstance(name, str) and len(name) <= NAME_LENGTH and IDENTIFIER_PATTERN.fullmatch(name) is not None
+
+
+def number(field: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise fail(field, "a finite number")
+    return float(value)
+
+
+def trees(value: Any, field: str) -> list[tuple[str, Any]]:
+    """Every expression of a normalised leg (or a part of one) with its field, its other data left out."""
+    if value is None:
+        return []
+    if isinstance(value, Mapping):
+        return [t for k, v in value.items() if k not in NOT_EXPRESSIONS for t in trees(v, f"{field}.{k}")]
+    if isinstance(value, list) and not expressions.is_operation(value):
+        return [t for j, v in enumerate(value) for t in trees(v, f"{field}[{j}]")]
+    return [(field, value)]
