@@ -130,7 +130,7 @@ class _Capsules:
     radii: np.ndarray
     at: ca.Function  # the points at u
     margin: ca.Function  # the collision margin at u, in floats
-    plates: list[tuple[int, int, list[int], float]]  # (leg, segment, the plate's vertices' rows, its radius)
+    plates: list[tuple[int, int, list[int], float]]  # (leg, segment, the plate's vertices' rows in points, its radius)
     plate_margins: Any  # the enclosure of the segments' margins to the plates over a box of u
 
     def _segments(self, balls: list[Any], i: int, a: int) -> tuple[list[Any], list[Any]]:
@@ -245,24 +245,31 @@ def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dic
 
 
 def _capsules(mech: Any, q: ca.SX, x: ca.SX, u: ca.SX, design: np.ndarray) -> _Capsules:
-    """The legs' capsules at the joints q and the pose x(u)."""
-    from pkm.spec.collisions import pairs, plate_pairs, plate_radii, plate_rows
+    """The legs' capsules at the joints q and the pose x(u): the drawing's points, then each plate's vertices
+    (:func:`pkm.spec.collisions.plate_polygon`), enclosed together."""
+    from pkm.spec.collisions import pairs, plate_pairs, plate_polygon, plate_radii
     from pkm.spec.vocabulary import kind_of
 
     d = _as_casadi(design)
+    description = mech.description
     points = mech.functions["skeleton"](q, x, d)
-    counts = [kind_of(leg).points for leg in mech.description.data["legs"]]
+    counts = [kind_of(leg).points for leg in description.data["legs"]]
     first = [sum(counts[:k]) for k in range(len(counts))]
-    at = ca.Function("capsule_points", [u], [ca.densify(points)])
+    plates = plate_radii(description, d)
+    polygons = {plate: plate_polygon(description, mech.functions, plate, points=points, x=x, d=d) for plate in plates}
+    rows, corners = {}, points.size1()
+    for plate, vertices in polygons.items():
+        rows[plate], corners = list(range(corners, corners + len(vertices))), corners + len(vertices)
+    drawn = ca.vertcat(points, *(v.T for vertices in polygons.values() for v in vertices))
+    at = ca.Function("capsule_points", [u], [ca.densify(drawn)])
     margins = mech.functions["collision"](q, x, d)
     margin = ca.Function("capsule_margin", [u], [ca.mmin(margins)])
-    plate_margins = ca.Function("plate_margins", [u], [ca.densify(margins[len(pairs(mech.description)):])])
-    plates = plate_radii(mech.description, d)
+    plate_margins = ca.Function("plate_margins", [u], [ca.densify(margins[len(pairs(description)):])])
     radii = dict(zip(plates, _radii(ca.vertcat(*plates.values()), u), strict=True)) if plates else {}
-    return _Capsules(enclosure(at), points.size1(), points.size2(), pairs(mech.description), first,
+    return _Capsules(enclosure(at), drawn.size1(), drawn.size2(), pairs(description), first,
                      _radii(mech.functions["capsules"](d), u), at, margin,
-                     [(i, a, plate_rows(mech.description, plate), radii[plate])
-                      for i, a, plate in plate_pairs(mech.description)], enclosure(plate_margins))
+                     [(i, a, rows[plate], radii[plate]) for i, a, plate in plate_pairs(description)],
+                     enclosure(plate_margins))
 
 
 def _radii(radii: Any, u: ca.SX) -> np.ndarray:

@@ -153,6 +153,11 @@ def section() -> str:
         "",
         *_paragraph("Each table of `beams`:"),
         *_table(vocabulary.BEAM_FIELDS),
+        "### Plates",
+        "",
+        *_paragraph("A plate of `plates` (the platform's, the base's) is its radius alone, the polygon of the legs' "
+                    "attachments to it rounded by that radius, or a table:"),
+        *_table(vocabulary.PLATE_FIELDS),
         "### Regions",
         "",
         *_table(vocabulary.REGION_FIELDS),

@@ -342,9 +342,11 @@ def _plate(points: list[np.ndarray], radius: float) -> tuple[Any, Any]:
     return plate, coal.Transform3s()
 
 
-def _plate_margins_are_coals(m: pkm.Mechanism, poses: np.ndarray, radii: dict[str, float]) -> int:
+def _plate_margins_are_coals(m: pkm.Mechanism, poses: np.ndarray, radii: dict[str, float],
+                             own: dict[str, Any] | None = None) -> int:
     """Each segment-plate pair's margin equals coal's distance between the segment's capsule and the plate (the
-    legs' joints at it, in space: z = 0 in the plane), to 1e-9; the number of pairs checked."""
+    legs' joints at it, or ``own[name](x)``, its own corners at the pose; in space: z = 0 in the plane), to 1e-9; the
+    number of pairs checked."""
     import coal
 
     from pkm.batch import evaluate
@@ -360,12 +362,29 @@ def _plate_margins_are_coals(m: pkm.Mechanism, poses: np.ndarray, radii: dict[st
         (margins,) = evaluate(m.functions["collision"], m.inverse_kinematics(x, passive=True), x, d)
         for margin, (i, a, name) in zip(np.ravel(margins)[len(pairs(m.description)):], plate_pairs(m.description),
                                         strict=True):
-            corners = [legs[k][-1 if name == "platform" else 0] for k in plate_vertices(m.description, name)]
+            corners = [np.pad(c, (0, 3 - len(c))) for c in own[name](x)] if own and name in own else \
+                [legs[k][-1 if name == "platform" else 0] for k in plate_vertices(m.description, name)]
             distance = coal.distance(*_capsule(legs[i][a], legs[i][a + 1], capsule), *_plate(corners, radii[name]),
                                      coal.DistanceRequest(), coal.DistanceResult())
             assert margin == pytest.approx(distance, abs=1e-9)
             checked += 1
     return checked
+
+
+def _delta_plates_are_coals_and_certified(m: pkm.Mechanism, rng: np.random.Generator, radii: dict[str, float],
+                                          own: dict[str, Any] | None = None) -> None:
+    """The Delta's plates against coal at 30 poses up to the top of its workspace; a cylinder in the middle of its
+    task proved free of collisions, one near its top, where the rods reach the base plate, refuted with a witness
+    whose margin is negative."""
+    radius, angle = 0.15 * np.sqrt(rng.uniform(size=30)), rng.uniform(0, 2 * np.pi, 30)
+    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.6, -0.32, 30)])
+    assert _plate_margins_are_coals(m, poses, radii, own) >= 20 * 6
+    middle = regions.Cylinder("middle", "the task's middle", fixed=((0.0, 0.0, -0.45), (0.03, 0.03)), axis=2)
+    assert m.certify(middle, properties=("collisions",)).verdict == "proved"
+    top = m.certify(regions.Cylinder("top", "near the top", fixed=((0.0, 0.0, -0.325), (0.005, 0.005)), axis=2),
+                    properties=("collisions",))
+    assert top.verdict == "refuted"
+    assert top.witnesses[0]["collision_margin"] < 0
 
 
 def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of_them_or_not():
@@ -379,17 +398,9 @@ def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of
     m = pkm.load({**raw, "name": "delta_plates", "legs": {**raw["legs"], "capsule": "0.015"},
                   "plates": {k: str(v) for k, v in radii.items()}})
     rng = np.random.default_rng(7)
-    radius, angle = 0.15 * np.sqrt(rng.uniform(size=30)), rng.uniform(0, 2 * np.pi, 30)
-    poses = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), rng.uniform(-0.6, -0.32, 30)])
-    assert _plate_margins_are_coals(m, poses, radii) >= 20 * 6
-    middle = regions.Cylinder("middle", "the task's middle", fixed=((0.0, 0.0, -0.45), (0.03, 0.03)), axis=2)
-    assert m.certify(middle, properties=("collisions",)).verdict == "proved"
-    top = m.certify(regions.Cylinder("top", "near the top", fixed=((0.0, 0.0, -0.325), (0.005, 0.005)), axis=2),
-                    properties=("collisions",))
-    assert top.verdict == "refuted"
-    assert top.witnesses[0]["collision_margin"] < 0
+    _delta_plates_are_coals_and_certified(m, rng, radii)
     for plates, field in (({"platform": "0"}, "plates.platform violates: a positive radius"),
-                          ({"table": "0.1"}, "plates violates: a table of platform and/or base radii")):
+                          ({"table": "0.1"}, "plates violates: a table of platform and/or base plates")):
         with pytest.raises(DescriptionError, match=re.escape(field)):
             pkm.load({**raw, "name": "delta_bad_plates", "legs": {**raw["legs"], "capsule": "0.015"}, "plates": plates})
     with pytest.raises(DescriptionError, match="plates violates: the legs' capsules"):
@@ -406,6 +417,48 @@ def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of
                      "plates": {"platform": "0.01"}})
     poses = np.column_stack([rng.uniform(-0.15, 0.15, (30, 2)), rng.uniform(-0.3, 0.3, 30)])
     assert _plate_margins_are_coals(rrr3, poses, {"platform": 0.01}) >= 20 * 3
+
+
+def test_a_plate_of_its_own_points_is_coals_convex_plate_and_certified():
+    """Plates of their own shape: the 3-RRR's platform a square of 0.08 m turned with the platform and its base a
+    disc of 0.05 m about (0, -0.3) (one point rounded), the Delta's platform a hexagon of 0.06 m rounded by 0.01 m
+    and its base one of 0.2 m rounded by 0.05 m: each segment's margin to them equals coal's capsule-to-convex
+    distance at 30 poses, to 1e-9, the plate's corners placed here from the pose; the Delta's plates certified free
+    of its legs in the middle of its task and refuted, with a witness, near its top, where the rods reach the base's
+    hexagon. A polygon that is not convex, points out of
+    one plane and an empty list are refused, naming the plate."""
+    rng = np.random.default_rng(11)
+    planar = tomllib.loads(DESCRIPTIONS["rrr3"].read_text())
+    square = [[0.04, 0.04], [-0.04, 0.04], [-0.04, -0.04], [0.04, -0.04]]
+    rrr3 = pkm.load({**planar, "name": "rrr3_own_plates", "legs": {**planar["legs"], "capsule": "0.02"},
+                     "plates": {"platform": {"radius": "0.005", "points": square},
+                                "base": {"radius": "0.05", "points": [[0, -0.3]]}}})
+
+    def turned(x: np.ndarray) -> list[np.ndarray]:
+        c, s = np.cos(x[2]), np.sin(x[2])
+        return [x[:2] + np.array([[c, -s], [s, c]]) @ p for p in np.array(square)]
+
+    poses = np.column_stack([rng.uniform(-0.15, 0.15, (30, 2)), rng.uniform(-0.3, 0.3, 30)])
+    assert _plate_margins_are_coals(rrr3, poses, {"platform": 0.005, "base": 0.05},
+                                    {"platform": turned, "base": lambda _: [np.array([0.0, -0.3])]}) >= 20 * 5
+    raw = tomllib.loads(DESCRIPTIONS["delta"].read_text())
+    hexagon = np.array([[np.cos(a), np.sin(a), 0] for a in np.linspace(0, 2 * np.pi, 6, endpoint=False)])
+    plates = {"platform": {"radius": "0.01", "points": (0.06 * hexagon).tolist()},
+              "base": {"radius": "0.05", "points": (0.2 * hexagon).tolist()}}
+    m = pkm.load({**raw, "name": "delta_hexagons", "legs": {**raw["legs"], "capsule": "0.015"}, "plates": plates})
+    own = {"platform": lambda x: list(x + 0.06 * hexagon), "base": lambda _: list(0.2 * hexagon)}
+    _delta_plates_are_coals_and_certified(m, rng, {"platform": 0.01, "base": 0.05}, own)
+    legs = {**planar["legs"], "capsule": "0.02"}
+    for points, condition in (([[0.04, 0.04], [0, 0.01], [-0.04, 0.04], [0, -0.04]], "a convex polygon"),
+                              ([], "a list of 1 to 64 points"), ([[0.04, 0.04, 0]], "a vector of 2 expressions")):
+        with pytest.raises(DescriptionError, match=re.escape("plates.platform") + ".*" + re.escape(condition)):
+            pkm.load({**planar, "name": "rrr3_bad_plate", "legs": legs,
+                      "plates": {"platform": {"radius": "0.01", "points": points}}})
+    with pytest.raises(DescriptionError, match=re.escape("plates.platform violates: the plate's points in one plane")):
+        pkm.load({**raw, "name": "delta_bad_plate", "legs": {**raw["legs"], "capsule": "0.015"},
+                  "plates": {"platform": {"radius": "0.01", "points": [[0.1, 0, 0], [0, 0.1, 0], [-0.1, 0, 0.02]]}}})
+    with pytest.raises(DescriptionError, match=re.escape("plates.platform.shape violates: a known field of a plate")):
+        pkm.load({**planar, "name": "rrr3_bad_plate", "legs": legs, "plates": {"platform": {"radius": 1, "shape": 2}}})
 
 
 def test_the_2_ups_pus_legs_are_coals_capsules_and_their_margin_an_index_but_not_certified():

@@ -62,6 +62,7 @@ EXAMPLES = {
     },
     "arms": {
         "name": "arms", "frame": "spatial_point", "home": [0, 0, -0.5], "parameters": PARAMETERS,
+        "plates": {"base": 0.01, "platform": {"radius": 0.01, "points": [["r", 0, 0], [0, "r", 0], ["-r", 0, 0]]}},
         "legs": [
             {"kind": "R_parallelogram", "count": 1, "base": [["R", 0, 0]], "platform": [["r", 0, 0]], "arm": "l",
              "rod": "2*l", "axis": [0, 1, 0], "zero": [1, 0, 0], "range": [-1, 1],
@@ -119,6 +120,9 @@ def _tables(raw: dict) -> Iterator[tuple[tuple[str, str | None], str, dict]]:
             yield (heading, None), f"{key}[{k}]", table
     if "platform" in raw:
         yield ("Bodies", None), "platform", raw["platform"]
+    for name, plate in raw.get("plates", {}).items():
+        if isinstance(plate, dict):
+            yield ("Plates", None), f"plates.{name}", plate
     legs = raw["legs"]
     for t, leg in enumerate([legs] if isinstance(legs, dict) else legs):
         where = "legs" if isinstance(legs, dict) else f"legs[{t}]"

@@ -9,6 +9,8 @@ import reprlib
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+import numpy as np
+
 from pkm import expressions
 from pkm.errors import PkmError
 from pkm.spec.vocabulary import IDENTIFIER_PATTERN, NAME_LENGTH, TEXT_LENGTH, Field
@@ -94,3 +96,29 @@ def trees(value: Any, field: str) -> list[tuple[str, Any]]:
     if isinstance(value, list) and not expressions.is_operation(value):
         return [t for j, v in enumerate(value) for t in trees(v, f"{field}[{j}]")]
     return [(field, value)]
+
+
+DISTINCT = 1e-9  # relative: two of a plate's points this close are one vertex
+
+
+def plate_order(points: np.ndarray) -> list[int]:
+    """The vertices of a plate's polygon among its points (their first two coordinates, at the default design): in
+    their angular order about their centre (anticlockwise), one per distinct point."""
+    centre = np.mean(points, axis=0)
+    order = sorted(range(len(points)), key=lambda k: math.atan2(*(points[k] - centre)[::-1]))
+    distinct: list[int] = []
+    for k in order:
+        if all(np.linalg.norm(points[k] - points[j]) > DISTINCT * (1 + np.linalg.norm(points[k])) for j in distinct):
+            distinct.append(k)
+    return distinct
+
+
+def convex(points: np.ndarray) -> bool:
+    """Whether the polygon of ``points`` (in order, anticlockwise) is convex: each turn a left one or straight
+    (within round-off of its edges' lengths)."""
+    m = len(points)
+    for k in range(m if m > 2 else 0):
+        u, v = points[(k + 1) % m] - points[k], points[(k + 2) % m] - points[(k + 1) % m]
+        if u[0] * v[1] - u[1] * v[0] < -DISTINCT * np.linalg.norm(u) * np.linalg.norm(v):
+            return False
+    return True

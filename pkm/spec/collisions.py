@@ -5,9 +5,10 @@ overlap), composed in CasADi from the derived drawing (``skeleton``) and radii (
 that meet at a joint the legs share by their description (one base attachment, one platform attachment) are
 not a pair.
 
-Where the description states ``plates``, the platform and the base are plates too: the convex polygon of the
-legs' attachments to each (their joints in the drawing, in the angular order of the attachments about their
-centre at the default design; one vertex per distinct attachment), rounded by the plate's radius. Each segment
+Where the description states ``plates``, the platform and the base are plates too: a convex polygon, the plate's
+own points placed by the pose or else the legs' attachments to it (their joints in the drawing), in the angular
+order of the points about their centre at the default design (one vertex per distinct point), rounded by the
+plate's radius. Each segment
 of a leg but the one at the plate's own joint (a leg's last at the platform, its first at the base) is a pair
 with it: the least distance between the segment and the polygon (0 where they meet: an end inside it in the
 plane, the segment through it in space; else the least over the polygon's edges and, in space, over the
@@ -15,7 +16,6 @@ segment's ends above it) less the two radii."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -23,6 +23,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import expressions
+from pkm.spec.checks import plate_order
 from pkm.spec.schema import Description
 from pkm.spec.vocabulary import PLATES, kind_of
 
@@ -76,35 +77,32 @@ def plate_pairs(description: Description) -> list[tuple[int, int, str]]:
 
 
 def plate_vertices(description: Description, plate: str) -> list[int]:
-    """The legs whose joints are the plate's vertices, in the angular order of their attachments about the
-    attachments' centre at the default design, one leg per distinct attachment."""
+    """The plate's vertices in order (:func:`pkm.spec.checks.plate_order` at the default design): indices of its own
+    points where it states them, else of the legs whose attachments are its vertices."""
     design = {p["name"]: p["default"] for p in description.data["parameters"]}
-    points = [np.array([float(expressions.evaluate(t, design)) for t in leg[plate][:2]])
-              for leg in description.data["legs"]]
-    centre = np.mean(points, axis=0)
-    order = sorted(range(len(points)), key=lambda k: math.atan2(*(points[k] - centre)[::-1]))
-    distinct: list[int] = []
-    for k in order:
-        if all(np.linalg.norm(points[k] - points[j]) > DISTINCT * (1 + np.linalg.norm(points[k])) for j in distinct):
-            distinct.append(k)
-    return distinct
+    table = description.data["plates"][plate]
+    corners = table["points"] if "points" in table else [leg[plate] for leg in description.data["legs"]]
+    return plate_order(np.array([[float(expressions.evaluate(t, design)) for t in point[:2]] for point in corners]))
 
 
-DISTINCT = 1e-9  # relative: two attachments this close are one vertex
-
-
-def plate_rows(description: Description, plate: str) -> list[int]:
-    """The rows of the drawing (``skeleton``) that are the plate's vertices, in order (:func:`plate_vertices`):
-    each such leg's last joint for the platform, its first for the base."""
+def plate_polygon(description: Description, functions: Mapping[str, ca.Function], plate: str, *, points: ca.SX,
+                  x: ca.SX, d: Any) -> list[ca.SX]:
+    """The plate's vertices in order (:func:`plate_vertices`), each a column in the base frame: its own points
+    placed by the pose (the derived ``plate_<name>(x, design)``), or the legs' joints at it in the drawing
+    (``points``, the skeleton's rows: each leg's last joint for the platform, its first for the base)."""
+    order = plate_vertices(description, plate)
+    if "points" in description.data["plates"][plate]:
+        placed = functions[f"plate_{plate}"](x, d)
+        return [placed[k, :].T for k in order]
     counts = [kind_of(leg).points for leg in description.data["legs"]]
-    return [sum(counts[:i]) + (counts[i] - 1 if plate == "platform" else 0) for i in plate_vertices(description, plate)]
+    return [points[sum(counts[:i]) + (counts[i] - 1 if plate == "platform" else 0), :].T for i in order]
 
 
 def plate_radii(description: Description, d: Any) -> dict[str, Any]:
     """Each stated plate's radius, an expression of the design vector ``d`` (symbols or numbers)."""
     symbols = {p["name"]: d[k] for k, p in enumerate(description.data["parameters"])}
-    return {plate: expressions.evaluate(tree, symbols, expressions.CASADI)
-            for plate, tree in description.data.get("plates", {}).items()}
+    return {plate: expressions.evaluate(table["radius"], symbols, expressions.CASADI)
+            for plate, table in description.data.get("plates", {}).items()}
 
 
 def _cross2(u: ca.SX, v: ca.SX) -> ca.SX:
@@ -159,7 +157,7 @@ def composed_collisions(description: Description, functions: Mapping[str, ca.Fun
                                 points[first[j] + b, :].T, points[first[j] + b + 1, :].T) - radii[i] - radii[j]
                for i, a, j, b in pairs(description)]
     plates = plate_radii(description, d)
-    polygons = {plate: [points[row, :].T for row in plate_rows(description, plate)] for plate in plates}
+    polygons = {plate: plate_polygon(description, functions, plate, points=points, x=x, d=d) for plate in plates}
     margins += [polygon_distance(points[first[i] + a, :].T, points[first[i] + a + 1, :].T, polygons[plate])
                 - radii[i] - plates[plate] for i, a, plate in plate_pairs(description)]
     return ca.Function("collision", [q, x, d], [ca.vertcat(*margins) if margins else ca.SX(0, 1)],

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 import casadi as ca
+import numpy as np
 
 from pkm import expressions, io
 from pkm.spec.checks import (
@@ -27,10 +28,12 @@ from pkm.spec.checks import (
     check_fields,
     choice,
     compose,
+    convex,
     expression,
     fail,
     identifier,
     number,
+    plate_order,
     text,
     trees,
 )
@@ -49,6 +52,7 @@ from pkm.spec.vocabulary import (
     LENGTH,
     PARAMETER_FIELDS,
     PATTERN_FIELDS,
+    PLATE_FIELDS,
     PLATES,
     PLATFORM_JOINT,
     POINT_BODY,
@@ -517,12 +521,53 @@ def describe(raw: Mapping[str, Any] | Description) -> Description:
 
 
 def _plates(raw: Any, names: set[str], legs: list[dict[str, Any]]) -> dict[str, Any]:
-    """The plates {platform, base}: each a radius, the legs' capsules given."""
+    """The plates {platform, base}: each {radius} (the legs' attachments' polygon) or {radius, points} (its own),
+    the legs' capsules given."""
     if not isinstance(raw, Mapping) or not raw or set(raw) - set(PLATES):
-        raise fail("plates", f"a table of {' and/or '.join(PLATES)} radii")
+        raise fail("plates", f"a table of {' and/or '.join(PLATES)} plates")
     if not all("capsule" in leg for leg in legs):
         raise fail("plates", "the legs' capsules (each leg's capsule radius), which meet the plates")
-    return {k: expression(f"plates.{k}", raw[k], names) for k in PLATES if k in raw}
+    dim = len(legs[0]["base"])
+    out = {}
+    for name in (k for k in PLATES if k in raw):
+        field, given = f"plates.{name}", raw[name]
+        if not isinstance(given, Mapping):
+            out[name] = {"radius": expression(field, given, names)}
+            continue
+        check_fields(given, PLATE_FIELDS, field, "a plate")
+        out[name] = {"radius": expression(f"{field}.radius", given["radius"], names)}
+        if "points" in given:
+            points = given["points"]
+            if not isinstance(points, list) or not points or len(points) > MAX_PLATE_POINTS:
+                raise fail(f"{field}.points", f"a list of 1 to {MAX_PLATE_POINTS} points")
+            out[name]["points"] = [_vector(point, dim, f"{field}.points[{k}]", names) for k, point in enumerate(points)]
+    return out
+
+
+MAX_PLATE_POINTS = 64  # a plate's own points at most
+
+
+def _check_plates(data: Mapping[str, Any], value: Any) -> None:
+    """Each plate's radius positive at the default design, its polygon (its points, or the legs' attachments)
+    convex there and, in space, in one plane z = const."""
+    for plate, table in data.get("plates", {}).items():
+        field = f"plates.{plate}"
+        if not value(f"{field}.radius" if "points" in table else field, table["radius"]) > 0:
+            raise fail(field, "a positive radius at the default design")
+        given = "points" in table
+        where = [f"{field}.points[{k}]" for k in range(len(table["points"]))] if given else \
+            [f"legs (leg {k + 1}).{plate}" for k in range(len(data["legs"]))]
+        corners = table["points"] if given else [leg[plate] for leg in data["legs"]]
+        points = np.array([[value(f"{w}[{c}]", t) for c, t in enumerate(point)] for w, point in zip(where, corners,
+                                                                                                   strict=True)])
+        what = "the plate's points" if given else f"the legs' {plate} attachments"
+        if points.shape[1] == 3:
+            heights = points[:, 2]
+            if np.ptp(heights) > PLANE * (1 + np.max(np.abs(heights))):
+                raise fail(field, f"{what} in one plane z = const (the plate's); their z spans {heights.min():g} to "
+                                  f"{heights.max():g} m")
+        if not convex(points[plate_order(points[:, :2])][:, :2]):
+            raise fail(field, f"{what} the vertices of a convex polygon (in their angular order about their centre)")
 
 
 PLANE = 1e-9  # relative: attachments whose z agree to this lie in one plane
@@ -567,14 +612,7 @@ def _check_values(data: Mapping[str, Any]) -> None:
             raise fail(field, f"a finite value at the default design; {expressions.text(tree)} is {got}")
         return got
 
-    for plate, tree in data.get("plates", {}).items():
-        if not value(f"plates.{plate}", tree) > 0:
-            raise fail(f"plates.{plate}", "a positive radius at the default design")
-        heights = [value(f"legs (leg {k + 1}).{plate}", leg[plate][2]) for k, leg in enumerate(data["legs"])
-                   if len(leg[plate]) == 3]
-        if heights and max(heights) - min(heights) > PLANE * (1 + max(map(abs, heights))):
-            raise fail(f"plates.{plate}", f"the legs' {plate} attachments in one plane z = const (the plate's); their "
-                                           f"z spans {min(heights):g} to {max(heights):g} m")
+    _check_plates(data, value)
     fields = [("home", data["home"]), ("characteristic_length", data["characteristic_length"]),
               ("gravity", data.get("gravity")), ("platform", data["platform"]),
               *((f"legs (leg {k + 1})", leg) for k, leg in enumerate(data["legs"]))]

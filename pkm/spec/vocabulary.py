@@ -81,12 +81,21 @@ DESCRIPTION_FIELDS = (
           "point (planar_point, spatial_point)"),
     Field("gravity", f"a list of expressions ({EACH}) [m/s^2]", "the acceleration of gravity in the base frame, "
           "for the bodies' weight in the inverse dynamics"),
-    Field("plates", "a table {platform, base} of expressions [m], each positive", "the platform and the base as "
-          "plates: each the convex polygon of the legs' attachments to it (in their angular order about their "
-          "centre at the default design), rounded by this radius; a leg's capsules that meet one collide (the "
-          "collision margin), its segments at the plate's own joints aside; needs the legs' capsules"),
+    Field("plates", "a table {platform, base}, each a radius (an expression [m], positive) or a table (Plates)",
+          "the platform and the base as plates: each a convex polygon (the legs' attachments to it, or its own "
+          "points) rounded by its radius; a leg's capsules that meet one collide (the collision margin), its segments "
+          "at the plate's own joints aside; needs the legs' capsules"),
 )
 PLATES = ("platform", "base")  # the plates a description may state
+PLATE_FIELDS = (
+    Field("radius", LENGTH, "the plate's rounding: the plate holds every point within it of its polygon",
+          required=True),
+    Field("points", f"a non-empty list of points, each a list of expressions ({EACH}) [m]", "the plate's own "
+          "polygon in its frame (the platform's or the base's): its vertices, taken in their angular order about "
+          "their centre at the default design, where they must make it convex; in space in one plane z = const; "
+          "one point a disc (in the plane) or a ball (in space), two a rounded bar; the legs' attachments to the "
+          "plate by default"),
+)
 PARAMETER_FIELDS = (
     Field("name", IDENTIFIER, "its name in the expressions, given once, other than "
           f"{', '.join(expressions.RESERVED)}", required=True),

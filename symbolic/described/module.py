@@ -278,6 +278,14 @@ def module(description: dict[str, Any]) -> ModuleSpec:
                  (Output("radii", sp.Matrix([scalar(leg["capsule"]) for leg in description["legs"]]),
                          "the radius of each leg's capsules [m]"),),
                  "The radius of the capsules around each leg's links.")
+    for plate, table in description.get("plates", {}).items():
+        if "points" in table:
+            points = [vector(point) for point in table["points"]]
+            placed = [origin + rotation * point for point in points] if plate == "platform" else points
+            spec.add(f"plate_{plate}", (pose_port, design_port),
+                     (Output("points", sp.Matrix.hstack(*placed).T, f"the {plate} plate's points in the base frame, "
+                             "one row each [m]"),),
+                     f"The {plate} plate's own points, placed.")
     if all("elastic" in leg for leg in description["legs"]):
         _add_elastic(spec, description["legs"], legs, joints=joints, pose=pose_port, design=design_port,
                      vector=vector, scalar=scalar)
