@@ -84,10 +84,27 @@ class ModuleSpec:
         """Register a function; output expressions may only use the symbols of the inputs."""
         known = {s for port in inputs for s in port.symbols}
         for out in outputs:
-            stray = sorted(out.expr.free_symbols - known, key=sp.default_sort_key)
+            stray = sorted(free_symbols(out.expr) - known, key=sp.default_sort_key)
             if stray:
                 raise ValueError(f"{self.name}.{name}: output {out.name} uses undeclared symbols {stray}")
         self.functions.append(FunctionSpec(name, tuple(inputs), tuple(outputs), doc))
+
+
+def free_symbols(expr: sp.Basic) -> set[sp.Symbol]:
+    """The symbols of an expression (or matrix), each shared subexpression walked once: sympy's free_symbols walks
+    a subexpression at each of its occurrences, seconds for a closed form that repeats a large one."""
+    seen: set[sp.Basic] = set()
+    found: set[sp.Symbol] = set()
+    stack = list(expr) if isinstance(expr, sp.MatrixBase) else [expr]
+    while stack:
+        e = stack.pop()
+        if e in seen:
+            continue
+        seen.add(e)
+        if isinstance(e, sp.Symbol):
+            found.add(e)
+        stack.extend(e.args)
+    return found
 
 
 class UndefinedError(ValueError):

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import sympy as sp
+from sympy.matrices.utilities import dotprodsimp
 
 from pkm import expressions
 
@@ -208,7 +209,8 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     h = list(point - c)
     sigma = sp.Symbol(f"sigma{k + 1}", real=True) if len(leg["branches"]) == 2 else None
     seeds = [[float(v) for v in values] for _, values in leg["branches"]]
-    side = sp.Matrix(h).jacobian(variables).det()
+    with dotprodsimp(False):  # sympy's default expands the determinant, which tilted axes make take minutes
+        side = sp.Matrix(h).jacobian(variables).det(method="berkowitz")
     passive = [v for v in variables if v is not actuated]
     closed = None if leg.get("newton") else _closed_chain(leg["joints"], frame.T * (c - a), vector)
     circle = _chain_circle(leg["joints"], a, points, actuated, vector=vector, planar=planar)
@@ -225,8 +227,8 @@ def _chain(k: int, a: sp.Matrix, c: sp.Matrix, leg: dict[str, Any], *, vector: A
     chosen = [_nearest_candidate(solution, signs, seed, angles, start) for seed in seeds]
     values = {s: chosen[0][i] if sigma is None else (1 + sigma) / 2 * chosen[0][i] + (1 - sigma) / 2 * chosen[-1][i]
               for i, s in enumerate(signs)}
-    ik = {v: e.subs(values) for v, e in zip(variables, solution, strict=True)}
-    return Leg(h, actuated, passive, ik, [m.subs(values) for m in reach], sigma, side=side,
+    ik = dict(zip(variables, replaced(solution, values), strict=True))
+    return Leg(h, actuated, passive, ik, replaced(reach, values), sigma, side=side,
                joints=tuple(points[:-1]), frames=tuple(frames), circle=circle, line=line)
 
 
@@ -264,16 +266,30 @@ def _planar_locus(joints: list[dict[str, Any]], variables: list[sp.Symbol], fram
     return (centre, sp.sqrt(sp.trigsimp(offset.dot(offset)))), None
 
 
+def replaced(expressions: list[sp.Expr], mapping: dict[sp.Symbol, sp.Expr]) -> list[sp.Expr]:
+    """The expressions with the symbols of ``mapping`` replaced, each shared subexpression once (sympy's subs and
+    xreplace walk a subexpression at each of its occurrences: minutes for a closed form of tilted axes)."""
+    memo: dict[sp.Basic, sp.Basic] = {}
+
+    def walk(e: sp.Basic) -> sp.Basic:
+        if e in memo:
+            return memo[e]
+        out = mapping.get(e, e) if not e.args else e.func(*map(walk, e.args))
+        memo[e] = out
+        return out
+
+    return [walk(e) for e in expressions]
+
+
 def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: list[float], angles: list[bool],
                        start: dict[sp.Symbol, float]) -> list[int]:
     """The branch signs of the closed form whose joints at ``start`` are nearest the seed (angles wrapped)."""
-    symbols = list(start)
-    joints = sp.lambdify([*signs, *symbols], solution, modules="math", cse=True)
+    at_start = replaced(solution, {s: sp.Float(v) for s, v in start.items()})
     best, chosen = math.inf, [1] * len(signs)
     for combo in itertools.product((1, -1), repeat=len(signs)):
-        try:
-            values = joints(*combo, *(start[s] for s in symbols))
-        except (ValueError, ZeroDivisionError):  # the candidate does not exist there
+        try:  # a complex value (an arc cosine beyond 1) is no candidate there
+            values = [float(e) for e in replaced(at_start, dict(zip(signs, map(sp.Integer, combo), strict=True)))]
+        except (TypeError, ZeroDivisionError):
             continue
         if not all(math.isfinite(v) for v in values):
             continue
