@@ -23,6 +23,7 @@ identifiability of each parameter (the stacked Jacobian's rank and singular valu
 from __future__ import annotations
 
 import copy
+import functools
 import reprlib
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -31,6 +32,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from pkm import expressions
 from pkm.batch import evaluate
 from pkm.errors import PkmError
 from pkm.indices import GlobalIndex, LocalIndex
@@ -76,7 +78,7 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian", axes: bool = 
     """The normalised description with an error parameter added to each leg's attachments and lengths, and
     those parameters: an attachment's errors along x, y and z, or with ``attachments="polar"``, where it is
     placed on a circle, of its circle's radius [m] and its angle on it [rad] (a tower's radius and angle) and
-    along z; with ``axes``, each drive axis's two tilts (:func:`_tilted`)."""
+    along z; with ``axes``, the joints' axes' tilts (:func:`_tilted`)."""
     if attachments not in ATTACHMENTS:
         raise PkmError(f"attachments violates: one of {', '.join(ATTACHMENTS)}; got {attachments!r}")
     out = copy.deepcopy(dict(data))
@@ -84,6 +86,7 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian", axes: bool = 
     out["name"] = f"{data['name']}_errors" if attachments == "cartesian" else f"{data['name']}_{attachments}_errors"
     out["doc"] = f"{data['doc']}, each leg's geometry with errors of its own"
     named = "xyz"
+    design = {p["name"]: p["default"] for p in data["parameters"]}
     errors: list[ErrorParameter] = []
 
     def add(name: str, doc: str, leg: int, unit: str = "m") -> str:
@@ -112,7 +115,7 @@ def expanded(data: dict[str, Any], attachments: str = "cartesian", axes: bool = 
                                                                              f"{named[c]} of its joint's frame", k))
                                  for c, t in enumerate(link)]
         if axes:
-            _tilted(leg, k, add)
+            _tilted(leg, k, add, design)
     out["parameters"] = [*out["parameters"], *({"name": e.name, "default": 0.0, "lower": -SPAN, "upper": SPAN,
                                                "unit": e.unit, "doc": e.doc} for e in errors)]
     return out, errors
@@ -127,14 +130,69 @@ def _turned(u: list[Any], v: list[Any], angle: str) -> list[Any]:
     return [["+", ["*", x, ["cos", angle]], ["*", y, ["sin", angle]]] for x, y in zip(u, v, strict=True)]
 
 
-def _tilted(leg: dict[str, Any], k: int, add: Any) -> None:
+def _tilted(leg: dict[str, Any], k: int, add: Any, design: Mapping[str, float]) -> None:
+    """A leg's joint axes with errors of their own: an R_parallelogram's drive axis (:func:`_parallelogram_tilted`), a
+    PRR's slide turned in the plane by e_axis<k>, and each axis of a chain's joints in space (an R's, a P's, a U's or
+    a parallelogram's two, not a revolute's in the plane, which is the plane's normal) turned by two angles,
+    e_axis<k>_<j>_1 and _2 (e_axis<k>_<j>a_1 ... for a joint's first of two axes, b for its second): the unit axis a
+    turned towards n1 (across a and the coordinate axis a is least along at the default design), then towards
+    n2 = a x n1, exact rotations; in a planar chain a P's slide turned in the plane by e_axis<k>_<j>."""
+    if leg["kind"] == "R_parallelogram":
+        _parallelogram_tilted(leg, k, add)
+    elif leg["kind"] == "PRR":
+        name = add(f"e_axis{k}", f"leg {k}'s slide turned in the plane", k, "rad")
+        leg["axis"] = leg["joints"][0]["axis"] = _turned_in_plane(leg["axis"], name, design)
+    elif leg["kind"] == CHAIN:
+        planar = len(leg["base"]) == 2
+        for j, joint in enumerate(leg["joints"], 1):
+            if joint["type"] == "P" and planar:
+                name = add(f"e_axis{k}_{j}", f"leg {k}'s joint {j}'s slide turned in the plane", k, "rad")
+                joint["axis"] = _turned_in_plane(joint["axis"], name, design)
+            elif not planar and joint["type"] == "P":
+                joint["axis"] = _turned_in_space(joint["axis"], f"e_axis{k}_{j}", f"leg {k}'s joint {j}'s slide",
+                                                 k=k, add=add, design=design)
+            elif not planar and "axes" in joint:
+                letters = [""] if len(joint["axes"]) == 1 else ["a", "b"]
+                joint["axes"] = [_turned_in_space(a, f"e_axis{k}_{j}{letter}", f"leg {k}'s joint {j}'s "
+                                                  f"{'first ' if letter == 'a' else 'second ' if letter else ''}axis",
+                                                  k=k, add=add, design=design)
+                                 for a, letter in zip(joint["axes"], letters, strict=True)]
+
+
+def _unit(axis: list[Any], design: Mapping[str, float]) -> tuple[list[Any], np.ndarray]:
+    """A direction's unit vector (numbers where it is constant, else trees) and its value at the default design."""
+    values = np.array([float(expressions.evaluate(t, design)) for t in axis])
+    if all(isinstance(t, int | float) for t in axis):
+        unit = values / np.linalg.norm(values)
+        return [float(c) for c in unit], unit
+    norm = ["sqrt", functools.reduce(lambda a, b: ["+", a, b], [["*", t, t] for t in axis])]
+    return [["/", t, norm] for t in axis], values / np.linalg.norm(values)
+
+
+def _turned_in_plane(axis: list[Any], name: str, design: Mapping[str, float]) -> list[Any]:
+    """A direction in the plane turned by the angle ``name`` (its unit vector towards its normal)."""
+    unit, _ = _unit(axis, design)
+    return _turned(unit, [["neg", unit[1]], unit[0]], name)
+
+
+def _turned_in_space(axis: list[Any], name: str, what: str, *, k: int, add: Any, design: Mapping[str, float]
+                     ) -> list[Any]:
+    """A direction in space turned by two angles, ``name``_1 towards n1 and ``name``_2 towards n2 (:func:`_tilted`)."""
+    unit, value = _unit(axis, design)
+    across = [0.0, 0.0, 0.0]
+    across[int(np.argmin(np.abs(value)))] = 1.0
+    first, _ = _unit(_cross(unit, across), design)
+    second = _cross(unit, first)
+    one = add(f"{name}_1", f"{what} turned towards its first normal", k, "rad")
+    two = add(f"{name}_2", f"{what} turned towards its second normal", k, "rad")
+    return _turned(_turned(unit, first, one), second, two)
+
+
+def _parallelogram_tilted(leg: dict[str, Any], k: int, add: Any) -> None:
     """An R_parallelogram's drive axis a with errors of its own (its arm's zero direction z, n = a x z): turned
     about z by e_axis<k>_zero, a' = a cos - n sin, then about the normal of a' and z by e_axis<k>_normal, a'' = a'
     cos + z sin, z' = z cos - a' sin, its arm, rods and parallelogram turned with it: exact rotations, so that the
-    axis stays a unit vector at right angles to the zero direction, which the derivation then never normalises
-    (a chain's axes are normalised by it, and tilted ones made a chain machine's derivation exceed its limit)."""
-    if leg["kind"] != "R_parallelogram":
-        return
+    axis stays a unit vector at right angles to the zero direction, which the kind's derivation never normalises."""
     a, z = leg["axis"], leg["zero"]
     about_zero = add(f"e_axis{k}_zero", f"leg {k}'s drive axis turned about its arm's zero direction", k, "rad")
     about_normal = add(f"e_axis{k}_normal", f"leg {k}'s drive axis turned towards its arm's zero direction", k, "rad")
@@ -403,7 +461,8 @@ def batches(samples: int) -> int:
 def error_model(mech: Any, attachments: str = "cartesian", axes: bool = False) -> ErrorModel:
     """The mechanism's error model (:class:`ErrorModel`): each attachment's errors along x, y and z, or with
     ``attachments="polar"``, where it is placed on a circle, of the circle's radius and its angle on it; with
-    ``axes``, each drive axis's two tilts as well (:func:`expanded`: the R_parallelogram legs')."""
+    ``axes``, the joints' axes' tilts as well (:func:`expanded`: an R_parallelogram's drive axis, a PRR's slide, a
+    chain's joints' axes)."""
     return ErrorModel(mech, attachments, axes)
 
 

@@ -191,7 +191,7 @@ def _one_quotient(
     return [(lhs, quotients(rhs)) for lhs, rhs in replacements], [quotients(e) for e in reduced]
 
 
-def _render_function(spec: FunctionSpec) -> list[str]:
+def _render_function(spec: FunctionSpec, canonical: bool) -> list[str]:
     names: dict[sp.Symbol, str] = {}
     doc = [spec.doc, "", "    Inputs:"]
     for port in spec.inputs:
@@ -209,7 +209,7 @@ def _render_function(spec: FunctionSpec) -> list[str]:
 
     flat = [e for out in spec.outputs for e in out.expr.T]
     symbols = (sp.Symbol(f"_t{k}") for k in range(10**9))
-    replacements, reduced = sp.cse(flat, symbols=symbols, order="canonical")
+    replacements, reduced = sp.cse(flat, symbols=symbols, order="canonical" if canonical else "none")
     replacements, reduced = _one_quotient(replacements, reduced)
     ops = sum(sp.count_ops(rhs) for _, rhs in replacements) + sum(sp.count_ops(e) for e in reduced)
     lines.append(f"    # {len(replacements)} common subexpressions, {ops} operations")
@@ -237,8 +237,11 @@ def _tuple(names: Iterable[str]) -> str:
     return "(" + "".join(f'"{n}", ' for n in names) + ")"
 
 
-def render_module(spec: ModuleSpec, source_hash: str) -> str:
-    """Render a mechanism's functions as the text of a generated Python module."""
+def render_module(spec: ModuleSpec, source_hash: str, *, canonical: bool = True) -> str:
+    """Render a mechanism's functions as the text of a generated Python module; ``canonical``: the common
+    subexpressions in sympy's canonical order, the same text from every run (generated/'s), else in the order
+    found, in seconds where the canonical order's sorting of large repeated subexpressions takes minutes (a
+    described machine's module, kept in the cache by its description's key)."""
     lines = [
         f"# Generated from {spec.source} (source sha256 {source_hash}).",
         f"# Do not edit: regenerate with `{REFRESH_COMMAND}`.",
@@ -257,7 +260,7 @@ def render_module(spec: ModuleSpec, source_hash: str) -> str:
     ]
     for fn in spec.functions:
         lines.append("")
-        lines.extend(_render_function(fn))
+        lines.extend(_render_function(fn, canonical))
         lines.append("")
     lines += [
         "",
@@ -292,9 +295,9 @@ class RenderedModule:
     text: str
 
     @classmethod
-    def of(cls, spec: ModuleSpec, source_hash: str) -> RenderedModule:
+    def of(cls, spec: ModuleSpec, source_hash: str, *, canonical: bool = True) -> RenderedModule:
         return cls(spec.name, spec.source, source_hash, tuple(f.name for f in spec.functions),
-                   render_module(spec, source_hash))
+                   render_module(spec, source_hash, canonical=canonical))
 
 
 def write_tree(out: Path, modules: Sequence[RenderedModule], tools: dict[str, str]) -> None:

@@ -311,7 +311,7 @@ def main(argv: list[str] | None = None) -> int:
     source, target = (Path(a) for a in (argv if argv is not None else sys.argv[1:]))
     description = json.loads(source.read_text())
     try:
-        rendered = codegen.RenderedModule.of(module(description), description["key"])
+        rendered = codegen.RenderedModule.of(module(description), description["key"], canonical=False)
     except (UndefinedError, codegen.UndefinedError) as exc:
         print(f"undefined: {exc}", file=sys.stderr)
         return UNDEFINED

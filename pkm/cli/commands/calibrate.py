@@ -29,7 +29,8 @@ def options(p: argparse.ArgumentParser) -> None:
                    help="the attachments' errors along x, y, z, or (polar) of their circle's radius and angle where "
                         "placed on one (default: cartesian)")
     p.add_argument("--axes", action="store_true",
-                   help="the drive axes' tilts too (an R_parallelogram leg's: two angles per arm; default: off)")
+                   help="the joints' axes' tilts too (an R_parallelogram's drive axis, a PRR's slide, each axis of a "
+                        "chain's joints: two angles per axis in space, one in the plane; default: off)")
     p.add_argument("--parameters", help="the error parameters identified, comma-separated (default: all); the others "
                                         "held at 0")
     p.add_argument("--out", help="folder for calibration.json (default: none); e.g. calibrated")
