@@ -230,9 +230,6 @@ class _Domain:
 
 def _domain(mech: Any, x: ca.SX, u: ca.SX, round_axes: list[int], *, bounds: dict[str, float], mode: str,
             design: Any) -> _Domain:
-    if "collisions" in bounds and ("collision" not in mech.functions or getattr(mech, "description", None) is None):
-        raise PkmError(f"properties violates: collisions of a described machine whose legs state their capsules; "
-                       f"{mech.name}'s do not")
     margins, q = _margins(mech, x, mode, design)
     capsules = _capsules(mech, q, x, u, design) if "collisions" in bounds else None
     indices = [i for n in bounds if n != "collisions" for i in PROPERTIES[n][0]]
@@ -281,10 +278,14 @@ def _radii(radii: Any, u: ca.SX) -> np.ndarray:
     return np.array([float(r.upper()) for r in enclosed([[ball(-1.0, 1.0)] * u.numel()])[0]])
 
 
-def _bounds(properties: Sequence[str], threshold: float | None) -> dict[str, float]:
+def _bounds(mech: Any, properties: Sequence[str], threshold: float | None) -> dict[str, float]:
     unknown = [p for p in properties if p not in PROPERTIES]
     if unknown or not properties:
         raise PkmError(f"properties violates: some of {', '.join(PROPERTIES)}; got {', '.join(unknown) or 'none'}")
+    if "collisions" in properties and ("collision" not in mech.functions or
+                                       getattr(mech, "description", None) is None):
+        raise PkmError(f"properties violates: collisions of a described machine whose legs state their capsules; "
+                       f"{mech.name}'s do not")
     if threshold is not None and not 0 <= threshold < 1:
         raise PkmError(f"threshold violates: a singularity margin in [0, 1); got {threshold!r}")
     return {p: (threshold if p == "singularity" and threshold is not None else PROPERTIES[p][1])
@@ -335,7 +336,7 @@ def checked(mech: Any, region: Any, design: Any = None, *, properties: Sequence[
             mode: str | None = None, threshold: float | None = None,
             designs: Mapping[str, Sequence[float]] | None = None) -> Task:
     """A certification's inputs checked (:func:`certify`'s)."""
-    bounds = _bounds(properties, threshold)
+    bounds = _bounds(mech, properties, threshold)
     shape = mech.region(region)
     d = mech.design_vector(design)
     pieces = shape.pieces()
@@ -563,7 +564,7 @@ def largest_region(mech: Any, pose: Any, design: Any = None, *, radius: float,
     refuted radius is replaced by its witness's distance (a pose where a property fails), an undecided one
     counts as not proved. With ``designs`` ({parameter: [lower, upper]}, as :func:`certify` takes them), for
     every design within the intervals: a witness names its design."""
-    bounds = _bounds(properties, threshold)
+    bounds = _bounds(mech, properties, threshold)
     d = mech.design_vector(design)
     spans = _spans(mech, designs)
     mode = mech.working_mode(mode).name

@@ -92,7 +92,8 @@ class ModuleSpec:
 
 def free_symbols(expr: sp.Basic) -> set[sp.Symbol]:
     """The symbols of an expression (or matrix), each shared subexpression walked once: sympy's free_symbols walks
-    a subexpression at each of its occurrences, seconds for a closed form that repeats a large one."""
+    a subexpression at each of its occurrences, seconds for a closed form that repeats a large one. Every symbol
+    counts, a bound one (a Sum's, a Lambda's) too: the derivations bind none."""
     seen: set[sp.Basic] = set()
     found: set[sp.Symbol] = set()
     stack = list(expr) if isinstance(expr, sp.MatrixBase) else [expr]
@@ -191,7 +192,7 @@ def _one_quotient(
     return [(lhs, quotients(rhs)) for lhs, rhs in replacements], [quotients(e) for e in reduced]
 
 
-def _render_function(spec: FunctionSpec, canonical: bool) -> list[str]:
+def _render_function(spec: FunctionSpec, *, canonical: bool) -> list[str]:
     names: dict[sp.Symbol, str] = {}
     doc = [spec.doc, "", "    Inputs:"]
     for port in spec.inputs:
@@ -260,7 +261,7 @@ def render_module(spec: ModuleSpec, source_hash: str, *, canonical: bool = True)
     ]
     for fn in spec.functions:
         lines.append("")
-        lines.extend(_render_function(fn, canonical))
+        lines.extend(_render_function(fn, canonical=canonical))
         lines.append("")
     lines += [
         "",

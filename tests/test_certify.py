@@ -420,18 +420,19 @@ def test_the_platform_and_the_base_are_coals_convex_plates_and_certified_free_of
 
 
 def test_a_plate_of_its_own_points_is_coals_convex_plate_and_certified():
-    """Plates of their own shape: the 3-RRR's platform a square of 0.08 m turned with the platform and its base a
-    disc of 0.05 m about (0, -0.3) (one point rounded), the Delta's platform a hexagon of 0.06 m rounded by 0.01 m
-    and its base one of 0.2 m rounded by 0.05 m: each segment's margin to them equals coal's capsule-to-convex
-    distance at 30 poses, to 1e-9, the plate's corners placed here from the pose; the Delta's plates certified free
-    of its legs in the middle of its task and refuted, with a witness, near its top, where the rods reach the base's
-    hexagon. A polygon that is not convex, points out of
-    one plane and an empty list are refused, naming the plate."""
+    """Plates of their own shape: the 3-RRR's platform a square of 0.08 m turned with the platform (its corners
+    given crosswise) and its base a disc of 0.05 m about (0, -0.3) (one point rounded), the Delta's platform a
+    hexagon of 0.06 m rounded by 0.01 m and its base one of 0.2 m rounded by 0.05 m: each segment's margin to them
+    equals coal's capsule-to-convex distance at 30 poses, to 1e-9, the plate's corners placed here from the pose;
+    the Delta's plates certified free of its legs in the middle of its task and refuted, with a witness, near its
+    top, where the rods reach the base's hexagon. A polygon that is not convex, points out of one plane and an empty
+    list are refused, naming the plate; points on one line are a bar, the polygon's straight corners dropped."""
     rng = np.random.default_rng(11)
     planar = tomllib.loads(DESCRIPTIONS["rrr3"].read_text())
     square = [[0.04, 0.04], [-0.04, 0.04], [-0.04, -0.04], [0.04, -0.04]]
+    crosswise = [square[k] for k in (0, 2, 1, 3)]  # pkm takes the points in their angular order
     rrr3 = pkm.load({**planar, "name": "rrr3_own_plates", "legs": {**planar["legs"], "capsule": "0.02"},
-                     "plates": {"platform": {"radius": "0.005", "points": square},
+                     "plates": {"platform": {"radius": "0.005", "points": crosswise},
                                 "base": {"radius": "0.05", "points": [[0, -0.3]]}}})
 
     def turned(x: np.ndarray) -> list[np.ndarray]:
@@ -457,6 +458,14 @@ def test_a_plate_of_its_own_points_is_coals_convex_plate_and_certified():
     with pytest.raises(DescriptionError, match=re.escape("plates.platform violates: the plate's points in one plane")):
         pkm.load({**raw, "name": "delta_bad_plate", "legs": {**raw["legs"], "capsule": "0.015"},
                   "plates": {"platform": {"radius": "0.01", "points": [[0.1, 0, 0], [0, 0.1, 0], [-0.1, 0, 0.02]]}}})
+    from pkm.spec.checks import plate_order
+    from pkm.spec.collisions import polygon_distance
+
+    line = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [1.5, 0.0]])
+    bar = [ca.DM(line[k]) for k in plate_order(line)]
+    assert len(bar) == 2
+    assert float(polygon_distance(ca.DM([5.0, 0.0]), ca.DM([6.0, 0.0]), bar)) == pytest.approx(3.0)
+    assert float(polygon_distance(ca.DM([1.0, -1.0]), ca.DM([1.0, 1.0]), bar)) == 0.0
     with pytest.raises(DescriptionError, match=re.escape("plates.platform.shape violates: a known field of a plate")):
         pkm.load({**planar, "name": "rrr3_bad_plate", "legs": legs, "plates": {"platform": {"radius": 1, "shape": 2}}})
 

@@ -288,6 +288,7 @@ BAD = [
     ("certify?region=reachable", "region", None),
     ("certify?properties=singularity,no_such_property", "properties", None),
     ("certify?seconds=0", "seconds", None),
+    ("certify?properties=collisions", "properties", None),
 ]
 
 

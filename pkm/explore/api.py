@@ -47,7 +47,7 @@ AXIS_SPAN = 0.5  # default axes without a design space: each parameter's default
 SAMPLED = ("reachable", "assembled")  # the sampled regions, which have no nodes or placement to draw
 ENCODINGS = ("list", "base64")
 CERTIFY_SECONDS = 10  # a certification's time budget by default (the page waits for it)
-MAX_CERTIFY = 120
+MAX_CERTIFY = 120  # the most a request may give it: the explorer computes one request at a time
 
 FIELDS = {
     "mechanism": (),
@@ -590,20 +590,20 @@ class Explorer:
         """The region certified at the design in the mode (:meth:`pkm.Mechanism.certify`; ``properties`` a comma
         list, by default its singularity and limits), within ``seconds``: the certificate and its boxes, outline and
         witnesses in the plane of the pose's first two coordinates (:func:`pkm.certify.certificate_drawing`)."""
-        from pkm.certify import PROPERTIES, certificate_drawing
+        from pkm.certify import certificate_drawing, checked
 
         mech = self.mechanism
         design, mode, region = self._design(fields), self._mode(fields), self._region(fields)
         if region in SAMPLED:
             raise RequestError("region", f"region {region} violates: a parametrised region to certify (a sampled "
                                          "one has no boxes)")
+        with blame("region"):
+            checked(mech, region, design, mode=mode)
         names = [t.strip() for t in fields.get("properties", "singularity,limits").split(",") if t.strip()]
-        unknown = [n for n in names if n not in PROPERTIES]
-        if unknown or not names:
-            raise RequestError("properties", f"properties violates: some of {', '.join(PROPERTIES)}; got "
-                                             f"{reprlib.repr(','.join(unknown)) if unknown else 'none'}")
+        with blame("properties"):
+            checked(mech, region, design, properties=names, mode=mode)
         seconds = self._integer(fields, "seconds", 1, MAX_CERTIFY)
-        with self._turn(), blame("region"):
+        with self._turn(), blame("design"):
             found = mech.certify(region, design, mode=mode, properties=names, seconds=seconds,
                                  progress=self._check_open)
             drawing = certificate_drawing(mech, region, found, design)

@@ -103,22 +103,42 @@ DISTINCT = 1e-9  # relative: two of a plate's points this close are one vertex
 
 def plate_order(points: np.ndarray) -> list[int]:
     """The vertices of a plate's polygon among its points (their first two coordinates, at the default design): in
-    their angular order about their centre (anticlockwise), one per distinct point."""
+    their angular order about their centre (anticlockwise), one per distinct point, none where the polygon goes
+    straight on; points all on one line give the segment between the two farthest apart (a bar), whose inside in
+    the plane is no area."""
     centre = np.mean(points, axis=0)
     order = sorted(range(len(points)), key=lambda k: math.atan2(*(points[k] - centre)[::-1]))
     distinct: list[int] = []
     for k in order:
         if all(np.linalg.norm(points[k] - points[j]) > DISTINCT * (1 + np.linalg.norm(points[k])) for j in distinct):
             distinct.append(k)
-    return distinct
+    if len(distinct) < 3:
+        return distinct
+    spread = points[distinct] - centre
+    _, singular, rows = np.linalg.svd(spread)
+    if singular[1] <= DISTINCT * singular[0]:  # on one line: its two ends
+        along = spread @ rows[0]
+        ends = sorted((distinct[int(np.argmin(along))], distinct[int(np.argmax(along))]))
+        return [k for k in distinct if k in ends]
+    kept = list(distinct)
+    while len(kept) > 3:
+        straight = [k for i, k in enumerate(kept) if _turn(points[kept[i - 1]], points[k],
+                                                            points[kept[(i + 1) % len(kept)]]) == 0.0]
+        if not straight:
+            break
+        kept.remove(straight[0])
+    return kept
+
+
+def _turn(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> float:
+    """The turn at b from a to c: positive left, negative right, 0.0 where it goes straight on (within round-off
+    of the edges' lengths)."""
+    u, v = b - a, c - b
+    cross = float(u[0] * v[1] - u[1] * v[0])
+    return 0.0 if abs(cross) <= DISTINCT * np.linalg.norm(u) * np.linalg.norm(v) else cross
 
 
 def convex(points: np.ndarray) -> bool:
-    """Whether the polygon of ``points`` (in order, anticlockwise) is convex: each turn a left one or straight
-    (within round-off of its edges' lengths)."""
+    """Whether the polygon of ``points`` (in order, anticlockwise) is convex: no turn to the right."""
     m = len(points)
-    for k in range(m if m > 2 else 0):
-        u, v = points[(k + 1) % m] - points[k], points[(k + 2) % m] - points[(k + 1) % m]
-        if u[0] * v[1] - u[1] * v[0] < -DISTINCT * np.linalg.norm(u) * np.linalg.norm(v):
-            return False
-    return True
+    return all(_turn(points[k], points[(k + 1) % m], points[(k + 2) % m]) >= 0 for k in range(m if m > 2 else 0))

@@ -552,8 +552,9 @@ def _check_plates(data: Mapping[str, Any], value: Any) -> None:
     convex there and, in space, in one plane z = const."""
     for plate, table in data.get("plates", {}).items():
         field = f"plates.{plate}"
-        if not value(f"{field}.radius" if "points" in table else field, table["radius"]) > 0:
-            raise fail(field, "a positive radius at the default design")
+        radius = f"{field}.radius" if "points" in table else field
+        if not value(radius, table["radius"]) > 0:
+            raise fail(radius, "a positive radius at the default design")
         given = "points" in table
         where = [f"{field}.points[{k}]" for k in range(len(table["points"]))] if given else \
             [f"legs (leg {k + 1}).{plate}" for k in range(len(data["legs"]))]

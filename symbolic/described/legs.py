@@ -12,6 +12,7 @@ import sympy as sp
 from sympy.matrices.utilities import dotprodsimp
 
 from pkm import expressions
+from symbolic.codegen import free_symbols
 
 FRAMES = {
     "planar_point": ("x", "y"),
@@ -267,16 +268,22 @@ def _planar_locus(joints: list[dict[str, Any]], variables: list[sp.Symbol], fram
 
 
 def replaced(expressions: list[sp.Expr], mapping: dict[sp.Symbol, sp.Expr]) -> list[sp.Expr]:
-    """The expressions with the symbols of ``mapping`` replaced, each shared subexpression once (sympy's subs and
-    xreplace walk a subexpression at each of its occurrences: minutes for a closed form of tilted axes)."""
-    memo: dict[sp.Basic, sp.Basic] = {}
+    """The expressions with the symbols of ``mapping`` replaced, as xreplace does, each shared subexpression once
+    (sympy's subs and xreplace walk a subexpression at each of its occurrences: minutes for a closed form of tilted
+    axes); a subexpression without those symbols is kept as it is."""
+    if not all(isinstance(s, sp.Symbol) for s in mapping):
+        raise TypeError("replaced replaces symbols only")
+    memo: dict[tuple[type, sp.Basic], sp.Basic] = {}
 
     def walk(e: sp.Basic) -> sp.Basic:
-        if e in memo:
-            return memo[e]
-        out = mapping.get(e, e) if not e.args else e.func(*map(walk, e.args))
-        memo[e] = out
-        return out
+        key = (type(e), e)
+        if key not in memo:
+            if not e.args:
+                memo[key] = mapping.get(e, e) if isinstance(e, sp.Symbol) else e
+            else:
+                args = tuple(map(walk, e.args))
+                memo[key] = e if all(a is b for a, b in zip(args, e.args, strict=True)) else e.func(*args)
+        return memo[key]
 
     return [walk(e) for e in expressions]
 
@@ -285,14 +292,15 @@ def _nearest_candidate(solution: list[sp.Expr], signs: list[sp.Symbol], seed: li
                        start: dict[sp.Symbol, float]) -> list[int]:
     """The branch signs of the closed form whose joints at ``start`` are nearest the seed (angles wrapped)."""
     at_start = replaced(solution, {s: sp.Float(v) for s, v in start.items()})
+    left = set().union(*(free_symbols(e) for e in at_start)) - set(signs)
+    if left:
+        raise ValueError(f"the closed form names {sorted(map(str, left))}, which the start pose does not give")
     best, chosen = math.inf, [1] * len(signs)
     for combo in itertools.product((1, -1), repeat=len(signs)):
-        try:  # a complex value (an arc cosine beyond 1) is no candidate there
-            values = [float(e) for e in replaced(at_start, dict(zip(signs, map(sp.Integer, combo), strict=True)))]
-        except (TypeError, ZeroDivisionError):
-            continue
-        if not all(math.isfinite(v) for v in values):
-            continue
+        numbers = [complex(e) for e in replaced(at_start, dict(zip(signs, map(sp.Integer, combo), strict=True)))]
+        if not all(math.isfinite(v.real) and v.imag == 0 for v in numbers):
+            continue  # a complex value (an arc cosine beyond 1), or none: no candidate there
+        values = [v.real for v in numbers]
         gaps = [math.remainder(v - t, 2 * math.pi) if angle else v - t
                 for v, t, angle in zip(values, seed, angles, strict=True)]
         distance = math.fsum(g * g for g in gaps)

@@ -67,6 +67,14 @@
     return data;
   }
 
+  // the Cancel button, shown while the server computes an atlas or a certification for this page
+  const running = new Set();
+  function computing(kind, on) {
+    if (on) running.add(kind);
+    else running.delete(kind);
+    $("cancel").hidden = Boolean(offline) || running.size === 0;
+  }
+
   function failed(error) {
     if (error.name !== "AbortError" && !state.stopped) status(error.message, !error.cancelled);
   }
@@ -324,7 +332,7 @@
   async function loadAtlas() {
     const seq = ++state.seq.atlas;
     status("computing the atlas ...");
-    $("cancel").hidden = Boolean(offline);
+    computing("atlas", true);
     let atlas;
     try {
       atlas = offline ? offline.atlas : await api("atlas", atlasFields(), "atlas");
@@ -332,7 +340,7 @@
       failed(error);
       return;
     } finally {
-      if (seq === state.seq.atlas) $("cancel").hidden = true;
+      if (seq === state.seq.atlas) computing("atlas", false);
     }
     if (seq !== state.seq.atlas) return;
     state.atlas = atlas;
@@ -523,7 +531,7 @@
     if (!key) return;
     status(`certifying region ${state.atlas.region} ...`);
     $("certify").disabled = true;
-    $("cancel").hidden = false;
+    computing("certify", true);
     let answer;
     try {
       answer = await api("certify", { design: designText(state.design), mode: state.mode, region: state.atlas.region },
@@ -533,7 +541,7 @@
       return;
     } finally {
       $("certify").disabled = false;
-      $("cancel").hidden = true;
+      computing("certify", false);
     }
     state.certified = { key, answer };
     const volume = answer.undecided > 0 ? `, undecided volume ${fmt(answer.undecided)} of the reference box` : "";
