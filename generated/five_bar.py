@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/five_bar.py (source sha256 a141939c2de00aaa).
+# Generated from symbolic/mechanisms/five_bar.py (source sha256 f84aad74511c1b8c).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the symmetric 5R."""
 
 import casadi as ca
 
-SOURCE_HASH = "a141939c2de00aaa"
+SOURCE_HASH = "f84aad74511c1b8c"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "maximum_inscribed_circle", "skeleton", "elastic", "leg_ends", "joint_dynamics", "actuated_dynamics", "elastic_dynamics", "inertia", "second_order", "inertia_from_pose", )
 PARAMETERS = ("r1", "r2", "r3", "m1", "m2", "c1", "c2", "g1", "g2", "k1", "k2", "j1", "j2", "fv", "fc", "vm", "w_l", "t_l", )
 POSE = ("x", "y", )

@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/passive_leg.py (source sha256 d3fb407237c2914c).
+# Generated from symbolic/mechanisms/passive_leg.py (source sha256 5bbdedf5e80aa934).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-DOF manipulator with a passive constraining leg."""
 
 import casadi as ca
 
-SOURCE_HASH = "d3fb407237c2914c"
+SOURCE_HASH = "5bbdedf5e80aa934"
 FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "paper_inverse", "paper_forward", "paper_first_order", "joint_angles", "joint_positions", "workspace_boundary", "workspace_range_negative", "workspace_range_positive", "workspace_curves", "polar_to_pose", "polar_area", "footprint", )
 PARAMETERS = ("R", "r", "l_a", "l_b", "theta_max", )
 POSE = ("x_c", "y_c", )

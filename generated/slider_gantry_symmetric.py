@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 f3213f47944d1102).
+# Generated from symbolic/mechanisms/slider_gantry.py (source sha256 309e42473438def0).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the slider gantry with the fourth link A4B4 (Wu section 6.3)."""
 
 import casadi as ca
 
-SOURCE_HASH = "f3213f47944d1102"
+SOURCE_HASH = "309e42473438def0"
 FUNCTIONS = ("inverse_kinematics", "forward_kinematics", "constraint", "first_order", "first_order_from_pose", "task_rectangle", "partial_velocities", "virtual_work", "inverse_dynamics", "lagrange_dynamics", "energy", "inertia", "skeleton", "elastic", "leg_ends", "inertia_from_pose", "inverse_dynamics_from_pose", )
 PARAMETERS = ("l", "d1", "d2", "l2", "qs", "ql", "theta_s", "theta_l", "m11", "m21", "m12", "m22", "m13", "m23", "m4", "mN", "I12", "I22", "I4", "s12", "s22", "s4", "m5", "I5", "s5", "g", "b_l", "t_l", "k_s", )
 POSE = ("x", "y", )

@@ -1,11 +1,11 @@
-# Generated from symbolic/mechanisms/ups_pu.py (source sha256 2208880c4a6426c1).
+# Generated from symbolic/mechanisms/ups_pu.py (source sha256 c478a29f97ad3482).
 # Do not edit: regenerate with `make generate`.
 # ruff: noqa
 """CasADi functions of the 2-UPS-PU platform."""
 
 import casadi as ca
 
-SOURCE_HASH = "2208880c4a6426c1"
+SOURCE_HASH = "c478a29f97ad3482"
 FUNCTIONS = ("inverse_kinematics", "constraint", "first_order", "forward_polynomial", "forward_from_root", "joint_positions", "statics", )
 PARAMETERS = ("r", "R", "alpha", "beta", "l_min", "l_max", "l0_min", "l0_max", "theta_u_max", "theta_s_max", "D", "payload", "payload_height", "g", "task_tilt", "task_height", )
 POSE = ("l0", "theta1", "theta2", )
