@@ -15,7 +15,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 import pytest
-from helpers import rpr3_text
+from helpers import FIVE_BAR_OF_RR_LEGS, rpr3_text
 
 import pkm
 from pkm import regions
@@ -468,6 +468,41 @@ def test_a_plate_of_its_own_points_is_coals_convex_plate_and_certified():
     assert float(polygon_distance(ca.DM([1.0, -1.0]), ca.DM([1.0, 1.0]), bar)) == 0.0
     with pytest.raises(DescriptionError, match=re.escape("plates.platform.shape violates: a known field of a plate")):
         pkm.load({**planar, "name": "rrr3_bad_plate", "legs": legs, "plates": {"platform": {"radius": 1, "shape": 2}}})
+
+
+def test_links_in_other_layers_pass_over_each_other():
+    """The five-bar of RR legs with 3 cm capsules, each leg's proximal link in layer 0 and its distal link in layer
+    1 (built one above the other): the proximal links are the one pair left, their margin the unlayered machine's;
+    about a pose of the out_out mode where a distal link crosses the other leg's proximal link and the proximal links
+    are 0.3 m apart, a disc is refuted with the links in one layer and proved with them in two. Layers are refused
+    without a capsule and of the wrong length."""
+    from pkm.batch import evaluate
+    from pkm.spec.collisions import pairs
+
+    flat = {**FIVE_BAR_OF_RR_LEGS, "name": "five_bar_capsules", "legs": {**FIVE_BAR_OF_RR_LEGS["legs"],
+                                                                         "capsule": "0.03"}}
+    one, two = pkm.load(flat), pkm.load({**flat, "name": "five_bar_layers", "legs": {**flat["legs"],
+                                                                                       "layers": [0, 1]}})
+    assert pairs(one.description) == [(0, 0, 1, 0), (0, 0, 1, 1), (0, 1, 1, 0)]
+    assert pairs(two.description) == [(0, 0, 1, 0)]
+    rng = np.random.default_rng(4)
+    x = np.column_stack([rng.uniform(-1.5, 1.5, 40), rng.uniform(-0.3, 2.0, 40)])
+    q = one.inverse_kinematics(x, mode="out_out", passive=True)
+    x, q = x[np.all(np.isfinite(q), axis=1)], q[np.all(np.isfinite(q), axis=1)]
+    d = one.design_vector(None)
+    (flat_margins,), (layered,) = (evaluate(m.functions["collision"], q, x, d) for m in (one, two))
+    np.testing.assert_allclose(np.reshape(layered, (len(x), -1))[:, 0], np.reshape(flat_margins, (len(x), -1))[:, 0],
+                               rtol=0, atol=1e-15)
+    crossing = _disc((1.014, -0.292), 0.01)
+    refuted = one.certify(crossing, mode="out_out", properties=("collisions",))
+    assert refuted.verdict == "refuted"
+    assert refuted.witnesses[0]["collision_margin"] < 0
+    assert two.certify(crossing, mode="out_out", properties=("collisions",)).verdict == "proved"
+    for legs, condition in (({**FIVE_BAR_OF_RR_LEGS["legs"], "layers": [0, 1]}, "given with the leg's capsule"),
+                            ({**flat["legs"], "layers": [0, 1, 1]}, "a list of 2 integers from 0 to 15"),
+                            ({**flat["legs"], "layers": [0, True]}, "a list of 2 integers from 0 to 15")):
+        with pytest.raises(DescriptionError, match=re.escape(f"legs.layers violates: {condition}")):
+            pkm.load({**flat, "name": "five_bar_bad_layers", "legs": legs})
 
 
 def test_the_2_ups_pus_legs_are_coals_capsules_and_their_margin_an_index_but_not_certified():

@@ -15,7 +15,7 @@ from pkm import expressions
 from pkm.errors import PkmError
 from pkm.spec.vocabulary import IDENTIFIER_PATTERN, NAME_LENGTH, TEXT_LENGTH, Field
 
-NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape")  # a normalised leg's fields of other data
+NOT_EXPRESSIONS = ("kind", "type", "branches", "actuated", "newton", "shape", "layers")  # a leg's fields of other data
 
 
 class DescriptionError(PkmError):

@@ -2,8 +2,9 @@
 ``capsule``): each leg's links as capsules, the segments of its drawing from joint to joint with the leg's radius,
 and for every pair of segments of two legs the distance between them less their two radii (negative where they
 overlap), composed in CasADi from the derived drawing (``skeleton``) and radii (``capsules``). Two segments
-that meet at a joint the legs share by their description (one base attachment, one platform attachment) are
-not a pair.
+that meet at a joint the legs share by their description (one base attachment, one platform attachment), or that
+the legs build in different layers (their ``layers``: a planar machine's links one above another), are not a
+pair.
 
 Where the description states ``plates``, the platform and the base are plates too: a convex polygon, the plate's
 own points placed by the pose or else the legs' attachments to it (their joints in the drawing), in the angular
@@ -51,9 +52,11 @@ def segment_distance(p1: ca.SX, q1: ca.SX, p2: ca.SX, q2: ca.SX) -> ca.SX:
 
 
 def pairs(description: Description) -> list[tuple[int, int, int, int]]:
-    """The pairs of segments (leg i, segment a, leg j, segment b), i < j, that may collide."""
+    """The pairs of segments (leg i, segment a, leg j, segment b), i < j, that may collide: in one layer (the legs'
+    ``layers``, all 0 by default), not meeting at a joint the two legs share."""
     legs = description.data["legs"]
     counts = [kind_of(leg).points - 1 for leg in legs]
+    layers = [leg.get("layers", [0] * n) for leg, n in zip(legs, counts, strict=True)]
     out = []
     for i in range(len(legs)):
         for j in range(i + 1, len(legs)):
@@ -62,7 +65,7 @@ def pairs(description: Description) -> list[tuple[int, int, int, int]]:
                     shared_base = a == 0 and b == 0 and legs[i]["base"] == legs[j]["base"]
                     shared_end = (a == counts[i] - 1 and b == counts[j] - 1
                                   and legs[i]["platform"] == legs[j]["platform"])
-                    if not (shared_base or shared_end):
+                    if not (shared_base or shared_end) and layers[i][a] == layers[j][b]:
                         out.append((i, a, j, b))
     return out
 

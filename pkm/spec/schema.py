@@ -50,6 +50,7 @@ from pkm.spec.vocabulary import (
     JOINTS,
     KINDS,
     LENGTH,
+    MAX_LAYER,
     PARAMETER_FIELDS,
     PATTERN_FIELDS,
     PLATE_FIELDS,
@@ -408,6 +409,15 @@ def _with_elements(leg: dict[str, Any], table: Mapping[str, Any], where: str, na
         leg["elastic"] = elastic(table["elastic"], f"{where}.elastic", names, leg)
     if "capsule" in table:
         leg["capsule"] = expression(f"{where}.capsule", table["capsule"], names)
+    if "layers" in table:
+        segments, given = kind_of(leg).points - 1, table["layers"]
+        if "capsule" not in table:
+            raise fail(f"{where}.layers", "given with the leg's capsule")
+        if not isinstance(given, list) or len(given) != segments or not all(
+                isinstance(n, int) and not isinstance(n, bool) and 0 <= n <= MAX_LAYER for n in given):
+            raise fail(f"{where}.layers", f"a list of {segments} integers from 0 to {MAX_LAYER}, one per segment of "
+                                          "the leg's drawing")
+        leg["layers"] = list(given)
     return leg
 
 

@@ -352,6 +352,7 @@ CHAIN_FIELDS = (
     Field("newton", "true or false", "solved by Newton continuation even where a closed form matches the chain; "
           "false by default"),
 )
+MAX_LAYER = 15  # a link's layer at most
 LEG_FIELDS = (
     Field("kind", "a leg kind (Leg kinds)", f"one of {', '.join((*KINDS, CHAIN))}", required=True),
     Field("count", "an integer from 1 to 12", "the legs of the table; 1 by default"),
@@ -367,6 +368,9 @@ LEG_FIELDS = (
     Field("capsule", LENGTH, "the radius of the capsules around the leg's links (each segment of its drawing, "
           "from joint to joint): two legs' capsules that meet collide (the collision margin, docs/certify.md); "
           "where one leg has it every leg does"),
+    Field("layers", f"a list of integers from 0 to {MAX_LAYER}, one per segment of the leg's drawing from the base",
+          "the layer each link is built in: two legs' segments collide only in one layer (in the plane, links built "
+          "one above another pass over each other), a plate meets every layer; all 0 by default; needs the capsule"),
 )
 
 
