@@ -106,6 +106,16 @@ def _scanned(m: pkm.Mechanism, q_a: np.ndarray, design: np.ndarray) -> np.ndarra
     return np.sort((lo + hi) / 2)
 
 
+def _gives_back_the_joints(m: pkm.Mechanism, found: np.ndarray, q_a: np.ndarray, angles: np.ndarray) -> None:
+    """Each assembly's pose gives back the actuated joints by the inverse kinematics of some working mode, to
+    1e-8 (angles wrapped)."""
+    for pose in found:
+        back = np.array([m.inverse_kinematics(pose, mode=mode) for mode in m.modes])
+        gap = back - q_a
+        gap[:, angles] = _wrapped(gap[:, angles])
+        assert np.nanmin(np.max(np.abs(gap), axis=1)) < 1e-8
+
+
 def _poses(a, row: int = 0) -> np.ndarray:
     return a.poses[row, : a.counts[row]]
 
@@ -150,11 +160,7 @@ def test_every_assembly_closes_gives_the_joints_back_and_none_is_missed(source):
         found = _poses(a, row)
         assert np.min(np.max(np.abs(np.c_[found[:, :2] - x[k, :2], _wrapped(found[:, 2] - x[k, 2])]), axis=1)) < 1e-8
         assert np.nanmax(a.residuals[row]) < 1e-10
-        for pose in found:
-            back = np.array([m.inverse_kinematics(pose, mode=mode) for mode in m.modes])
-            gap = back - q[k]
-            gap[:, angles] = _wrapped(gap[:, angles])
-            assert np.nanmin(np.max(np.abs(gap), axis=1)) < 1e-8
+        _gives_back_the_joints(m, found, q[k], angles)
     design = m.design().vector()
     for row, k in enumerate(keep):
         angles = _scanned(m, q[k], design)
@@ -237,11 +243,7 @@ def test_legs_on_lines_have_every_assembly_and_none_is_missed(raw):
         gap[:, 2:] = _wrapped(gap[:, 2:])
         assert np.min(np.max(np.abs(gap), axis=1)) < 1e-8
         assert np.nanmax(a.residuals[row]) < 1e-10
-        for pose in found:
-            back = np.array([m.inverse_kinematics(pose, mode=mode) for mode in m.modes])
-            gap = back - q[k]
-            gap[:, angles] = _wrapped(gap[:, angles])
-            assert np.nanmin(np.max(np.abs(gap), axis=1)) < 1e-8
+        _gives_back_the_joints(m, found, q[k], angles)
         if m.n_out == 3:
             np.testing.assert_allclose(np.sort(found[:, 2]), _scanned(m, q[k], design), atol=1e-7)
         else:

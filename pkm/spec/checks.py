@@ -101,6 +101,13 @@ def trees(value: Any, field: str) -> list[tuple[str, Any]]:
 DISTINCT = 1e-9  # relative: two of a plate's points this close are one vertex
 
 
+def plate_corners(data: Mapping[str, Any], plate: str) -> list[list[Any]]:
+    """A normalised description's plate's points (trees): its own where it states them, else each leg's attachment
+    to it."""
+    table = data["plates"][plate]
+    return table["points"] if "points" in table else [leg[plate] for leg in data["legs"]]
+
+
 def plate_order(points: np.ndarray) -> list[int]:
     """The vertices of a plate's polygon among its points (their first two coordinates, at the default design): in
     their angular order about their centre (anticlockwise), one per distinct point, none where the polygon goes

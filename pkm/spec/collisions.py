@@ -24,7 +24,7 @@ import casadi as ca
 import numpy as np
 
 from pkm import expressions
-from pkm.spec.checks import plate_order
+from pkm.spec.checks import plate_corners, plate_order
 from pkm.spec.schema import Description
 from pkm.spec.vocabulary import PLATES, kind_of
 
@@ -83,9 +83,8 @@ def plate_vertices(description: Description, plate: str) -> list[int]:
     """The plate's vertices in order (:func:`pkm.spec.checks.plate_order` at the default design): indices of its own
     points where it states them, else of the legs whose attachments are its vertices."""
     design = {p["name"]: p["default"] for p in description.data["parameters"]}
-    table = description.data["plates"][plate]
-    corners = table["points"] if "points" in table else [leg[plate] for leg in description.data["legs"]]
-    return plate_order(np.array([[float(expressions.evaluate(t, design)) for t in point[:2]] for point in corners]))
+    return plate_order(np.array([[float(expressions.evaluate(t, design)) for t in point[:2]]
+                                 for point in plate_corners(description.data, plate)]))
 
 
 def plate_polygon(description: Description, functions: Mapping[str, ca.Function], plate: str, *, points: ca.SX,

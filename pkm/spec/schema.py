@@ -33,6 +33,7 @@ from pkm.spec.checks import (
     fail,
     identifier,
     number,
+    plate_corners,
     plate_order,
     text,
     trees,
@@ -561,16 +562,14 @@ def _check_plates(data: Mapping[str, Any], value: Any) -> None:
     """Each plate's radius positive at the default design, its polygon (its points, or the legs' attachments)
     convex there and, in space, in one plane z = const."""
     for plate, table in data.get("plates", {}).items():
-        field = f"plates.{plate}"
-        radius = f"{field}.radius" if "points" in table else field
+        field, given = f"plates.{plate}", "points" in table
+        radius = f"{field}.radius" if given else field
         if not value(radius, table["radius"]) > 0:
             raise fail(radius, "a positive radius at the default design")
-        given = "points" in table
         where = [f"{field}.points[{k}]" for k in range(len(table["points"]))] if given else \
             [f"legs (leg {k + 1}).{plate}" for k in range(len(data["legs"]))]
-        corners = table["points"] if given else [leg[plate] for leg in data["legs"]]
-        points = np.array([[value(f"{w}[{c}]", t) for c, t in enumerate(point)] for w, point in zip(where, corners,
-                                                                                                   strict=True)])
+        points = np.array([[value(f"{w}[{c}]", t) for c, t in enumerate(point)]
+                           for w, point in zip(where, plate_corners(data, plate), strict=True)])
         what = "the plate's points" if given else f"the legs' {plate} attachments"
         if points.shape[1] == 3:
             heights = points[:, 2]
